@@ -1,0 +1,1 @@
+//! Reads and validates the NC-xxx characterization files FCRSYS, AXCFIL, PGCFIL and IOCFIL.

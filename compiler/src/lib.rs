@@ -1,0 +1,1 @@
+//! The PLC-interface language: logos/lalrpop front end, typed IR, reference interpreter, cranelift JIT.

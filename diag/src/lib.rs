@@ -1,0 +1,320 @@
+//! Located diagnostics shared by every ncplc front end.
+//!
+//! The characterization reader, the PLC-language compiler, the partprogram compiler and the I/O map
+//! all report problems as [`Diagnostic`] values: a stable numeric code, a severity, the file, the
+//! 1-based line and column, the byte span, an English message and a hint saying what would be valid.
+//! This crate renders them two ways: rustc-style with the source line and the span marked
+//! ([`render_human`]) and one JSON object per line ([`Diagnostic::to_json_line`]).
+//!
+//! # Code ranges
+//! Codes are numbers so that the JSON form stays machine-friendly and the manual's numbers can be
+//! used as they are. The ranges never overlap:
+//!
+//! | range | owner |
+//! |---|---|
+//! | 0–299 | characterization errors with the number the manual (chapter 7) gives them |
+//! | 900–999 | characterization rules the manual states without a number (project numbers) |
+//! | 1000–1999 | PLC-language compiler (`compiler`) |
+//! | 2000–2999 | partprogram compiler (`partprogram`) |
+//! | 3000–3499 | I/O map and fieldbus configuration (`fieldbus`) |
+//! | 3500–3999 | runtime (traces, retain, scheduler) |
+//!
+//! Broken input is data, not a panic: front ends return their result together with a
+//! `Vec<Diagnostic>`, and the command-line tool decides the exit code with [`has_errors`].
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::ops::Range;
+
+use serde::{Deserialize, Serialize};
+
+/// How serious a diagnostic is: errors fail a check or a build, warnings do not.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Severity {
+    /// Something that must be fixed before the file or program can be used.
+    Error,
+    /// Something suspicious that does not stop the file or program from being used.
+    Warning,
+}
+
+impl fmt::Display for Severity {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Severity::Error => f.write_str("error"),
+            Severity::Warning => f.write_str("warning"),
+        }
+    }
+}
+
+/// One located problem in one source file.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Diagnostic {
+    /// Stable numeric code (see the crate docs for the ranges).
+    pub code: u32,
+    /// Error or warning.
+    pub severity: Severity,
+    /// The file as the user named it (a path relative to the machine directory where possible).
+    pub file: String,
+    /// Section number of a characterization file, when the file has sections.
+    pub section: Option<u32>,
+    /// Process number (1..5) the problem belongs to, when it belongs to one.
+    pub process: Option<u32>,
+    /// 1-based line of the start of the span (0 when the problem concerns the whole file).
+    pub line: u32,
+    /// 1-based column (in characters) of the start of the span (0 for the whole file).
+    pub column: u32,
+    /// Byte range of the offending text in the file, used to mark it under the source line.
+    pub span: Range<usize>,
+    /// What is wrong, in English.
+    pub message: String,
+    /// What would be valid instead; empty when there is nothing useful to say.
+    pub hint: String,
+}
+
+impl Diagnostic {
+    /// An error with `code` at byte `span` of `file`; line and column are filled in by [`Diagnostic::locate`].
+    pub fn error(code: u32, file: impl Into<String>, span: Range<usize>, message: impl Into<String>) -> Self {
+        Self::new(Severity::Error, code, file, span, message)
+    }
+
+    /// A warning with `code` at byte `span` of `file`.
+    pub fn warning(code: u32, file: impl Into<String>, span: Range<usize>, message: impl Into<String>) -> Self {
+        Self::new(Severity::Warning, code, file, span, message)
+    }
+
+    fn new(severity: Severity, code: u32, file: impl Into<String>, span: Range<usize>, message: impl Into<String>) -> Self {
+        Diagnostic {
+            code,
+            severity,
+            file: file.into(),
+            section: None,
+            process: None,
+            line: 0,
+            column: 0,
+            span,
+            message: message.into(),
+            hint: String::new(),
+        }
+    }
+
+    /// Adds the hint saying what would be valid.
+    pub fn with_hint(mut self, hint: impl Into<String>) -> Self {
+        self.hint = hint.into();
+        self
+    }
+
+    /// Records the characterization section the problem is in.
+    pub fn with_section(mut self, section: u32) -> Self {
+        self.section = Some(section);
+        self
+    }
+
+    /// Records the process the problem belongs to.
+    pub fn with_process(mut self, process: u32) -> Self {
+        self.process = Some(process);
+        self
+    }
+
+    /// Fills `line` and `column` from `span.start` in `source` (the text of `self.file`).
+    pub fn locate(mut self, source: &str) -> Self {
+        let (line, column) = line_column(source, self.span.start);
+        self.line = line;
+        self.column = column;
+        self
+    }
+
+    /// True for errors.
+    pub fn is_error(&self) -> bool {
+        self.severity == Severity::Error
+    }
+
+    /// The one-line JSON form: `{"file":…,"section":…,"process":…,"line":…,"column":…,"code":…,
+    /// "severity":…,"message":…,"hint":…}`.
+    pub fn to_json_line(&self) -> String {
+        let value = serde_json::json!({
+            "file": self.file,
+            "section": self.section,
+            "process": self.process,
+            "line": self.line,
+            "column": self.column,
+            "code": self.code,
+            "severity": self.severity,
+            "message": self.message,
+            "hint": self.hint,
+        });
+        value.to_string()
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    /// `file:line:column: error[E0012]: message`, the compact one-line form.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}:{}: {}[E{:04}]: {}", self.file, self.line, self.column, self.severity, self.code, self.message)
+    }
+}
+
+/// 1-based line and column (in characters) of byte `offset` in `source`; offsets past the end or
+/// inside a character are clamped to the nearest earlier character boundary.
+pub fn line_column(source: &str, offset: usize) -> (u32, u32) {
+    let mut offset = offset.min(source.len());
+    while !source.is_char_boundary(offset) {
+        offset -= 1;
+    }
+    let before = &source[..offset];
+    let line = before.matches('\n').count() + 1;
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    let column = source[line_start..offset].chars().count() + 1;
+    (u32::try_from(line).unwrap_or(u32::MAX), u32::try_from(column).unwrap_or(u32::MAX))
+}
+
+/// True when any diagnostic is an error.
+pub fn has_errors(diagnostics: &[Diagnostic]) -> bool {
+    diagnostics.iter().any(Diagnostic::is_error)
+}
+
+/// Source texts by file name, for rendering diagnostics with their source lines.
+#[derive(Debug, Default, Clone)]
+pub struct Sources {
+    files: BTreeMap<String, String>,
+}
+
+impl Sources {
+    /// An empty set of sources.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds (or replaces) the text of `name`.
+    pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) {
+        self.files.insert(name.into(), text.into());
+    }
+
+    /// The text of `name`, if known.
+    pub fn get(&self, name: &str) -> Option<&str> {
+        self.files.get(name).map(String::as_str)
+    }
+}
+
+/// Renders diagnostics rustc-style, each with its source line and the span marked, followed by a
+/// summary line (`2 errors, 1 warning`). Files missing from `sources` are rendered without a snippet.
+pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
+    use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
+    use codespan_reporting::files::SimpleFiles;
+    use codespan_reporting::term::{self, termcolor::NoColor};
+
+    let mut files = SimpleFiles::new();
+    let mut ids = BTreeMap::new();
+    for (name, text) in &sources.files {
+        ids.insert(name.as_str(), files.add(name.clone(), text.clone()));
+    }
+    let config = term::Config::default();
+    let mut out = NoColor::new(Vec::new());
+    for d in diagnostics {
+        let mut cs = match d.severity {
+            Severity::Error => CsDiagnostic::error(),
+            Severity::Warning => CsDiagnostic::warning(),
+        }
+        .with_code(format!("E{:04}", d.code))
+        .with_message(&d.message);
+        let mut notes = Vec::new();
+        if let Some(section) = d.section {
+            let mut where_ = format!("in section {section}");
+            if let Some(process) = d.process {
+                where_.push_str(&format!(", process {process}"));
+            }
+            notes.push(where_);
+        } else if let Some(process) = d.process {
+            notes.push(format!("in process {process}"));
+        }
+        if !d.hint.is_empty() {
+            notes.push(format!("help: {}", d.hint));
+        }
+        let snippet = ids.get(d.file.as_str()).and_then(|&id| {
+            let text = files.get(id).ok()?.source();
+            (d.line > 0 && d.span.start <= text.len()).then(|| {
+                let end = d.span.end.clamp(d.span.start, text.len());
+                let mut start = d.span.start;
+                while !text.is_char_boundary(start) {
+                    start -= 1;
+                }
+                let mut end = end.max(start);
+                while !text.is_char_boundary(end) {
+                    end += 1;
+                }
+                Label::primary(id, start..end)
+            })
+        });
+        match snippet {
+            Some(label) => cs = cs.with_labels(vec![label]),
+            None => notes.insert(0, format!("in {}:{}:{}", d.file, d.line, d.column)),
+        }
+        cs = cs.with_notes(notes);
+        if term::emit_to_write_style(&mut out, &config, &files, &cs).is_err() {
+            // Rendering into memory only fails on a bad span; fall back to the one-line form.
+            out.get_mut().extend_from_slice(format!("{d}\n").as_bytes());
+        }
+    }
+    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    let warnings = diagnostics.len() - errors;
+    let mut text = String::from_utf8_lossy(&out.into_inner()).into_owned();
+    if !diagnostics.is_empty() {
+        text.push_str(&format!("{}, {}\n", plural(errors, "error"), plural(warnings, "warning")));
+    }
+    text
+}
+
+fn plural(n: usize, word: &str) -> String {
+    if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_and_column_are_one_based_and_count_characters() {
+        let src = "abc\nдве строки\nxyz";
+        assert_eq!(line_column(src, 0), (1, 1));
+        assert_eq!(line_column(src, 4), (2, 1));
+        let x = src.find('x').expect("x is in the text");
+        assert_eq!(line_column(src, x), (3, 1));
+        let s = src.find('с').expect("с is in the text");
+        assert_eq!(line_column(src, s), (2, 5));
+        assert_eq!(line_column(src, 10_000), (3, 4));
+    }
+
+    #[test]
+    fn json_line_has_exactly_the_documented_fields() {
+        let d = Diagnostic::error(61, "IOCFIL", 6..9, "connector out of range")
+            .with_section(1)
+            .with_hint("use 0..31")
+            .locate("*1\nIN0=40\n");
+        let v: serde_json::Value = serde_json::from_str(&d.to_json_line()).expect("valid JSON");
+        assert_eq!(v["file"], "IOCFIL");
+        assert_eq!(v["section"], 1);
+        assert_eq!(v["process"], serde_json::Value::Null);
+        assert_eq!(v["line"], 2);
+        assert_eq!(v["column"], 4);
+        assert_eq!(v["code"], 61);
+        assert_eq!(v["severity"], "error");
+        assert_eq!(v["message"], "connector out of range");
+    }
+
+    #[test]
+    fn human_rendering_marks_the_span_and_counts() {
+        let src = "U10K5=I0K2\nU999K0=I0K2\n";
+        let mut sources = Sources::new();
+        sources.add("PLCPRG", src);
+        let d = Diagnostic::error(1003, "PLCPRG", 12..15, "connector 999 is out of range")
+            .with_hint("K connectors are 0..255")
+            .locate(src);
+        let text = render_human(&[d], &sources);
+        assert!(text.contains("error[E1003]: connector 999 is out of range"), "{text}");
+        assert!(text.contains("PLCPRG:2:2"), "{text}");
+        assert!(text.contains("U999K0=I0K2"), "{text}");
+        assert!(text.contains("^^^"), "{text}");
+        assert!(text.contains("help: K connectors are 0..255"), "{text}");
+        assert!(text.ends_with("1 error, 0 warnings\n"), "{text}");
+    }
+}

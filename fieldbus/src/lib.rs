@@ -1,0 +1,1 @@
+//! Packet-A I/O over Modbus TCP (client and HMI server) and CANopen (SocketCAN, virtual bus, cannelloni UDP).
