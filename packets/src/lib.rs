@@ -26,6 +26,10 @@
 //! linear index. [`Signal`] parses and prints them; printing uses the canonical form without
 //! leading zeros (`W03K1` prints as `W3K1`).
 
+pub mod io;
+
+pub use io::{IoAlarm, PacketIo};
+
 use std::fmt;
 use std::str::FromStr;
 
