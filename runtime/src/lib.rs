@@ -3,3 +3,13 @@
 //! See ARCHITECTURE.md at the repository root for how the crates fit together.
 
 pub mod cli;
+pub mod clock;
+pub mod config;
+pub mod image;
+pub mod program;
+pub mod replay;
+pub mod retain;
+pub mod scheduler;
+pub mod stats;
+pub mod testkit;
+pub mod trace;
