@@ -5,11 +5,17 @@
 pub mod cli;
 pub mod clock;
 pub mod config;
+pub mod handshake;
 pub mod image;
 pub mod program;
 pub mod replay;
 pub mod retain;
 pub mod scheduler;
+pub mod sim;
 pub mod stats;
 pub mod testkit;
 pub mod trace;
+
+#[cfg(test)]
+#[path = "scheduler_tests.rs"]
+mod scheduler_tests;

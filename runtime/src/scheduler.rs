@@ -178,13 +178,15 @@ impl Scheduler {
             rec.outputs.clear();
         }
         self.io.latch_inputs(t, self.image.packets_mut());
+        if let Some((diff, _, rec)) = &mut self.recording {
+            diff.after_latch(self.image.bytes(), &mut rec.inputs);
+        }
         if !self.tripped {
             self.loaded.logic.tick(self.image.bytes_mut());
         } else {
             self.image.clear_physical_outputs();
         }
-        if let Some((diff, sink, rec)) = &mut self.recording {
-            diff.after_latch(self.image.bytes(), &mut rec.inputs);
+        if let Some((_, sink, rec)) = &mut self.recording {
             self.tracker.diff(self.image.bytes(), &mut rec.outputs);
             if !(rec.inputs.is_empty() && rec.outputs.is_empty())
                 && let Err(e) = sink.record(rec)

@@ -118,3 +118,20 @@ pub fn create_sink(path: &Path, tick_ms: u32) -> Result<Box<dyn TraceSink>, Trac
         Ok(Box::new(text::TextWriter::new(file, tick_ms)?))
     }
 }
+
+/// A sink that keeps records in memory (tests, benchmarks, `--update`).
+#[derive(Debug, Clone, Default)]
+pub struct MemorySink(pub std::sync::Arc<std::sync::Mutex<Vec<TickRecord>>>);
+
+impl TraceSink for MemorySink {
+    fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
+        if let Ok(mut v) = self.0.lock() {
+            v.push(rec.clone());
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), TraceError> {
+        Ok(())
+    }
+}
