@@ -7,6 +7,7 @@ pub mod clock;
 pub mod config;
 pub mod handshake;
 pub mod image;
+pub mod online;
 pub mod program;
 pub mod replay;
 pub mod retain;
