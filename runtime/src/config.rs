@@ -13,6 +13,14 @@ use packets::Packet;
 pub struct RunConfig {
     /// The logic tick (IOCFIL `CLO tick_logic`), in milliseconds.
     pub tick_ms: u32,
+    /// IOCFIL `CLO time_slow`, in milliseconds (the SLOW budget per tick).
+    pub time_slow_ms: u32,
+    /// Packet-A input connectors (IOCFIL `INx`).
+    pub a_inputs: Vec<u16>,
+    /// Packet-A output connectors (IOCFIL `OUx`).
+    pub a_outputs: Vec<u16>,
+    /// IOCFIL `SPL` (symbolic names allowed; manual default 1).
+    pub spl: u32,
     /// Initial packet-T bytes (IOCFIL section 4), 64 bytes.
     pub t_init: Vec<u8>,
     /// PGCFIL `OLD`: restore logic-written T bytes and RETAIN variables at start.
@@ -29,6 +37,10 @@ impl Default for RunConfig {
     fn default() -> Self {
         RunConfig {
             tick_ms: 10,
+            time_slow_ms: 2,
+            a_inputs: Vec::new(),
+            a_outputs: Vec::new(),
+            spl: 1,
             t_init: vec![0; Packet::T.len()],
             restore_old: false,
             overrun_limit: 3,
@@ -73,12 +85,23 @@ impl RunConfig {
             };
             let name = name.trim().to_ascii_uppercase();
             let value = value.trim();
+            let words: Vec<&str> = value.split(',').map(str::trim).collect();
             if name == "CLO" {
-                if let Some(Ok(t)) = value.split(',').next().map(|v| v.trim().parse::<u32>())
+                if let Some(Ok(t)) = words.first().map(|v| v.parse::<u32>())
                     && t > 0
                 {
                     self.tick_ms = t;
                 }
+                if let Some(Ok(t)) = words.get(1).map(|v| v.parse::<u32>()) {
+                    self.time_slow_ms = t;
+                }
+            } else if section == 1 && name == "SPL" {
+                if let Ok(n) = value.parse() {
+                    self.spl = n;
+                }
+            } else if section == 1 && (name.starts_with("IN") || name.starts_with("OU")) {
+                let list = if name.starts_with("IN") { &mut self.a_inputs } else { &mut self.a_outputs };
+                list.extend(words.iter().filter_map(|w| w.parse::<u16>().ok()));
             } else if section == 4
                 && let Some(num) = name.strip_prefix('T')
                 && let Ok(n) = num.parse::<usize>()
@@ -102,8 +125,10 @@ mod tests {
     #[test]
     fn iocfil_clo_and_t_bytes_are_read() {
         let mut cfg = RunConfig::default();
-        cfg.apply_iocfil("*1\nALM=0\nCLO = 4, 2 ; fast\n*4\nT01=1F\nT64=0A\nT65=01\nT02=zz\n");
+        cfg.apply_iocfil("*1\nALM=0\nIN0=0,1,,,,,,\nOU0=4,5,,\nSPL=400\nCLO = 4, 2 ; fast\n*4\nT01=1F\nT64=0A\nT65=01\nT02=zz\n");
         assert_eq!(cfg.tick_ms, 4);
+        assert_eq!(cfg.time_slow_ms, 2);
+        assert_eq!((cfg.a_inputs.as_slice(), cfg.a_outputs.as_slice(), cfg.spl), (&[0, 1][..], &[4, 5][..], 400));
         assert_eq!(cfg.t_init[0], 0x1f);
         assert_eq!(cfg.t_init[63], 0x0a);
         assert_eq!(cfg.t_init[1], 0);

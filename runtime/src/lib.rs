@@ -4,9 +4,12 @@
 
 pub mod cli;
 pub mod clock;
+pub mod compiled;
 pub mod config;
 pub mod handshake;
 pub mod image;
+pub mod io;
+pub mod machine;
 pub mod online;
 pub mod program;
 pub mod replay;

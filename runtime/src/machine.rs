@@ -1,0 +1,84 @@
+//! Opening an example machine directory for `run` and `replay`: configuration, PLC source, sim script.
+//!
+//! TEMPORARY parts (until the lead glues `characterization::Machine`): the configuration comes from
+//! [`RunConfig::from_machine_dir_temporary`] and the PLC source from FCRSYS `PLCSRC` by a simple
+//! DOS-path mapping (`C:\CNC32\MP0\PLCPRG` → `<machine>/MP0/PLCPRG`).
+
+use std::path::{Path, PathBuf};
+
+use crate::compiled::{EngineKind, compile};
+use crate::config::RunConfig;
+use crate::online::CompileFn;
+use crate::sim::{CncSignals, Script, Sim};
+
+/// A machine ready to run.
+#[derive(Debug, Clone)]
+pub struct Machine {
+    /// The machine directory.
+    pub dir: PathBuf,
+    /// Runtime settings.
+    pub config: RunConfig,
+    /// The simulated machine's script (empty when there is no `sim.toml`).
+    pub script: Script,
+    /// The handshake signals.
+    pub signals: CncSignals,
+}
+
+impl Machine {
+    /// Opens `dir`; `plc` overrides the PLC source (as `ncplc build --plc`).
+    pub fn open(dir: &Path, plc: Option<&Path>) -> Result<Machine, String> {
+        if !dir.is_dir() {
+            return Err(format!("{}: not a machine directory", dir.display()));
+        }
+        let mut config = RunConfig::from_machine_dir_temporary(dir);
+        if let Some(src) = fcrsys_plcsrc(dir) {
+            config.plc_source = src;
+        }
+        if let Some(p) = plc {
+            config.plc_source = p.to_path_buf();
+        }
+        let sim_path = dir.join("sim.toml");
+        let script = match std::fs::read_to_string(&sim_path) {
+            Ok(text) => Sim::parse_script(&text).map_err(|e| format!("{}: {e}", sim_path.display()))?,
+            Err(_) => Script { strobe_timeout_ms: 10_000, ..Script::default() },
+        };
+        Ok(Machine { dir: dir.to_path_buf(), config, script, signals: CncSignals::default() })
+    }
+
+    /// Reads the PLC source.
+    pub fn read_source(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.config.plc_source).map_err(|e| format!("{}: {e}", self.config.plc_source.display()))
+    }
+
+    /// The source's name for diagnostics.
+    pub fn source_name(&self) -> String {
+        self.config.plc_source.display().to_string()
+    }
+
+    /// A compile function for this machine, `engine` and tick.
+    pub fn compile_fn(&self, engine: EngineKind, tick_ms: u32) -> CompileFn {
+        let cfg = self.config.clone();
+        let name = self.source_name();
+        std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, tick_ms, engine))
+    }
+}
+
+/// FCRSYS `PLCSRC,<dos path>` mapped into the machine directory (TEMPORARY).
+fn fcrsys_plcsrc(dir: &Path) -> Option<PathBuf> {
+    let text = std::fs::read(dir.join("FCRSYS")).ok()?;
+    let text = String::from_utf8_lossy(&text);
+    for line in text.lines() {
+        let line = line.split(';').next().unwrap_or("").trim();
+        let Some((name, path)) = line.split_once(',') else { continue };
+        if name.trim().eq_ignore_ascii_case("PLCSRC") {
+            let parts: Vec<&str> = path.trim().split(['\\', '/']).filter(|p| !p.is_empty()).collect();
+            let tail = &parts[parts.len().saturating_sub(2)..];
+            let mut p = dir.to_path_buf();
+            for part in tail {
+                p.push(part);
+            }
+            return Some(p);
+        }
+    }
+    None
+}
