@@ -14,6 +14,12 @@ pub enum EngineKind {
 
 /// Compiles `source` (named `file_name` in diagnostics) for the machine `cfg` with tick `tick_ms`.
 /// `Err` holds the rendered diagnostics.
-pub fn compile(_file_name: &str, _source: &[u8], _cfg: &RunConfig, _tick_ms: u32, _engine: EngineKind) -> Result<Loaded, String> {
+pub fn compile(
+    _file_name: &str,
+    _source: &[u8],
+    _cfg: &RunConfig,
+    _tick_ms: u32,
+    _engine: EngineKind,
+) -> Result<Loaded, String> {
     Err("error: the PLC compiler is not merged into the runtime yet".into())
 }

@@ -100,7 +100,11 @@ impl RunConfig {
                     self.spl = n;
                 }
             } else if section == 1 && (name.starts_with("IN") || name.starts_with("OU")) {
-                let list = if name.starts_with("IN") { &mut self.a_inputs } else { &mut self.a_outputs };
+                let list = if name.starts_with("IN") {
+                    &mut self.a_inputs
+                } else {
+                    &mut self.a_outputs
+                };
                 list.extend(words.iter().filter_map(|w| w.parse::<u16>().ok()));
             } else if section == 4
                 && let Some(num) = name.strip_prefix('T')
@@ -128,7 +132,10 @@ mod tests {
         cfg.apply_iocfil("*1\nALM=0\nIN0=0,1,,,,,,\nOU0=4,5,,\nSPL=400\nCLO = 4, 2 ; fast\n*4\nT01=1F\nT64=0A\nT65=01\nT02=zz\n");
         assert_eq!(cfg.tick_ms, 4);
         assert_eq!(cfg.time_slow_ms, 2);
-        assert_eq!((cfg.a_inputs.as_slice(), cfg.a_outputs.as_slice(), cfg.spl), (&[0, 1][..], &[4, 5][..], 400));
+        assert_eq!(
+            (cfg.a_inputs.as_slice(), cfg.a_outputs.as_slice(), cfg.spl),
+            (&[0, 1][..], &[4, 5][..], 400)
+        );
         assert_eq!(cfg.t_init[0], 0x1f);
         assert_eq!(cfg.t_init[63], 0x0a);
         assert_eq!(cfg.t_init[1], 0);

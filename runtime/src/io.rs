@@ -29,7 +29,9 @@ pub fn open_io(
     tick_ms: u32,
 ) -> Result<Box<dyn PacketIo>, String> {
     match kind {
-        IoKind::Sim => Ok(Box::new(Sim::new(script, signals, tick_ms).map_err(|e| e.to_string())?)),
+        IoKind::Sim => Ok(Box::new(
+            Sim::new(script, signals, tick_ms).map_err(|e| e.to_string())?,
+        )),
         IoKind::Modbus | IoKind::Canopen => Err(format!(
             "--io {kind:?}: the fieldbus drivers are not wired into the runtime yet (map file {})",
             machine_dir.join("io.toml").display()

@@ -39,15 +39,26 @@ impl Machine {
         }
         let sim_path = dir.join("sim.toml");
         let script = match std::fs::read_to_string(&sim_path) {
-            Ok(text) => Sim::parse_script(&text).map_err(|e| format!("{}: {e}", sim_path.display()))?,
-            Err(_) => Script { strobe_timeout_ms: 10_000, ..Script::default() },
+            Ok(text) => {
+                Sim::parse_script(&text).map_err(|e| format!("{}: {e}", sim_path.display()))?
+            }
+            Err(_) => Script {
+                strobe_timeout_ms: 10_000,
+                ..Script::default()
+            },
         };
-        Ok(Machine { dir: dir.to_path_buf(), config, script, signals: CncSignals::default() })
+        Ok(Machine {
+            dir: dir.to_path_buf(),
+            config,
+            script,
+            signals: CncSignals::default(),
+        })
     }
 
     /// Reads the PLC source.
     pub fn read_source(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.config.plc_source).map_err(|e| format!("{}: {e}", self.config.plc_source.display()))
+        std::fs::read(&self.config.plc_source)
+            .map_err(|e| format!("{}: {e}", self.config.plc_source.display()))
     }
 
     /// The source's name for diagnostics.
@@ -69,9 +80,15 @@ fn fcrsys_plcsrc(dir: &Path) -> Option<PathBuf> {
     let text = String::from_utf8_lossy(&text);
     for line in text.lines() {
         let line = line.split(';').next().unwrap_or("").trim();
-        let Some((name, path)) = line.split_once(',') else { continue };
+        let Some((name, path)) = line.split_once(',') else {
+            continue;
+        };
         if name.trim().eq_ignore_ascii_case("PLCSRC") {
-            let parts: Vec<&str> = path.trim().split(['\\', '/']).filter(|p| !p.is_empty()).collect();
+            let parts: Vec<&str> = path
+                .trim()
+                .split(['\\', '/'])
+                .filter(|p| !p.is_empty())
+                .collect();
             let tail = &parts[parts.len().saturating_sub(2)..];
             let mut p = dir.to_path_buf();
             for part in tail {

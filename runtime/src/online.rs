@@ -55,12 +55,18 @@ pub fn watch(
     notes: Sender<Note>,
 ) -> Result<OnlineChange, notify::Error> {
     let source = std::fs::canonicalize(source).unwrap_or_else(|_| source.to_path_buf());
-    let dir = source.parent().map(Path::to_path_buf).unwrap_or_else(|| PathBuf::from("."));
+    let dir = source
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
     let (ev_tx, ev_rx) = mpsc::channel::<Instant>();
     let name = source.file_name().map(|n| n.to_os_string());
     let mut watcher = notify::recommended_watcher(move |res: notify::Result<notify::Event>| {
         if let Ok(ev) = res
-            && ev.paths.iter().any(|p| p.file_name().map(|n| n.to_os_string()) == name)
+            && ev
+                .paths
+                .iter()
+                .any(|p| p.file_name().map(|n| n.to_os_string()) == name)
             && !matches!(ev.kind, notify::EventKind::Access(_))
         {
             let _ = ev_tx.send(Instant::now());
@@ -71,7 +77,10 @@ pub fn watch(
         .name("ncplc-online".into())
         .spawn(move || compile_loop(&source, initial, &compile, &ev_rx, &swaps, &notes))
         .map_err(|e| notify::Error::generic(&e.to_string()))?;
-    Ok(OnlineChange { _watcher: watcher, _thread: thread })
+    Ok(OnlineChange {
+        _watcher: watcher,
+        _thread: thread,
+    })
 }
 
 fn compile_loop(
@@ -105,8 +114,17 @@ fn compile_loop(
         let start = Instant::now();
         match compile(&bytes) {
             Ok(loaded) => {
-                let _ = notes.send(Note::Compiled { compile: start.elapsed() });
-                if swaps.send(Swap { loaded, noticed, modified }).is_err() {
+                let _ = notes.send(Note::Compiled {
+                    compile: start.elapsed(),
+                });
+                if swaps
+                    .send(Swap {
+                        loaded,
+                        noticed,
+                        modified,
+                    })
+                    .is_err()
+                {
                     return;
                 }
             }
@@ -127,9 +145,21 @@ mod tests {
         // A toy language: the file is `ok <n>` (U4A0 := byte n) or anything else (an error).
         Arc::new(|src: &[u8]| {
             let text = String::from_utf8_lossy(src);
-            let n: u8 = text.trim().strip_prefix("ok ").and_then(|n| n.parse().ok()).ok_or("error: bad program")?;
-            let meta = FixedMeta { image_len: packets::PACKETS_LEN, written: vec![sig("W4A0")], retain: 0..0, layout: 0 };
-            Ok(loaded(move |img: &mut [u8]| sig("W4A0").write(img, n), meta))
+            let n: u8 = text
+                .trim()
+                .strip_prefix("ok ")
+                .and_then(|n| n.parse().ok())
+                .ok_or("error: bad program")?;
+            let meta = FixedMeta {
+                image_len: packets::PACKETS_LEN,
+                written: vec![sig("W4A0")],
+                retain: 0..0,
+                layout: 0,
+            };
+            Ok(loaded(
+                move |img: &mut [u8]| sig("W4A0").write(img, n),
+                meta,
+            ))
         })
     }
 
@@ -144,7 +174,12 @@ mod tests {
         std::thread::sleep(Duration::from_millis(20));
         std::fs::write(&path, "nonsense").expect("write");
         let note = nrx.recv_timeout(Duration::from_secs(5)).expect("note");
-        assert_eq!(note, Note::Rejected { diagnostics: "error: bad program".into() });
+        assert_eq!(
+            note,
+            Note::Rejected {
+                diagnostics: "error: bad program".into()
+            }
+        );
         // Editor-style save: temporary file renamed over the source.
         let tmp = dir.path().join("PLCPRG.swp");
         std::fs::write(&tmp, "ok 7").expect("write");
@@ -154,6 +189,9 @@ mod tests {
         let mut img = vec![0u8; packets::PACKETS_LEN];
         swap_loaded.logic.tick(&mut img);
         assert_eq!(sig("W4A0").read(&img), 7);
-        assert!(matches!(nrx.recv_timeout(Duration::from_secs(5)), Ok(Note::Compiled { .. })));
+        assert!(matches!(
+            nrx.recv_timeout(Duration::from_secs(5)),
+            Ok(Note::Compiled { .. })
+        ));
     }
 }

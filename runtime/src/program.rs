@@ -29,6 +29,8 @@ pub trait ProgramMeta: Send + Sync + Any {
     fn retain_range(&self) -> Range<usize>;
     /// A fingerprint of the retain area's layout; a stored retain area is restored only when it matches.
     fn retain_layout(&self) -> u64;
+    /// Writes the program's initial values into a fresh image (non-RETAIN variables with `:=`).
+    fn init_image(&self, _image: &mut [u8]) {}
     /// Carries state over from `old` (whose image is `old_image`) into `new_image` for online change:
     /// timers, counters, pulses and variables whose name and type are unchanged keep their state.
     /// The packets are copied by the caller.

@@ -46,6 +46,7 @@ pub fn replay(
     mut progress: impl FnMut(u64),
 ) -> Replay {
     let mut image = Image::new(loaded.meta.image_len(), t_init);
+    loaded.meta.init_image(image.bytes_mut());
     let mut tracker = OutputTracker::new(&loaded.meta.written_signals());
     let mut cmp = Comparator::new(20);
     let mut actual = Trace {

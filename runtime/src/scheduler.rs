@@ -136,6 +136,11 @@ impl Scheduler {
         self.retain = Some(RetainState { layout, last, sink });
     }
 
+    /// Stops handing out retain snapshots (drops the sink).
+    pub fn detach_retain(&mut self) {
+        self.retain = None;
+    }
+
     /// The image.
     pub fn image(&self) -> &Image {
         &self.image
