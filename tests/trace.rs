@@ -8,7 +8,10 @@ const TEXT: &str = "{\"format\":\"ncplc-trace\",\"version\":1,\"tick_ms\":10}\n\
 {\"t\":40}\n";
 
 fn ncplc(args: &[&std::ffi::OsStr]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc")).args(args).output().expect("ncplc runs")
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(args)
+        .output()
+        .expect("ncplc runs")
 }
 
 #[test]
@@ -17,12 +20,25 @@ fn pack_then_dump_gives_the_text_back() {
     let text = dir.path().join("t.jsonl");
     let bin = dir.path().join("t.ptrace");
     std::fs::write(&text, TEXT).expect("write");
-    let out = ncplc(&["trace".as_ref(), "pack".as_ref(), text.as_os_str(), bin.as_os_str()]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = ncplc(&[
+        "trace".as_ref(),
+        "pack".as_ref(),
+        text.as_os_str(),
+        bin.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let size = std::fs::metadata(&bin).expect("binary written").len();
     assert!(size < TEXT.len() as u64 / 2, "binary {size} bytes");
     let out = ncplc(&["trace".as_ref(), "dump".as_ref(), bin.as_os_str()]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(String::from_utf8_lossy(&out.stdout), TEXT);
 }
 
@@ -35,5 +51,8 @@ fn a_damaged_trace_is_reported_with_its_line() {
     let out = ncplc(&["trace".as_ref(), "dump".as_ref(), text.as_os_str()]);
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("bad.jsonl: line 2: `Q0A5` is not a signal name"), "{err}");
+    assert!(
+        err.contains("bad.jsonl: line 2: `Q0A5` is not a signal name"),
+        "{err}"
+    );
 }

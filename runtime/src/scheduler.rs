@@ -136,6 +136,13 @@ impl Scheduler {
         self.retain = Some(RetainState { layout, last, sink });
     }
 
+    /// Restarts the timeline after a deliberate pause: the next tick is due now (tick numbers go on).
+    pub fn resync(&mut self) {
+        let now = self.clock.now_ns();
+        self.start_ns = now.saturating_sub(self.tick * self.settings.tick_ns);
+        self.started = true;
+    }
+
     /// Stops handing out retain snapshots (drops the sink).
     pub fn detach_retain(&mut self) {
         self.retain = None;

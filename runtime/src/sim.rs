@@ -3,6 +3,7 @@
 //!
 //! ```toml
 //! strobe_timeout_ms = 5000          # M/S/T strobe not answered → alarm naming the function
+//! period = 20000                    # optional: the `at` schedule repeats every 20000 ticks
 //! [signals]                         # optional: move handshake signals (defaults: interface map)
 //! MFIN = "U11K0"
 //! [[at]]                            # at tick 10: set inputs, issue functions through the handshake
@@ -32,6 +33,9 @@ pub struct Script {
     /// Strobe timeout in ms (0: none; default 10 000).
     #[serde(default = "default_timeout")]
     pub strobe_timeout_ms: u64,
+    /// When set, the `at` schedule repeats every `period` ticks (for long captures and benchmarks).
+    #[serde(default)]
+    pub period: Option<u64>,
     /// Handshake signal addresses that differ from the interface map (name → address).
     #[serde(default)]
     pub signals: BTreeMap<String, String>,
@@ -160,6 +164,7 @@ struct FollowRule {
 pub struct Sim {
     signals: CncSignals,
     schedule: BTreeMap<u64, Vec<At>>,
+    period: Option<u64>,
     follow: Vec<FollowRule>,
     channels: [Channel; 3],
     driven: BTreeMap<Signal, u8>,
@@ -228,6 +233,7 @@ impl Sim {
         Ok(Sim {
             signals,
             schedule,
+            period: script.period.filter(|&p| p > 0),
             follow,
             channels: [
                 Channel::new(Kind::M, timeout),
@@ -283,7 +289,13 @@ impl PacketIo for Sim {
     }
 
     fn latch_inputs(&mut self, tick: u64, packets: &mut [u8]) {
-        if let Some(list) = self.schedule.remove(&tick) {
+        let key = self.period.map_or(tick, |p| tick % p);
+        let list = if self.period.is_some() {
+            self.schedule.get(&key).cloned()
+        } else {
+            self.schedule.remove(&key)
+        };
+        if let Some(list) = list {
             for at in list {
                 for (name, v) in &at.set {
                     if let Ok(s) = name.parse::<Signal>() {
@@ -436,6 +448,21 @@ mod tests {
             alarms[0].message,
             "M91 not acknowledged (FIN) within the strobe timeout"
         );
+    }
+
+    #[test]
+    fn a_periodic_schedule_repeats() {
+        let mut s = sim(
+            "period = 3\n[[at]]\ntick = 1\nset = { I0A0 = 1 }\n[[at]]\ntick = 2\nset = { I0A0 = 0 }\n",
+            10,
+        );
+        let mut img = vec![0u8; packets::PACKETS_LEN];
+        let mut seen = Vec::new();
+        for t in 0..7 {
+            s.latch_inputs(t, &mut img);
+            seen.push(sig("I0A0").read(&img));
+        }
+        assert_eq!(seen, vec![0, 1, 0, 0, 1, 0, 0]);
     }
 
     #[test]
