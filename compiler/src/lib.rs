@@ -1,1 +1,3 @@
 //! The PLC-interface language: logos/lalrpop front end, typed IR, reference interpreter, cranelift JIT.
+
+pub mod lexer;
