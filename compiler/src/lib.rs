@@ -4,3 +4,5 @@ pub mod lexer;
 pub mod ast;
 pub mod parser;
 pub mod sema;
+pub mod context;
+pub mod interface_map;
