@@ -6,3 +6,9 @@ pub mod parser;
 pub mod sema;
 pub mod context;
 pub mod interface_map;
+pub mod front;
+pub mod lower;
+
+pub use context::MachineContext;
+pub use front::{Compilation, CompileStats, compile};
+pub use interface_map::InterfaceMap;
