@@ -9,5 +9,6 @@
 //! Broken input never panics: every function returns its result together with diagnostics.
 
 pub mod codes;
+pub mod fcrsys;
 pub mod reader;
 pub mod values;
