@@ -8,6 +8,7 @@
 //!
 //! Broken input never panics: every function returns its result together with diagnostics.
 
+pub mod axcfil;
 pub mod codes;
 pub mod fcrsys;
 pub mod reader;
