@@ -4,7 +4,10 @@ use std::process::Command;
 
 #[test]
 fn ncplc_prints_help() {
-    let out = Command::new(env!("CARGO_BIN_EXE_ncplc")).arg("--help").output().expect("ncplc runs");
+    let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .arg("--help")
+        .output()
+        .expect("ncplc runs");
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("check"), "{text}");
