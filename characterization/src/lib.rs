@@ -1,1 +1,4 @@
 //! Reads and validates the NC-xxx characterization files FCRSYS, AXCFIL, PGCFIL and IOCFIL.
+
+pub mod pgcfil;
+pub mod reader;
