@@ -1,4 +1,15 @@
 //! Reads and validates the NC-xxx characterization files FCRSYS, AXCFIL, PGCFIL and IOCFIL.
+//!
+//! * [`reader`]: the common file grammar (sections, records, parameters with spans, comments,
+//!   CP866/CP1251 bytes) and the Table 7.1 grammar errors.
+//! * [`values`]: typed parameter parsers (integer, word, real, hexadecimal, boolean, ASCII string,
+//!   PLC variable) and [`values::Ctx`], which builds located diagnostics.
+//! * [`codes`]: every diagnostic number used, with the project's own 900–949 range documented.
+//! * [`pgcfil`], [`iocfil`]: the process and logic files (chapters 5 and 6), project codes 950–999.
+//!
+//! Broken input never panics: every function returns its result together with diagnostics.
 
+pub mod codes;
 pub mod pgcfil;
 pub mod reader;
+pub mod values;
