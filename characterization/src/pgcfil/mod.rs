@@ -13,6 +13,5 @@ mod sections56;
 pub(crate) mod structure;
 pub mod tables;
 
-pub use fields::PlcVariable;
 pub use model::*;
 pub use parse::parse;

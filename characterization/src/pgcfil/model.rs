@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::fields::PlcVariable;
+use packets::Signal;
 
 /// How per-process state is treated at start-up (first word of PGCFIL).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -169,7 +169,7 @@ pub enum Units {
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Tas {
     /// Safety input of the probe.
-    pub probe_input: Option<PlcVariable>,
+    pub probe_input: Option<Signal>,
     /// 1 normally closed, 0 normally open.
     pub probe_status: Option<u8>,
     /// Preferred approach, axis letter plus `+`/`-` (unused by the CNC).
@@ -177,7 +177,7 @@ pub struct Tas {
     /// `S` oriented / `N` non-oriented (unused by the CNC).
     pub probe_type: Option<char>,
     /// Measuring input (method 2).
-    pub mes_input: Option<PlcVariable>,
+    pub mes_input: Option<Signal>,
     /// Measuring input rest state.
     pub mes_status: Option<u8>,
 }
@@ -186,7 +186,7 @@ pub struct Tas {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Inu {
     /// Safety input.
-    pub probe_input: Option<PlcVariable>,
+    pub probe_input: Option<Signal>,
     /// 1 normally closed, 0 normally open.
     pub probe_status: Option<u8>,
 }

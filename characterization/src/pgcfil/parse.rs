@@ -10,7 +10,7 @@ use crate::reader::{ParsedFile, Param, Record, Section};
 use super::fields::Emit;
 use super::sections56 as machine;
 use super::model::{Assignment, CodeRename, FileRef, LoadMode, NewName, Npl, PgProcess, Pgcfil, Prf, ProcessFiles, SimDecl};
-use super::structure::{check_section_count, not_allowed, Blocks};
+use super::structure::{not_allowed, Blocks};
 use super::tables;
 
 const S2: &str = "PRO, SIM";
@@ -21,7 +21,7 @@ const S4: &str = "PRO, ASS, NPL, NDD, PRF, FIL, FLC, STR, SER, CHN, SCR";
 pub fn parse(file: &ParsedFile) -> (Pgcfil, Vec<Diagnostic>) {
     let mut e = Emit::new(file);
     let mut pg = Pgcfil { load_mode: load_mode(&mut e, file), ..Pgcfil::default() };
-    check_section_count(&mut e, file, 5, 6);
+    e.diags.extend(crate::reader::check_section_count(file, 5, 6));
     let mut done = BTreeSet::new();
     for section in file.sections.iter().filter(|s| (1..=6).contains(&s.number)) {
         if !done.insert(section.number) {
@@ -41,18 +41,17 @@ pub fn parse(file: &ParsedFile) -> (Pgcfil, Vec<Diagnostic>) {
 
 /// The NEW/OLD word before `*1` (error 25 when it is missing or something else).
 fn load_mode(e: &mut Emit<'_>, file: &ParsedFile) -> LoadMode {
-    let first = file.text.lines().enumerate().map(|(i, l)| (i, l)).find(|(_, l)| !l.trim().is_empty() && !l.trim_start().starts_with(';'));
-    let Some((index, line)) = first else {
-        e.error(25, 0..0, "PGCFIL is empty; it must begin with NEW or OLD", "write NEW or OLD on the first line, then *1");
-        return LoadMode::New;
-    };
-    let start: usize = file.text.lines().take(index).map(|l| l.len() + 1).sum::<usize>() + (line.len() - line.trim_start().len());
-    match line.trim().to_ascii_uppercase().as_str() {
-        "NEW" => LoadMode::New,
-        "OLD" => LoadMode::Old,
-        other => {
-            let span = start..start + line.trim().len();
-            e.error(25, span, format!("PGCFIL begins with '{other}' instead of NEW or OLD"), "write NEW (reset per-process state) or OLD (restore it) on the first line");
+    let hint = "write NEW (reset per-process state) or OLD (restore it) on the first line, before *1";
+    match &file.header {
+        Some(h) if h.text.eq_ignore_ascii_case("NEW") => LoadMode::New,
+        Some(h) if h.text.eq_ignore_ascii_case("OLD") => LoadMode::Old,
+        Some(h) => {
+            e.error(25, h.span.clone(), format!("PGCFIL begins with `{}` instead of NEW or OLD", h.text), hint);
+            LoadMode::New
+        }
+        None => {
+            let span = file.sections.first().map_or(0..0, |s| s.span.clone());
+            e.error(25, span, "PGCFIL does not begin with NEW or OLD", hint);
             LoadMode::New
         }
     }

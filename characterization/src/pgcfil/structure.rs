@@ -3,39 +3,9 @@
 
 use std::collections::BTreeSet;
 
-use crate::reader::{ParsedFile, Record};
+use crate::reader::Record;
 
 use super::fields::Emit;
-
-/// Reports missing (1) and surplus (24) sections: the file must have `*1`…`*required` and at most `*max`.
-pub(crate) fn check_section_count(e: &mut Emit<'_>, file: &ParsedFile, required: u32, max: u32) {
-    let present: BTreeSet<u32> = file.sections.iter().map(|s| s.number).filter(|&n| n > 0).collect();
-    e.process = None;
-    for s in &file.sections {
-        if s.number > max {
-            e.section = s.number;
-            e.error(24, s.span.clone(), format!("section *{} is beyond the last section *{max} of {}", s.number, kind(file)), &format!("{} has sections *1 ... *{max}", kind(file)));
-        }
-    }
-    let highest = present.iter().copied().filter(|&n| n <= max).max().unwrap_or(0);
-    if highest < required {
-        e.section = 0;
-        let end = file.text.len();
-        let missing: Vec<String> = (highest + 1..=required).map(|n| format!("*{n}")).collect();
-        e.error(1, end..end, format!("{} ends before section {}", kind(file), missing.join(", ")), &format!("write the section markers up to *{required}; an optional section may be an empty marker"));
-    }
-}
-
-fn kind(file: &ParsedFile) -> &str {
-    let upper = file.name.to_ascii_uppercase();
-    if upper.contains("IOCFIL") {
-        "IOCFIL"
-    } else if upper.contains("PGCFIL") {
-        "PGCFIL"
-    } else {
-        "the file"
-    }
-}
 
 /// Reports error 6 when `rec.key` is not allowed; `allowed` lists the names for the hint.
 pub(crate) fn not_allowed(e: &mut Emit<'_>, rec: &Record, allowed: &str) {
