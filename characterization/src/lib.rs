@@ -10,6 +10,7 @@
 //! Broken input never panics: every function returns its result together with diagnostics.
 
 pub mod codes;
+pub mod iocfil;
 pub mod pgcfil;
 pub mod reader;
 pub mod values;
