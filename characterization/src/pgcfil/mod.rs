@@ -7,6 +7,7 @@
 //! states without a number use the project numbers listed in `characterization/ERRORS.md`.
 
 pub(crate) mod fields;
+pub(crate) mod locate;
 mod model;
 mod parse;
 mod sections56;
