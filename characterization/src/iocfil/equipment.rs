@@ -2,7 +2,7 @@
 //! axes, handwheels, disabled tasks, ADC/DAC channels).
 
 use crate::pgcfil::fields::Emit;
-use crate::pgcfil::structure::{not_allowed, Blocks};
+use crate::pgcfil::structure::{Blocks, not_allowed};
 use crate::reader::{Param, Record};
 
 use super::model::{Handwheel, IndexAxis, IoProcess, PtpAxis};
@@ -14,7 +14,12 @@ const S3: &str = "PRO, ASM, TA1 ... TA8, AS1 ... AS3, UCDA, ADV, CWD, ADC, DAC";
 pub(crate) fn section3(e: &mut Emit<'_>, blocks: &mut Blocks, rec: &Record, proc: &mut IoProcess) {
     let ta = indexed(&rec.key, "TA", 1..=8);
     let as_ = indexed(&rec.key, "AS", 1..=3);
-    if !matches!(rec.key.as_str(), "ASM" | "UCDA" | "ADV" | "CWD" | "ADC" | "DAC") && ta.is_none() && as_.is_none() {
+    if !matches!(
+        rec.key.as_str(),
+        "ASM" | "UCDA" | "ADV" | "CWD" | "ADC" | "DAC"
+    ) && ta.is_none()
+        && as_.is_none()
+    {
         return not_allowed(e, rec, S3);
     }
     if !blocks.first_time(e, rec) {
@@ -42,13 +47,23 @@ pub(crate) fn section3(e: &mut Emit<'_>, blocks: &mut Blocks, rec: &Record, proc
             for (i, c) in t.char_indices() {
                 let at = p[0].span.start + i..p[0].span.start + i + c.len_utf8();
                 if !c.is_ascii_alphabetic() {
-                    e.error(127, at, format!("'{c}' in UCDA is not an axis name"), "list axis letters without separators, e.g. UCDA=B");
+                    e.error(
+                        127,
+                        at,
+                        format!("'{c}' in UCDA is not an axis name"),
+                        "list axis letters without separators, e.g. UCDA=B",
+                    );
                 } else if !axes.contains(&c.to_ascii_uppercase()) {
                     axes.push(c.to_ascii_uppercase());
                 }
             }
             if axes.len() > 4 {
-                e.error(124, p[0].span.clone(), format!("UCDA lists {} axes", axes.len()), "at most 4 axes (chapter 6.3.5 says 3)");
+                e.error(
+                    124,
+                    p[0].span.clone(),
+                    format!("UCDA lists {} axes", axes.len()),
+                    "at most 4 axes (chapter 6.3.5 says 3)",
+                );
             } else if axes.len() == 4 {
                 e.warning(963, p[0].span.clone(), "UCDA lists 4 axes; chapter 6.3.5 allows at most 3 (error 124 of Table 7.4 allows 4)", "list at most 3 axes");
             }
@@ -78,12 +93,25 @@ pub(crate) fn section3(e: &mut Emit<'_>, blocks: &mut Blocks, rec: &Record, proc
             let mut out = Vec::new();
             for par in p {
                 let Some(v) = e.integer(par) else { continue };
-                let ok = if adc { (1..=8).contains(&v) } else { (1..=16).contains(&v) || (-216..=-201).contains(&v) };
+                let ok = if adc {
+                    (1..=8).contains(&v)
+                } else {
+                    (1..=16).contains(&v) || (-216..=-201).contains(&v)
+                };
                 if ok {
                     out.push(v);
                 } else {
-                    let hint = if adc { "ADC channels are 1 ... 8" } else { "DAC channels are 1 ... 16, or -201 ... -216 for 16-bit converters" };
-                    e.error(107, par.span.clone(), format!("{v} is not a {} channel number", rec.key), hint);
+                    let hint = if adc {
+                        "ADC channels are 1 ... 8"
+                    } else {
+                        "DAC channels are 1 ... 16, or -201 ... -216 for 16-bit converters"
+                    };
+                    e.error(
+                        107,
+                        par.span.clone(),
+                        format!("{v} is not a {} channel number", rec.key),
+                        hint,
+                    );
                 }
             }
             if adc { proc.adc = out } else { proc.dac = out }
@@ -109,14 +137,39 @@ fn ptp(e: &mut Emit<'_>, rec: &Record, proc: &mut IoProcess, number: u8) {
     let positions = e.real(&p[3]);
     let limit_1 = e.real(&p[4]);
     let limit_2 = e.real(&p[5]);
-    if axis_type & 1 == 0 && limit_1.is_none_or(|l| l <= 0.0) && (p[4].is_empty() || limit_1.is_some()) {
-        e.error(120, if p[4].is_empty() { rec.span.clone() } else { p[4].span.clone() }, format!("TA{number} has no DAC but its first slow-down threshold is not above 0"), "write limit_1 > 0 (positions) for a point-to-point axis without DAC");
+    if axis_type & 1 == 0
+        && limit_1.is_none_or(|l| l <= 0.0)
+        && (p[4].is_empty() || limit_1.is_some())
+    {
+        e.error(
+            120,
+            if p[4].is_empty() {
+                rec.span.clone()
+            } else {
+                p[4].span.clone()
+            },
+            format!("TA{number} has no DAC but its first slow-down threshold is not above 0"),
+            "write limit_1 > 0 (positions) for a point-to-point axis without DAC",
+        );
     }
     if p[0].is_empty() {
-        e.error(117, p[0].span.clone(), format!("TA{number} names no axis"), "write the name of a point-to-point axis declared in AXCFIL");
+        e.error(
+            117,
+            p[0].span.clone(),
+            format!("TA{number} names no axis"),
+            "write the name of a point-to-point axis declared in AXCFIL",
+        );
     }
     if let Some(axis) = axis {
-        proc.ptp_axes.push(PtpAxis { number, axis, axis_type, phase_disp, positions, limit_1, limit_2 });
+        proc.ptp_axes.push(PtpAxis {
+            number,
+            axis,
+            axis_type,
+            phase_disp,
+            positions,
+            limit_1,
+            limit_2,
+        });
     }
 }
 
@@ -131,7 +184,12 @@ fn index_axis(e: &mut Emit<'_>, rec: &Record, proc: &mut IoProcess, number: u8) 
             Some(0) => Some(false),
             Some(1) => Some(true),
             Some(v) => {
-                e.error(114, par.span.clone(), format!("AS{number} {what} {v:X} is neither 0 nor 1"), "mode: 0 absolute, 1 incremental; type: 0 rotary, 1 linear");
+                e.error(
+                    114,
+                    par.span.clone(),
+                    format!("AS{number} {what} {v:X} is neither 0 nor 1"),
+                    "mode: 0 absolute, 1 incremental; type: 0 rotary, 1 linear",
+                );
                 None
             }
             None => Some(false),
@@ -141,9 +199,26 @@ fn index_axis(e: &mut Emit<'_>, rec: &Record, proc: &mut IoProcess, number: u8) 
     let linear = bit(e, &p[2], "axis type");
     let positions = e.word(&p[3]);
     if positions.is_none_or(|n| n == 0) && (p[3].is_empty() || positions.is_some()) {
-        e.error(129, if p[3].is_empty() { rec.span.clone() } else { p[3].span.clone() }, format!("AS{number} declares no number of positions"), "the fourth parameter of ASx is the number of positions, e.g. 360");
+        e.error(
+            129,
+            if p[3].is_empty() {
+                rec.span.clone()
+            } else {
+                p[3].span.clone()
+            },
+            format!("AS{number} declares no number of positions"),
+            "the fourth parameter of ASx is the number of positions, e.g. 360",
+        );
     }
-    if let (Some(axis), Some(incremental), Some(linear), Some(positions)) = (axis, incremental, linear, positions.filter(|&n| n > 0)) {
-        proc.index_axes.push(IndexAxis { number, axis, incremental, linear, positions });
+    if let (Some(axis), Some(incremental), Some(linear), Some(positions)) =
+        (axis, incremental, linear, positions.filter(|&n| n > 0))
+    {
+        proc.index_axes.push(IndexAxis {
+            number,
+            axis,
+            incremental,
+            linear,
+            positions,
+        });
     }
 }

@@ -11,4 +11,4 @@ mod model;
 mod parse;
 
 pub use model::*;
-pub use parse::{parse, INPUT_CONNECTORS, OUTPUT_CONNECTORS};
+pub use parse::{INPUT_CONNECTORS, OUTPUT_CONNECTORS, parse};

@@ -229,11 +229,17 @@ pub struct Iocfil {
 impl Iocfil {
     /// Packet-A input connectors of all INx, in declaration order.
     pub fn input_connectors(&self) -> Vec<u16> {
-        self.inputs.iter().flat_map(|g| g.connectors.iter().copied()).collect()
+        self.inputs
+            .iter()
+            .flat_map(|g| g.connectors.iter().copied())
+            .collect()
     }
     /// Packet-A output connectors of all OUx, in declaration order.
     pub fn output_connectors(&self) -> Vec<u16> {
-        self.outputs.iter().flat_map(|g| g.connectors.iter().copied()).collect()
+        self.outputs
+            .iter()
+            .flat_map(|g| g.connectors.iter().copied())
+            .collect()
     }
     /// SPL or its default 1.
     pub fn spl_or_default(&self) -> u32 {
@@ -245,7 +251,11 @@ impl Iocfil {
     }
     /// Packet-T bytes: (byte index 0…63 = W(i div 4)T(i mod 4), value), sorted by index.
     pub fn t_bytes(&self) -> Vec<(usize, u8)> {
-        let mut v: Vec<(usize, u8)> = self.t_records.iter().map(|t| (usize::from(t.record) - 1, t.value)).collect();
+        let mut v: Vec<(usize, u8)> = self
+            .t_records
+            .iter()
+            .map(|t| (usize::from(t.record) - 1, t.value))
+            .collect();
         v.sort_unstable();
         v
     }

@@ -28,7 +28,12 @@ pub(crate) struct Emit<'f> {
 impl<'f> Emit<'f> {
     /// A collector for `file`.
     pub fn new(file: &'f ParsedFile) -> Self {
-        Emit { file, section: 0, process: None, diags: Vec::new() }
+        Emit {
+            file,
+            section: 0,
+            process: None,
+            diags: Vec::new(),
+        }
     }
 
     fn finish(&self, mut d: Diagnostic, hint: &str) -> Diagnostic {
@@ -52,7 +57,13 @@ impl<'f> Emit<'f> {
     }
 
     /// Reports warning `code` at `span`.
-    pub fn warning(&mut self, code: u32, span: Range<usize>, message: impl Into<String>, hint: &str) {
+    pub fn warning(
+        &mut self,
+        code: u32,
+        span: Range<usize>,
+        message: impl Into<String>,
+        hint: &str,
+    ) {
         let d = Diagnostic::warning(code, self.file.name.clone(), span, message);
         let d = self.finish(d, hint);
         self.diags.push(d);
@@ -71,7 +82,11 @@ impl<'f> Emit<'f> {
     }
 
     fn ctx(&self) -> Ctx<'f> {
-        Ctx { file: self.file, section: (self.section != 0).then_some(self.section), process: self.process }
+        Ctx {
+            file: self.file,
+            section: (self.section != 0).then_some(self.section),
+            process: self.process,
+        }
     }
 
     fn take<T>(&mut self, r: Result<Option<T>, Diagnostic>) -> Option<T> {
@@ -127,7 +142,12 @@ impl<'f> Emit<'f> {
         match (chars.next(), chars.next()) {
             (Some(c), None) if c.is_ascii_alphanumeric() => Some(c.to_ascii_uppercase()),
             _ => {
-                self.error(code, p.span.clone(), format!("{what} name '{t}' must be one character"), &format!("an {what} name is one letter or digit"));
+                self.error(
+                    code,
+                    p.span.clone(),
+                    format!("{what} name '{t}' must be one character"),
+                    &format!("an {what} name is one letter or digit"),
+                );
                 None
             }
         }
@@ -140,10 +160,14 @@ impl<'f> Emit<'f> {
         match (chars.next(), chars.next()) {
             (Some(c), None) if c.is_ascii_alphabetic() => Some(c.to_ascii_uppercase()),
             _ => {
-                self.error(code, p.span.clone(), format!("axis name '{t}' must be one letter"), "an axis name is a single letter such as X");
+                self.error(
+                    code,
+                    p.span.clone(),
+                    format!("axis name '{t}' must be one letter"),
+                    "an axis name is a single letter such as X",
+                );
                 None
             }
         }
     }
 }
-

@@ -18,14 +18,26 @@ pub(crate) struct Located<'f> {
 /// Every non-PRO record of the per-process sections in `sections`, with its process.
 pub(crate) fn records<'f>(file: &'f ParsedFile, sections: &[u32]) -> Vec<Located<'f>> {
     let mut out = Vec::new();
-    for s in file.sections.iter().filter(|s| sections.contains(&s.number)) {
+    for s in file
+        .sections
+        .iter()
+        .filter(|s| sections.contains(&s.number))
+    {
         let mut process = 1;
         for r in &s.records {
             if r.key == "PRO" {
-                process = r.params.first().and_then(|p| p.text.parse::<u32>().ok()).unwrap_or(0);
+                process = r
+                    .params
+                    .first()
+                    .and_then(|p| p.text.parse::<u32>().ok())
+                    .unwrap_or(0);
                 continue;
             }
-            out.push(Located { section: s.number, process, record: r });
+            out.push(Located {
+                section: s.number,
+                process,
+                record: r,
+            });
         }
     }
     out
@@ -38,7 +50,12 @@ pub(crate) fn pro_records(file: &ParsedFile, section: u32) -> Vec<(u32, &Record)
         .filter(|s| s.number == section)
         .flat_map(|s| s.records.iter())
         .filter(|r| r.key == "PRO")
-        .filter_map(|r| r.params.first().and_then(|p| p.text.parse::<u32>().ok()).map(|n| (n, r)))
+        .filter_map(|r| {
+            r.params
+                .first()
+                .and_then(|p| p.text.parse::<u32>().ok())
+                .map(|n| (n, r))
+        })
         .collect()
 }
 
@@ -55,16 +72,27 @@ pub(crate) fn blocks(file: &ParsedFile, section: u32) -> Vec<u32> {
 }
 
 /// The record `key` of `process` in `section`.
-pub(crate) fn find<'f>(file: &'f ParsedFile, section: u32, process: u32, key: &str) -> Option<&'f Record> {
-    records(file, &[section]).into_iter().find(|l| l.process == process && l.record.key == key).map(|l| l.record)
+pub(crate) fn find<'f>(
+    file: &'f ParsedFile,
+    section: u32,
+    process: u32,
+    key: &str,
+) -> Option<&'f Record> {
+    records(file, &[section])
+        .into_iter()
+        .find(|l| l.process == process && l.record.key == key)
+        .map(|l| l.record)
 }
 
 /// Span of parameter `i` of `rec`, or of the record.
 pub(crate) fn param_span(rec: &Record, i: usize) -> Range<usize> {
-    rec.params.get(i).map_or_else(|| rec.span.clone(), |p| p.span.clone())
+    rec.params
+        .get(i)
+        .map_or_else(|| rec.span.clone(), |p| p.span.clone())
 }
 
 /// The span of the `*n` marker, or the end of the file.
 pub(crate) fn section_span(file: &ParsedFile, n: u32) -> Range<usize> {
-    file.section(n).map_or_else(|| file.end_span(), |s| s.span.clone())
+    file.section(n)
+        .map_or_else(|| file.end_span(), |s| s.span.clone())
 }

@@ -143,7 +143,11 @@ impl MachineType {
     }
     /// The power-on G codes of the six GXX classes for this machine type.
     pub fn default_g(&self) -> [u8; 6] {
-        if self.is_lathe() { [0, 27, 90, 70, 95, 96] } else { [0, 27, 90, 70, 94, 97] }
+        if self.is_lathe() {
+            [0, 27, 90, 70, 95, 96]
+        } else {
+            [0, 27, 90, 70, 94, 97]
+        }
     }
 }
 
@@ -270,11 +274,17 @@ pub struct PgProcess {
 }
 
 /// Table 5.10 (NC-XXX feed override).
-pub const DEFAULT_FRO: [f64; 12] = [0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0, 1.125, 1.25, 1.25];
+pub const DEFAULT_FRO: [f64; 12] = [
+    0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875, 1.0, 1.125, 1.25, 1.25,
+];
 /// Table 5.12 (NC-XXX spindle override).
-pub const DEFAULT_SSO: [f64; 12] = [0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.25, 1.25];
+pub const DEFAULT_SSO: [f64; 12] = [
+    0.75, 0.8, 0.85, 0.9, 0.95, 1.0, 1.05, 1.1, 1.15, 1.2, 1.25, 1.25,
+];
 /// Table 5.14 (NC-XXX JOG override).
-pub const DEFAULT_FMO: [f64; 12] = [-1.0, -0.5, -0.2, -0.05, -0.01, 0.0, 0.01, 0.05, 0.2, 0.5, 1.0, 1.0];
+pub const DEFAULT_FMO: [f64; 12] = [
+    -1.0, -0.5, -0.2, -0.05, -0.01, 0.0, 0.01, 0.05, 0.2, 0.5, 1.0, 1.0,
+];
 
 impl PgProcess {
     /// The power-on G code of each class: GXX where given, else the TOF default.
@@ -311,7 +321,11 @@ impl PgProcess {
     }
     /// The value ASS gave `var` (last assignment wins).
     pub fn assigned(&self, var: &str) -> Option<f64> {
-        self.ass.iter().rev().find(|a| a.var_name == var).map(|a| a.value)
+        self.ass
+            .iter()
+            .rev()
+            .find(|a| a.var_name == var)
+            .map(|a| a.value)
     }
 }
 

@@ -9,7 +9,15 @@ use super::fields::Emit;
 
 /// Reports error 6 when `rec.key` is not allowed; `allowed` lists the names for the hint.
 pub(crate) fn not_allowed(e: &mut Emit<'_>, rec: &Record, allowed: &str) {
-    e.error(6, rec.key_span.clone(), format!("instruction {} is not allowed in section *{}", rec.key, e.section), &format!("section *{} allows {allowed}", e.section));
+    e.error(
+        6,
+        rec.key_span.clone(),
+        format!(
+            "instruction {} is not allowed in section *{}",
+            rec.key, e.section
+        ),
+        &format!("section *{} allows {allowed}", e.section),
+    );
 }
 
 /// Tracks the process blocks of one per-process section.
@@ -45,12 +53,22 @@ impl Blocks {
         let n = match u32::try_from(n) {
             Ok(n @ 1..=5) => n,
             _ => {
-                e.error(184, p.span.clone(), format!("process number {n} is not configurable"), "a process number is 1 ... 5 and not above NBP of AXCFIL");
+                e.error(
+                    184,
+                    p.span.clone(),
+                    format!("process number {n} is not configurable"),
+                    "a process number is 1 ... 5 and not above NBP of AXCFIL",
+                );
                 return None;
             }
         };
         if !self.seen.insert(n) {
-            e.error(184, p.span.clone(), format!("process {n} was already declared in section *{}", e.section), "write PRO once per process in each section");
+            e.error(
+                184,
+                p.span.clone(),
+                format!("process {n} was already declared in section *{}", e.section),
+                "write PRO once per process in each section",
+            );
             return None;
         }
         self.current = Some(n);
@@ -78,7 +96,12 @@ impl Blocks {
         if self.keys.insert(rec.key.clone()) {
             true
         } else {
-            e.error(101, rec.key_span.clone(), format!("instruction {} is duplicated", rec.key), "write each instruction once per process");
+            e.error(
+                101,
+                rec.key_span.clone(),
+                format!("instruction {} is duplicated", rec.key),
+                "write each instruction once per process",
+            );
             false
         }
     }
