@@ -3,11 +3,15 @@
 
 use std::path::PathBuf;
 
-use characterization::reader::{read, read_with, Grammar};
+use characterization::reader::{Grammar, read, read_with};
 use characterization::{iocfil, pgcfil};
 
 fn text(machine: &str, file: &str) -> Vec<u8> {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../plc-programs").join(machine).join("MP0").join(file);
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../plc-programs")
+        .join(machine)
+        .join("MP0")
+        .join(file);
     std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -32,7 +36,11 @@ fn lathe_loads() {
     assert_eq!(io.input_connectors(), [0, 1]);
     assert_eq!(io.output_connectors(), [4, 5]);
     assert_eq!((io.tick_logic_ms, io.time_slow_ms), (10, 2));
-    let ms: Vec<u8> = io.processes[0].m_functions.iter().map(|m| m.number).collect();
+    let ms: Vec<u8> = io.processes[0]
+        .m_functions
+        .iter()
+        .map(|m| m.number)
+        .collect();
     assert_eq!(ms, [0, 1, 2, 3, 4, 5, 8, 9, 30]);
     assert_eq!(io.t_bytes(), [(0, 0x10), (1, 0), (2, 0x32), (3, 5)]);
 }
@@ -42,10 +50,16 @@ fn mill_loads() {
     let (pg, io, d) = load("mill");
     assert_eq!(d, []);
     assert!(pg.retains());
-    assert_eq!(pg.processes.iter().map(|p| p.number).collect::<Vec<_>>(), [1, 2]);
+    assert_eq!(
+        pg.processes.iter().map(|p| p.number).collect::<Vec<_>>(),
+        [1, 2]
+    );
     assert_eq!(io.input_connectors(), [0, 1, 2]);
     assert_eq!(io.output_connectors(), [4, 5, 6]);
     let p1 = &io.processes[0];
-    assert_eq!(p1.m_function(6).map(|m| m.flags.tool_offset_request), Some(true));
+    assert_eq!(
+        p1.m_function(6).map(|m| m.flags.tool_offset_request),
+        Some(true)
+    );
     assert_eq!(io.processes[1].ptp_axes[0].axis, 'T');
 }
