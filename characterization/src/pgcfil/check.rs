@@ -99,7 +99,7 @@ fn nip_rules(e: &mut Emit<'_>, ax: &Axcfil, n: u32, nip: char, span: std::ops::R
         return;
     };
     let ptp_only = !int.axes.is_empty() && int.axes.iter().all(|&c| axes::axis_type(ax, c).is_some_and(|t| t.ptp));
-    if ptp_only {
+    if ptp_only && axes::continuous_count(ax, n) > 0 {
         e.error(131, span, format!("interpolator {nip} drives point-to-point axes only"), "NIP names the interpolator of the continuous coordinate axes");
         return;
     }
@@ -118,8 +118,10 @@ fn axis_rule(e: &mut Emit<'_>, ax: &Axcfil, n: u32, c: char, span: std::ops::Ran
         e.error(116, span, format!("{key} axis {c} is not defined for process {n} in AXCFIL"), "name an axis of the process declared in AXCFIL");
         return false;
     }
+    // A process without continuous axes (a tool magazine) still needs NAM and NPD (118): they
+    // name its point-to-point axis then.
     match axes::axis_type(ax, c) {
-        Some(t) if !axes::continuous(&t) => {
+        Some(t) if !axes::continuous(&t) && axes::continuous_count(ax, n) > 0 => {
             e.error(117, span, format!("{key} axis {c} is not a continuous coordinate axis"), "NAM and NPD name continuous coordinate axes, never the spindle or a point-to-point axis");
             false
         }
