@@ -9,7 +9,9 @@
 //!
 //! Broken input never panics: every function returns its result together with diagnostics.
 
+pub mod axcfil;
 pub mod codes;
+pub mod fcrsys;
 pub mod iocfil;
 pub mod pgcfil;
 pub mod reader;
