@@ -6,9 +6,11 @@
 //! PAS). Error numbers are those of Table 7.4 (and Table 7.1 for syntax); rules the manual states
 //! without a number use the project numbers listed in `characterization/ERRORS.md`.
 
+mod check;
 mod equipment;
 mod model;
 mod parse;
 
+pub use check::check_against;
 pub use model::*;
 pub use parse::{INPUT_CONNECTORS, OUTPUT_CONNECTORS, parse};

@@ -7,8 +7,6 @@ use crate::reader::{ParsedFile, Record};
 
 /// A record with the process block it belongs to (`None` before any PRO is process 1).
 pub(crate) struct Located<'f> {
-    /// Section number.
-    pub section: u32,
     /// Process of the block (1 before any PRO).
     pub process: u32,
     /// The record.
@@ -33,11 +31,7 @@ pub(crate) fn records<'f>(file: &'f ParsedFile, sections: &[u32]) -> Vec<Located
                     .unwrap_or(0);
                 continue;
             }
-            out.push(Located {
-                section: s.number,
-                process,
-                record: r,
-            });
+            out.push(Located { process, record: r });
         }
     }
     out

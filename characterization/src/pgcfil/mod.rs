@@ -6,6 +6,8 @@
 //! instructions). Error numbers are those of Table 7.3 (and Table 7.1 for syntax); rules the manual
 //! states without a number use the project numbers listed in `characterization/ERRORS.md`.
 
+pub(crate) mod axes;
+mod check;
 pub(crate) mod fields;
 pub(crate) mod locate;
 mod model;
@@ -14,5 +16,6 @@ mod sections56;
 pub(crate) mod structure;
 pub mod tables;
 
+pub use check::check_against;
 pub use model::*;
 pub use parse::parse;
