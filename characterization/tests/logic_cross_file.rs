@@ -120,12 +120,20 @@ fn pgcfil_146_148_tga_and_132_mas_and_ecdf_cax() {
     expect(pg(&src, &no_ecdf), 6, &src, "CAX", 0);
 }
 
-const IO_BASE: &str =
-    "*1\nIN0=0,1,,,,,,\nOU0=4,5,,,,,,\nCLO=10,2\n*2\nPRO=1\nM03=45,00,21\n*3\nPRO=1\nASM=S\n*4\n";
+const IO_BASE: &str = "*1\nIN0=0,1,,,,,,\nOU0=4,5,,,,,,\nCLO=10,2\n*2\nPRO=1\nM03=45,00,21\nPRO=2\nM03=45,00,21\n*3\nPRO=1\nASM=S\nPRO=2\nCWD=0001\n*4\n";
 
 #[test]
 fn iocfil_base_fits() {
     assert_eq!(io(IO_BASE, &axcfil(AX_NC110)), []);
+}
+
+#[test]
+fn iocfil_964_process_without_blocks() {
+    let ax = axcfil(AX_NC110);
+    let src = IO_BASE.replace("PRO=2\nM03=45,00,21\n", "");
+    let (l, c) = at(&src, "*2", 0);
+    let got: Vec<(u32, u32, u32)> = io(&src, &ax);
+    assert_eq!(got, [(964, l, c)]);
 }
 
 #[test]

@@ -30,6 +30,26 @@ pub fn check_against(i: &Iocfil, file: &ParsedFile, ax: &Axcfil) -> Vec<Diagnost
             }
         }
     }
+    for section in [2, 3] {
+        let present = locate::blocks(file, section);
+        for n in (1..=ax.nbp).filter(|n| !present.contains(n)) {
+            e.section = section;
+            e.process = Some(n);
+            let what = if section == 2 {
+                "M functions"
+            } else {
+                "PLC-handled equipment"
+            };
+            e.warning(
+                964,
+                locate::section_span(file, section),
+                format!("section *{section} has no block for process {n} ({what})"),
+                &format!(
+                    "the manual writes section *{section} for each declared process: add PRO={n}"
+                ),
+            );
+        }
+    }
     e.section = 3;
     for proc in i.processes.iter().filter(|p| p.number <= ax.nbp) {
         let n = proc.number;

@@ -16,11 +16,7 @@ pub(crate) struct Located<'f> {
 /// Every non-PRO record of the per-process sections in `sections`, with its process.
 pub(crate) fn records<'f>(file: &'f ParsedFile, sections: &[u32]) -> Vec<Located<'f>> {
     let mut out = Vec::new();
-    for s in file
-        .sections
-        .iter()
-        .filter(|s| sections.contains(&s.number))
-    {
+    for s in sections.iter().filter_map(|&n| file.section(n)) {
         let mut process = 1;
         for r in &s.records {
             if r.key == "PRO" {
@@ -39,9 +35,8 @@ pub(crate) fn records<'f>(file: &'f ParsedFile, sections: &[u32]) -> Vec<Located
 
 /// The PRO records of `section` with their numbers (unparsable numbers are left out).
 pub(crate) fn pro_records(file: &ParsedFile, section: u32) -> Vec<(u32, &Record)> {
-    file.sections
-        .iter()
-        .filter(|s| s.number == section)
+    file.section(section)
+        .into_iter()
         .flat_map(|s| s.records.iter())
         .filter(|r| r.key == "PRO")
         .filter_map(|r| {
@@ -56,12 +51,14 @@ pub(crate) fn pro_records(file: &ParsedFile, section: u32) -> Vec<(u32, &Record)
 /// The process numbers that have a block in `section` (1 when records precede any PRO).
 pub(crate) fn blocks(file: &ParsedFile, section: u32) -> Vec<u32> {
     let mut out = Vec::new();
-    for s in file.sections.iter().filter(|s| s.number == section) {
-        if s.records.first().is_some_and(|r| r.key != "PRO") {
-            out.push(1);
-        }
-        out.extend(pro_records(file, section).into_iter().map(|(n, _)| n));
+    if file
+        .section(section)
+        .and_then(|s| s.records.first())
+        .is_some_and(|r| r.key != "PRO")
+    {
+        out.push(1);
     }
+    out.extend(pro_records(file, section).into_iter().map(|(n, _)| n));
     out
 }
 
