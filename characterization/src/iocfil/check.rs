@@ -141,10 +141,10 @@ pub fn check_against(i: &Iocfil, file: &ParsedFile, ax: &Axcfil) -> Vec<Diagnost
         }
         if let (Some(adv), Some(r)) = (proc.adv, rec("ADV")) {
             for (k, hw) in adv.iter().enumerate() {
-                if let Some(Handwheel::Axis(c)) = hw {
-                    if axes::any_axis(ax, *c).is_none() {
-                        e.error(117, param_span(r, k), format!("handwheel axis {c} does not exist in AXCFIL"), "name the handwheel axis defined in AXCFIL, or write 0 for the electronic-handwheel channel");
-                    }
+                if let Some(Handwheel::Axis(c)) = hw
+                    && axes::any_axis(ax, *c).is_none()
+                {
+                    e.error(117, param_span(r, k), format!("handwheel axis {c} does not exist in AXCFIL"), "name the handwheel axis defined in AXCFIL, or write 0 for the electronic-handwheel channel");
                 }
             }
         }
@@ -175,7 +175,7 @@ fn clo(e: &mut Emit<'_>, i: &Iocfil, file: &ParsedFile, ax: &Axcfil) {
         );
         return;
     }
-    if i.tick_logic_ms % cpu != 0 {
+    if !i.tick_logic_ms.is_multiple_of(cpu) {
         let below = i.tick_logic_ms / cpu * cpu;
         let near = if below == 0 { cpu } else { below };
         e.error(

@@ -531,18 +531,18 @@ fn section4(e: &mut Emit<'_>, blocks: &mut Blocks, rec: &Record, proc: &mut PgPr
             }
         }
         "STR" => {
-            if e.count(rec, 1, 1) {
-                if let Some(n) = e.word(&p[0]) {
-                    if n > 255 {
-                        e.error(
-                            135,
-                            p[0].span.clone(),
-                            format!("{n} structures declared, at most 255"),
-                            "write at most 255",
-                        );
-                    } else {
-                        proc.structures = Some(n);
-                    }
+            if e.count(rec, 1, 1)
+                && let Some(n) = e.word(&p[0])
+            {
+                if n > 255 {
+                    e.error(
+                        135,
+                        p[0].span.clone(),
+                        format!("{n} structures declared, at most 255"),
+                        "write at most 255",
+                    );
+                } else {
+                    proc.structures = Some(n);
                 }
             }
         }

@@ -116,14 +116,19 @@ pub(crate) fn section5(
         }
         "TOF" => {
             st.tof = true;
-            if e.count(rec, 1, 1) {
-                if let Some(v) = e.hex(&p[0], 2) {
-                    let raw = v as u8;
-                    if matches!(raw & 0x0F, 1 | 2 | 5 | 6) && raw >> 4 <= 3 {
-                        proc.tof = Some(MachineType { raw });
-                    } else {
-                        e.error(133, p[0].span.clone(), format!("TOF={} is not a machine type", p[0].text), "the right digit is 1, 2, 5 or 6; add 10 and/or 20 for the auxiliary codes");
-                    }
+            if e.count(rec, 1, 1)
+                && let Some(v) = e.hex(&p[0], 2)
+            {
+                let raw = v as u8;
+                if matches!(raw & 0x0F, 1 | 2 | 5 | 6) && raw >> 4 <= 3 {
+                    proc.tof = Some(MachineType { raw });
+                } else {
+                    e.error(
+                        133,
+                        p[0].span.clone(),
+                        format!("TOF={} is not a machine type", p[0].text),
+                        "the right digit is 1, 2, 5 or 6; add 10 and/or 20 for the auxiliary codes",
+                    );
                 }
             }
         }
