@@ -253,6 +253,14 @@ fn section2(e: &mut Emit<'_>, _blocks: &mut Blocks, rec: &Record, proc: &mut PgP
     if e.ascii(&p[0]).is_none() {
         return;
     }
+    if var_name != "NEW" && proc.sim.iter().any(|s| s.var_name == var_name) {
+        return e.error(
+            101,
+            rec.key_span.clone(),
+            format!("SIM for {var_name} is duplicated"),
+            "change each variable once per process",
+        );
+    }
     let var_new = e.ascii(&p[1]);
     let max_num = e.word(&p[2]);
     let def_type = e.hex(&p[3], 2).map(|v| v as u8);
