@@ -6,6 +6,7 @@
 //!   PLC variable) and [`values::Ctx`], which builds located diagnostics.
 //! * [`fcrsys`]: the system file and the resolution of logical names into the machine directory.
 //! * [`axcfil`]: the axis file, its typed model and the rules of the manual's Table 7.2.
+//! * [`pgcfil`], [`iocfil`]: the process and logic files (chapters 5 and 6), project codes 950–999.
 //! * [`machine`]: [`load_machine`] reads a whole machine directory in one run.
 //! * [`codes`]: every diagnostic number used, with the project's own 900–949 range documented
 //!   (PGCFIL/IOCFIL use 950–999).
@@ -16,7 +17,9 @@
 pub mod axcfil;
 pub mod codes;
 pub mod fcrsys;
+pub mod iocfil;
 pub mod machine;
+pub mod pgcfil;
 pub mod reader;
 pub mod values;
 
