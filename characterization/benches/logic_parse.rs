@@ -1,8 +1,8 @@
 //! Decoding speed of PGCFIL and IOCFIL: the manual's examples, read and decoded.
 
-use characterization::reader::{read, read_with, Grammar};
+use characterization::reader::{Grammar, read, read_with};
 use characterization::{iocfil, pgcfil};
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{Criterion, criterion_group, criterion_main};
 
 fn bench(c: &mut Criterion) {
     let pg = include_bytes!("../tests/fixtures/pgcfil_nc110.txt");

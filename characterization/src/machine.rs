@@ -17,6 +17,8 @@ use serde::{Deserialize, Serialize};
 use crate::axcfil::{self, Axcfil, FileRef};
 use crate::codes;
 use crate::fcrsys::{self, Fcrsys};
+use crate::iocfil::{self, Iocfil};
+use crate::pgcfil::{self, Pgcfil};
 use crate::reader::{self, Grammar, ParsedFile};
 
 /// Where the files of a machine are.
@@ -47,8 +49,10 @@ pub struct Machine {
     pub fcrsys: Fcrsys,
     /// AXCFIL.
     pub axcfil: Axcfil,
-    // CHAR-LOGIC: add `pub pgcfil: Option<crate::pgcfil::Pgcfil>` and
-    // `pub iocfil: Option<crate::iocfil::Iocfil>` here and fill them in `load_machine`.
+    /// PGCFIL, when FCRSYS names an existing file.
+    pub pgcfil: Option<Pgcfil>,
+    /// IOCFIL, when FCRSYS names an existing file.
+    pub iocfil: Option<Iocfil>,
 }
 
 /// The result of [`load_machine`]: the machine (when its FCRSYS and AXCFIL could be read),
@@ -201,18 +205,30 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
         l.add(diags);
         axcfil = Some(model);
     }
+    let mut pgcfil = None;
     if let Some(path) = &pgcfil_path
-        && let Some((file, diags)) = l.read(path, Grammar::PGCFIL)
+        && let Some((file, mut diags)) = l.read(path, Grammar::PGCFIL)
     {
-        // CHAR-LOGIC: validate PGCFIL here (cross-file rules may use `axcfil`).
+        let (model, d) = pgcfil::parse(&file);
+        diags.extend(d);
+        if let Some(ax) = &axcfil {
+            diags.extend(pgcfil::check_against(&model, &file, ax));
+        }
         l.add(diags);
+        pgcfil = Some(model);
         pgcfil_file = Some(file);
     }
+    let mut iocfil = None;
     if let Some(path) = &iocfil_path
-        && let Some((file, diags)) = l.read(path, Grammar::FUNCTIONAL)
+        && let Some((file, mut diags)) = l.read(path, Grammar::FUNCTIONAL)
     {
-        // CHAR-LOGIC: validate IOCFIL here (CLO against TIM, TAn against tool-magazine axes, …).
+        let (model, d) = iocfil::parse(&file);
+        diags.extend(d);
+        if let Some(ax) = &axcfil {
+            diags.extend(iocfil::check_against(&model, &file, ax));
+        }
         l.add(diags);
+        iocfil = Some(model);
         iocfil_file = Some(file);
     }
     let paths = MachinePaths {
@@ -228,6 +244,8 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
         paths,
         fcrsys,
         axcfil,
+        pgcfil,
+        iocfil,
     });
     MachineLoad {
         machine,
