@@ -205,7 +205,7 @@ pub fn validate(file: &ParsedFile) -> (Fcrsys, Vec<Diagnostic>) {
                 ));
             }
         }
-        for b in &model.files {
+        for b in model.files.iter().filter(|_| file.section(1).is_some()) {
             if let FileLocation::Logical { mp, .. } = b.location
                 && !model.paths.contains_key(&mp)
             {
