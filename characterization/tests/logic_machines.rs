@@ -1,0 +1,65 @@
+//! The example machines' PGCFIL and IOCFIL (plc-programs/lathe, plc-programs/mill) load without
+//! a diagnostic and say what the shared conventions say.
+
+use std::path::PathBuf;
+
+use characterization::reader::{Grammar, read, read_with};
+use characterization::{iocfil, pgcfil};
+
+fn text(machine: &str, file: &str) -> Vec<u8> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../plc-programs")
+        .join(machine)
+        .join("MP0")
+        .join(file);
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+fn load(machine: &str) -> (pgcfil::Pgcfil, iocfil::Iocfil, Vec<diag::Diagnostic>) {
+    let (pf, mut d) = read_with("MP0/PGCFIL", &text(machine, "PGCFIL"), Grammar::PGCFIL);
+    let (pg, more) = pgcfil::parse(&pf);
+    d.extend(more);
+    let (iof, more) = read("MP0/IOCFIL", &text(machine, "IOCFIL"));
+    d.extend(more);
+    let (io, more) = iocfil::parse(&iof);
+    d.extend(more);
+    (pg, io, d)
+}
+
+#[test]
+fn lathe_loads() {
+    let (pg, io, d) = load("lathe");
+    assert_eq!(d, []);
+    assert!(!pg.retains());
+    assert_eq!(pg.processes.len(), 1);
+    assert_eq!(pg.processes[0].mas, ['X', 'Z']);
+    assert_eq!(io.input_connectors(), [0, 1]);
+    assert_eq!(io.output_connectors(), [4, 5]);
+    assert_eq!((io.tick_logic_ms, io.time_slow_ms), (10, 2));
+    let ms: Vec<u8> = io.processes[0]
+        .m_functions
+        .iter()
+        .map(|m| m.number)
+        .collect();
+    assert_eq!(ms, [0, 1, 2, 3, 4, 5, 8, 9, 30]);
+    assert_eq!(io.t_bytes(), [(0, 0x10), (1, 0), (2, 0x32), (3, 5)]);
+}
+
+#[test]
+fn mill_loads() {
+    let (pg, io, d) = load("mill");
+    assert_eq!(d, []);
+    assert!(pg.retains());
+    assert_eq!(
+        pg.processes.iter().map(|p| p.number).collect::<Vec<_>>(),
+        [1, 2]
+    );
+    assert_eq!(io.input_connectors(), [0, 1, 2]);
+    assert_eq!(io.output_connectors(), [4, 5, 6]);
+    let p1 = &io.processes[0];
+    assert_eq!(
+        p1.m_function(6).map(|m| m.flags.tool_offset_request),
+        Some(true)
+    );
+    assert_eq!(io.processes[1].ptp_axes[0].axis, 'T');
+}
