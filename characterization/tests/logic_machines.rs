@@ -63,3 +63,46 @@ fn mill_loads() {
     );
     assert_eq!(io.processes[1].ptp_axes[0].axis, 'T');
 }
+
+#[test]
+fn both_machines_load_with_all_four_files_clean() {
+    for machine in ["lathe", "mill"] {
+        let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../plc-programs")
+            .join(machine);
+        let load = characterization::machine::load_machine(&dir);
+        let errors: Vec<String> = load
+            .diagnostics
+            .iter()
+            .filter(|d| d.file.contains("PGCFIL") || d.file.contains("IOCFIL") || d.is_error())
+            .map(|d| d.to_string())
+            .collect();
+        assert_eq!(errors, Vec::<String>::new(), "{machine}");
+        let m = load
+            .machine
+            .unwrap_or_else(|| panic!("{machine} did not load"));
+        assert!(m.pgcfil.is_some() && m.iocfil.is_some(), "{machine}");
+    }
+}
+
+#[test]
+fn mill_axes_agree_between_files() {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../plc-programs/mill");
+    let load = characterization::machine::load_machine(&dir);
+    let m = load.machine.unwrap_or_else(|| panic!("mill did not load"));
+    let (ax, io, pg) = (
+        m.axcfil,
+        m.iocfil.unwrap_or_default(),
+        m.pgcfil.unwrap_or_default(),
+    );
+    assert_eq!(ax.nbp, 2);
+    assert_eq!(pg.processes.len(), 2);
+    let ta = io.processes[1].ptp_axes[0];
+    let pas = ax
+        .process(2)
+        .and_then(|p| p.axis('T'))
+        .and_then(|a| a.pas.as_ref())
+        .map(|p| p.mec_pitch);
+    assert_eq!((ta.axis, ta.positions, ta.has_dac()), ('T', pas, true));
+    assert_eq!(io.tick_logic_ms % ax.tim, 0);
+}
