@@ -106,3 +106,42 @@ fn mill_axes_agree_between_files() {
     assert_eq!((ta.axis, ta.positions, ta.has_dac()), ('T', pas, true));
     assert_eq!(io.tick_logic_ms % ax.tim, 0);
 }
+
+#[test]
+fn errors_of_all_four_files_come_out_of_one_run() {
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../plc-programs/lathe");
+    let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let dir = tmp.path();
+    std::fs::create_dir_all(dir.join("MP0")).unwrap_or_else(|e| panic!("{e}"));
+    let copy = |name: &str, edit: &dyn Fn(String) -> String| {
+        let text = std::fs::read(src.join(name))
+            .map(|b| characterization::reader::decode(&b))
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        std::fs::write(dir.join(name), edit(text)).unwrap_or_else(|e| panic!("{name}: {e}"));
+    };
+    copy("FCRSYS", &|t| t.replace("MP1=", "MP9="));
+    copy("MP0/AXCFIL", &|t| {
+        t.replace("TIM=1,0,0,0,0", "TIM=99,0,0,0,0")
+    });
+    copy("MP0/PGCFIL", &|t| t.replace("TOF=12", "TOF=13"));
+    copy("MP0/IOCFIL", &|t| t.replace("GPS=0", "GPS=2"));
+    let load = characterization::machine::load_machine(dir);
+    let mut files: Vec<&str> = load
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| d.file.as_str())
+        .collect();
+    files.dedup();
+    assert_eq!(files, ["FCRSYS", "MP0/AXCFIL", "MP0/PGCFIL", "MP0/IOCFIL"]);
+    let logic: Vec<(&str, u32)> = load
+        .diagnostics
+        .iter()
+        .filter(|d| d.file.ends_with("GCFIL") || d.file.ends_with("OCFIL"))
+        .map(|d| (d.file.as_str(), d.code))
+        .collect();
+    assert!(
+        logic.contains(&("MP0/PGCFIL", 133)) && logic.contains(&("MP0/IOCFIL", 130)),
+        "{logic:?}"
+    );
+}
