@@ -10,6 +10,8 @@ use std::hash::{Hash, Hasher};
 use std::ops::Range;
 use std::sync::Arc;
 
+use compiler::context::MachineContext;
+use compiler::interface_map::InterfaceMap;
 use compiler::ir::Program;
 use compiler::{Engine, Interpreter};
 use packets::Signal;
@@ -44,11 +46,7 @@ impl CompiledMeta {
             (&v.name, format!("{:?}", v.ty), v.offset).hash(&mut h);
         }
         program.retain_range().hash(&mut h);
-        CompiledMeta {
-            program,
-            written,
-            layout: h.finish(),
-        }
+        CompiledMeta { program, written, layout: h.finish() }
     }
 }
 
@@ -71,26 +69,17 @@ impl ProgramMeta for CompiledMeta {
     fn migrate_from(&self, old: &dyn ProgramMeta, old_image: &[u8], new_image: &mut [u8]) {
         // Fresh initial values first; then every unchanged slot keeps its state.
         self.program.init_image(new_image);
-        let Some(old) = old.as_any().downcast_ref::<CompiledMeta>() else {
-            return;
-        };
-        let old_slots: HashMap<String, _> = old
-            .program
-            .state_slots()
-            .into_iter()
-            .map(|s| (s.name.to_ascii_uppercase(), s))
-            .collect();
+        let Some(old) = old.as_any().downcast_ref::<CompiledMeta>() else { return };
+        let old_slots: HashMap<String, _> =
+            old.program.state_slots().into_iter().map(|s| (s.name.to_ascii_uppercase(), s)).collect();
         for s in self.program.state_slots() {
-            let Some(o) = old_slots.get(&s.name.to_ascii_uppercase()) else {
-                continue;
-            };
+            let Some(o) = old_slots.get(&s.name.to_ascii_uppercase()) else { continue };
             if o.kind != s.kind || o.ty != s.ty || o.len != s.len {
                 continue;
             }
-            if let (Some(src), Some(dst)) = (
-                old_image.get(o.offset..o.offset + o.len),
-                new_image.get_mut(s.offset..s.offset + s.len),
-            ) {
+            if let (Some(src), Some(dst)) =
+                (old_image.get(o.offset..o.offset + o.len), new_image.get_mut(s.offset..s.offset + s.len))
+            {
                 dst.copy_from_slice(src);
             }
         }
@@ -112,29 +101,49 @@ impl Logic for EngineLogic {
     }
 }
 
+/// The compiler's view of the machine.
+pub fn machine_context(cfg: &RunConfig, tick_ms: u32, interface: InterfaceMap) -> MachineContext {
+    MachineContext {
+        a_inputs: cfg.a_inputs.clone(),
+        a_outputs: cfg.a_outputs.clone(),
+        spl: cfg.spl,
+        tick_ms,
+        time_slow_ms: cfg.time_slow_ms,
+        interface,
+    }
+}
+
 /// Wraps an IR program in an engine.
 pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, String> {
     let program = Arc::new(program);
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
-        EngineKind::Jit => {
-            Box::new(compiler::jit::compile(&program).map_err(|e| format!("error: JIT: {e}"))?)
-        }
+        EngineKind::Jit => Box::new(compiler::jit::compile(&program).map_err(|e| format!("error: JIT: {e}"))?),
     };
-    Ok(Loaded {
-        logic: Box::new(EngineLogic(logic)),
-        meta: Arc::new(CompiledMeta::new(program)),
-    })
+    Ok(Loaded { logic: Box::new(EngineLogic(logic)), meta: Arc::new(CompiledMeta::new(program)) })
 }
 
 /// Compiles `source` (named `file_name` in diagnostics) for the machine `cfg` with tick `tick_ms`.
-/// `Err` holds the rendered diagnostics.
+/// `Err` holds the rendered diagnostics. Warnings of a successful compile are printed to stderr.
 pub fn compile(
-    _file_name: &str,
-    _source: &[u8],
-    _cfg: &RunConfig,
-    _tick_ms: u32,
-    _engine: EngineKind,
+    file_name: &str,
+    source: &[u8],
+    cfg: &RunConfig,
+    interface: &InterfaceMap,
+    tick_ms: u32,
+    engine: EngineKind,
 ) -> Result<Loaded, String> {
-    Err("error: the PLC front end is not merged into the runtime yet".into())
+    let ctx = machine_context(cfg, tick_ms, interface.clone());
+    let c = compiler::compile(file_name, source, &ctx);
+    let mut sources = diag::Sources::new();
+    sources.add(file_name, c.text.clone());
+    match c.program {
+        Some(p) if !diag::has_errors(&c.diagnostics) => {
+            if !c.diagnostics.is_empty() {
+                eprint!("{}", diag::render_human(&c.diagnostics, &sources));
+            }
+            load(p, engine)
+        }
+        _ => Err(diag::render_human(&c.diagnostics, &sources)),
+    }
 }

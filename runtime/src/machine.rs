@@ -6,6 +6,8 @@
 
 use std::path::{Path, PathBuf};
 
+use compiler::InterfaceMap;
+
 use crate::compiled::{EngineKind, compile};
 use crate::config::RunConfig;
 use crate::online::CompileFn;
@@ -22,6 +24,8 @@ pub struct Machine {
     pub script: Script,
     /// The handshake signals.
     pub signals: CncSignals,
+    /// The interface map (builtin plus `<machine>/interface.toml`).
+    pub interface: InterfaceMap,
 }
 
 impl Machine {
@@ -47,12 +51,9 @@ impl Machine {
                 ..Script::default()
             },
         };
-        Ok(Machine {
-            dir: dir.to_path_buf(),
-            config,
-            script,
-            signals: CncSignals::default(),
-        })
+        let interface = InterfaceMap::load_for_machine(dir).map_err(|e| e.to_string())?;
+        let signals = CncSignals::from_lookup(|name| interface.signal(name));
+        Ok(Machine { dir: dir.to_path_buf(), config, script, signals, interface })
     }
 
     /// Reads the PLC source.
@@ -70,7 +71,8 @@ impl Machine {
     pub fn compile_fn(&self, engine: EngineKind, tick_ms: u32) -> CompileFn {
         let cfg = self.config.clone();
         let name = self.source_name();
-        std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, tick_ms, engine))
+        let map = self.interface.clone();
+        std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, &map, tick_ms, engine))
     }
 }
 
