@@ -182,6 +182,7 @@ impl Scheduler {
         let t = self.tick;
         let due = self.start_ns + t * self.settings.tick_ns;
         let woke = self.clock.sleep_until(due);
+        let work = Instant::now();
         self.take_swap(t);
         if let Some((diff, _, rec)) = &mut self.recording {
             diff.before_latch(self.image.bytes());
@@ -222,9 +223,13 @@ impl Scheduler {
             self.clock.now_ns()
         };
         let overrun = !self.clock.is_virtual() && end > due + self.settings.tick_ns;
-        let run = self
-            .stats
-            .tick(woke.saturating_sub(due), end.saturating_sub(woke), overrun);
+        // Virtual time does not move during the work: measure the scan on the wall clock then.
+        let scan_ns = if self.clock.is_virtual() {
+            u64::try_from(work.elapsed().as_nanos()).unwrap_or(u64::MAX)
+        } else {
+            end.saturating_sub(woke)
+        };
+        let run = self.stats.tick(woke.saturating_sub(due), scan_ns, overrun);
         if overrun
             && !self.tripped
             && self.settings.overrun_limit > 0

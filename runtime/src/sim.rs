@@ -14,6 +14,7 @@
 //! [[follow]]                        # machine feedback: input follows an output after a delay
 //! input = "I0A3"
 //! output = "U4A0"
+//! or_outputs = ["U4A1"]             # optional: further outputs OR'ed
 //! delay_ms = 500
 //! invert = false
 //! ```
@@ -77,6 +78,9 @@ pub struct Follow {
     pub input: String,
     /// The output followed.
     pub output: String,
+    /// Further outputs OR'ed with `output`.
+    #[serde(default)]
+    pub or_outputs: Vec<String>,
     /// The delay in ms (rounded up to ticks; 0 = the next tick).
     #[serde(default)]
     pub delay_ms: u64,
@@ -154,7 +158,7 @@ impl Default for CncSignals {
 
 struct FollowRule {
     input: Signal,
-    output: Signal,
+    outputs: Vec<Signal>,
     delay: usize,
     invert: bool,
     history: VecDeque<u8>,
@@ -222,7 +226,10 @@ impl Sim {
             .map(|f| {
                 Ok(FollowRule {
                     input: parse_sig(&f.input)?,
-                    output: parse_sig(&f.output)?,
+                    outputs: std::iter::once(&f.output)
+                        .chain(&f.or_outputs)
+                        .map(|o| parse_sig(o))
+                        .collect::<Result<Vec<_>, _>>()?,
                     delay: f.delay_ms.div_ceil(tick_ms) as usize,
                     invert: f.invert,
                     history: VecDeque::new(),
@@ -357,7 +364,7 @@ impl PacketIo for Sim {
         let n = packets.len().min(self.last_out.len());
         self.last_out[..n].copy_from_slice(&packets[..n]);
         for f in &mut self.follow {
-            f.history.push_back(f.output.read(packets));
+            f.history.push_back(f.outputs.iter().fold(0, |acc, o| acc | o.read(packets)));
             if f.history.len() > f.delay + 1 {
                 f.history.pop_front();
             }

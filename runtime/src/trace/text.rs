@@ -73,6 +73,11 @@ impl<W: Write> TextWriter<W> {
     }
 }
 
+/// The order signals have inside a record: by image byte, bits before the byte, then by bit.
+pub fn canonical_key(s: &Signal) -> (usize, u8, Signal) {
+    (s.image_byte(), s.bit().unwrap_or(8), *s)
+}
+
 /// Parses a whole text trace.
 pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
     let text = std::str::from_utf8(bytes).map_err(|e| TraceError::Text {
@@ -155,6 +160,8 @@ fn parse_map(v: Option<&Value>) -> Result<Vec<SignalValue>, String> {
         }
         out.push((sig, value as u8));
     }
+    // JSON objects are unordered: use the recorder's order (image byte, then bit).
+    out.sort_by_key(|(s, _)| canonical_key(s));
     Ok(out)
 }
 
