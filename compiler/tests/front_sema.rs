@@ -118,3 +118,14 @@ fn all_errors_of_a_file_come_at_once_with_hints() {
     assert!(c.diagnostics.iter().all(|d| !d.hint.is_empty()));
     assert!(c.program.is_none());
 }
+
+#[test]
+fn every_code_is_documented_in_the_table() {
+    let doc = include_str!("../DIAGNOSTICS.md");
+    for (code, _) in compiler::sema::codes::ALL {
+        assert!(doc.contains(&format!("| {code} |")), "code {code} missing from DIAGNOSTICS.md");
+        assert!((1000..2000).contains(code));
+    }
+    let rows = doc.lines().filter(|l| l.starts_with("| 1")).count();
+    assert_eq!(rows, compiler::sema::codes::ALL.len());
+}
