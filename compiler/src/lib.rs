@@ -12,6 +12,7 @@ pub mod lexer;
 pub mod lower;
 pub mod parser;
 pub mod sema;
+pub mod synth;
 
 pub use context::MachineContext;
 pub use engine::Engine;

@@ -90,3 +90,14 @@ fn example_lathe_program_compiles_without_diagnostics() {
     assert_eq!(p.timers.len(), 6);
     assert!(!p.slow.is_empty());
 }
+
+#[test]
+fn the_synthetic_benchmark_program_compiles() {
+    let src = compiler::synth::synthetic_program(2_000);
+    let ctx = MachineContext { spl: 5000, ..MachineContext::lathe_like() };
+    let c = compile("synth", src.as_bytes(), &ctx);
+    let errors: Vec<_> = c.diagnostics.iter().filter(|d| d.is_error()).take(3).collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(c.stats.statements, 2_000);
+    assert!(!c.program.expect("compiles").slow.is_empty());
+}
