@@ -9,3 +9,6 @@ pub use interp::Interpreter;
 pub mod jit;
 
 pub use jit::{JitError, JitProgram};
+pub mod migrate;
+
+pub use migrate::migrate_state;
