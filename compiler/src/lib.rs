@@ -20,3 +20,6 @@ pub use front::{Compilation, CompileStats, compile};
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;
 pub use jit::{JitError, JitProgram};
+pub mod migrate;
+
+pub use migrate::migrate_state;
