@@ -8,15 +8,32 @@ fn machine(plc: &[u8]) -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("temp dir");
     let mp0 = dir.path().join("MP0");
     std::fs::create_dir(&mp0).expect("mkdir");
-    std::fs::write(dir.path().join("FCRSYS"), "*1\nMP0=C:\\CNC32\\MP0\n*2\nIOCONF, IOCFIL/MP0\nPLCSRC, PLCPRG/MP0\n*\n").expect("write");
-    std::fs::write(mp0.join("IOCFIL"), "*1\nALM=0\nIN0=0,1,,,,,,\nOU0=4,5,,,,,,\nCLO=10,2\nSPL=400\n*2\nPRO=1\n").expect("write");
+    std::fs::write(
+        dir.path().join("FCRSYS"),
+        "*1\nMP0=C:\\CNC32\\MP0\n*2\nIOCONF, IOCFIL/MP0\nPLCSRC, PLCPRG/MP0\n*\n",
+    )
+    .expect("write");
+    std::fs::write(
+        mp0.join("IOCFIL"),
+        "*1\nALM=0\nIN0=0,1,,,,,,\nOU0=4,5,,,,,,\nCLO=10,2\nSPL=400\n*2\nPRO=1\n",
+    )
+    .expect("write");
     std::fs::write(mp0.join("PLCPRG"), plc).expect("write");
     dir
 }
 
 fn ncplc(args: &[&str], dir: &Path) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_ncplc")).arg("build").arg(dir).args(args).output().expect("ncplc runs");
-    (out.status.code().unwrap_or(-1), String::from_utf8_lossy(&out.stdout).into_owned(), String::from_utf8_lossy(&out.stderr).into_owned())
+    let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .arg("build")
+        .arg(dir)
+        .args(args)
+        .output()
+        .expect("ncplc runs");
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
 }
 
 #[test]
@@ -26,7 +43,10 @@ fn the_example_lathe_program_builds_with_a_summary() {
     assert_eq!(code, 0, "{out}{err}");
     let summary = out.lines().last().expect("summary line");
     assert!(summary.starts_with("MP0/PLCPRG: "), "{summary}");
-    assert!(summary.contains(" statements, ") && summary.contains("image ") && summary.contains(" ms"), "{summary}");
+    assert!(
+        summary.contains(" statements, ") && summary.contains("image ") && summary.contains(" ms"),
+        "{summary}"
+    );
 }
 
 #[test]
@@ -35,7 +55,10 @@ fn errors_are_printed_with_the_source_line_and_exit_1() {
     let (code, out, _) = ncplc(&[], dir.path());
     assert_eq!(code, 1);
     assert!(out.contains("error[E1104]"), "{out}");
-    assert!(out.contains("U4A1 = I2A0"), "the source line is shown: {out}");
+    assert!(
+        out.contains("U4A1 = I2A0"),
+        "the source line is shown: {out}"
+    );
     assert!(out.contains("MP0/PLCPRG:2:8"), "{out}");
 }
 
@@ -44,7 +67,10 @@ fn json_format_has_the_check_fields() {
     let dir = machine(b"U4A0 = I0A0\nU4A1 = I2A0\n");
     let (code, out, _) = ncplc(&["--format", "json"], dir.path());
     assert_eq!(code, 1);
-    let lines: Vec<serde_json::Value> = out.lines().map(|l| serde_json::from_str(l).expect("JSON line")).collect();
+    let lines: Vec<serde_json::Value> = out
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON line"))
+        .collect();
     assert_eq!(lines.len(), 1);
     assert_eq!(lines[0]["code"], 1104);
     assert_eq!(lines[0]["line"], 2);

@@ -8,7 +8,10 @@ use criterion::{Criterion, criterion_group, criterion_main};
 
 fn bench_compile(c: &mut Criterion) {
     let src = synthetic_program(10_000);
-    let ctx = MachineContext { spl: 5000, ..MachineContext::lathe_like() };
+    let ctx = MachineContext {
+        spl: 5000,
+        ..MachineContext::lathe_like()
+    };
     let mut group = c.benchmark_group("compile_10k");
     group.sample_size(10);
     group.bench_function("parse_check_lower", |b| {

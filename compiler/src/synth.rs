@@ -34,21 +34,43 @@ pub fn synthetic_program(statements: usize) -> String {
         let (c2, b2) = (100 + (k * 7) % 150, (k * 3) % 32);
         match k % 10 {
             5 => {
-                let _ = writeln!(s, "V{} = V{} + DINT(W{}K{}) * 3 - V{}", k % 100, (k + 1) % 100, c2, k % 4, (k + 2) % 100);
+                let _ = writeln!(
+                    s,
+                    "V{} = V{} + DINT(W{}K{}) * 3 - V{}",
+                    k % 100,
+                    (k + 1) % 100,
+                    c2,
+                    k % 4,
+                    (k + 2) % 100
+                );
             }
             6 if timers < 50 => {
                 let _ = writeln!(s, "T{timers} = I{c2}K{b2} + U{c}N{b}");
                 timers += 1;
             }
             6 => {
-                let _ = writeln!(s, "U{c}N{b} = TON(I{c2}N{b2} * /I{c}K{b}, {}ms)", 10 * (k % 30));
+                let _ = writeln!(
+                    s,
+                    "U{c}N{b} = TON(I{c2}N{b2} * /I{c}K{b}, {}ms)",
+                    10 * (k % 30)
+                );
             }
             7 => {
-                let _ = writeln!(s, "IF [V{} > {}] THEN\nU{c}K{b} = I{c2}K{b2} + T{}\nEND_IF", k % 100, k % 1000, k % 50);
+                let _ = writeln!(
+                    s,
+                    "IF [V{} > {}] THEN\nU{c}K{b} = I{c2}K{b2} + T{}\nEND_IF",
+                    k % 100,
+                    k % 1000,
+                    k % 50
+                );
                 n += 1;
             }
             8 if pulses < 1024 && !slow => {
-                let _ = writeln!(s, "P{pulses} = I{c2}N{b2}\nU{c}K{b} = P{pulses} + C{}", k % 20);
+                let _ = writeln!(
+                    s,
+                    "P{pulses} = I{c2}N{b2}\nU{c}K{b} = P{pulses} + C{}",
+                    k % 20
+                );
                 pulses += 1;
                 n += 1;
             }
@@ -58,11 +80,21 @@ pub fn synthetic_program(statements: usize) -> String {
                 n += 1;
             }
             9 => {
-                let _ = writeln!(s, "SET U{c}N{b} = I{c2}K{b2} * [W3K0 = {:03X}H]\nRES U{c}N{b} = I0K1", k % 256);
+                let _ = writeln!(
+                    s,
+                    "SET U{c}N{b} = I{c2}K{b2} * [W3K0 = {:03X}H]\nRES U{c}N{b} = I0K1",
+                    k % 256
+                );
                 n += 1;
             }
             _ => {
-                let _ = writeln!(s, "U{c}K{b} = I{c2}K{b2} * /U{c}K{b} + I0A{} * [W3K0 = {}H] + U{c}K{b} * /I1A{}", k % 32, k % 90 + 10, (k * 5) % 32);
+                let _ = writeln!(
+                    s,
+                    "U{c}K{b} = I{c2}K{b2} * /U{c}K{b} + I0A{} * [W3K0 = {}H] + U{c}K{b} * /I1A{}",
+                    k % 32,
+                    k % 90 + 10,
+                    (k * 5) % 32
+                );
             }
         }
         n += 1;

@@ -8,22 +8,32 @@ fn check_contract(bytes: &[u8]) -> Result<(), TestCaseError> {
     let c = compile("p", bytes, &MachineContext::lathe_like());
     for d in &c.diagnostics {
         prop_assert!(d.line >= 1 && d.column >= 1, "unlocated: {d:?}");
-        prop_assert!(d.span.start <= d.span.end && d.span.end <= c.text.len(), "span outside the text: {d:?}");
+        prop_assert!(
+            d.span.start <= d.span.end && d.span.end <= c.text.len(),
+            "span outside the text: {d:?}"
+        );
         prop_assert!((1000..2000).contains(&d.code));
     }
     if c.program.is_none() {
-        prop_assert!(c.diagnostics.iter().any(|d| d.is_error()), "no program and no error");
+        prop_assert!(
+            c.diagnostics.iter().any(|d| d.is_error()),
+            "no program and no error"
+        );
     } else {
-        prop_assert!(c.diagnostics.iter().all(|d| !d.is_error()), "a program despite errors");
+        prop_assert!(
+            c.diagnostics.iter().all(|d| !d.is_error()),
+            "a program despite errors"
+        );
     }
     Ok(())
 }
 
 /// Fragments of the language, so that random programs get past the lexer often.
 const PIECES: &[&str] = &[
-    "U4A0", "I0A1", "W3K0", "SK12", "P2", "DEF ", "X", " : ", "DINT", "TON(", "2s", ")", "(", "[", "]", "=", "+", "*", "/", "-",
-    "<>", ":=", "91H", "250", "1.5", "IF ", " THEN", "ELSE", "END_IF", "SET ", "RES ", "$", "\n", " ", ";c\n", ".", "ET", ",",
-    "\u{fffd}", "\r\n", "MIN(", "BYTE(", "U10K5", "I0K2", "I1A29", "MFIN", "MSTB",
+    "U4A0", "I0A1", "W3K0", "SK12", "P2", "DEF ", "X", " : ", "DINT", "TON(", "2s", ")", "(", "[",
+    "]", "=", "+", "*", "/", "-", "<>", ":=", "91H", "250", "1.5", "IF ", " THEN", "ELSE",
+    "END_IF", "SET ", "RES ", "$", "\n", " ", ";c\n", ".", "ET", ",", "\u{fffd}", "\r\n", "MIN(",
+    "BYTE(", "U10K5", "I0K2", "I1A29", "MFIN", "MSTB",
 ];
 
 proptest! {

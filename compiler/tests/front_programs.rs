@@ -7,7 +7,12 @@ use compiler::{Engine, Interpreter, MachineContext, compile};
 use packets::Signal;
 
 fn ctx(inputs: &[u16], outputs: &[u16]) -> MachineContext {
-    MachineContext { a_inputs: inputs.to_vec(), a_outputs: outputs.to_vec(), spl: 400, ..MachineContext::lathe_like() }
+    MachineContext {
+        a_inputs: inputs.to_vec(),
+        a_outputs: outputs.to_vec(),
+        spl: 400,
+        ..MachineContext::lathe_like()
+    }
 }
 
 struct Rig {
@@ -25,7 +30,12 @@ impl Rig {
         let a = p.new_image();
         let b = p.new_image();
         let jit = compiler::jit::compile(&p).expect("JIT compiles");
-        Rig { interp: Interpreter::new(p), jit, a, b }
+        Rig {
+            interp: Interpreter::new(p),
+            jit,
+            a,
+            b,
+        }
     }
     fn set(&mut self, name: &str, v: u8) {
         let s: Signal = name.parse().expect("signal");
@@ -47,17 +57,33 @@ impl Rig {
 
 #[test]
 fn lathe_m03_waits_for_at_speed_then_finishes_the_handshake() {
-    let mut r = Rig::new(include_bytes!("../../plc-programs/lathe/MP0/PLCPRG"), &ctx(&[0, 1], &[4, 5]));
+    let mut r = Rig::new(
+        include_bytes!("../../plc-programs/lathe/MP0/PLCPRG"),
+        &ctx(&[0, 1], &[4, 5]),
+    );
     for s in ["I0K2", "I0A0", "I0A1", "I0A2", "I1A0", "I0A7", "I0A8"] {
         r.set(s, 1);
     }
     r.tick(1);
-    assert_eq!((r.get("U11K4"), r.get("U10K8"), r.get("U10K9"), r.get("U4A4")), (1, 1, 1, 1), "ESTOP released, X/Z enabled");
+    assert_eq!(
+        (
+            r.get("U11K4"),
+            r.get("U10K8"),
+            r.get("U10K9"),
+            r.get("U4A4")
+        ),
+        (1, 1, 1, 1),
+        "ESTOP released, X/Z enabled"
+    );
     r.set("W3K0", 0x03);
     r.tick(1);
     r.set("I1K0", 1); // MSTB
     r.tick(1);
-    assert_eq!((r.get("U4A0"), r.get("U11K0")), (1, 0), "spindle CW on, no MFIN before at-speed");
+    assert_eq!(
+        (r.get("U4A0"), r.get("U11K0")),
+        (1, 0),
+        "spindle CW on, no MFIN before at-speed"
+    );
     r.set("I0A5", 1); // at speed
     r.tick(20);
     assert_eq!(r.get("U11K0"), 0, "at-speed must hold 200 ms");
@@ -65,7 +91,11 @@ fn lathe_m03_waits_for_at_speed_then_finishes_the_handshake() {
     assert_eq!(r.get("U11K0"), 1, "MFIN after 200 ms at speed");
     r.set("I1K0", 0);
     r.tick(1);
-    assert_eq!((r.get("U11K0"), r.get("U4A0")), (0, 1), "FIN drops with the strobe, spindle keeps running");
+    assert_eq!(
+        (r.get("U11K0"), r.get("U4A0")),
+        (0, 1),
+        "FIN drops with the strobe, spindle keeps running"
+    );
     // Opening the emergency-stop chain stops everything.
     r.set("I0A0", 0);
     r.tick(1);
@@ -74,12 +104,19 @@ fn lathe_m03_waits_for_at_speed_then_finishes_the_handshake() {
 
 #[test]
 fn lathe_lubrication_alarm_latches_until_reset() {
-    let mut r = Rig::new(include_bytes!("../../plc-programs/lathe/MP0/PLCPRG"), &ctx(&[0, 1], &[4, 5]));
+    let mut r = Rig::new(
+        include_bytes!("../../plc-programs/lathe/MP0/PLCPRG"),
+        &ctx(&[0, 1], &[4, 5]),
+    );
     for s in ["I0K2", "I0A0", "I0A1", "I1A0", "I0A7"] {
         r.set(s, 1);
     }
     r.tick(1);
-    assert_eq!(r.get("U4A3"), 1, "a lubrication shot when the process becomes ready");
+    assert_eq!(
+        r.get("U4A3"),
+        1,
+        "a lubrication shot when the process becomes ready"
+    );
     r.set("I0A7", 0); // level low
     r.tick(220);
     assert_eq!(r.get("U5A2"), 1, "alarm lamp after 2 s low level");
@@ -93,8 +130,13 @@ fn lathe_lubrication_alarm_latches_until_reset() {
 
 #[test]
 fn mill_m06_runs_the_tool_change_sequence() {
-    let mut r = Rig::new(include_bytes!("../../plc-programs/mill/MP0/PLCPRG"), &ctx(&[0, 1, 2], &[4, 5, 6]));
-    for s in ["I0K2", "I0A0", "I0A1", "I0A2", "I1A0", "I0A7", "I2A0", "I2A2"] {
+    let mut r = Rig::new(
+        include_bytes!("../../plc-programs/mill/MP0/PLCPRG"),
+        &ctx(&[0, 1, 2], &[4, 5, 6]),
+    );
+    for s in [
+        "I0K2", "I0A0", "I0A1", "I0A2", "I1A0", "I0A7", "I2A0", "I2A2",
+    ] {
         r.set(s, 1);
     }
     // T12: TCODE is BCD.

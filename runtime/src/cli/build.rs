@@ -83,7 +83,9 @@ fn fcrsys_file(dir: &Path, logical: &str) -> Option<PathBuf> {
             continue;
         }
         let mut parts = line.splitn(2, ',');
-        let (Some(name), Some(file)) = (parts.next(), parts.next()) else { continue };
+        let (Some(name), Some(file)) = (parts.next(), parts.next()) else {
+            continue;
+        };
         if !name.trim().eq_ignore_ascii_case(logical) {
             continue;
         }
@@ -92,7 +94,10 @@ fn fcrsys_file(dir: &Path, logical: &str) -> Option<PathBuf> {
         let path = match file.split_once('/') {
             Some((f, d)) => dir.join(d.trim()).join(f.trim()),
             None => {
-                let comps: Vec<&str> = file.split(['\\', '/']).filter(|c| !c.is_empty() && !c.ends_with(':')).collect();
+                let comps: Vec<&str> = file
+                    .split(['\\', '/'])
+                    .filter(|c| !c.is_empty() && !c.ends_with(':'))
+                    .collect();
                 match comps.as_slice() {
                     [.., d, f] => dir.join(d).join(f),
                     [f] => dir.join(f),
@@ -116,7 +121,10 @@ pub fn default_plc_source(dir: &Path) -> PathBuf {
 // characterization::load_machine. Missing values take the manual's defaults (SPL 1, CLO 10,2).
 pub fn machine_context(dir: &Path) -> Result<MachineContext, BuildError> {
     let iocfil = fcrsys_file(dir, "IOCONF").unwrap_or_else(|| dir.join("MP0").join("IOCFIL"));
-    let bytes = std::fs::read(&iocfil).map_err(|source| BuildError::Read { path: iocfil.display().to_string(), source })?;
+    let bytes = std::fs::read(&iocfil).map_err(|source| BuildError::Read {
+        path: iocfil.display().to_string(),
+        source,
+    })?;
     let text = String::from_utf8_lossy(&bytes);
     let mut ctx = MachineContext {
         a_inputs: Vec::new(),
@@ -128,20 +136,36 @@ pub fn machine_context(dir: &Path) -> Result<MachineContext, BuildError> {
     };
     let mut section = 1;
     for line in text.lines() {
-        let line: String = line.split(';').next().unwrap_or("").chars().filter(|c| !c.is_whitespace()).collect::<String>().to_ascii_uppercase();
+        let line: String = line
+            .split(';')
+            .next()
+            .unwrap_or("")
+            .chars()
+            .filter(|c| !c.is_whitespace())
+            .collect::<String>()
+            .to_ascii_uppercase();
         if let Some(s) = line.strip_prefix('*') {
             section = s.parse().unwrap_or(0);
             continue;
         }
-        let Some((key, value)) = line.split_once('=') else { continue };
+        let Some((key, value)) = line.split_once('=') else {
+            continue;
+        };
         if section != 1 {
             continue;
         }
-        let numbers = || value.split(',').filter_map(|v| v.parse::<u32>().ok()).collect::<Vec<_>>();
+        let numbers = || {
+            value
+                .split(',')
+                .filter_map(|v| v.parse::<u32>().ok())
+                .collect::<Vec<_>>()
+        };
         if key.len() == 3 && key.starts_with("IN") {
-            ctx.a_inputs.extend(numbers().into_iter().filter_map(|n| u16::try_from(n).ok()));
+            ctx.a_inputs
+                .extend(numbers().into_iter().filter_map(|n| u16::try_from(n).ok()));
         } else if key.len() == 3 && key.starts_with("OU") {
-            ctx.a_outputs.extend(numbers().into_iter().filter_map(|n| u16::try_from(n).ok()));
+            ctx.a_outputs
+                .extend(numbers().into_iter().filter_map(|n| u16::try_from(n).ok()));
         } else if key == "SPL" {
             ctx.spl = numbers().first().copied().unwrap_or(1);
         } else if key == "CLO" {
@@ -163,7 +187,10 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let path = args.plc.clone().unwrap_or_else(|| default_plc_source(&args.machine_dir));
+    let path = args
+        .plc
+        .clone()
+        .unwrap_or_else(|| default_plc_source(&args.machine_dir));
     let bytes = match std::fs::read(&path) {
         Ok(b) => b,
         Err(e) => {
@@ -171,17 +198,28 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let name = path.strip_prefix(&args.machine_dir).unwrap_or(&path).display().to_string();
+    let name = path
+        .strip_prefix(&args.machine_dir)
+        .unwrap_or(&path)
+        .display()
+        .to_string();
     let c = compiler::compile(&name, &bytes, &ctx);
     let mut emitted = None;
     let mut diagnostics = c.diagnostics.clone();
     if let (Some(emit), Some(p)) = (args.emit, &c.program) {
         emitted = Some(match emit {
-            Emit::Ir => serde_json::to_string_pretty(p).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}")),
+            Emit::Ir => {
+                serde_json::to_string_pretty(p).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+            }
             Emit::Clif => match compiler::jit::emit_clif(p) {
                 Ok(text) => text,
                 Err(e) => {
-                    diagnostics.push(diag::Diagnostic::error(compiler::sema::codes::LOWERING, &name, 0..0, format!("JIT failed: {e}")));
+                    diagnostics.push(diag::Diagnostic::error(
+                        compiler::sema::codes::LOWERING,
+                        &name,
+                        0..0,
+                        format!("JIT failed: {e}"),
+                    ));
                     String::new()
                 }
             },
@@ -191,7 +229,10 @@ pub fn run(args: Args) -> ExitCode {
     sources.add(name.clone(), c.text.clone());
     let report = match args.format {
         Format::Human => diag::render_human(&diagnostics, &sources),
-        Format::Json => diagnostics.iter().map(|d| d.to_json_line() + "\n").collect(),
+        Format::Json => diagnostics
+            .iter()
+            .map(|d| d.to_json_line() + "\n")
+            .collect(),
     };
     let ok = c.program.is_some() && !diag::has_errors(&diagnostics);
     let summary = if ok {
@@ -204,7 +245,10 @@ pub fn run(args: Args) -> ExitCode {
             started.elapsed().as_secs_f64() * 1000.0
         )
     } else {
-        format!("{name}: not compiled ({} errors)", diagnostics.iter().filter(|d| d.is_error()).count())
+        format!(
+            "{name}: not compiled ({} errors)",
+            diagnostics.iter().filter(|d| d.is_error()).count()
+        )
     };
     let mut out = std::io::stdout().lock();
     let written = match (&emitted, args.format) {
@@ -222,7 +266,11 @@ pub fn run(args: Args) -> ExitCode {
     if written.is_err() {
         return ExitCode::from(2);
     }
-    if ok { ExitCode::SUCCESS } else { ExitCode::from(1) }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
 }
 
 #[cfg(test)]
@@ -233,10 +281,30 @@ mod tests {
     fn fcrsys_names_and_iocfil_lines_are_read() {
         let dir = tempfile::tempdir().expect("temp dir");
         std::fs::create_dir(dir.path().join("MP0")).expect("mkdir");
-        std::fs::write(dir.path().join("FCRSYS"), "*1\nMP0=C:\\CNC32\\MP0\n*2\nIOCONF, IOCFIL/MP0\nPLCSRC,C:\\CNC32\\MP0\\LOGIC\n*\n").expect("write");
-        std::fs::write(dir.path().join("MP0/IOCFIL"), "*1\nIN0=0,1,,,,,,\nOU0 = 4,5\nCLO=20,4 ; tick\nSPL=400\n*2\nIN1=9\n").expect("write");
+        std::fs::write(
+            dir.path().join("FCRSYS"),
+            "*1\nMP0=C:\\CNC32\\MP0\n*2\nIOCONF, IOCFIL/MP0\nPLCSRC,C:\\CNC32\\MP0\\LOGIC\n*\n",
+        )
+        .expect("write");
+        std::fs::write(
+            dir.path().join("MP0/IOCFIL"),
+            "*1\nIN0=0,1,,,,,,\nOU0 = 4,5\nCLO=20,4 ; tick\nSPL=400\n*2\nIN1=9\n",
+        )
+        .expect("write");
         let ctx = machine_context(dir.path()).expect("context");
-        assert_eq!((ctx.a_inputs, ctx.a_outputs, ctx.spl, ctx.tick_ms, ctx.time_slow_ms), (vec![0, 1], vec![4, 5], 400, 20, 4));
-        assert_eq!(default_plc_source(dir.path()), dir.path().join("MP0").join("LOGIC"));
+        assert_eq!(
+            (
+                ctx.a_inputs,
+                ctx.a_outputs,
+                ctx.spl,
+                ctx.tick_ms,
+                ctx.time_slow_ms
+            ),
+            (vec![0, 1], vec![4, 5], 400, 20, 4)
+        );
+        assert_eq!(
+            default_plc_source(dir.path()),
+            dir.path().join("MP0").join("LOGIC")
+        );
     }
 }
