@@ -325,7 +325,7 @@ fn timer_step(kind: TimerKind, pt: i32, tick: i32, x: bool, m: &mut [u8], at: us
     };
     write_i32(m, at, et);
     m[at + 4] =
-        u8::from(q) * FLAG_Q | if x { FLAG_PREV } else { 0 } | if run { FLAG_RUN } else { 0 };
+        (u8::from(q) * FLAG_Q) | if x { FLAG_PREV } else { 0 } | if run { FLAG_RUN } else { 0 };
 }
 
 fn mask(ty: Ty) -> u64 {

@@ -12,6 +12,7 @@ pub mod lexer;
 pub mod lower;
 pub mod parser;
 pub mod sema;
+pub mod synth;
 
 pub use context::MachineContext;
 pub use engine::Engine;
@@ -19,3 +20,6 @@ pub use front::{Compilation, CompileStats, compile};
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;
 pub use jit::{JitError, JitProgram};
+pub mod migrate;
+
+pub use migrate::migrate_state;

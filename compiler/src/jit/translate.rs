@@ -246,7 +246,7 @@ impl Translator<'_, '_> {
             }
             Expr::Bcd { ty, arg } => {
                 let v = self.expr(arg);
-                let mut v = self.to_u64(*ty, v);
+                let mut v = self.ext_u64(*ty, v);
                 let ten = self.b.ins().iconst(types::I64, 10);
                 let mut r = self.b.ins().iconst(types::I64, 0);
                 for i in 0..2 * ty.size() {
@@ -259,7 +259,7 @@ impl Translator<'_, '_> {
             }
             Expr::Bin { ty, arg } => {
                 let v = self.expr(arg);
-                let v = self.to_u64(*ty, v);
+                let v = self.ext_u64(*ty, v);
                 let mut r = self.b.ins().iconst(types::I64, 0);
                 let mut scale = 1i64;
                 for i in 0..2 * ty.size() {
@@ -317,7 +317,7 @@ impl Translator<'_, '_> {
     }
 
     /// Zero- or sign-extends an integer/BOOL value of `ty` to I64 (`signed` from the type).
-    fn to_i64(&mut self, ty: Ty, v: Value) -> Value {
+    fn ext_i64(&mut self, ty: Ty, v: Value) -> Value {
         if ty.is_signed() {
             self.b.ins().sextend(types::I64, v)
         } else {
@@ -326,7 +326,7 @@ impl Translator<'_, '_> {
     }
 
     /// The bits of an integer of `ty` read as unsigned, in an I64.
-    fn to_u64(&mut self, _ty: Ty, v: Value) -> Value {
+    fn ext_u64(&mut self, _ty: Ty, v: Value) -> Value {
         self.b.ins().uextend(types::I64, v)
     }
 
@@ -477,7 +477,7 @@ impl Translator<'_, '_> {
             }
             (false, Ty::Bool) => self.nonzero(v),
             (false, Ty::Real | Ty::Lreal) => {
-                let i = self.to_i64(from, v);
+                let i = self.ext_i64(from, v);
                 self.b.ins().fcvt_from_sint(clty(to), i)
             }
             (false, _) => {
