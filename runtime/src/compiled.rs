@@ -46,7 +46,11 @@ impl CompiledMeta {
             (&v.name, format!("{:?}", v.ty), v.offset).hash(&mut h);
         }
         program.retain_range().hash(&mut h);
-        CompiledMeta { program, written, layout: h.finish() }
+        CompiledMeta {
+            program,
+            written,
+            layout: h.finish(),
+        }
     }
 }
 
@@ -69,17 +73,26 @@ impl ProgramMeta for CompiledMeta {
     fn migrate_from(&self, old: &dyn ProgramMeta, old_image: &[u8], new_image: &mut [u8]) {
         // Fresh initial values first; then every unchanged slot keeps its state.
         self.program.init_image(new_image);
-        let Some(old) = old.as_any().downcast_ref::<CompiledMeta>() else { return };
-        let old_slots: HashMap<String, _> =
-            old.program.state_slots().into_iter().map(|s| (s.name.to_ascii_uppercase(), s)).collect();
+        let Some(old) = old.as_any().downcast_ref::<CompiledMeta>() else {
+            return;
+        };
+        let old_slots: HashMap<String, _> = old
+            .program
+            .state_slots()
+            .into_iter()
+            .map(|s| (s.name.to_ascii_uppercase(), s))
+            .collect();
         for s in self.program.state_slots() {
-            let Some(o) = old_slots.get(&s.name.to_ascii_uppercase()) else { continue };
+            let Some(o) = old_slots.get(&s.name.to_ascii_uppercase()) else {
+                continue;
+            };
             if o.kind != s.kind || o.ty != s.ty || o.len != s.len {
                 continue;
             }
-            if let (Some(src), Some(dst)) =
-                (old_image.get(o.offset..o.offset + o.len), new_image.get_mut(s.offset..s.offset + s.len))
-            {
+            if let (Some(src), Some(dst)) = (
+                old_image.get(o.offset..o.offset + o.len),
+                new_image.get_mut(s.offset..s.offset + s.len),
+            ) {
                 dst.copy_from_slice(src);
             }
         }
@@ -118,9 +131,14 @@ pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, String> {
     let program = Arc::new(program);
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
-        EngineKind::Jit => Box::new(compiler::jit::compile(&program).map_err(|e| format!("error: JIT: {e}"))?),
+        EngineKind::Jit => {
+            Box::new(compiler::jit::compile(&program).map_err(|e| format!("error: JIT: {e}"))?)
+        }
     };
-    Ok(Loaded { logic: Box::new(EngineLogic(logic)), meta: Arc::new(CompiledMeta::new(program)) })
+    Ok(Loaded {
+        logic: Box::new(EngineLogic(logic)),
+        meta: Arc::new(CompiledMeta::new(program)),
+    })
 }
 
 /// Compiles `source` (named `file_name` in diagnostics) for the machine `cfg` with tick `tick_ms`.

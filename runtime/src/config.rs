@@ -55,15 +55,31 @@ impl RunConfig {
     /// `<dir>/MP0/IOCFIL`, `NEW`/`OLD` from `<dir>/MP0/PGCFIL`, and takes `<dir>/MP0/PLCPRG` as the
     /// source. Missing files or lines leave the defaults. The retain file is `<dir>/retain.bin`.
     pub fn from_machine_dir_temporary(dir: &Path) -> RunConfig {
+        Self::from_files_temporary(
+            dir,
+            &dir.join("MP0").join("IOCFIL"),
+            &dir.join("MP0").join("PGCFIL"),
+            &dir.join("MP0").join("PLCPRG"),
+        )
+    }
+
+    /// TEMPORARY: as [`RunConfig::from_machine_dir_temporary`] with the files' paths given (the
+    /// paths come from FCRSYS through `characterization::load_machine`).
+    pub fn from_files_temporary(
+        dir: &Path,
+        iocfil: &Path,
+        pgcfil: &Path,
+        plc_source: &Path,
+    ) -> RunConfig {
         let mut cfg = RunConfig {
-            plc_source: dir.join("MP0").join("PLCPRG"),
+            plc_source: plc_source.to_path_buf(),
             retain_file: Some(dir.join("retain.bin")),
             ..RunConfig::default()
         };
-        if let Ok(bytes) = std::fs::read(dir.join("MP0").join("IOCFIL")) {
+        if let Ok(bytes) = std::fs::read(iocfil) {
             cfg.apply_iocfil(&String::from_utf8_lossy(&bytes));
         }
-        if let Ok(bytes) = std::fs::read(dir.join("MP0").join("PGCFIL")) {
+        if let Ok(bytes) = std::fs::read(pgcfil) {
             let text = String::from_utf8_lossy(&bytes);
             let first = text.lines().map(strip_comment).find(|l| !l.is_empty());
             cfg.restore_old = first.is_some_and(|l| l.eq_ignore_ascii_case("OLD"));

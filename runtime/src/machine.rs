@@ -1,8 +1,8 @@
 //! Opening an example machine directory for `run` and `replay`: configuration, PLC source, sim script.
 //!
-//! TEMPORARY parts (until the lead glues `characterization::Machine`): the configuration comes from
-//! [`RunConfig::from_machine_dir_temporary`] and the PLC source from FCRSYS `PLCSRC` by a simple
-//! DOS-path mapping (`C:\CNC32\MP0\PLCPRG` → `<machine>/MP0/PLCPRG`).
+//! File locations come from FCRSYS through `characterization::load_machine`. TEMPORARY part
+//! (until the lead fills [`RunConfig`] from the typed `characterization::Machine`): the values
+//! are read by [`RunConfig::from_files_temporary`].
 
 use std::path::{Path, PathBuf};
 
@@ -34,10 +34,19 @@ impl Machine {
         if !dir.is_dir() {
             return Err(format!("{}: not a machine directory", dir.display()));
         }
-        let mut config = RunConfig::from_machine_dir_temporary(dir);
-        if let Some(src) = fcrsys_plcsrc(dir) {
-            config.plc_source = src;
-        }
+        // FCRSYS decides where the files are; the values are still read by the temporary helper.
+        let mut config = match characterization::load_machine(dir).machine {
+            Some(m) => {
+                let mp0 = &m.paths.mp0;
+                RunConfig::from_files_temporary(
+                    dir,
+                    &m.paths.iocfil.clone().unwrap_or_else(|| mp0.join("IOCFIL")),
+                    &m.paths.pgcfil.clone().unwrap_or_else(|| mp0.join("PGCFIL")),
+                    &m.paths.plc_source,
+                )
+            }
+            None => RunConfig::from_machine_dir_temporary(dir),
+        };
         if let Some(p) = plc {
             config.plc_source = p.to_path_buf();
         }
@@ -53,7 +62,13 @@ impl Machine {
         };
         let interface = InterfaceMap::load_for_machine(dir).map_err(|e| e.to_string())?;
         let signals = CncSignals::from_lookup(|name| interface.signal(name));
-        Ok(Machine { dir: dir.to_path_buf(), config, script, signals, interface })
+        Ok(Machine {
+            dir: dir.to_path_buf(),
+            config,
+            script,
+            signals,
+            interface,
+        })
     }
 
     /// Reads the PLC source.
@@ -74,30 +89,4 @@ impl Machine {
         let map = self.interface.clone();
         std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, &map, tick_ms, engine))
     }
-}
-
-/// FCRSYS `PLCSRC,<dos path>` mapped into the machine directory (TEMPORARY).
-fn fcrsys_plcsrc(dir: &Path) -> Option<PathBuf> {
-    let text = std::fs::read(dir.join("FCRSYS")).ok()?;
-    let text = String::from_utf8_lossy(&text);
-    for line in text.lines() {
-        let line = line.split(';').next().unwrap_or("").trim();
-        let Some((name, path)) = line.split_once(',') else {
-            continue;
-        };
-        if name.trim().eq_ignore_ascii_case("PLCSRC") {
-            let parts: Vec<&str> = path
-                .trim()
-                .split(['\\', '/'])
-                .filter(|p| !p.is_empty())
-                .collect();
-            let tail = &parts[parts.len().saturating_sub(2)..];
-            let mut p = dir.to_path_buf();
-            for part in tail {
-                p.push(part);
-            }
-            return Some(p);
-        }
-    }
-    None
 }

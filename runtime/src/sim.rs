@@ -364,7 +364,8 @@ impl PacketIo for Sim {
         let n = packets.len().min(self.last_out.len());
         self.last_out[..n].copy_from_slice(&packets[..n]);
         for f in &mut self.follow {
-            f.history.push_back(f.outputs.iter().fold(0, |acc, o| acc | o.read(packets)));
+            f.history
+                .push_back(f.outputs.iter().fold(0, |acc, o| acc | o.read(packets)));
             if f.history.len() > f.delay + 1 {
                 f.history.pop_front();
             }

@@ -1,12 +1,16 @@
 //! The compact trace form: postcard records, each COBS-framed and ended by a 0x00 byte.
 //!
 //! The first frame is [`Frame::Header`] (format name, version, tick); every later frame is a
-//! [`Frame::Tick`]. COBS lets a reader resynchronise after a damaged frame; this reader reports
+//! [`Frame::Tick`]: the tick as a difference from the previous record's, and each signal as one
+//! varint `image byte × 9 + bit` (bit 8 = the whole byte) with its value. Input bits read back as
+//! `I…`, output bits as `U…` (the same address). COBS lets a reader resynchronise after a damaged frame; this reader reports
 //! the damaged frame instead, since a trace used for comparison must be complete.
 
 use std::io::Write;
 
 use serde::{Deserialize, Serialize};
+
+use packets::{Dir, Packet, Signal};
 
 use super::{TickRecord, Trace, TraceError, TraceSink, VERSION};
 
@@ -26,12 +30,76 @@ pub enum Frame {
         tick_ms: u32,
     },
     /// One tick's changes.
-    Tick(TickRecord),
+    Tick(CompactTick),
+}
+
+/// A [`TickRecord`] in compact form.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CompactTick {
+    /// Ticks since the previous record (the first: since tick 0).
+    pub dt: u64,
+    /// Inputs as (key, value).
+    pub inputs: Vec<(u32, u8)>,
+    /// Outputs as (key, value).
+    pub outputs: Vec<(u32, u8)>,
+}
+
+fn key(s: &Signal) -> u32 {
+    s.image_byte() as u32 * 9 + u32::from(s.bit().unwrap_or(8))
+}
+
+fn from_key(k: u32, dir: Dir) -> Option<Signal> {
+    let at = (k / 9) as usize;
+    let bit = (k % 9) as u8;
+    let packet = Packet::ALL
+        .into_iter()
+        .find(|p| at >= p.offset() && at < p.offset() + p.len())?;
+    let rel = at - packet.offset();
+    let connector = (rel / 4) as u16;
+    Some(if bit == 8 {
+        Signal::Byte {
+            packet,
+            connector,
+            index: (rel % 4) as u8,
+        }
+    } else {
+        Signal::Bit {
+            dir,
+            packet,
+            connector,
+            contact: (rel % 4) as u8 * 8 + bit,
+        }
+    })
+}
+
+impl CompactTick {
+    fn new(r: &TickRecord, prev_t: u64) -> CompactTick {
+        let pack = |l: &[(Signal, u8)]| l.iter().map(|(s, v)| (key(s), *v)).collect();
+        CompactTick {
+            dt: r.t - prev_t,
+            inputs: pack(&r.inputs),
+            outputs: pack(&r.outputs),
+        }
+    }
+
+    fn expand(&self, prev_t: u64) -> Option<TickRecord> {
+        let unpack = |l: &[(u32, u8)], dir| -> Option<Vec<(Signal, u8)>> {
+            l.iter()
+                .map(|&(k, v)| from_key(k, dir).map(|s| (s, v)))
+                .collect()
+        };
+        Some(TickRecord {
+            t: prev_t.checked_add(self.dt)?,
+            inputs: unpack(&self.inputs, Dir::In)?,
+            outputs: unpack(&self.outputs, Dir::Out)?,
+        })
+    }
 }
 
 /// Streams records as COBS frames.
 pub struct BinaryWriter<W: Write> {
     out: W,
+    prev_t: u64,
 }
 
 impl<W: Write> BinaryWriter<W> {
@@ -43,7 +111,7 @@ impl<W: Write> BinaryWriter<W> {
             tick_ms,
         };
         write_frame(&mut out, &header)?;
-        Ok(BinaryWriter { out })
+        Ok(BinaryWriter { out, prev_t: 0 })
     }
 }
 
@@ -58,7 +126,9 @@ fn write_frame(out: &mut dyn Write, frame: &Frame) -> Result<(), TraceError> {
 
 impl<W: Write> TraceSink for BinaryWriter<W> {
     fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
-        write_frame(&mut self.out, &Frame::Tick(rec.clone()))
+        let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
+        self.prev_t = rec.t;
+        write_frame(&mut self.out, &frame)
     }
 
     fn flush(&mut self) -> Result<(), TraceError> {
@@ -110,9 +180,13 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     let mut ticks: Vec<TickRecord> = Vec::new();
     for (i, raw) in frames {
         match decode_one(i, raw)? {
-            Frame::Tick(r) => {
+            Frame::Tick(c) => {
+                let prev_t = ticks.last().map_or(0, |r| r.t);
+                let r = c
+                    .expand(prev_t)
+                    .ok_or_else(|| bad(i, "a signal outside the packets".into()))?;
                 if let Some(prev) = ticks.last()
-                    && prev.t >= r.t
+                    && c.dt == 0
                 {
                     return Err(bad(
                         i,
@@ -130,7 +204,6 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use packets::Signal;
 
     fn sig(s: &str) -> Signal {
         s.parse().expect("signal")
