@@ -10,7 +10,7 @@ use runtime::retain::{self, RetainRecord};
 fn pattern(seq: u64) -> RetainRecord {
     RetainRecord {
         seq,
-        muspe: seq % 2 == 0,
+        muspe: seq.is_multiple_of(2),
         t_bytes: (0..64u64)
             .map(|i| (seq.wrapping_mul(7) + i) as u8)
             .collect(),

@@ -165,3 +165,78 @@ pub fn compile(
         _ => Err(diag::render_human(&c.diagnostics, &sources)),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testkit::sig;
+
+    fn build(src: &str, engine: EngineKind) -> Loaded {
+        let cfg = RunConfig {
+            a_inputs: vec![0, 1],
+            a_outputs: vec![4, 5],
+            spl: 64,
+            ..RunConfig::default()
+        };
+        compile(
+            "PLCPRG",
+            src.as_bytes(),
+            &cfg,
+            &InterfaceMap::builtin(),
+            10,
+            engine,
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    const OLD: &str = "DEF T1 : TON(100ms)\nDEF N : DINT := 5\nT1 = I0A0\nU4A0 = T1\nP3 = I0A1\nIF P3 THEN\nN = N + 1\nEND_IF\n";
+    /// Same names and types, one statement more, one variable removed and one added.
+    const NEW: &str = "DEF T1 : TON(100ms)\nDEF M : DINT := 9\nDEF N : DINT := 5\nT1 = I0A0\nU4A0 = T1\nU4A1 = [M > 3]\nP3 = I0A1\nIF P3 THEN\nN = N + 1\nEND_IF\n";
+
+    #[test]
+    fn migration_keeps_unchanged_state_and_initialises_the_rest() {
+        for engine in [EngineKind::Interp, EngineKind::Jit] {
+            let mut old = build(OLD, engine);
+            let mut image = vec![0u8; old.meta.image_len()];
+            old.meta.init_image(&mut image);
+            sig("I0A0").write(&mut image, 1);
+            sig("I0A1").write(&mut image, 1);
+            for _ in 0..10 {
+                old.logic.tick(&mut image);
+            }
+            assert_eq!(
+                sig("U4A0").read(&image),
+                0,
+                "{engine:?}: ET is 90 ms after 9 executions past the rise"
+            );
+            let mut new = build(NEW, engine);
+            let mut new_image = vec![0u8; new.meta.image_len()];
+            new_image[..packets::PACKETS_LEN].copy_from_slice(&image[..packets::PACKETS_LEN]);
+            new.meta
+                .migrate_from(old.meta.as_ref(), &image, &mut new_image);
+            new.logic.tick(&mut new_image);
+            // The timer kept its elapsed time: the next execution reaches 100 ms.
+            assert_eq!(sig("U4A0").read(&new_image), 1, "{engine:?}");
+            // P3 kept its previous input (no new edge), so N stayed 6; M took its initial value.
+            let meta = new
+                .meta
+                .as_any()
+                .downcast_ref::<CompiledMeta>()
+                .expect("compiled");
+            let var = |name: &str| {
+                let v = meta
+                    .program
+                    .vars
+                    .iter()
+                    .find(|v| v.name.eq_ignore_ascii_case(name))
+                    .expect("var");
+                i32::from_le_bytes(
+                    new_image[v.offset..v.offset + 4]
+                        .try_into()
+                        .expect("4 bytes"),
+                )
+            };
+            assert_eq!((var("N"), var("M")), (6, 9), "{engine:?}");
+        }
+    }
+}
