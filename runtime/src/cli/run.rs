@@ -102,10 +102,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         .retain_file
         .clone()
         .or_else(|| machine.config.retain_file.clone());
-    let use_retain = args.record.is_none() && !args.virtual_time;
-    if use_retain
-        && machine.config.restore_old
-        && let Some(path) = &retain_path
+    // Retained data matters only with PGCFIL OLD; recordings and virtual runs start fresh.
+    let use_retain = machine.config.restore_old && args.record.is_none() && !args.virtual_time;
+    if use_retain && let Some(path) = &retain_path
     {
         match retain::load(path) {
             Ok(Some(rec)) => {
@@ -137,14 +136,8 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         machine.signals.clone(),
         tick_ms,
     )?;
-    let clock: Box<dyn Clock> = if args.virtual_time {
-        Box::new(VirtualClock::new())
-    } else {
-        if let Some(w) = enable_realtime(80).warning() {
-            eprintln!("warning: {w}");
-        }
-        Box::new(RealClock::new())
-    };
+    let clock: Box<dyn Clock> =
+        if args.virtual_time { Box::new(VirtualClock::new()) } else { Box::new(RealClock::new()) };
     let settings = Settings {
         tick_ns: u64::from(tick_ms) * 1_000_000,
         overrun_limit: args.overrun_limit,
@@ -180,6 +173,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         }
     };
     install_stop_handler();
+    // Only now: threads started before (watcher, compiler, retain writer) keep normal priority.
+    if !args.virtual_time
+        && let Some(w) = enable_realtime(80).warning()
+    {
+        eprintln!("warning: {w}");
+    }
     let status = std::io::stderr().is_terminal();
     let mut last_status = Instant::now();
     let mut alarms = 0u64;
