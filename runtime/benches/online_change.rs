@@ -60,6 +60,10 @@ fn bench(c: &mut Criterion) {
     sched.accept_swaps(swap_rx);
     let _w = online::watch(&src, program(0).into_bytes(), compile, swap_tx, note_tx)
         .unwrap_or_else(|e| panic!("{e}"));
+    // As `ncplc run`: the scan thread gets SCHED_FIFO after the helper threads started.
+    if let Some(w) = runtime::clock::enable_realtime(80).warning() {
+        eprintln!("warning: {w}");
+    }
     let mut variant = 0u64;
     let mut worst = Duration::ZERO;
     c.benchmark_group("online_change_1000_statements_1ms_tick")
