@@ -117,14 +117,7 @@ macro_rules! case {
 #[test]
 fn base_files_are_valid() {
     assert_eq!(diags(BASE), []);
-    assert_eq!(
-        diags(&format!(
-            "{}{}",
-            edit(BASE, &[("CAS=1,XZS,2", "CAS=1,XZSQ,2")]).replace("*3\n", ""),
-            format!("{SLAVE}*3\n")
-        )),
-        []
-    );
+    assert_eq!(diags(&slave()), []);
 }
 
 fn slave() -> String {
