@@ -1510,3 +1510,12 @@ fn e207_cub_axes() {
 fn slave_axis_example_is_valid() {
     assert_eq!(diags(&slave()), []);
 }
+
+/// Diagnostics about section-1 records found while checking an axis carry section 1.
+#[test]
+fn block_num_diagnostic_names_section_one() {
+    let src = edit(BASE, &[("S,2,16", "S,2,1")]);
+    let (f, _) = read("AXCFIL", src.as_bytes());
+    let d = axcfil::validate(&f).1;
+    assert_eq!(d.iter().map(|d| (d.code, d.section, d.process)).collect::<Vec<_>>(), [(926, Some(1), Some(1))]);
+}

@@ -13,6 +13,9 @@ const SLAVE_KEYS: [&str; 8] = ["NAS", "TPA", "NTC", "GAS", "PAS", "MCZ", "MFC", 
 
 /// Checks axis `index` of process `p` against the other axes of the process.
 pub fn check(ctx: &Ctx, p: &Process, index: usize, axis: &Axis, diags: &mut Vec<Diagnostic>) {
+    // Diagnostics about section-1 records (the interpolator) carry section 1.
+    let s1 = ctx.in_section(1);
+    let mut later: Vec<Diagnostic> = Vec::new();
     let mut err = |code: u32, span: std::ops::Range<usize>, msg: String, hint: &str| {
         diags.push(ctx.error(code, span, msg, hint))
     };
@@ -153,7 +156,7 @@ pub fn check(ctx: &Ctx, p: &Process, index: usize, axis: &Axis, diags: &mut Vec<
                 .iter()
                 .all(|a| p.axis(*a).is_some_and(|x| x.axis_type().ptp));
         if ptp_only && ip.block_num != 1 && ip.axes.first() == Some(&name) {
-            err(
+            later.push(s1.error(
                 codes::BLOCK_NUM,
                 ip.span.clone(),
                 format!(
@@ -161,14 +164,15 @@ pub fn check(ctx: &Ctx, p: &Process, index: usize, axis: &Axis, diags: &mut Vec<
                     ip.name, ip.block_num
                 ),
                 "a point-to-point interpolator has block_num 1",
-            );
+            ));
         } else if !ptp_only && ip.block_num == 1 && ip.axes.first() == Some(&name) {
-            err(
+            later.push(s1.error(
                 codes::BLOCK_NUM,
                 ip.span.clone(),
                 format!("coordinated interpolator {} buffers 1 block", ip.name),
                 "a coordinated interpolator has block_num 2 to 64",
-            );
+            ));
         }
     }
+    diags.extend(later);
 }
