@@ -1517,5 +1517,10 @@ fn block_num_diagnostic_names_section_one() {
     let src = edit(BASE, &[("S,2,16", "S,2,1")]);
     let (f, _) = read("AXCFIL", src.as_bytes());
     let d = axcfil::validate(&f).1;
-    assert_eq!(d.iter().map(|d| (d.code, d.section, d.process)).collect::<Vec<_>>(), [(926, Some(1), Some(1))]);
+    assert_eq!(
+        d.iter()
+            .map(|d| (d.code, d.section, d.process))
+            .collect::<Vec<_>>(),
+        [(926, Some(1), Some(1))]
+    );
 }
