@@ -497,6 +497,7 @@ pub fn check(
         );
     }
     if let (Some((Some(st), _)), Some(pas)) = (axis.atr, axis.pas)
+        && t.ssi
         && st < 32
         && pas.el_pitch != f64::from(1u32 << st)
     {

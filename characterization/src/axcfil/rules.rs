@@ -160,18 +160,18 @@ fn section1(
     }
     // CAS lists the interpolated axes in interpolator order (spindles may stand anywhere).
     let spindles: Vec<char> = p.interpolators.iter().filter_map(|i| i.spindle).collect();
-    let want: Vec<char> = p
-        .interpolators
-        .iter()
-        .flat_map(|i| i.axes.iter().copied())
-        .filter(|a| !spindles.contains(a))
-        .collect();
-    let got: Vec<char> = cas
-        .axes
-        .iter()
-        .copied()
-        .filter(|a| want.contains(a))
-        .collect();
+    let mut want: Vec<char> = Vec::new();
+    for a in p.interpolators.iter().flat_map(|i| i.axes.iter().copied()) {
+        if !spindles.contains(&a) && !want.contains(&a) {
+            want.push(a);
+        }
+    }
+    let mut got: Vec<char> = Vec::new();
+    for a in cas.axes.iter().copied().filter(|a| want.contains(a)) {
+        if !got.contains(&a) {
+            got.push(a);
+        }
+    }
     if got != want && want.iter().all(|a| got.contains(a)) {
         let w: String = want.iter().collect();
         diags.push(ctx.error(codes::CAS_ORDER, cas.span.clone(), format!("CAS does not list the interpolated axes in interpolator order ({w})"), format!("write the axes of CAS in the order {w}, other axes (spindle, slaves, handwheels) may follow")));

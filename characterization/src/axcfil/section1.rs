@@ -205,7 +205,7 @@ impl<'a> State<'a, '_> {
                 "write the CPU tick in ms, 1 to 63, e.g. `TIM=1,0,0,0,0`",
             );
         }
-        self.model.tim = tick.min(63);
+        self.model.tim = if tick > 63 { 0 } else { tick };
     }
 
     fn pro(&mut self, r: &Record) {

@@ -484,11 +484,18 @@ impl Parse<'_, '_> {
                 if !self.fixed(r, 1) {
                     return false;
                 }
-                let m = self.text(r.param(0)).unwrap_or_default();
+                let ctx = self.ctx;
+                let m = match values::ascii(&ctx, &r.params[0]) {
+                    Ok(m) => m.unwrap_or_default(),
+                    Err(d) => {
+                        self.diags.push(d);
+                        return false;
+                    }
+                };
                 if m.len() != 1 {
                     self.err(
                         codes::ASM_NAME,
-                        r.params[0].span.clone(),
+                        r.params[0].span.start..r.span.end,
                         format!("ASM master `{m}` is not one letter"),
                         "write the master axis name, one letter, e.g. `ASM=X`",
                     );
