@@ -373,3 +373,31 @@ fn every_error_of_a_file_comes_out_of_one_run() {
     let codes: Vec<u32> = run(&src).into_iter().map(|(c, _, _)| c).collect();
     assert_eq!(codes, [104, 112, 110, 133]);
 }
+
+#[test]
+fn table_7_1_value_errors_in_pgcfil() {
+    one(&file("", "", "", "PRO=1\nNPL=2X,10\n", S5, ""), 13, "2X", 0);
+    one(
+        &file("", "", "", "PRO=1\nNPL=40000,10\n", S5, ""),
+        14,
+        "40000",
+        0,
+    );
+    one(&file("", "", "", "PRO=1\nSTR=12A\n", S5, ""), 15, "12A", 0);
+    one(
+        &file("", "", "", "PRO=1\nSTR=70000\n", S5, ""),
+        16,
+        "70000",
+        0,
+    );
+    one(
+        &file("", "", "", S4, &format!("{S5}SMC=1.2.3\n"), ""),
+        20,
+        "1.2.3",
+        0,
+    );
+    let src = format!("{}*7\n", file("", "", "", S4, S5, ""));
+    one(&src, 24, "*7", 0);
+    let src = file("", "", "", S4, S5, "").replace("*3\n", "*3 x\n");
+    one(&src, 5, "*3^ x", 0);
+}
