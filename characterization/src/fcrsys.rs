@@ -464,4 +464,21 @@ mod tests {
             ]
         );
     }
+
+    #[test]
+    fn unknown_logical_name_warns_and_bad_hdd_fails() {
+        let base = "*1\nMP0=C:\\CNC32\\MP0\nMP1=C:\\CNC32\\MP1\n*2\nAXCONF,AXCFIL/MP0\nPGCONF,PGCFIL/MP0\nIOCONF,IOCFIL/MP0\nFORMAT,FORMAT/MP0\n";
+        let (_, d) = load(&format!("{base}FILXYZ,ABC/MP0\n*3\nHDD=CDFG\n*\n"));
+        assert_eq!(d, [(907, 9, 1), (914, 11, 5)]);
+        let (f, mut d) = read_with(
+            "FCRSYS",
+            format!("{base}FILXYZ,ABC/MP0\n*\n").as_bytes(),
+            Grammar::FCRSYS,
+        );
+        d.extend(validate(&f).1);
+        assert_eq!(
+            d.iter().map(|d| d.severity).collect::<Vec<_>>(),
+            [diag::Severity::Warning]
+        );
+    }
 }
