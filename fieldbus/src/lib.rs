@@ -8,7 +8,9 @@
 //! run on a private tokio runtime and exchange images through lock-free buffers ([`exchange`]).
 
 pub mod exchange;
+pub mod health;
 pub mod map;
+pub mod modbus;
 pub mod validate;
 
 pub use map::{DeclaredConnectors, IoMap};

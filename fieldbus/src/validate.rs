@@ -258,6 +258,10 @@ fn hmi(cx: &mut Ctx, raw: &RawHmi) -> HmiConfig {
             cx.err(codes::HMI_WINDOW, span, format!("window of {len} bytes from {sig} does not fit packet {}", packet.letter()), format!("use 1..{} bytes", packet.len() - in_packet));
             continue;
         }
+        if in_packet % 2 != 0 || len % 2 != 0 {
+            cx.err(codes::HMI_WINDOW, w.span(), format!("window of {len} bytes from {sig} does not hold whole registers"), "holding registers are 16 bits: start on an even byte (W<c>K0 or W<c>K2) and give an even len");
+            continue;
+        }
         let win = HmiWindow { start: sig.image_byte(), len };
         if holding.iter().any(|h| h.start < win.start + win.len && win.start < h.start + h.len) {
             cx.err(codes::HMI_WINDOW, w.span(), "HMI windows overlap", "list each byte once");
