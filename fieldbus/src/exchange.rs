@@ -77,6 +77,15 @@ impl<T> TripleReader<T> {
     }
 }
 
+/// The packet-A outputs the scan commanded, as handed to an I/O task.
+#[derive(Debug, Clone)]
+pub(crate) struct OutFrame {
+    /// 0 until the scan publishes for the first time; bumped on each change.
+    pub seq: u64,
+    /// Packet A as the scan wrote it.
+    pub data: [u8; 128],
+}
+
 /// Producer side of the alarm ring (held by the I/O tasks, behind their own lock if shared).
 pub type AlarmTx = rtrb::Producer<IoAlarm>;
 /// Consumer side of the alarm ring (held by the driver on the scan thread).

@@ -7,6 +7,7 @@
 //! server for an HMI or SCADA ([`modbus::server`]). Drivers never block the scan: their network tasks
 //! run on a private tokio runtime and exchange images through lock-free buffers ([`exchange`]).
 
+pub mod canopen;
 pub mod exchange;
 pub mod health;
 pub mod map;

@@ -24,7 +24,7 @@ use tokio::sync::Notify;
 use tokio_modbus::client::{Context, Reader, Writer};
 use tokio_modbus::Slave;
 
-use crate::exchange::{TripleReader, TripleWriter, triple};
+use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
@@ -40,15 +40,6 @@ pub(crate) struct InFrame {
     /// Why the last exchange failed (`Fault::None` when it did not).
     pub fault: Fault,
     /// Packet A as far as this device's input mappings fill it.
-    pub data: [u8; A_LEN],
-}
-
-/// The outputs the scan commanded.
-#[derive(Debug, Clone)]
-pub(crate) struct OutFrame {
-    /// 0 until the scan publishes for the first time; bumped on each change.
-    pub seq: u64,
-    /// Packet A as the scan wrote it.
     pub data: [u8; A_LEN],
 }
 
