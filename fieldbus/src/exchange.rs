@@ -43,10 +43,20 @@ pub struct TripleReader<T> {
 /// A triple buffer whose three slots start as copies of `init`.
 pub fn triple<T: Clone + Send>(init: T) -> (TripleWriter<T>, TripleReader<T>) {
     let shared = Arc::new(Shared {
-        slots: [UnsafeCell::new(init.clone()), UnsafeCell::new(init.clone()), UnsafeCell::new(init)],
+        slots: [
+            UnsafeCell::new(init.clone()),
+            UnsafeCell::new(init.clone()),
+            UnsafeCell::new(init),
+        ],
         back: AtomicU8::new(1),
     });
-    (TripleWriter { shared: shared.clone(), idx: 0 }, TripleReader { shared, idx: 2 })
+    (
+        TripleWriter {
+            shared: shared.clone(),
+            idx: 0,
+        },
+        TripleReader { shared, idx: 2 },
+    )
 }
 
 impl<T> TripleWriter<T> {
@@ -73,7 +83,10 @@ impl<T> TripleReader<T> {
             self.idx = old & INDEX;
         }
         // SAFETY: slot `idx` belongs to the reader until its next swap (see `Shared`).
-        (unsafe { &*self.shared.slots[self.idx as usize].get() }, fresh)
+        (
+            unsafe { &*self.shared.slots[self.idx as usize].get() },
+            fresh,
+        )
     }
 }
 
@@ -152,9 +165,16 @@ mod tests {
     fn alarm_ring_drains_in_order_and_drops_when_full() {
         let (mut tx, mut rx) = alarm_ring(2);
         for i in 0..3 {
-            let _ = tx.push(IoAlarm { device: format!("d{i}"), message: String::new(), cleared: false });
+            let _ = tx.push(IoAlarm {
+                device: format!("d{i}"),
+                message: String::new(),
+                cleared: false,
+            });
         }
-        let names: Vec<String> = drain_alarms(&mut rx).into_iter().map(|a| a.device).collect();
+        let names: Vec<String> = drain_alarms(&mut rx)
+            .into_iter()
+            .map(|a| a.device)
+            .collect();
         assert_eq!(names, ["d0", "d1"]);
         assert!(drain_alarms(&mut rx).is_empty());
     }

@@ -68,7 +68,13 @@ pub struct Health {
 impl Health {
     /// A device that has not answered yet; it is lost after `alarm_ticks` ticks without an answer.
     pub fn new(name: &str, alarm_ticks: u32) -> Self {
-        Health { name: name.to_string(), alarm_ticks: alarm_ticks.max(1), state: State::Starting, stale: 0, last_seq: 0 }
+        Health {
+            name: name.to_string(),
+            alarm_ticks: alarm_ticks.max(1),
+            state: State::Starting,
+            stale: 0,
+            last_seq: 0,
+        }
     }
 
     /// True while the device's inputs are valid.
@@ -87,20 +93,38 @@ impl Health {
             self.stale = self.stale.saturating_add(1);
         }
         let good = fault == Fault::None && self.stale < self.alarm_ticks && self.last_seq != 0;
-        let lost_reason = if fault != Fault::None { fault.text() } else { "no answer" };
+        let lost_reason = if fault != Fault::None {
+            fault.text()
+        } else {
+            "no answer"
+        };
         match (self.state, good) {
             (State::Healthy, true) | (State::Lost, false) => None,
             (State::Starting, true) | (State::Lost, true) => {
                 let was_lost = self.state == State::Lost;
                 self.state = State::Healthy;
-                was_lost.then(|| IoAlarm { device: self.name.clone(), message: "answering again".into(), cleared: true })
+                was_lost.then(|| IoAlarm {
+                    device: self.name.clone(),
+                    message: "answering again".into(),
+                    cleared: true,
+                })
             }
-            (State::Starting, false) if fault == Fault::None && self.stale < self.alarm_ticks => None,
+            (State::Starting, false) if fault == Fault::None && self.stale < self.alarm_ticks => {
+                None
+            }
             (State::Starting | State::Healthy, false) => {
                 let ticks = self.stale;
                 self.state = State::Lost;
-                let message = if fault != Fault::None { lost_reason.to_string() } else { format!("no answer for {ticks} ticks") };
-                Some(IoAlarm { device: self.name.clone(), message, cleared: false })
+                let message = if fault != Fault::None {
+                    lost_reason.to_string()
+                } else {
+                    format!("no answer for {ticks} ticks")
+                };
+                Some(IoAlarm {
+                    device: self.name.clone(),
+                    message,
+                    cleared: false,
+                })
             }
         }
     }
@@ -119,7 +143,10 @@ mod tests {
         assert_eq!(h.tick(1, Fault::None), None);
         assert_eq!(h.tick(1, Fault::None), None);
         let a = h.tick(1, Fault::None).expect("third stale tick raises");
-        assert_eq!((a.device.as_str(), a.message.as_str(), a.cleared), ("rio", "no answer for 3 ticks", false));
+        assert_eq!(
+            (a.device.as_str(), a.message.as_str(), a.cleared),
+            ("rio", "no answer for 3 ticks", false)
+        );
         assert!(!h.healthy());
         assert_eq!(h.tick(1, Fault::None), None, "raised once");
         let c = h.tick(2, Fault::None).expect("clears");
@@ -142,6 +169,9 @@ mod tests {
         assert_eq!(h.tick(0, Fault::None), None);
         assert!(h.tick(0, Fault::None).is_some());
         let mut h = Health::new("rio", 5);
-        assert_eq!(h.tick(0, Fault::Connect).map(|a| a.message), Some("cannot connect".to_string()));
+        assert_eq!(
+            h.tick(0, Fault::Connect).map(|a| a.message),
+            Some("cannot connect".to_string())
+        );
     }
 }

@@ -79,9 +79,17 @@ fn whole_file(code: u32, message: String, hint: &str) -> Vec<Diagnostic> {
 /// `declared` are the packet-A connectors IOCFIL declares (`INx`, `OUx`); mappings onto other
 /// connectors are errors. Warnings of a valid map are dropped here (`load_map` returns them, for
 /// `ncplc check`). [`IoKind::Sim`] is an error (code 3099): the runtime owns the simulated I/O.
-pub fn open(kind: IoKind, machine_dir: &Path, declared: &DeclaredConnectors) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+pub fn open(
+    kind: IoKind,
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
     if kind == IoKind::Sim {
-        return Err(whole_file(codes::SIM, "the simulated I/O is built into the runtime, not the fieldbus crate".into(), "call fieldbus::open only for --io modbus or --io canopen"));
+        return Err(whole_file(
+            codes::SIM,
+            "the simulated I/O is built into the runtime, not the fieldbus crate".into(),
+            "call fieldbus::open only for --io modbus or --io canopen",
+        ));
     }
     let (map, diags) = load_map(machine_dir, declared);
     let Some(map) = map else { return Err(diags) };
@@ -90,19 +98,37 @@ pub fn open(kind: IoKind, machine_dir: &Path, declared: &DeclaredConnectors) -> 
 
 /// Starts the driver for `kind` from an already validated map.
 pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
-    let start_err = |e: std::io::Error| whole_file(codes::START, format!("the {kind} driver cannot start: {e}"), "check the addresses and interfaces in io.toml");
+    let start_err = |e: std::io::Error| {
+        whole_file(
+            codes::START,
+            format!("the {kind} driver cannot start: {e}"),
+            "check the addresses and interfaces in io.toml",
+        )
+    };
     match kind {
-        IoKind::Sim => Err(whole_file(codes::SIM, "the simulated I/O is built into the runtime".into(), "")),
+        IoKind::Sim => Err(whole_file(
+            codes::SIM,
+            "the simulated I/O is built into the runtime".into(),
+            "",
+        )),
         IoKind::Modbus => {
             if map.modbus.is_empty() {
-                return Err(whole_file(codes::NO_DEVICES, "io.toml defines no Modbus device".into(), "add a [[modbus.device]] table"));
+                return Err(whole_file(
+                    codes::NO_DEVICES,
+                    "io.toml defines no Modbus device".into(),
+                    "add a [[modbus.device]] table",
+                ));
             }
             let io = modbus::client::ModbusIo::start(&map.modbus).map_err(start_err)?;
             Ok(Box::new(io))
         }
         IoKind::Canopen => {
             let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
-                return Err(whole_file(codes::NO_DEVICES, "io.toml defines no CANopen node".into(), "add a [canopen] table with [[canopen.node]] entries"));
+                return Err(whole_file(
+                    codes::NO_DEVICES,
+                    "io.toml defines no CANopen node".into(),
+                    "add a [canopen] table with [[canopen.node]] entries",
+                ));
             };
             let io = start_canopen(cfg).map_err(start_err)?;
             Ok(Box::new(io))
@@ -128,7 +154,9 @@ pub fn start_canopen(cfg: &map::CanopenConfig) -> std::io::Result<canopen::maste
         }
         map::TransportConfig::SocketCan { interface } => {
             let name = interface.clone();
-            CanopenIo::start(cfg, move || async move { canopen::socketcan_bus::SocketCanBus::open(&name) })
+            CanopenIo::start(cfg, move || async move {
+                canopen::socketcan_bus::SocketCanBus::open(&name)
+            })
         }
         map::TransportConfig::Cannelloni { local, remote } => {
             let (l, r) = (*local, *remote);
@@ -139,7 +167,11 @@ pub fn start_canopen(cfg: &map::CanopenConfig) -> std::io::Result<canopen::maste
 
 /// Wraps `inner` with the HMI/SCADA Modbus TCP server when `<machine_dir>/io.toml` has an `[hmi]`
 /// table; returns `inner` unchanged when there is no `io.toml` or no `[hmi]`.
-pub fn start_hmi(machine_dir: &Path, declared: &DeclaredConnectors, inner: Box<dyn PacketIo>) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+pub fn start_hmi(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+    inner: Box<dyn PacketIo>,
+) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
     if !machine_dir.join("io.toml").is_file() {
         return Ok(inner);
     }
@@ -148,7 +180,11 @@ pub fn start_hmi(machine_dir: &Path, declared: &DeclaredConnectors, inner: Box<d
     let Some(cfg) = map.hmi else { return Ok(inner) };
     match modbus::server::HmiIo::start(inner, &cfg) {
         Ok(h) => Ok(Box::new(h)),
-        Err(e) => Err(whole_file(codes::START, format!("the HMI server cannot listen on {}: {e}", cfg.bind), "choose a free address with [hmi] bind = \"127.0.0.1:1502\"")),
+        Err(e) => Err(whole_file(
+            codes::START,
+            format!("the HMI server cannot listen on {}: {e}", cfg.bind),
+            "choose a free address with [hmi] bind = \"127.0.0.1:1502\"",
+        )),
     }
 }
 
@@ -168,14 +204,22 @@ mod tests {
 
     #[test]
     fn open_sim_is_refused_with_its_code() {
-        let err = open(IoKind::Sim, Path::new("/nonexistent"), &DeclaredConnectors::default()).err().expect("refused");
+        let err = open(
+            IoKind::Sim,
+            Path::new("/nonexistent"),
+            &DeclaredConnectors::default(),
+        )
+        .err()
+        .expect("refused");
         assert_eq!(err[0].code, codes::SIM);
     }
 
     #[test]
     fn open_without_a_map_reports_the_missing_file() {
         let dir = tempfile::tempdir().expect("tempdir");
-        let err = open(IoKind::Modbus, dir.path(), &DeclaredConnectors::default()).err().expect("no map");
+        let err = open(IoKind::Modbus, dir.path(), &DeclaredConnectors::default())
+            .err()
+            .expect("no map");
         assert_eq!(err.len(), 1);
         assert_eq!(err[0].code, codes::UNREADABLE);
     }

@@ -91,7 +91,11 @@ impl ModbusArea {
 
     /// Number of Modbus items (bits or registers) that `len` bytes occupy.
     pub fn items(self, len: usize) -> usize {
-        if self.is_bits() { len * 8 } else { len.div_ceil(2) }
+        if self.is_bits() {
+            len * 8
+        } else {
+            len.div_ceil(2)
+        }
     }
 }
 

@@ -77,8 +77,16 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    fn err(&mut self, code: u32, span: Range<usize>, msg: impl Into<String>, hint: impl Into<String>) {
-        let d = Diagnostic::error(code, self.file, span, msg).with_hint(hint).locate(self.text);
+    fn err(
+        &mut self,
+        code: u32,
+        span: Range<usize>,
+        msg: impl Into<String>,
+        hint: impl Into<String>,
+    ) {
+        let d = Diagnostic::error(code, self.file, span, msg)
+            .with_hint(hint)
+            .locate(self.text);
         self.diags.push(d);
     }
 
@@ -96,7 +104,12 @@ impl Ctx<'_> {
             Ok(a) => Some(a),
             Err(_) => {
                 let msg = format!("`{}` is not a socket address", s.get_ref());
-                self.err(codes::SOCKET_ADDR, s.span(), msg, "write an IP address and a port, e.g. \"127.0.0.1:502\"");
+                self.err(
+                    codes::SOCKET_ADDR,
+                    s.span(),
+                    msg,
+                    "write an IP address and a port, e.g. \"127.0.0.1:502\"",
+                );
                 None
             }
         }
@@ -105,7 +118,12 @@ impl Ctx<'_> {
     fn ms(&mut self, v: &Option<Spanned<u64>>, default: u64, what: &str) -> Duration {
         match v {
             Some(s) if *s.get_ref() == 0 || *s.get_ref() > 3_600_000 => {
-                self.err(codes::VALUE, s.span(), format!("{what} {} ms is out of range", s.get_ref()), "use 1..3600000 ms");
+                self.err(
+                    codes::VALUE,
+                    s.span(),
+                    format!("{what} {} ms is out of range", s.get_ref()),
+                    "use 1..3600000 ms",
+                );
                 Duration::from_millis(default)
             }
             Some(s) => Duration::from_millis(*s.get_ref()),
@@ -118,7 +136,12 @@ impl Ctx<'_> {
             Some(s) => match u8::try_from(*s.get_ref()) {
                 Ok(b) => b,
                 Err(_) => {
-                    self.err(codes::VALUE, s.span(), format!("{what} {} does not fit a byte", s.get_ref()), "use 0..255");
+                    self.err(
+                        codes::VALUE,
+                        s.span(),
+                        format!("{what} {} does not fit a byte", s.get_ref()),
+                        "use 0..255",
+                    );
                     0
                 }
             },
@@ -128,7 +151,10 @@ impl Ctx<'_> {
 }
 
 /// Reads `<machine_dir>/io.toml` and validates it; the map is `Some` exactly when there are no errors.
-pub fn load_map(machine_dir: &Path, declared: &DeclaredConnectors) -> (Option<IoMap>, Vec<Diagnostic>) {
+pub fn load_map(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+) -> (Option<IoMap>, Vec<Diagnostic>) {
     let path = machine_dir.join("io.toml");
     match std::fs::read_to_string(&path) {
         Ok(text) => parse_map(&text, "io.toml", declared),
@@ -142,36 +168,73 @@ pub fn load_map(machine_dir: &Path, declared: &DeclaredConnectors) -> (Option<Io
 
 /// Parses and validates the text of an I/O map named `file`; the map is `Some` exactly when there
 /// are no errors (warnings may accompany it).
-pub fn parse_map(text: &str, file: &str, declared: &DeclaredConnectors) -> (Option<IoMap>, Vec<Diagnostic>) {
-    let mut cx = Ctx { file, text, diags: Vec::new() };
+pub fn parse_map(
+    text: &str,
+    file: &str,
+    declared: &DeclaredConnectors,
+) -> (Option<IoMap>, Vec<Diagnostic>) {
+    let mut cx = Ctx {
+        file,
+        text,
+        diags: Vec::new(),
+    };
     let raw: RawMap = match toml::from_str(text) {
         Ok(r) => r,
         Err(e) => {
             let span = e.span().unwrap_or(0..0);
             let msg = e.message().trim().to_string();
-            cx.err(codes::SYNTAX, span, msg, "see the io.toml format in fieldbus/DIAGNOSTICS.md");
+            cx.err(
+                codes::SYNTAX,
+                span,
+                msg,
+                "see the io.toml format in fieldbus/DIAGNOSTICS.md",
+            );
             return (None, cx.diags);
         }
     };
-    let mut map = IoMap { hmi: raw.hmi.as_ref().map(|h| hmi(&mut cx, h.get_ref())), ..IoMap::default() };
+    let mut map = IoMap {
+        hmi: raw.hmi.as_ref().map(|h| hmi(&mut cx, h.get_ref())),
+        ..IoMap::default()
+    };
 
     // Devices: name → (bus, index).
     let mut names: HashMap<String, (Bus, usize, Range<usize>)> = HashMap::new();
-    let modbus_devices = raw.modbus.as_ref().map(|m| m.device.as_slice()).unwrap_or(&[]);
+    let modbus_devices = raw
+        .modbus
+        .as_ref()
+        .map(|m| m.device.as_slice())
+        .unwrap_or(&[]);
     for d in modbus_devices {
         let dev = modbus_device(&mut cx, d.get_ref());
-        register_name(&mut cx, &mut names, &d.get_ref().name, Bus::Modbus, map.modbus.len());
+        register_name(
+            &mut cx,
+            &mut names,
+            &d.get_ref().name,
+            Bus::Modbus,
+            map.modbus.len(),
+        );
         map.modbus.push(dev);
     }
     if let Some(c) = &raw.canopen {
         let cfg = canopen(&mut cx, c.get_ref(), &c.span());
         let mut ids: HashMap<u8, Range<usize>> = HashMap::new();
         for (i, (n, raw_node)) in cfg.nodes.iter().zip(&c.get_ref().node).enumerate() {
-            register_name(&mut cx, &mut names, &raw_node.get_ref().name, Bus::Canopen, i);
+            register_name(
+                &mut cx,
+                &mut names,
+                &raw_node.get_ref().name,
+                Bus::Canopen,
+                i,
+            );
             let span = raw_node.get_ref().node_id.span();
             if let Some(first) = ids.get(&n.node_id) {
                 let line = cx.line_of(first);
-                cx.err(codes::DUPLICATE_DEVICE, span, format!("node id {} is used twice", n.node_id), format!("first used on line {line}"));
+                cx.err(
+                    codes::DUPLICATE_DEVICE,
+                    span,
+                    format!("node id {} is used twice", n.node_id),
+                    format!("first used on line {line}"),
+                );
             } else {
                 ids.insert(n.node_id, span);
             }
@@ -183,13 +246,20 @@ pub fn parse_map(text: &str, file: &str, declared: &DeclaredConnectors) -> (Opti
     let mut used_connectors = std::collections::BTreeSet::new();
     for (dir, list) in [(Dir::In, &raw.input), (Dir::Out, &raw.output)] {
         for m in list {
-            let Some(checked) = mapping(&mut cx, m, dir, declared, &names) else { continue };
+            let Some(checked) = mapping(&mut cx, m, dir, declared, &names) else {
+                continue;
+            };
             for b in checked.range.start..checked.range.end() {
                 used_connectors.insert(b / 4);
                 if let Some(first) = claimed.get(&(checked.bus, b)) {
                     let line = cx.line_of(first);
                     let msg = format!("byte W{}A{} is already mapped", b / 4, b % 4);
-                    cx.err(codes::OVERLAP, m.span(), msg, format!("the first mapping of it is on line {line}"));
+                    cx.err(
+                        codes::OVERLAP,
+                        m.span(),
+                        msg,
+                        format!("the first mapping of it is on line {line}"),
+                    );
                     break;
                 }
                 claimed.insert((checked.bus, b), m.span());
@@ -200,11 +270,21 @@ pub fn parse_map(text: &str, file: &str, declared: &DeclaredConnectors) -> (Opti
     check_pdo_overlaps(&mut cx, &map, &raw);
     check_healthy_bits(&mut cx, &raw, &mut map, declared, &claimed);
 
-    let has_devices = !map.modbus.is_empty() || map.canopen.as_ref().is_some_and(|c| !c.nodes.is_empty());
+    let has_devices =
+        !map.modbus.is_empty() || map.canopen.as_ref().is_some_and(|c| !c.nodes.is_empty());
     if has_devices {
-        for (c, kind) in declared.inputs.iter().map(|c| (c, "IN")).chain(declared.outputs.iter().map(|c| (c, "OU"))) {
+        for (c, kind) in declared
+            .inputs
+            .iter()
+            .map(|c| (c, "IN"))
+            .chain(declared.outputs.iter().map(|c| (c, "OU")))
+        {
             if !used_connectors.contains(&usize::from(*c)) {
-                cx.warn(codes::UNMAPPED, 0..0, format!("IOCFIL declares {kind}{c} but no mapping uses it"));
+                cx.warn(
+                    codes::UNMAPPED,
+                    0..0,
+                    format!("IOCFIL declares {kind}{c} but no mapping uses it"),
+                );
             }
         }
     }
@@ -224,10 +304,21 @@ enum Dir {
     Out,
 }
 
-fn register_name(cx: &mut Ctx, names: &mut HashMap<String, (Bus, usize, Range<usize>)>, name: &Spanned<String>, bus: Bus, i: usize) {
+fn register_name(
+    cx: &mut Ctx,
+    names: &mut HashMap<String, (Bus, usize, Range<usize>)>,
+    name: &Spanned<String>,
+    bus: Bus,
+    i: usize,
+) {
     if let Some((_, _, first)) = names.get(name.get_ref()) {
         let line = cx.line_of(first);
-        cx.err(codes::DUPLICATE_DEVICE, name.span(), format!("device `{}` is defined twice", name.get_ref()), format!("first defined on line {line}"));
+        cx.err(
+            codes::DUPLICATE_DEVICE,
+            name.span(),
+            format!("device `{}` is defined twice", name.get_ref()),
+            format!("first defined on line {line}"),
+        );
     } else {
         names.insert(name.get_ref().clone(), (bus, i, name.span()));
     }
@@ -235,36 +326,69 @@ fn register_name(cx: &mut Ctx, names: &mut HashMap<String, (Bus, usize, Range<us
 
 fn hmi(cx: &mut Ctx, raw: &RawHmi) -> HmiConfig {
     let default: SocketAddr = SocketAddr::from(([127, 0, 0, 1], 1502));
-    let bind = raw.bind.as_ref().and_then(|b| cx.addr(b)).unwrap_or(default);
+    let bind = raw
+        .bind
+        .as_ref()
+        .and_then(|b| cx.addr(b))
+        .unwrap_or(default);
     let mut holding: Vec<HmiWindow> = Vec::new();
     for w in &raw.holding {
         let w_ref = w.get_ref();
         let sig = match w_ref.byte.get_ref().parse::<Signal>() {
             Ok(s) => s,
             Err(e) => {
-                cx.err(codes::BAD_SIGNAL, w_ref.byte.span(), e.to_string(), "name a K or N byte, e.g. \"W200K0\"");
+                cx.err(
+                    codes::BAD_SIGNAL,
+                    w_ref.byte.span(),
+                    e.to_string(),
+                    "name a K or N byte, e.g. \"W200K0\"",
+                );
                 continue;
             }
         };
         let packet = sig.packet();
         if !matches!(sig, Signal::Byte { .. }) || !matches!(packet, Packet::K | Packet::N) {
-            cx.err(codes::HMI_WINDOW, w_ref.byte.span(), format!("`{sig}` is not a K or N byte"), "the HMI may write only K and N bytes (W<c>K<b>, W<c>N<b>)");
+            cx.err(
+                codes::HMI_WINDOW,
+                w_ref.byte.span(),
+                format!("`{sig}` is not a K or N byte"),
+                "the HMI may write only K and N bytes (W<c>K<b>, W<c>N<b>)",
+            );
             continue;
         }
         let len = w_ref.len.as_ref().map_or(1, |l| *l.get_ref() as usize);
         let in_packet = sig.packet_byte();
         if len == 0 || in_packet + len > packet.len() {
             let span = w_ref.len.as_ref().map_or(w.span(), |l| l.span());
-            cx.err(codes::HMI_WINDOW, span, format!("window of {len} bytes from {sig} does not fit packet {}", packet.letter()), format!("use 1..{} bytes", packet.len() - in_packet));
+            cx.err(
+                codes::HMI_WINDOW,
+                span,
+                format!(
+                    "window of {len} bytes from {sig} does not fit packet {}",
+                    packet.letter()
+                ),
+                format!("use 1..{} bytes", packet.len() - in_packet),
+            );
             continue;
         }
         if in_packet % 2 != 0 || len % 2 != 0 {
             cx.err(codes::HMI_WINDOW, w.span(), format!("window of {len} bytes from {sig} does not hold whole registers"), "holding registers are 16 bits: start on an even byte (W<c>K0 or W<c>K2) and give an even len");
             continue;
         }
-        let win = HmiWindow { start: sig.image_byte(), len };
-        if holding.iter().any(|h| h.start < win.start + win.len && win.start < h.start + h.len) {
-            cx.err(codes::HMI_WINDOW, w.span(), "HMI windows overlap", "list each byte once");
+        let win = HmiWindow {
+            start: sig.image_byte(),
+            len,
+        };
+        if holding
+            .iter()
+            .any(|h| h.start < win.start + win.len && win.start < h.start + h.len)
+        {
+            cx.err(
+                codes::HMI_WINDOW,
+                w.span(),
+                "HMI windows overlap",
+                "list each byte once",
+            );
             continue;
         }
         holding.push(win);
@@ -273,17 +397,29 @@ fn hmi(cx: &mut Ctx, raw: &RawHmi) -> HmiConfig {
 }
 
 fn modbus_device(cx: &mut Ctx, d: &RawModbusDevice) -> ModbusDevice {
-    let address = cx.addr(&d.address).unwrap_or_else(|| SocketAddr::from(([127, 0, 0, 1], 502)));
+    let address = cx
+        .addr(&d.address)
+        .unwrap_or_else(|| SocketAddr::from(([127, 0, 0, 1], 502)));
     let unit = match &d.unit {
         Some(u) => u8::try_from(*u.get_ref()).unwrap_or_else(|_| {
-            cx.err(codes::VALUE, u.span(), format!("unit id {} is out of range", u.get_ref()), "Modbus unit ids are 0..255");
+            cx.err(
+                codes::VALUE,
+                u.span(),
+                format!("unit id {} is out of range", u.get_ref()),
+                "Modbus unit ids are 0..255",
+            );
             1
         }),
         None => 1,
     };
     let alarm_ticks = match &d.alarm_ticks {
         Some(a) if *a.get_ref() == 0 => {
-            cx.err(codes::VALUE, a.span(), "alarm_ticks must be at least 1", "the number of ticks without an answer before the alarm");
+            cx.err(
+                codes::VALUE,
+                a.span(),
+                "alarm_ticks must be at least 1",
+                "the number of ticks without an answer before the alarm",
+            );
             5
         }
         Some(a) => *a.get_ref(),
@@ -291,14 +427,21 @@ fn modbus_device(cx: &mut Ctx, d: &RawModbusDevice) -> ModbusDevice {
     };
     let poll = match &d.poll_us {
         Some(p) if *p.get_ref() > 1_000_000 => {
-            cx.err(codes::VALUE, p.span(), format!("poll_us {} is out of range", p.get_ref()), "use 0..1000000 µs");
+            cx.err(
+                codes::VALUE,
+                p.span(),
+                format!("poll_us {} is out of range", p.get_ref()),
+                "use 0..1000000 µs",
+            );
             Duration::from_micros(1000)
         }
         Some(p) => Duration::from_micros(*p.get_ref()),
         None => Duration::from_micros(1000),
     };
     let reconnect_min = cx.ms(&d.reconnect_ms, 100, "reconnect_ms");
-    let reconnect_max = cx.ms(&d.reconnect_max_ms, 2000, "reconnect_max_ms").max(reconnect_min);
+    let reconnect_max = cx
+        .ms(&d.reconnect_max_ms, 2000, "reconnect_max_ms")
+        .max(reconnect_min);
     ModbusDevice {
         name: d.name.get_ref().clone(),
         address,
@@ -315,13 +458,23 @@ fn modbus_device(cx: &mut Ctx, d: &RawModbusDevice) -> ModbusDevice {
 }
 
 fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> CanopenConfig {
-    let kind = c.transport.as_ref().map_or("virtual", |t| t.get_ref().as_str());
+    let kind = c
+        .transport
+        .as_ref()
+        .map_or("virtual", |t| t.get_ref().as_str());
     let transport = match kind {
         "virtual" => TransportConfig::Virtual,
         "socketcan" => match &c.interface {
-            Some(i) => TransportConfig::SocketCan { interface: i.get_ref().clone() },
+            Some(i) => TransportConfig::SocketCan {
+                interface: i.get_ref().clone(),
+            },
             None => {
-                cx.err(codes::TRANSPORT, span.clone(), "transport \"socketcan\" needs `interface`", "add interface = \"can0\"");
+                cx.err(
+                    codes::TRANSPORT,
+                    span.clone(),
+                    "transport \"socketcan\" needs `interface`",
+                    "add interface = \"can0\"",
+                );
                 TransportConfig::Virtual
             }
         },
@@ -331,13 +484,23 @@ fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> CanopenConfig {
                 _ => TransportConfig::Virtual,
             },
             _ => {
-                cx.err(codes::TRANSPORT, span.clone(), "transport \"cannelloni\" needs `local` and `remote`", "add local = \"0.0.0.0:20000\" and remote = \"<peer>:20000\"");
+                cx.err(
+                    codes::TRANSPORT,
+                    span.clone(),
+                    "transport \"cannelloni\" needs `local` and `remote`",
+                    "add local = \"0.0.0.0:20000\" and remote = \"<peer>:20000\"",
+                );
                 TransportConfig::Virtual
             }
         },
         other => {
             let s = c.transport.as_ref().map_or(span.clone(), |t| t.span());
-            cx.err(codes::TRANSPORT, s, format!("unknown CANopen transport `{other}`"), "use \"virtual\", \"socketcan\" or \"cannelloni\"");
+            cx.err(
+                codes::TRANSPORT,
+                s,
+                format!("unknown CANopen transport `{other}`"),
+                "use \"virtual\", \"socketcan\" or \"cannelloni\"",
+            );
             TransportConfig::Virtual
         }
     };
@@ -347,7 +510,12 @@ fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> CanopenConfig {
         let node_id = match u8::try_from(*r.node_id.get_ref()) {
             Ok(id @ 1..=127) => id,
             _ => {
-                cx.err(codes::VALUE, r.node_id.span(), format!("node id {} is out of range", r.node_id.get_ref()), "CANopen node ids are 1..127");
+                cx.err(
+                    codes::VALUE,
+                    r.node_id.span(),
+                    format!("node id {} is out of range", r.node_id.get_ref()),
+                    "CANopen node ids are 1..127",
+                );
                 1
             }
         };
@@ -360,7 +528,12 @@ fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> CanopenConfig {
                 _ => false,
             };
             if !fits {
-                cx.err(codes::VALUE, s.span(), format!("SDO value {} does not fit size {}", w.value, w.size), "size is 1, 2 or 4 bytes and the value must fit it");
+                cx.err(
+                    codes::VALUE,
+                    s.span(),
+                    format!("SDO value {} does not fit size {}", w.value, w.size),
+                    "size is 1, 2 or 4 bytes and the value must fit it",
+                );
             }
         }
         nodes.push(CanNode {
@@ -373,7 +546,11 @@ fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> CanopenConfig {
             outputs: Vec::new(),
         });
     }
-    CanopenConfig { transport, sdo_timeout: cx.ms(&c.sdo_timeout_ms, 100, "sdo_timeout_ms"), nodes }
+    CanopenConfig {
+        transport,
+        sdo_timeout: cx.ms(&c.sdo_timeout_ms, 100, "sdo_timeout_ms"),
+        nodes,
+    }
 }
 
 struct Checked {
@@ -397,8 +574,24 @@ fn mapping(
     let Some(&(bus, device, _)) = names.get(r.device.get_ref()) else {
         let mut known: Vec<&String> = names.keys().collect();
         known.sort();
-        let hint = if known.is_empty() { "define the device under [[modbus.device]] or [[canopen.node]]".to_string() } else { format!("known devices: {}", known.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")) };
-        cx.err(codes::UNKNOWN_DEVICE, r.device.span(), format!("unknown device `{}`", r.device.get_ref()), hint);
+        let hint = if known.is_empty() {
+            "define the device under [[modbus.device]] or [[canopen.node]]".to_string()
+        } else {
+            format!(
+                "known devices: {}",
+                known
+                    .iter()
+                    .map(|s| s.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        };
+        cx.err(
+            codes::UNKNOWN_DEVICE,
+            r.device.span(),
+            format!("unknown device `{}`", r.device.get_ref()),
+            hint,
+        );
         return None;
     };
     // Where in packet A.
@@ -406,40 +599,88 @@ fn mapping(
         (Some(c), None) => {
             let n = *c.get_ref();
             if n >= 32 {
-                cx.err(codes::OUT_OF_RANGE, c.span(), format!("connector {n} is out of range"), "packet A has connectors 0..31");
+                cx.err(
+                    codes::OUT_OF_RANGE,
+                    c.span(),
+                    format!("connector {n} is out of range"),
+                    "packet A has connectors 0..31",
+                );
                 return None;
             }
             let len = r.len.as_ref().map_or(4, |l| *l.get_ref() as usize);
-            (ByteRange { start: n as usize * 4, len }, c.span())
+            (
+                ByteRange {
+                    start: n as usize * 4,
+                    len,
+                },
+                c.span(),
+            )
         }
         (None, Some(b)) => {
             let sig = match b.get_ref().parse::<Signal>() {
                 Ok(s @ Signal::Byte { .. }) => s,
                 Ok(s) => {
-                    cx.err(codes::BAD_SIGNAL, b.span(), format!("`{s}` is a bit, not a byte"), "name a byte, e.g. \"W0A1\"");
+                    cx.err(
+                        codes::BAD_SIGNAL,
+                        b.span(),
+                        format!("`{s}` is a bit, not a byte"),
+                        "name a byte, e.g. \"W0A1\"",
+                    );
                     return None;
                 }
                 Err(e) => {
-                    cx.err(codes::BAD_SIGNAL, b.span(), e.to_string(), "name a byte, e.g. \"W0A1\"");
+                    cx.err(
+                        codes::BAD_SIGNAL,
+                        b.span(),
+                        e.to_string(),
+                        "name a byte, e.g. \"W0A1\"",
+                    );
                     return None;
                 }
             };
             if sig.packet() != Packet::A {
-                cx.err(codes::NOT_PACKET_A, b.span(), format!("`{sig}` is not in packet A"), "devices map packet-A bytes (W<c>A<b>)");
+                cx.err(
+                    codes::NOT_PACKET_A,
+                    b.span(),
+                    format!("`{sig}` is not in packet A"),
+                    "devices map packet-A bytes (W<c>A<b>)",
+                );
                 return None;
             }
             let len = r.len.as_ref().map_or(1, |l| *l.get_ref() as usize);
-            (ByteRange { start: sig.packet_byte(), len }, b.span())
+            (
+                ByteRange {
+                    start: sig.packet_byte(),
+                    len,
+                },
+                b.span(),
+            )
         }
         _ => {
-            cx.err(codes::WHERE, m.span(), format!("an {what} needs exactly one of `connector` and `byte`"), "e.g. connector = 0, or byte = \"W0A1\" with len = 2");
+            cx.err(
+                codes::WHERE,
+                m.span(),
+                format!("an {what} needs exactly one of `connector` and `byte`"),
+                "e.g. connector = 0, or byte = \"W0A1\" with len = 2",
+            );
             return None;
         }
     };
     let (range, where_span) = range;
     if range.len == 0 || range.end() > Packet::A.len() {
         let span = r.len.as_ref().map_or(where_span.clone(), |l| l.span());
-        cx.err(codes::OUT_OF_RANGE, span, format!("{} bytes from byte {} run past packet A", range.len, range.start), format!("use 1..{} bytes", Packet::A.len() - range.start.min(Packet::A.len() - 1)));
+        cx.err(
+            codes::OUT_OF_RANGE,
+            span,
+            format!(
+                "{} bytes from byte {} run past packet A",
+                range.len, range.start
+            ),
+            format!(
+                "use 1..{} bytes",
+                Packet::A.len() - range.start.min(Packet::A.len() - 1)
+            ),
+        );
         return None;
     }
     let mut ok = true;
@@ -449,46 +690,117 @@ fn mapping(
         let c16 = c as u16;
         let is_in = is_a_input_connector(c16);
         if is_in != (dir == Dir::In) {
-            let (kind, want) = if is_in { ("an input", "inputs") } else { ("an output", "outputs") };
-            cx.err(codes::DIRECTION, where_span.clone(), format!("connector {c} is {kind} connector but is mapped as an {what}"), format!("connector c is an input when c mod 8 < 4; map {want} from [[{}]]", if is_in { "input" } else { "output" }));
+            let (kind, want) = if is_in {
+                ("an input", "inputs")
+            } else {
+                ("an output", "outputs")
+            };
+            cx.err(
+                codes::DIRECTION,
+                where_span.clone(),
+                format!("connector {c} is {kind} connector but is mapped as an {what}"),
+                format!(
+                    "connector c is an input when c mod 8 < 4; map {want} from [[{}]]",
+                    if is_in { "input" } else { "output" }
+                ),
+            );
             ok = false;
             continue;
         }
-        let list = if dir == Dir::In { &declared.inputs } else { &declared.outputs };
+        let list = if dir == Dir::In {
+            &declared.inputs
+        } else {
+            &declared.outputs
+        };
         if !list.contains(&c16) {
             let prefix = if dir == Dir::In { "IN" } else { "OU" };
             let mut decl: Vec<String> = list.iter().map(|d| format!("{prefix}{d}")).collect();
             decl.sort();
-            cx.err(codes::UNDECLARED, where_span.clone(), format!("connector {c} is not declared in IOCFIL as {prefix}{c}"), if decl.is_empty() { format!("IOCFIL declares no {what} connectors") } else { format!("IOCFIL declares {}", decl.join(", ")) });
+            cx.err(
+                codes::UNDECLARED,
+                where_span.clone(),
+                format!("connector {c} is not declared in IOCFIL as {prefix}{c}"),
+                if decl.is_empty() {
+                    format!("IOCFIL declares no {what} connectors")
+                } else {
+                    format!("IOCFIL declares {}", decl.join(", "))
+                },
+            );
             ok = false;
         }
     }
-    let (fail_field, other_field, other_name) = if dir == Dir::In { (&r.fail, &r.safe, "safe") } else { (&r.safe, &r.fail, "fail") };
+    let (fail_field, other_field, other_name) = if dir == Dir::In {
+        (&r.fail, &r.safe, "safe")
+    } else {
+        (&r.safe, &r.fail, "fail")
+    };
     if let Some(o) = other_field {
-        cx.err(codes::FIELD, o.span(), format!("`{other_name}` does not apply to an {what}"), if dir == Dir::In { "inputs take `fail`" } else { "outputs take `safe`" });
+        cx.err(
+            codes::FIELD,
+            o.span(),
+            format!("`{other_name}` does not apply to an {what}"),
+            if dir == Dir::In {
+                "inputs take `fail`"
+            } else {
+                "outputs take `safe`"
+            },
+        );
         ok = false;
     }
     let fail = cx.byte_value(fail_field, if dir == Dir::In { "fail" } else { "safe" });
-    let mut checked = Checked { bus, device, range, modbus: None, pdo: None, fail };
+    let mut checked = Checked {
+        bus,
+        device,
+        range,
+        modbus: None,
+        pdo: None,
+        fail,
+    };
     match bus {
         Bus::Modbus => {
             for (f, name) in [(&r.pdo, "pdo"), (&r.offset, "offset")] {
                 if let Some(f) = f {
-                    cx.err(codes::FIELD, f.span(), format!("`{name}` does not apply to a Modbus device"), "Modbus mappings take `area` and `address`");
+                    cx.err(
+                        codes::FIELD,
+                        f.span(),
+                        format!("`{name}` does not apply to a Modbus device"),
+                        "Modbus mappings take `area` and `address`",
+                    );
                     ok = false;
                 }
             }
             let Some(area) = &r.area else {
-                cx.err(codes::FIELD, m.span(), format!("a Modbus {what} needs `area`"), if dir == Dir::In { "discrete_inputs, coils, input_registers or holding_registers" } else { "coils or holding_registers" });
+                cx.err(
+                    codes::FIELD,
+                    m.span(),
+                    format!("a Modbus {what} needs `area`"),
+                    if dir == Dir::In {
+                        "discrete_inputs, coils, input_registers or holding_registers"
+                    } else {
+                        "coils or holding_registers"
+                    },
+                );
                 return None;
             };
             let a = *area.get_ref();
-            if dir == Dir::Out && matches!(a, ModbusArea::DiscreteInputs | ModbusArea::InputRegisters) {
-                cx.err(codes::READ_ONLY_AREA, area.span(), "outputs cannot be written to a read-only Modbus table", "write outputs to coils or holding_registers");
+            if dir == Dir::Out
+                && matches!(a, ModbusArea::DiscreteInputs | ModbusArea::InputRegisters)
+            {
+                cx.err(
+                    codes::READ_ONLY_AREA,
+                    area.span(),
+                    "outputs cannot be written to a read-only Modbus table",
+                    "write outputs to coils or holding_registers",
+                );
                 ok = false;
             }
             if !a.is_bits() && range.len % 2 != 0 {
-                cx.err(codes::VALUE, where_span.clone(), format!("{} bytes do not fill whole registers", range.len), "map an even number of bytes onto registers");
+                cx.err(
+                    codes::VALUE,
+                    where_span.clone(),
+                    format!("{} bytes do not fill whole registers", range.len),
+                    "map an even number of bytes onto registers",
+                );
                 ok = false;
             }
             let address = r.address.as_ref().map_or(0, |x| *x.get_ref());
@@ -501,31 +813,59 @@ fn mapping(
             };
             if items > max_items || address as usize + items > 65536 {
                 let span = r.address.as_ref().map_or(m.span(), |x| x.span());
-                cx.err(codes::VALUE, span, format!("{items} items from address {address} do not fit one Modbus request"), format!("at most {max_items} items per request, addresses 0..65535"));
+                cx.err(
+                    codes::VALUE,
+                    span,
+                    format!("{items} items from address {address} do not fit one Modbus request"),
+                    format!("at most {max_items} items per request, addresses 0..65535"),
+                );
                 ok = false;
             }
             checked.modbus = Some((a, address.min(65535) as u16));
         }
         Bus::Canopen => {
-            for (f, name) in [(r.area.as_ref().map(|a| a.span()), "area"), (r.address.as_ref().map(|a| a.span()), "address")] {
+            for (f, name) in [
+                (r.area.as_ref().map(|a| a.span()), "area"),
+                (r.address.as_ref().map(|a| a.span()), "address"),
+            ] {
                 if let Some(span) = f {
-                    cx.err(codes::FIELD, span, format!("`{name}` does not apply to a CANopen node"), "CANopen mappings take `pdo` and `offset`");
+                    cx.err(
+                        codes::FIELD,
+                        span,
+                        format!("`{name}` does not apply to a CANopen node"),
+                        "CANopen mappings take `pdo` and `offset`",
+                    );
                     ok = false;
                 }
             }
             let Some(pdo) = &r.pdo else {
-                cx.err(codes::FIELD, m.span(), format!("a CANopen {what} needs `pdo`"), "pdo = 1..4");
+                cx.err(
+                    codes::FIELD,
+                    m.span(),
+                    format!("a CANopen {what} needs `pdo`"),
+                    "pdo = 1..4",
+                );
                 return None;
             };
             let p = *pdo.get_ref();
             if !(1..=4).contains(&p) {
-                cx.err(codes::VALUE, pdo.span(), format!("PDO {p} is out of range"), "use PDO 1..4");
+                cx.err(
+                    codes::VALUE,
+                    pdo.span(),
+                    format!("PDO {p} is out of range"),
+                    "use PDO 1..4",
+                );
                 ok = false;
             }
             let offset = r.offset.as_ref().map_or(0, |o| *o.get_ref());
             if offset as usize + range.len > 8 {
                 let span = r.offset.as_ref().map_or(where_span.clone(), |o| o.span());
-                cx.err(codes::VALUE, span, format!("{} bytes from offset {offset} do not fit a PDO", range.len), "a PDO carries 8 data bytes");
+                cx.err(
+                    codes::VALUE,
+                    span,
+                    format!("{} bytes from offset {offset} do not fit a PDO", range.len),
+                    "a PDO carries 8 data bytes",
+                );
                 ok = false;
             }
             checked.pdo = Some((p.min(4) as u8, offset.min(7) as u8));
@@ -538,14 +878,36 @@ fn attach(map: &mut IoMap, c: Checked, dir: Dir) {
     match (c.bus, c.modbus, c.pdo) {
         (Bus::Modbus, Some((area, address)), _) => {
             if let Some(d) = map.modbus.get_mut(c.device) {
-                let m = ModbusMapping { range: c.range, area, address, fail: c.fail };
-                if dir == Dir::In { d.inputs.push(m) } else { d.outputs.push(m) }
+                let m = ModbusMapping {
+                    range: c.range,
+                    area,
+                    address,
+                    fail: c.fail,
+                };
+                if dir == Dir::In {
+                    d.inputs.push(m)
+                } else {
+                    d.outputs.push(m)
+                }
             }
         }
         (Bus::Canopen, _, Some((pdo, offset))) => {
-            if let Some(n) = map.canopen.as_mut().and_then(|cfg| cfg.nodes.get_mut(c.device)) {
-                let m = PdoMapping { range: c.range, pdo, offset, fail: c.fail };
-                if dir == Dir::In { n.inputs.push(m) } else { n.outputs.push(m) }
+            if let Some(n) = map
+                .canopen
+                .as_mut()
+                .and_then(|cfg| cfg.nodes.get_mut(c.device))
+            {
+                let m = PdoMapping {
+                    range: c.range,
+                    pdo,
+                    offset,
+                    fail: c.fail,
+                };
+                if dir == Dir::In {
+                    n.inputs.push(m)
+                } else {
+                    n.outputs.push(m)
+                }
             }
         }
         _ => {}
@@ -563,7 +925,15 @@ fn check_pdo_overlaps(cx: &mut Ctx, map: &IoMap, raw: &RawMap) {
                 for i in 0..m.range.len {
                     let b = m.offset as usize + i;
                     if b < 8 && used[m.pdo as usize][b] {
-                        cx.err(codes::OVERLAP, span.clone(), format!("node `{}`: byte {b} of {what}{} is mapped twice", n.name, m.pdo), "give each PDO byte one packet-A byte");
+                        cx.err(
+                            codes::OVERLAP,
+                            span.clone(),
+                            format!(
+                                "node `{}`: byte {b} of {what}{} is mapped twice",
+                                n.name, m.pdo
+                            ),
+                            "give each PDO byte one packet-A byte",
+                        );
                         break;
                     }
                     if b < 8 {
@@ -575,37 +945,93 @@ fn check_pdo_overlaps(cx: &mut Ctx, map: &IoMap, raw: &RawMap) {
     }
 }
 
-fn check_healthy_bits(cx: &mut Ctx, raw: &RawMap, map: &mut IoMap, declared: &DeclaredConnectors, claimed: &BTreeMap<(Bus, usize), Range<usize>>) {
+fn check_healthy_bits(
+    cx: &mut Ctx,
+    raw: &RawMap,
+    map: &mut IoMap,
+    declared: &DeclaredConnectors,
+    claimed: &BTreeMap<(Bus, usize), Range<usize>>,
+) {
     let mut seen: Vec<(Signal, Range<usize>)> = Vec::new();
     let mut bits: Vec<(Bus, usize, Option<Signal>)> = Vec::new();
-    let modbus_raw = raw.modbus.as_ref().map(|m| m.device.as_slice()).unwrap_or(&[]);
-    let can_raw = raw.canopen.as_ref().map(|c| c.get_ref().node.as_slice()).unwrap_or(&[]);
+    let modbus_raw = raw
+        .modbus
+        .as_ref()
+        .map(|m| m.device.as_slice())
+        .unwrap_or(&[]);
+    let can_raw = raw
+        .canopen
+        .as_ref()
+        .map(|c| c.get_ref().node.as_slice())
+        .unwrap_or(&[]);
     let entries = modbus_raw
         .iter()
         .enumerate()
         .map(|(i, d)| (Bus::Modbus, i, d.get_ref().healthy.as_ref()))
-        .chain(can_raw.iter().enumerate().map(|(i, n)| (Bus::Canopen, i, n.get_ref().healthy.as_ref())));
+        .chain(
+            can_raw
+                .iter()
+                .enumerate()
+                .map(|(i, n)| (Bus::Canopen, i, n.get_ref().healthy.as_ref())),
+        );
     for (bus, i, h) in entries {
         let Some(h) = h else { continue };
         let sig = match h.get_ref().parse::<Signal>() {
             Ok(s) => s,
             Err(e) => {
-                cx.err(codes::BAD_SIGNAL, h.span(), e.to_string(), "name an input bit, e.g. \"I100K0\"");
+                cx.err(
+                    codes::BAD_SIGNAL,
+                    h.span(),
+                    e.to_string(),
+                    "name an input bit, e.g. \"I100K0\"",
+                );
                 continue;
             }
         };
         let problem = match sig {
             Signal::Byte { .. } => Some("is a byte, not a bit".to_string()),
-            Signal::Bit { packet: Packet::T, .. } => Some("is in packet T (constants)".to_string()),
-            Signal::Bit { packet: Packet::A, connector, .. } if !is_a_input_connector(connector) => Some(format!("is on output connector {connector}")),
-            Signal::Bit { packet: Packet::A, connector, .. } if !declared.inputs.contains(&connector) => Some(format!("is on connector {connector}, which IOCFIL does not declare as IN{connector}")),
-            Signal::Bit { packet: Packet::A, .. } if claimed.contains_key(&(bus, sig.packet_byte())) => Some("is in a byte a mapping already fills".to_string()),
-            _ if seen.iter().any(|(s, _)| *s == sig) => Some("is already another device's healthy bit".to_string()),
-            _ if map.hmi.as_ref().is_some_and(|hm| hm.holding.iter().any(|w| (w.start..w.start + w.len).contains(&sig.image_byte()))) => Some("is in the HMI's writable window".to_string()),
+            Signal::Bit {
+                packet: Packet::T, ..
+            } => Some("is in packet T (constants)".to_string()),
+            Signal::Bit {
+                packet: Packet::A,
+                connector,
+                ..
+            } if !is_a_input_connector(connector) => {
+                Some(format!("is on output connector {connector}"))
+            }
+            Signal::Bit {
+                packet: Packet::A,
+                connector,
+                ..
+            } if !declared.inputs.contains(&connector) => Some(format!(
+                "is on connector {connector}, which IOCFIL does not declare as IN{connector}"
+            )),
+            Signal::Bit {
+                packet: Packet::A, ..
+            } if claimed.contains_key(&(bus, sig.packet_byte())) => {
+                Some("is in a byte a mapping already fills".to_string())
+            }
+            _ if seen.iter().any(|(s, _)| *s == sig) => {
+                Some("is already another device's healthy bit".to_string())
+            }
+            _ if map.hmi.as_ref().is_some_and(|hm| {
+                hm.holding
+                    .iter()
+                    .any(|w| (w.start..w.start + w.len).contains(&sig.image_byte()))
+            }) =>
+            {
+                Some("is in the HMI's writable window".to_string())
+            }
             _ => None,
         };
         if let Some(p) = problem {
-            cx.err(codes::HEALTHY, h.span(), format!("healthy bit `{}` {p}", h.get_ref()), "use a free input bit of K, N or a declared A input connector, e.g. \"I100K0\"");
+            cx.err(
+                codes::HEALTHY,
+                h.span(),
+                format!("healthy bit `{}` {p}", h.get_ref()),
+                "use a free input bit of K, N or a declared A input connector, e.g. \"I100K0\"",
+            );
             continue;
         }
         seen.push((sig, h.span()));

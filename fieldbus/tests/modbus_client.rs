@@ -23,18 +23,43 @@ fn device(addr: SocketAddr) -> ModbusDevice {
         healthy: Some("I100K0".parse().expect("signal")),
         inputs: vec![
             // IN0 from discrete inputs 0..31, W1A0..W1A1 from input registers 10..
-            ModbusMapping { range: ByteRange { start: 0, len: 4 }, area: ModbusArea::DiscreteInputs, address: 0, fail: 0 },
-            ModbusMapping { range: ByteRange { start: 4, len: 2 }, area: ModbusArea::InputRegisters, address: 10, fail: 0xAA },
+            ModbusMapping {
+                range: ByteRange { start: 0, len: 4 },
+                area: ModbusArea::DiscreteInputs,
+                address: 0,
+                fail: 0,
+            },
+            ModbusMapping {
+                range: ByteRange { start: 4, len: 2 },
+                area: ModbusArea::InputRegisters,
+                address: 10,
+                fail: 0xAA,
+            },
         ],
         outputs: vec![
-            ModbusMapping { range: ByteRange { start: 16, len: 4 }, area: ModbusArea::Coils, address: 100, fail: 0 },
-            ModbusMapping { range: ByteRange { start: 20, len: 2 }, area: ModbusArea::HoldingRegisters, address: 7, fail: 0x55 },
+            ModbusMapping {
+                range: ByteRange { start: 16, len: 4 },
+                area: ModbusArea::Coils,
+                address: 100,
+                fail: 0,
+            },
+            ModbusMapping {
+                range: ByteRange { start: 20, len: 2 },
+                area: ModbusArea::HoldingRegisters,
+                address: 7,
+                fail: 0x55,
+            },
         ],
     }
 }
 
 /// Runs scan ticks (1 ms apart) until `done` holds or `limit` passes; returns the ticks used.
-fn tick_until(io: &mut ModbusIo, image: &mut [u8], limit: Duration, mut done: impl FnMut(&[u8], &mut ModbusIo) -> bool) -> Option<u64> {
+fn tick_until(
+    io: &mut ModbusIo,
+    image: &mut [u8],
+    limit: Duration,
+    mut done: impl FnMut(&[u8], &mut ModbusIo) -> bool,
+) -> Option<u64> {
     let start = Instant::now();
     let mut tick = 0;
     while start.elapsed() < limit {
@@ -50,13 +75,19 @@ fn tick_until(io: &mut ModbusIo, image: &mut [u8], limit: Duration, mut done: im
 }
 
 fn sim_runtime() -> tokio::runtime::Runtime {
-    tokio::runtime::Builder::new_multi_thread().worker_threads(1).enable_all().build().expect("runtime")
+    tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .expect("runtime")
 }
 
 #[test]
 fn inputs_are_latched_and_changed_outputs_written() {
     let rt = sim_runtime();
-    let sim = rt.block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr"))).expect("sim");
+    let sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
     {
         let mut s = sim.state();
         s.discrete[0] = true;
@@ -67,7 +98,10 @@ fn inputs_are_latched_and_changed_outputs_written() {
     let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     let healthy: Signal = "I100K0".parse().expect("signal");
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| healthy.read(img) == 1 && img[4] == 0x34).expect("inputs arrive");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
+        healthy.read(img) == 1 && img[4] == 0x34
+    })
+    .expect("inputs arrive");
     assert_eq!(&image[0..6], &[0x01, 0x02, 0x00, 0x80, 0x34, 0x12]);
     assert_eq!(image[6], 0, "bytes outside the mappings stay untouched");
 
@@ -75,7 +109,10 @@ fn inputs_are_latched_and_changed_outputs_written() {
     image[16] = 0b1000;
     image[20] = 0xCD;
     image[21] = 0xAB;
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, _| sim.state().holding[7] == 0xABCD && sim.state().coils[103]).expect("outputs written");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, _| {
+        sim.state().holding[7] == 0xABCD && sim.state().coils[103]
+    })
+    .expect("outputs written");
     let s = sim.state();
     assert_eq!(s.coils[100..132].iter().filter(|b| **b).count(), 1);
     assert!(s.coils[103]);
@@ -90,12 +127,17 @@ fn inputs_are_latched_and_changed_outputs_written() {
 #[test]
 fn killed_device_raises_alarm_takes_fail_state_and_recovers() {
     let rt = sim_runtime();
-    let mut sim = rt.block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr"))).expect("sim");
+    let mut sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
     sim.state().discrete[1] = true;
     sim.state().input_regs[10] = 0x0101;
     let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| img[0] == 2).expect("healthy first");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
+        img[0] == 2
+    })
+    .expect("healthy first");
     assert!(io.take_alarms().is_empty());
 
     sim.kill();
@@ -105,7 +147,10 @@ fn killed_device_raises_alarm_takes_fail_state_and_recovers() {
         !alarms.is_empty()
     })
     .expect("alarm raised");
-    assert!(ticks <= 21, "alarm within alarm_ticks (20) + 1, took {ticks}");
+    assert!(
+        ticks <= 21,
+        "alarm within alarm_ticks (20) + 1, took {ticks}"
+    );
     assert_eq!(alarms[0].device, "rio1");
     assert!(!alarms[0].cleared);
     assert_eq!(&image[0..6], &[0, 0, 0, 0, 0xAA, 0xAA], "fail state");
@@ -118,18 +163,26 @@ fn killed_device_raises_alarm_takes_fail_state_and_recovers() {
         cleared.iter().any(|a| a.cleared)
     })
     .expect("alarm cleared after reconnect");
-    tick_until(&mut io, &mut image, Duration::from_secs(2), |img, _| img[0] == 2).expect("inputs again");
+    tick_until(&mut io, &mut image, Duration::from_secs(2), |img, _| {
+        img[0] == 2
+    })
+    .expect("inputs again");
     assert_eq!(image[100 * 4 + 128] & 1, 1);
 }
 
 #[test]
 fn slow_and_mute_devices_time_out_into_the_alarm() {
     let rt = sim_runtime();
-    let sim = rt.block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr"))).expect("sim");
+    let sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
     sim.state().discrete[0] = true;
     let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| img[0] == 1).expect("healthy first");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
+        img[0] == 1
+    })
+    .expect("healthy first");
 
     sim.set_delay(Duration::from_millis(100)); // timeout is 40 ms
     let mut alarms = Vec::new();
@@ -140,7 +193,10 @@ fn slow_and_mute_devices_time_out_into_the_alarm() {
     .expect("slow answers raise the alarm");
     assert_eq!(image[0], 0);
     sim.set_delay(Duration::ZERO);
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| img[0] == 1).expect("recovers");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
+        img[0] == 1
+    })
+    .expect("recovers");
 
     sim.set_mute(true);
     alarms.clear();
@@ -155,7 +211,9 @@ fn slow_and_mute_devices_time_out_into_the_alarm() {
 #[test]
 fn garbage_frames_never_panic_and_raise_the_alarm() {
     let rt = sim_runtime();
-    let listener = rt.block_on(tokio::net::TcpListener::bind("127.0.0.1:0")).expect("bind");
+    let listener = rt
+        .block_on(tokio::net::TcpListener::bind("127.0.0.1:0"))
+        .expect("bind");
     let addr = listener.local_addr().expect("addr");
     rt.spawn(async move {
         use tokio::io::{AsyncReadExt, AsyncWriteExt};
@@ -194,10 +252,15 @@ fn garbage_frames_never_panic_and_raise_the_alarm() {
 #[test]
 fn disconnect_during_a_write_rewrites_only_commanded_values() {
     let rt = sim_runtime();
-    let mut sim = rt.block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr"))).expect("sim");
+    let mut sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
     let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| io.is_healthy("rio1")).expect("healthy");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
+        io.is_healthy("rio1")
+    })
+    .expect("healthy");
     // Slow writes, then kill the device while a write is in flight.
     sim.set_delay(Duration::from_millis(30));
     image[16] = 0b0001;
@@ -215,18 +278,32 @@ fn disconnect_during_a_write_rewrites_only_commanded_values() {
     image[16] = 0b0110;
     tick_until(&mut io, &mut image, Duration::from_millis(50), |_, _| false);
     rt.block_on(sim.restart()).expect("restart");
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, _| sim.state().coils[101]).expect("rewritten after reconnect");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, _| {
+        sim.state().coils[101]
+    })
+    .expect("rewritten after reconnect");
     let s = sim.state();
     let on: Vec<usize> = (100..132).filter(|&i| s.coils[i]).collect();
     assert_eq!(on, [101, 102], "exactly the commanded bits");
-    assert_eq!(s.holding[7], 0, "the register holds what the logic commanded (0)");
-    assert!(s.writes.iter().all(|&(f, a, _)| (f == 15 && a == 100) || (f == 16 && a == 7)), "{:?}", s.writes);
+    assert_eq!(
+        s.holding[7], 0,
+        "the register holds what the logic commanded (0)"
+    );
+    assert!(
+        s.writes
+            .iter()
+            .all(|&(f, a, _)| (f == 15 && a == 100) || (f == 16 && a == 7)),
+        "{:?}",
+        s.writes
+    );
 }
 
 #[test]
 fn no_write_happens_before_the_logic_publishes() {
     let rt = sim_runtime();
-    let sim = rt.block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr"))).expect("sim");
+    let sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
     let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     let start = Instant::now();
@@ -241,11 +318,16 @@ fn no_write_happens_before_the_logic_publishes() {
 #[test]
 fn safe_state_writes_the_safe_values() {
     let rt = sim_runtime();
-    let sim = rt.block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr"))).expect("sim");
+    let sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
     let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     image[16] = 0xFF;
-    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, _| sim.state().coils[100]).expect("written");
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, _| {
+        sim.state().coils[100]
+    })
+    .expect("written");
     io.safe_state();
     let s = sim.state();
     assert!(s.coils[100..132].iter().all(|c| !c));

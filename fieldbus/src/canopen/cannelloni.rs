@@ -64,7 +64,11 @@ pub fn encode(seq: u8, frames: &[CanMsg]) -> Vec<u8> {
     let mut out = vec![VERSION, OP_DATA, seq];
     out.extend_from_slice(&(frames.len().min(usize::from(u16::MAX)) as u16).to_be_bytes());
     for f in frames.iter().take(usize::from(u16::MAX)) {
-        let mut id = if f.extended { (f.id & 0x1FFF_FFFF) | EFF } else { f.id & 0x7FF };
+        let mut id = if f.extended {
+            (f.id & 0x1FFF_FFFF) | EFF
+        } else {
+            f.id & 0x7FF
+        };
         if f.rtr {
             id |= RTR;
         }
@@ -99,7 +103,9 @@ pub fn decode(buf: &[u8]) -> Result<(u8, Vec<CanMsg>), CannelloniError> {
     let mut at = 5;
     let mut frames = Vec::with_capacity(count.min(256));
     for index in 0..count {
-        let head = buf.get(at..at + 5).ok_or(CannelloniError::Truncated { index })?;
+        let head = buf
+            .get(at..at + 5)
+            .ok_or(CannelloniError::Truncated { index })?;
         let raw_id = u32::from_be_bytes([head[0], head[1], head[2], head[3]]);
         let len_byte = head[4];
         at += 5;
@@ -115,7 +121,9 @@ pub fn decode(buf: &[u8]) -> Result<(u8, Vec<CanMsg>), CannelloniError> {
         let rtr = raw_id & RTR != 0;
         let mut data = [0u8; MAX_DATA];
         if !rtr {
-            let bytes = buf.get(at..at + usize::from(len)).ok_or(CannelloniError::Truncated { index })?;
+            let bytes = buf
+                .get(at..at + usize::from(len))
+                .ok_or(CannelloniError::Truncated { index })?;
             data[..bytes.len()].copy_from_slice(bytes);
             at += usize::from(len);
         }
@@ -123,8 +131,19 @@ pub fn decode(buf: &[u8]) -> Result<(u8, Vec<CanMsg>), CannelloniError> {
             continue;
         }
         let extended = raw_id & EFF != 0;
-        let id = if extended { raw_id & 0x1FFF_FFFF } else { raw_id & 0x7FF };
-        frames.push(CanMsg { id, extended, rtr, fd, len, data });
+        let id = if extended {
+            raw_id & 0x1FFF_FFFF
+        } else {
+            raw_id & 0x7FF
+        };
+        frames.push(CanMsg {
+            id,
+            extended,
+            rtr,
+            fd,
+            len,
+            data,
+        });
     }
     if at != buf.len() {
         return Err(CannelloniError::Trailing(buf.len() - at));
@@ -146,7 +165,13 @@ impl UdpBus {
     /// Binds `local` and talks to `peer`.
     pub async fn bind(local: SocketAddr, peer: SocketAddr) -> io::Result<UdpBus> {
         let socket = tokio::net::UdpSocket::bind(local).await?;
-        Ok(UdpBus { socket, peer, seq: 0, pending: VecDeque::new(), bad_datagrams: 0 })
+        Ok(UdpBus {
+            socket,
+            peer,
+            seq: 0,
+            pending: VecDeque::new(),
+            bad_datagrams: 0,
+        })
     }
 
     /// The bound local address.
@@ -190,7 +215,14 @@ mod tests {
         for (i, b) in data.iter_mut().enumerate().take(12) {
             *b = i as u8;
         }
-        CanMsg { id: 0x1ABC_DEF0, extended: true, rtr: false, fd: true, len: 12, data }
+        CanMsg {
+            id: 0x1ABC_DEF0,
+            extended: true,
+            rtr: false,
+            fd: true,
+            len: 12,
+            data,
+        }
     }
 
     #[test]
@@ -201,8 +233,18 @@ mod tests {
 
     #[test]
     fn round_trip_of_classic_fd_extended_and_rtr_frames() {
-        let rtr = CanMsg { rtr: true, len: 4, data: [0; MAX_DATA], ..CanMsg::new(0x701, &[]) };
-        let frames = [CanMsg::new(0x181, &[1, 2, 3]), fd_ext(), rtr, CanMsg::new(0x80, &[])];
+        let rtr = CanMsg {
+            rtr: true,
+            len: 4,
+            data: [0; MAX_DATA],
+            ..CanMsg::new(0x701, &[])
+        };
+        let frames = [
+            CanMsg::new(0x181, &[1, 2, 3]),
+            fd_ext(),
+            rtr,
+            CanMsg::new(0x80, &[]),
+        ];
         let (seq, back) = decode(&encode(200, &frames)).expect("decodes");
         assert_eq!(seq, 200);
         assert_eq!(back, frames);
@@ -213,9 +255,18 @@ mod tests {
         assert_eq!(decode(&[2, 0, 1]), Err(CannelloniError::ShortHeader(3)));
         assert_eq!(decode(&[3, 0, 1, 0, 0]), Err(CannelloniError::Version(3)));
         assert_eq!(decode(&[2, 1, 1, 0, 0]), Err(CannelloniError::OpCode(1)));
-        assert_eq!(decode(&[2, 0, 1, 0, 1, 0, 0, 1]), Err(CannelloniError::Truncated { index: 0 }));
-        assert_eq!(decode(&[2, 0, 1, 0, 1, 0, 0, 1, 0x81, 9]), Err(CannelloniError::Length { index: 0, len: 9 }));
-        assert_eq!(decode(&[2, 0, 1, 0, 0, 9]), Err(CannelloniError::Trailing(1)));
+        assert_eq!(
+            decode(&[2, 0, 1, 0, 1, 0, 0, 1]),
+            Err(CannelloniError::Truncated { index: 0 })
+        );
+        assert_eq!(
+            decode(&[2, 0, 1, 0, 1, 0, 0, 1, 0x81, 9]),
+            Err(CannelloniError::Length { index: 0, len: 9 })
+        );
+        assert_eq!(
+            decode(&[2, 0, 1, 0, 0, 9]),
+            Err(CannelloniError::Trailing(1))
+        );
     }
 
     proptest::proptest! {
@@ -236,12 +287,25 @@ mod tests {
 
     #[tokio::test]
     async fn udp_loopback_carries_frames_and_skips_garbage() {
-        let mut a = UdpBus::bind("127.0.0.1:0".parse().expect("addr"), "127.0.0.1:9".parse().expect("addr")).await.expect("bind a");
-        let mut b = UdpBus::bind("127.0.0.1:0".parse().expect("addr"), a.local_addr().expect("a")).await.expect("bind b");
+        let mut a = UdpBus::bind(
+            "127.0.0.1:0".parse().expect("addr"),
+            "127.0.0.1:9".parse().expect("addr"),
+        )
+        .await
+        .expect("bind a");
+        let mut b = UdpBus::bind(
+            "127.0.0.1:0".parse().expect("addr"),
+            a.local_addr().expect("a"),
+        )
+        .await
+        .expect("bind b");
         a.peer = b.local_addr().expect("b");
         a.socket.send_to(&[1, 2, 3], a.peer).await.expect("garbage");
         a.send(&fd_ext()).await.expect("send");
-        let got = tokio::time::timeout(std::time::Duration::from_secs(2), b.recv()).await.expect("in time").expect("recv");
+        let got = tokio::time::timeout(std::time::Duration::from_secs(2), b.recv())
+            .await
+            .expect("in time")
+            .expect("recv");
         assert_eq!(got, fd_ext());
         assert_eq!(b.bad_datagrams, 1);
     }

@@ -65,16 +65,29 @@ pub struct CanopenIo {
 impl CanopenIo {
     /// Starts a private runtime, connects the bus with `connect` (run inside that runtime, so it may
     /// spawn tasks such as simulated nodes) and starts the master task.
-    pub fn start<B, F>(cfg: &CanopenConfig, connect: impl FnOnce() -> F) -> std::io::Result<CanopenIo>
+    pub fn start<B, F>(
+        cfg: &CanopenConfig,
+        connect: impl FnOnce() -> F,
+    ) -> std::io::Result<CanopenIo>
     where
         B: CanBus,
         F: Future<Output = std::io::Result<B>>,
     {
-        let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(1).thread_name("ncplc-canopen").enable_all().build()?;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("ncplc-canopen")
+            .enable_all()
+            .build()?;
         let bus = runtime.block_on(connect())?;
         let n = cfg.nodes.len();
-        let (in_tx, in_rx) = triple(CanIn { nodes: vec![NodeStatus::default(); n], data: [0; A_LEN] });
-        let (out_tx, out_rx) = triple(OutFrame { seq: 0, data: [0; A_LEN] });
+        let (in_tx, in_rx) = triple(CanIn {
+            nodes: vec![NodeStatus::default(); n],
+            data: [0; A_LEN],
+        });
+        let (out_tx, out_rx) = triple(OutFrame {
+            seq: 0,
+            data: [0; A_LEN],
+        });
         let wake = Arc::new(Notify::new());
         let acked = Arc::new(AtomicU64::new(0));
         let master = Master {
@@ -90,13 +103,32 @@ impl CanopenIo {
             configured: false,
         };
         runtime.spawn(master.run());
-        let nodes = cfg.nodes.iter().map(|c| NodeSide { cfg: c.clone(), health: Health::new(&c.name, STALE_TICKS) }).collect();
-        Ok(CanopenIo { runtime: Some(runtime), nodes, inputs: in_rx, outputs: out_tx, wake, acked, out_seq: 0, last_out: [0; A_LEN], alarms: Vec::new() })
+        let nodes = cfg
+            .nodes
+            .iter()
+            .map(|c| NodeSide {
+                cfg: c.clone(),
+                health: Health::new(&c.name, STALE_TICKS),
+            })
+            .collect();
+        Ok(CanopenIo {
+            runtime: Some(runtime),
+            nodes,
+            inputs: in_rx,
+            outputs: out_tx,
+            wake,
+            acked,
+            out_seq: 0,
+            last_out: [0; A_LEN],
+            alarms: Vec::new(),
+        })
     }
 
     /// True while node `name` is operational and its heartbeat arrives (as of the last latch).
     pub fn is_healthy(&self, name: &str) -> bool {
-        self.nodes.iter().any(|n| n.cfg.name == name && n.health.healthy())
+        self.nodes
+            .iter()
+            .any(|n| n.cfg.name == name && n.health.healthy())
     }
 
     fn hand_over(&mut self, packets: &[u8], force: bool) {
@@ -148,7 +180,11 @@ impl PacketIo for CanopenIo {
             for m in &n.cfg.inputs {
                 let (s, e) = (m.range.start, m.range.end());
                 if let Some(dst) = packets.get_mut(s..e) {
-                    if healthy { dst.copy_from_slice(&frame.data[s..e]) } else { dst.fill(m.fail) }
+                    if healthy {
+                        dst.copy_from_slice(&frame.data[s..e])
+                    } else {
+                        dst.fill(m.fail)
+                    }
                 }
             }
             if let Some(bit) = n.cfg.healthy {
@@ -176,7 +212,9 @@ impl PacketIo for CanopenIo {
         }
         self.hand_over(&image, true);
         let deadline = std::time::Instant::now() + Duration::from_millis(100);
-        while std::time::Instant::now() < deadline && self.acked.load(Ordering::Acquire) < self.out_seq {
+        while std::time::Instant::now() < deadline
+            && self.acked.load(Ordering::Acquire) < self.out_seq
+        {
             std::thread::sleep(Duration::from_micros(200));
         }
     }
@@ -216,7 +254,14 @@ impl<B: CanBus> Master<B> {
             }
         }
         self.publish();
-        let check = self.cfg.nodes.iter().map(|n| n.heartbeat / 4).min().unwrap_or(Duration::from_millis(20)).clamp(Duration::from_millis(1), Duration::from_millis(20));
+        let check = self
+            .cfg
+            .nodes
+            .iter()
+            .map(|n| n.heartbeat / 4)
+            .min()
+            .unwrap_or(Duration::from_millis(20))
+            .clamp(Duration::from_millis(1), Duration::from_millis(20));
         loop {
             tokio::select! {
                 r = self.bus.recv() => match r {
@@ -240,7 +285,14 @@ impl<B: CanBus> Master<B> {
             let node = self.cfg.nodes[i].clone();
             for w in &node.sdo {
                 let mut seen = Vec::new();
-                let r = sdo::download(&mut self.bus, node.node_id, w.index, w.subindex, w.value, w.size, timeout, &mut |m: &CanMsg| seen.push(*m)).await;
+                let r = sdo::download(
+                    &mut self.bus,
+                    node.node_id,
+                    w,
+                    timeout,
+                    &mut |m: &CanMsg| seen.push(*m),
+                )
+                .await;
                 for m in &seen {
                     self.on_frame(m);
                 }
@@ -254,7 +306,10 @@ impl<B: CanBus> Master<B> {
 
     async fn start_node(&mut self, i: usize) {
         let id = self.cfg.nodes[i].node_id;
-        let _ = self.bus.send(&CanMsg::new(cob::NMT, &[nmt::CMD_START, id])).await;
+        let _ = self
+            .bus
+            .send(&CanMsg::new(cob::NMT, &[nmt::CMD_START, id]))
+            .await;
         self.status[i].started = Some(Instant::now());
     }
 
@@ -266,13 +321,19 @@ impl<B: CanBus> Master<B> {
         for (i, node) in self.cfg.nodes.iter().enumerate() {
             let nid = node.node_id;
             if id == cob::HEARTBEAT + u16::from(nid) {
-                let Some(&state) = m.payload().first() else { continue };
+                let Some(&state) = m.payload().first() else {
+                    continue;
+                };
                 let st = &mut self.status[i];
                 st.last_hb = Some(Instant::now());
                 st.state = state;
-                if (state == nmt::BOOTUP || state == nmt::PRE_OPERATIONAL) && !st.sdo_failed && self.configured {
+                if (state == nmt::BOOTUP || state == nmt::PRE_OPERATIONAL)
+                    && !st.sdo_failed
+                    && self.configured
+                {
                     // The node (re)booted: start it again.
-                    self.pending.push(CanMsg::new(cob::NMT, &[nmt::CMD_START, nid]));
+                    self.pending
+                        .push(CanMsg::new(cob::NMT, &[nmt::CMD_START, nid]));
                     st.started = Some(Instant::now());
                 }
             }
@@ -302,10 +363,14 @@ impl<B: CanBus> Master<B> {
                     let mut len = 0;
                     for m in maps {
                         let o = usize::from(m.offset);
-                        payload[o..o + m.range.len].copy_from_slice(&data[m.range.start..m.range.end()]);
+                        payload[o..o + m.range.len]
+                            .copy_from_slice(&data[m.range.start..m.range.end()]);
                         len = len.max(o + m.range.len);
                     }
-                    let _ = self.bus.send(&CanMsg::new(cob::rpdo(pdo, node.node_id), &payload[..len])).await;
+                    let _ = self
+                        .bus
+                        .send(&CanMsg::new(cob::rpdo(pdo, node.node_id), &payload[..len]))
+                        .await;
                 }
             }
             self.acked.store(seq, Ordering::Release);
@@ -330,7 +395,9 @@ impl<B: CanBus> Master<B> {
 
     fn publish(&mut self) {
         let now = Instant::now();
-        let faults: Vec<Fault> = (0..self.cfg.nodes.len()).map(|i| self.fault(i, now)).collect();
+        let faults: Vec<Fault> = (0..self.cfg.nodes.len())
+            .map(|i| self.fault(i, now))
+            .collect();
         let buf = self.inputs.buf();
         for (i, f) in faults.into_iter().enumerate() {
             let st = &mut self.status[i];
@@ -339,7 +406,10 @@ impl<B: CanBus> Master<B> {
                 st.seq += 1;
             }
             if let Some(slot) = buf.nodes.get_mut(i) {
-                *slot = NodeStatus { seq: st.seq, fault: f };
+                *slot = NodeStatus {
+                    seq: st.seq,
+                    fault: f,
+                };
             }
         }
         buf.data = self.data;

@@ -40,7 +40,14 @@ impl CanMsg {
         let n = data.len().min(8);
         let mut d = [0u8; MAX_DATA];
         d[..n].copy_from_slice(&data[..n]);
-        CanMsg { id: u32::from(id & 0x7FF), extended: false, rtr: false, fd: false, len: n as u8, data: d }
+        CanMsg {
+            id: u32::from(id & 0x7FF),
+            extended: false,
+            rtr: false,
+            fd: false,
+            len: n as u8,
+            data: d,
+        }
     }
 
     /// The data bytes.

@@ -51,9 +51,16 @@ fn lock(s: &Mutex<NodeState>) -> MutexGuard<'_, NodeState> {
 impl Cia401Node {
     /// Spawns the node on the current tokio runtime.
     pub fn spawn<B: CanBus>(bus: B, node_id: u8) -> Cia401Node {
-        let state = Arc::new(Mutex::new(NodeState { nmt: nmt::PRE_OPERATIONAL, ..NodeState::default() }));
+        let state = Arc::new(Mutex::new(NodeState {
+            nmt: nmt::PRE_OPERATIONAL,
+            ..NodeState::default()
+        }));
         let task = tokio::spawn(run(bus, node_id, state.clone()));
-        Cia401Node { node_id, state, task: Some(task) }
+        Cia401Node {
+            node_id,
+            state,
+            task: Some(task),
+        }
     }
 
     /// Locks the node's state.
@@ -76,13 +83,21 @@ impl Drop for Cia401Node {
 }
 
 async fn run<B: CanBus>(mut bus: B, id: u8, state: Arc<Mutex<NodeState>>) {
-    if bus.send(&CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP])).await.is_err() {
+    if bus
+        .send(&CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]))
+        .await
+        .is_err()
+    {
         return;
     }
     let mut next_hb = tokio::time::Instant::now();
     loop {
         let hb_ms = lock(&state).heartbeat_ms;
-        let wait = if hb_ms == 0 { Duration::from_secs(3600) } else { next_hb.saturating_duration_since(tokio::time::Instant::now()) };
+        let wait = if hb_ms == 0 {
+            Duration::from_secs(3600)
+        } else {
+            next_hb.saturating_duration_since(tokio::time::Instant::now())
+        };
         let replies = tokio::select! {
             m = bus.recv() => match m {
                 Ok(m) => handle(&state, id, &m),
@@ -130,20 +145,26 @@ fn handle(state: &Mutex<NodeState>, id: u8, m: &CanMsg) -> Vec<CanMsg> {
             out.push(CanMsg::new(cob::tpdo(1, id), &s.inputs[..8]));
             out.push(CanMsg::new(cob::tpdo(2, id), &s.inputs[8..]));
         }
-    } else if (cob_id == cob::rpdo(1, id) || cob_id == cob::rpdo(2, id)) && s.nmt == nmt::OPERATIONAL {
+    } else if (cob_id == cob::rpdo(1, id) || cob_id == cob::rpdo(2, id))
+        && s.nmt == nmt::OPERATIONAL
+    {
         let base = if cob_id == cob::rpdo(1, id) { 0 } else { 8 };
         s.pending[base..base + d.len().min(8)].copy_from_slice(&d[..d.len().min(8)]);
         s.rpdos += 1;
     } else if cob_id == cob::SDO_RX + u16::from(id) && s.nmt != nmt::STOPPED {
         let snapshot = s.clone();
         let mut write = None;
-        let answer = sdo::serve_request(d, |index, sub| od_read(&snapshot, index, sub), |index, sub, v, size| {
-            let r = od_check_write(index, sub, size);
-            if r.is_ok() {
-                write = Some((index, sub, v));
-            }
-            r
-        });
+        let answer = sdo::serve_request(
+            d,
+            |index, sub| od_read(&snapshot, index, sub),
+            |index, sub, v, size| {
+                let r = od_check_write(index, sub, size);
+                if r.is_ok() {
+                    write = Some((index, sub, v));
+                }
+                r
+            },
+        );
         match write {
             Some((0x1017, _, v)) => s.heartbeat_ms = v as u16,
             Some((0x6200, sub, v)) => s.outputs[usize::from(sub) - 1] = v as u8,

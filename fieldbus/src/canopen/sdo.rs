@@ -10,6 +10,7 @@ use std::time::Duration;
 
 use super::transport::CanBus;
 use super::{CanMsg, cob};
+use crate::map::SdoWrite;
 
 /// Abort code: object does not exist.
 pub const ABORT_NO_OBJECT: u32 = 0x0602_0000;
@@ -90,7 +91,12 @@ fn frame(cmd: u8, index: u16, subindex: u8, value: u32) -> [u8; 8] {
 }
 
 /// An expedited download request writing `size` bytes of `value`.
-pub fn download_request(index: u16, subindex: u8, value: u32, size: u8) -> Result<[u8; 8], SdoError> {
+pub fn download_request(
+    index: u16,
+    subindex: u8,
+    value: u32,
+    size: u8,
+) -> Result<[u8; 8], SdoError> {
     if !matches!(size, 1 | 2 | 4) {
         return Err(SdoError::Size(size));
     }
@@ -112,18 +118,39 @@ pub fn parse_response(data: &[u8]) -> Option<SdoResponse> {
     let value = u32::from_le_bytes([data[4], data[5], data[6], data[7]]);
     match data[0] {
         0x60 => Some(SdoResponse::Downloaded { index, subindex }),
-        0x80 => Some(SdoResponse::Aborted { index, subindex, code: value }),
+        0x80 => Some(SdoResponse::Aborted {
+            index,
+            subindex,
+            code: value,
+        }),
         c if c & 0xE0 == 0x40 && c & 0x02 != 0 => {
-            let size = if c & 0x01 != 0 { 4 - (c >> 2 & 0x03) } else { 4 };
-            let mask = if size >= 4 { u32::MAX } else { (1u32 << (8 * u32::from(size))) - 1 };
-            Some(SdoResponse::Uploaded { index, subindex, value: value & mask, size })
+            let size = if c & 0x01 != 0 {
+                4 - (c >> 2 & 0x03)
+            } else {
+                4
+            };
+            let mask = if size >= 4 {
+                u32::MAX
+            } else {
+                (1u32 << (8 * u32::from(size))) - 1
+            };
+            Some(SdoResponse::Uploaded {
+                index,
+                subindex,
+                value: value & mask,
+                size,
+            })
         }
         _ => None,
     }
 }
 
 /// What a server answers to a request, given read and write access to its object dictionary.
-pub fn serve_request(data: &[u8], read: impl FnOnce(u16, u8) -> Result<(u32, u8), u32>, write: impl FnOnce(u16, u8, u32, u8) -> Result<(), u32>) -> Option<[u8; 8]> {
+pub fn serve_request(
+    data: &[u8],
+    read: impl FnOnce(u16, u8) -> Result<(u32, u8), u32>,
+    write: impl FnOnce(u16, u8, u32, u8) -> Result<(), u32>,
+) -> Option<[u8; 8]> {
     if data.len() < 8 {
         return None;
     }
@@ -135,7 +162,11 @@ pub fn serve_request(data: &[u8], read: impl FnOnce(u16, u8) -> Result<(u32, u8)
         // Initiate download; only expedited with size indicated.
         1 if cmd & 0x03 == 0x03 => {
             let size = 4 - (cmd >> 2 & 0x03);
-            let mask = if size >= 4 { u32::MAX } else { (1u32 << (8 * u32::from(size))) - 1 };
+            let mask = if size >= 4 {
+                u32::MAX
+            } else {
+                (1u32 << (8 * u32::from(size))) - 1
+            };
             match write(index, subindex, value & mask, size) {
                 Ok(()) => frame(0x60, index, subindex, 0),
                 Err(code) => frame(0x80, index, subindex, code),
@@ -151,7 +182,14 @@ pub fn serve_request(data: &[u8], read: impl FnOnce(u16, u8) -> Result<(u32, u8)
 }
 
 /// Waits for the SDO response of `node`, passing every other frame to `other`.
-async fn response<B: CanBus>(bus: &mut B, node: u8, index: u16, subindex: u8, timeout: Duration, other: &mut impl FnMut(&CanMsg)) -> Result<SdoResponse, SdoError> {
+async fn response<B: CanBus>(
+    bus: &mut B,
+    node: u8,
+    index: u16,
+    subindex: u8,
+    timeout: Duration,
+    other: &mut impl FnMut(&CanMsg),
+) -> Result<SdoResponse, SdoError> {
     let deadline = tokio::time::Instant::now() + timeout;
     loop {
         let msg = match tokio::time::timeout_at(deadline, bus.recv()).await {
@@ -161,8 +199,24 @@ async fn response<B: CanBus>(bus: &mut B, node: u8, index: u16, subindex: u8, ti
         };
         if msg.id == u32::from(cob::SDO_TX) + u32::from(node) && !msg.extended {
             match parse_response(msg.payload()) {
-                Some(r @ (SdoResponse::Downloaded { index: i, subindex: s } | SdoResponse::Uploaded { index: i, subindex: s, .. })) if i == index && s == subindex => return Ok(r),
-                Some(SdoResponse::Aborted { code, .. }) => return Err(SdoError::Abort { index, subindex, code }),
+                Some(
+                    r @ (SdoResponse::Downloaded {
+                        index: i,
+                        subindex: s,
+                    }
+                    | SdoResponse::Uploaded {
+                        index: i,
+                        subindex: s,
+                        ..
+                    }),
+                ) if i == index && s == subindex => return Ok(r),
+                Some(SdoResponse::Aborted { code, .. }) => {
+                    return Err(SdoError::Abort {
+                        index,
+                        subindex,
+                        code,
+                    });
+                }
                 _ => {}
             }
         } else {
@@ -171,19 +225,46 @@ async fn response<B: CanBus>(bus: &mut B, node: u8, index: u16, subindex: u8, ti
     }
 }
 
-/// Writes `value` (`size` bytes) to object `index`/`subindex` of `node`.
-pub async fn download<B: CanBus>(bus: &mut B, node: u8, index: u16, subindex: u8, value: u32, size: u8, timeout: Duration, other: &mut impl FnMut(&CanMsg)) -> Result<(), SdoError> {
-    let req = download_request(index, subindex, value, size)?;
-    bus.send(&CanMsg::new(cob::SDO_RX + u16::from(node), &req)).await.map_err(|e| SdoError::Bus(e.to_string()))?;
-    response(bus, node, index, subindex, timeout, other).await.map(|_| ())
+/// Performs the expedited write `w` on `node`.
+pub async fn download<B: CanBus>(
+    bus: &mut B,
+    node: u8,
+    w: &SdoWrite,
+    timeout: Duration,
+    other: &mut impl FnMut(&CanMsg),
+) -> Result<(), SdoError> {
+    let (index, subindex) = (w.index, w.subindex);
+    let req = download_request(index, subindex, w.value, w.size)?;
+    bus.send(&CanMsg::new(cob::SDO_RX + u16::from(node), &req))
+        .await
+        .map_err(|e| SdoError::Bus(e.to_string()))?;
+    response(bus, node, index, subindex, timeout, other)
+        .await
+        .map(|_| ())
 }
 
 /// Reads object `index`/`subindex` of `node`; returns the value and its size.
-pub async fn upload<B: CanBus>(bus: &mut B, node: u8, index: u16, subindex: u8, timeout: Duration, other: &mut impl FnMut(&CanMsg)) -> Result<(u32, u8), SdoError> {
-    bus.send(&CanMsg::new(cob::SDO_RX + u16::from(node), &upload_request(index, subindex))).await.map_err(|e| SdoError::Bus(e.to_string()))?;
+pub async fn upload<B: CanBus>(
+    bus: &mut B,
+    node: u8,
+    index: u16,
+    subindex: u8,
+    timeout: Duration,
+    other: &mut impl FnMut(&CanMsg),
+) -> Result<(u32, u8), SdoError> {
+    bus.send(&CanMsg::new(
+        cob::SDO_RX + u16::from(node),
+        &upload_request(index, subindex),
+    ))
+    .await
+    .map_err(|e| SdoError::Bus(e.to_string()))?;
     match response(bus, node, index, subindex, timeout, other).await? {
         SdoResponse::Uploaded { value, size, .. } => Ok((value, size)),
-        _ => Err(SdoError::Abort { index, subindex, code: ABORT_COMMAND }),
+        _ => Err(SdoError::Abort {
+            index,
+            subindex,
+            code: ABORT_COMMAND,
+        }),
     }
 }
 
@@ -193,30 +274,88 @@ mod tests {
 
     #[test]
     fn request_bytes_follow_the_command_specifiers() {
-        assert_eq!(download_request(0x1017, 0, 100, 2).expect("size"), [0x2B, 0x17, 0x10, 0, 100, 0, 0, 0]);
-        assert_eq!(download_request(0x6200, 1, 0xFF, 1).expect("size"), [0x2F, 0x00, 0x62, 1, 0xFF, 0, 0, 0]);
+        assert_eq!(
+            download_request(0x1017, 0, 100, 2).expect("size"),
+            [0x2B, 0x17, 0x10, 0, 100, 0, 0, 0]
+        );
+        assert_eq!(
+            download_request(0x6200, 1, 0xFF, 1).expect("size"),
+            [0x2F, 0x00, 0x62, 1, 0xFF, 0, 0, 0]
+        );
         assert_eq!(download_request(0x1000, 0, 1, 3), Err(SdoError::Size(3)));
         assert_eq!(upload_request(0x1000, 0), [0x40, 0x00, 0x10, 0, 0, 0, 0, 0]);
     }
 
     #[test]
     fn server_answers_reads_writes_and_aborts() {
-        let up = serve_request(&upload_request(0x1000, 0), |_, _| Ok((0x000F_0191, 4)), |_, _, _, _| Ok(())).expect("answer");
-        assert_eq!(parse_response(&up), Some(SdoResponse::Uploaded { index: 0x1000, subindex: 0, value: 0x000F_0191, size: 4 }));
+        let up = serve_request(
+            &upload_request(0x1000, 0),
+            |_, _| Ok((0x000F_0191, 4)),
+            |_, _, _, _| Ok(()),
+        )
+        .expect("answer");
+        assert_eq!(
+            parse_response(&up),
+            Some(SdoResponse::Uploaded {
+                index: 0x1000,
+                subindex: 0,
+                value: 0x000F_0191,
+                size: 4
+            })
+        );
         let mut seen = None;
         let req = download_request(0x1017, 0, 0x1234_0064, 2).expect("size");
-        let down = serve_request(&req, |_, _| Err(ABORT_NO_OBJECT), |i, s, v, n| {
-            seen = Some((i, s, v, n));
-            Ok(())
-        })
+        let down = serve_request(
+            &req,
+            |_, _| Err(ABORT_NO_OBJECT),
+            |i, s, v, n| {
+                seen = Some((i, s, v, n));
+                Ok(())
+            },
+        )
         .expect("answer");
-        assert_eq!(seen, Some((0x1017, 0, 0x0064, 2)), "value masked to its size");
-        assert_eq!(parse_response(&down), Some(SdoResponse::Downloaded { index: 0x1017, subindex: 0 }));
-        let abort = serve_request(&upload_request(0x2000, 0), |_, _| Err(ABORT_NO_OBJECT), |_, _, _, _| Ok(())).expect("answer");
-        assert_eq!(parse_response(&abort), Some(SdoResponse::Aborted { index: 0x2000, subindex: 0, code: ABORT_NO_OBJECT }));
-        let one = serve_request(&upload_request(0x6000, 1), |_, _| Ok((0x5A, 1)), |_, _, _, _| Ok(())).expect("answer");
+        assert_eq!(
+            seen,
+            Some((0x1017, 0, 0x0064, 2)),
+            "value masked to its size"
+        );
+        assert_eq!(
+            parse_response(&down),
+            Some(SdoResponse::Downloaded {
+                index: 0x1017,
+                subindex: 0
+            })
+        );
+        let abort = serve_request(
+            &upload_request(0x2000, 0),
+            |_, _| Err(ABORT_NO_OBJECT),
+            |_, _, _, _| Ok(()),
+        )
+        .expect("answer");
+        assert_eq!(
+            parse_response(&abort),
+            Some(SdoResponse::Aborted {
+                index: 0x2000,
+                subindex: 0,
+                code: ABORT_NO_OBJECT
+            })
+        );
+        let one = serve_request(
+            &upload_request(0x6000, 1),
+            |_, _| Ok((0x5A, 1)),
+            |_, _, _, _| Ok(()),
+        )
+        .expect("answer");
         assert_eq!(one[0], 0x4F);
-        assert_eq!(parse_response(&one), Some(SdoResponse::Uploaded { index: 0x6000, subindex: 1, value: 0x5A, size: 1 }));
+        assert_eq!(
+            parse_response(&one),
+            Some(SdoResponse::Uploaded {
+                index: 0x6000,
+                subindex: 1,
+                value: 0x5A,
+                size: 1
+            })
+        );
         assert_eq!(parse_response(&[0x60, 0, 0]), None);
     }
 }

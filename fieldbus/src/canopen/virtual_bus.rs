@@ -37,12 +37,22 @@ impl VirtualBus {
     pub fn port(&self) -> VirtualPort {
         let (tx, rx) = mpsc::unbounded_channel();
         let id = {
-            let mut n = self.next.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+            let mut n = self
+                .next
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
             *n += 1;
             *n
         };
-        self.ports.lock().unwrap_or_else(std::sync::PoisonError::into_inner).push((id, tx));
-        VirtualPort { id, ports: self.ports.clone(), rx }
+        self.ports
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+            .push((id, tx));
+        VirtualPort {
+            id,
+            ports: self.ports.clone(),
+            rx,
+        }
     }
 }
 
@@ -56,7 +66,10 @@ impl Drop for VirtualPort {
 
 impl CanBus for VirtualPort {
     async fn send(&mut self, msg: &CanMsg) -> io::Result<()> {
-        let ports = self.ports.lock().map_err(|_| io::Error::other("virtual bus poisoned"))?;
+        let ports = self
+            .ports
+            .lock()
+            .map_err(|_| io::Error::other("virtual bus poisoned"))?;
         for (id, tx) in ports.iter() {
             if *id != self.id {
                 // A port whose receiver is gone is being dropped; skip it.
@@ -67,7 +80,10 @@ impl CanBus for VirtualPort {
     }
 
     async fn recv(&mut self) -> io::Result<CanMsg> {
-        self.rx.recv().await.ok_or_else(|| io::Error::new(io::ErrorKind::BrokenPipe, "virtual bus closed"))
+        self.rx
+            .recv()
+            .await
+            .ok_or_else(|| io::Error::new(io::ErrorKind::BrokenPipe, "virtual bus closed"))
     }
 }
 
@@ -84,7 +100,9 @@ mod tests {
         assert_eq!(c.recv().await.expect("c").id, 0x181);
         assert!(a.rx.try_recv().is_err());
         drop(c);
-        b.send(&CanMsg::new(0x80, &[])).await.expect("send after drop");
+        b.send(&CanMsg::new(0x80, &[]))
+            .await
+            .expect("send after drop");
         assert_eq!(a.recv().await.expect("a").id, 0x80);
     }
 }

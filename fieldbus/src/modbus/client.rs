@@ -21,8 +21,8 @@ use std::time::{Duration, Instant};
 
 use packets::{IoAlarm, PacketIo};
 use tokio::sync::Notify;
-use tokio_modbus::client::{Context, Reader, Writer};
 use tokio_modbus::Slave;
+use tokio_modbus::client::{Context, Reader, Writer};
 
 use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
@@ -64,14 +64,32 @@ pub struct ModbusIo {
 impl ModbusIo {
     /// Starts one task per device on a private runtime; fails only when the runtime cannot start.
     pub fn start(devices: &[ModbusDevice]) -> std::io::Result<ModbusIo> {
-        let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(1).thread_name("ncplc-modbus").enable_all().build()?;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("ncplc-modbus")
+            .enable_all()
+            .build()?;
         let mut sides = Vec::new();
         for cfg in devices {
-            let (in_tx, in_rx) = triple(InFrame { seq: 0, fault: Fault::None, data: [0; A_LEN] });
-            let (out_tx, out_rx) = triple(OutFrame { seq: 0, data: [0; A_LEN] });
+            let (in_tx, in_rx) = triple(InFrame {
+                seq: 0,
+                fault: Fault::None,
+                data: [0; A_LEN],
+            });
+            let (out_tx, out_rx) = triple(OutFrame {
+                seq: 0,
+                data: [0; A_LEN],
+            });
             let wake = Arc::new(Notify::new());
             let acked = Arc::new(AtomicU64::new(0));
-            let task = DeviceTask { cfg: cfg.clone(), inputs: in_tx, outputs: out_rx, wake: wake.clone(), acked: acked.clone(), seq: 0 };
+            let task = DeviceTask {
+                cfg: cfg.clone(),
+                inputs: in_tx,
+                outputs: out_rx,
+                wake: wake.clone(),
+                acked: acked.clone(),
+                seq: 0,
+            };
             runtime.spawn(task.run());
             sides.push(DeviceSide {
                 cfg: cfg.clone(),
@@ -84,12 +102,18 @@ impl ModbusIo {
                 last_out: [0; A_LEN],
             });
         }
-        Ok(ModbusIo { runtime: Some(runtime), devices: sides, alarms: Vec::new() })
+        Ok(ModbusIo {
+            runtime: Some(runtime),
+            devices: sides,
+            alarms: Vec::new(),
+        })
     }
 
     /// True while device `name` answers (as of the last latch).
     pub fn is_healthy(&self, name: &str) -> bool {
-        self.devices.iter().any(|d| d.cfg.name == name && d.health.healthy())
+        self.devices
+            .iter()
+            .any(|d| d.cfg.name == name && d.health.healthy())
     }
 
     fn hand_over(&mut self, packets: &[u8], force: bool) {
@@ -139,7 +163,11 @@ impl PacketIo for ModbusIo {
             for m in &d.cfg.inputs {
                 let (s, e) = (m.range.start, m.range.end());
                 if let Some(dst) = packets.get_mut(s..e) {
-                    if healthy { dst.copy_from_slice(&frame.data[s..e]) } else { dst.fill(m.fail) }
+                    if healthy {
+                        dst.copy_from_slice(&frame.data[s..e])
+                    } else {
+                        dst.fill(m.fail)
+                    }
                 }
             }
             if let Some(bit) = d.cfg.healthy {
@@ -166,10 +194,19 @@ impl PacketIo for ModbusIo {
             }
         }
         self.hand_over(&image, true);
-        let wait = self.devices.iter().map(|d| d.cfg.timeout * 4).max().unwrap_or_default();
+        let wait = self
+            .devices
+            .iter()
+            .map(|d| d.cfg.timeout * 4)
+            .max()
+            .unwrap_or_default();
         let deadline = Instant::now() + wait;
         while Instant::now() < deadline {
-            if self.devices.iter().all(|d| !d.health.healthy() || d.acked.load(Ordering::Acquire) >= d.out_seq) {
+            if self
+                .devices
+                .iter()
+                .all(|d| !d.health.healthy() || d.acked.load(Ordering::Acquire) >= d.out_seq)
+            {
                 break;
             }
             std::thread::sleep(Duration::from_micros(200));
@@ -195,7 +232,11 @@ impl DeviceTask {
                 Ok(mut ctx) => {
                     let fault = self.serve(&mut ctx, &mut backoff).await;
                     // A best-effort goodbye; the connection is dropped either way.
-                    let _ = tokio::time::timeout(self.cfg.timeout, tokio_modbus::client::Client::disconnect(&mut ctx)).await;
+                    let _ = tokio::time::timeout(
+                        self.cfg.timeout,
+                        tokio_modbus::client::Client::disconnect(&mut ctx),
+                    )
+                    .await;
                     fault
                 }
                 Err(f) => f,
@@ -231,7 +272,12 @@ impl DeviceTask {
     }
 
     /// One exchange: changed outputs first, then every input mapping, then publish the inputs.
-    async fn cycle(&mut self, ctx: &mut Context, written: &mut [Option<Vec<u8>>], data: &mut [u8; A_LEN]) -> Result<(), Fault> {
+    async fn cycle(
+        &mut self,
+        ctx: &mut Context,
+        written: &mut [Option<Vec<u8>>],
+        data: &mut [u8; A_LEN],
+    ) -> Result<(), Fault> {
         let (out, _) = self.outputs.read();
         let (out_seq, out_data) = (out.seq, out.data);
         if out_seq > 0 {
@@ -248,7 +294,13 @@ impl DeviceTask {
             self.acked.store(out_seq, Ordering::Release);
         }
         for m in &self.cfg.inputs {
-            read_mapping(ctx, m, &mut data[m.range.start..m.range.end()], self.cfg.timeout).await?;
+            read_mapping(
+                ctx,
+                m,
+                &mut data[m.range.start..m.range.end()],
+                self.cfg.timeout,
+            )
+            .await?;
         }
         self.seq += 1;
         let buf = self.inputs.buf();
@@ -281,11 +333,22 @@ fn flatten<T>(r: Nested<T>) -> Result<T, Fault> {
     }
 }
 
-async fn read_mapping(ctx: &mut Context, m: &ModbusMapping, out: &mut [u8], timeout: Duration) -> Result<(), Fault> {
+async fn read_mapping(
+    ctx: &mut Context,
+    m: &ModbusMapping,
+    out: &mut [u8],
+    timeout: Duration,
+) -> Result<(), Fault> {
     let n = m.area.items(out.len()) as u16;
     match m.area {
         ModbusArea::DiscreteInputs | ModbusArea::Coils => {
-            let bits = if m.area == ModbusArea::Coils { flatten(tokio::time::timeout(timeout, ctx.read_coils(m.address, n)).await)? } else { flatten(tokio::time::timeout(timeout, ctx.read_discrete_inputs(m.address, n)).await)? };
+            let bits = if m.area == ModbusArea::Coils {
+                flatten(tokio::time::timeout(timeout, ctx.read_coils(m.address, n)).await)?
+            } else {
+                flatten(
+                    tokio::time::timeout(timeout, ctx.read_discrete_inputs(m.address, n)).await,
+                )?
+            };
             if bits.len() < usize::from(n) {
                 return Err(Fault::Protocol);
             }
@@ -293,9 +356,13 @@ async fn read_mapping(ctx: &mut Context, m: &ModbusMapping, out: &mut [u8], time
         }
         ModbusArea::InputRegisters | ModbusArea::HoldingRegisters => {
             let regs = if m.area == ModbusArea::InputRegisters {
-                flatten(tokio::time::timeout(timeout, ctx.read_input_registers(m.address, n)).await)?
+                flatten(
+                    tokio::time::timeout(timeout, ctx.read_input_registers(m.address, n)).await,
+                )?
             } else {
-                flatten(tokio::time::timeout(timeout, ctx.read_holding_registers(m.address, n)).await)?
+                flatten(
+                    tokio::time::timeout(timeout, ctx.read_holding_registers(m.address, n)).await,
+                )?
             };
             if regs.len() != usize::from(n) {
                 return Err(Fault::Protocol);
@@ -306,10 +373,27 @@ async fn read_mapping(ctx: &mut Context, m: &ModbusMapping, out: &mut [u8], time
     Ok(())
 }
 
-async fn write_mapping(ctx: &mut Context, m: &ModbusMapping, bytes: &[u8], timeout: Duration) -> Result<(), Fault> {
+async fn write_mapping(
+    ctx: &mut Context,
+    m: &ModbusMapping,
+    bytes: &[u8],
+    timeout: Duration,
+) -> Result<(), Fault> {
     match m.area {
-        ModbusArea::Coils => flatten(tokio::time::timeout(timeout, ctx.write_multiple_coils(m.address, &bytes_to_bits(bytes))).await),
-        ModbusArea::HoldingRegisters => flatten(tokio::time::timeout(timeout, ctx.write_multiple_registers(m.address, &bytes_to_regs(bytes))).await),
+        ModbusArea::Coils => flatten(
+            tokio::time::timeout(
+                timeout,
+                ctx.write_multiple_coils(m.address, &bytes_to_bits(bytes)),
+            )
+            .await,
+        ),
+        ModbusArea::HoldingRegisters => flatten(
+            tokio::time::timeout(
+                timeout,
+                ctx.write_multiple_registers(m.address, &bytes_to_regs(bytes)),
+            )
+            .await,
+        ),
         // Validation rejects outputs to read-only tables.
         ModbusArea::DiscreteInputs | ModbusArea::InputRegisters => Err(Fault::Protocol),
     }

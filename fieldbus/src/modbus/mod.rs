@@ -24,20 +24,30 @@ pub fn bits_to_bytes(bits: &[bool], out: &mut [u8]) {
 
 /// Packs bytes into Modbus bits (8 per byte, least significant bit first).
 pub fn bytes_to_bits(bytes: &[u8]) -> Vec<bool> {
-    bytes.iter().flat_map(|b| (0..8).map(move |n| b >> n & 1 == 1)).collect()
+    bytes
+        .iter()
+        .flat_map(|b| (0..8).map(move |n| b >> n & 1 == 1))
+        .collect()
 }
 
 /// Unpacks registers into bytes (low byte first); missing registers read as 0.
 pub fn regs_to_bytes(regs: &[u16], out: &mut [u8]) {
     for (i, byte) in out.iter_mut().enumerate() {
         let r = regs.get(i / 2).copied().unwrap_or(0);
-        *byte = if i % 2 == 0 { (r & 0xFF) as u8 } else { (r >> 8) as u8 };
+        *byte = if i % 2 == 0 {
+            (r & 0xFF) as u8
+        } else {
+            (r >> 8) as u8
+        };
     }
 }
 
 /// Packs bytes into registers (low byte first; an odd last byte leaves the high byte 0).
 pub fn bytes_to_regs(bytes: &[u8]) -> Vec<u16> {
-    bytes.chunks(2).map(|c| u16::from(c[0]) | u16::from(c.get(1).copied().unwrap_or(0)) << 8).collect()
+    bytes
+        .chunks(2)
+        .map(|c| u16::from(c[0]) | u16::from(c.get(1).copied().unwrap_or(0)) << 8)
+        .collect()
 }
 
 #[cfg(test)]
@@ -48,7 +58,14 @@ mod tests {
     fn bit_and_register_packing_round_trip_with_the_documented_order() {
         let bits = bytes_to_bits(&[0b0000_0101, 0x80]);
         assert_eq!(bits.len(), 16);
-        assert_eq!(bits.iter().enumerate().filter(|(_, b)| **b).map(|(i, _)| i).collect::<Vec<_>>(), [0, 2, 15]);
+        assert_eq!(
+            bits.iter()
+                .enumerate()
+                .filter(|(_, b)| **b)
+                .map(|(i, _)| i)
+                .collect::<Vec<_>>(),
+            [0, 2, 15]
+        );
         let mut out = [0u8; 2];
         bits_to_bytes(&bits, &mut out);
         assert_eq!(out, [5, 0x80]);

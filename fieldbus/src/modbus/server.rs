@@ -57,7 +57,11 @@ pub struct HmiIo {
 impl HmiIo {
     /// Binds the server to `cfg.bind` and starts it on a private runtime.
     pub fn start(inner: Box<dyn PacketIo>, cfg: &HmiConfig) -> std::io::Result<HmiIo> {
-        let runtime = tokio::runtime::Builder::new_multi_thread().worker_threads(1).thread_name("ncplc-hmi").enable_all().build()?;
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("ncplc-hmi")
+            .enable_all()
+            .build()?;
         let listener = runtime.block_on(tokio::net::TcpListener::bind(cfg.bind))?;
         let local = listener.local_addr()?;
         let (snap_tx, snap_rx) = triple(vec![0u8; IMAGE]);
@@ -73,12 +77,26 @@ impl HmiIo {
             let on_connected = move |stream: tokio::net::TcpStream, addr| {
                 let shared = shared.clone();
                 let _ = stream.set_nodelay(true);
-                async move { tokio_modbus::server::tcp::accept_tcp_connection(stream, addr, move |_| Ok(Some(HmiService { shared: shared.clone() }))) }
+                async move {
+                    tokio_modbus::server::tcp::accept_tcp_connection(stream, addr, move |_| {
+                        Ok(Some(HmiService {
+                            shared: shared.clone(),
+                        }))
+                    })
+                }
             };
             // A failing connection only ends that connection; `serve` ends when accept fails.
             let _ = server.serve(&on_connected, |_err| {}).await;
         });
-        Ok(HmiIo { inner, runtime: Some(runtime), snapshot: snap_tx, writes: w_rx, window: vec![0u8; IMAGE], windows: cfg.holding.clone(), local })
+        Ok(HmiIo {
+            inner,
+            runtime: Some(runtime),
+            snapshot: snap_tx,
+            writes: w_rx,
+            window: vec![0u8; IMAGE],
+            windows: cfg.holding.clone(),
+            local,
+        })
     }
 
     /// The address the server listens on (useful after binding port 0).
@@ -108,7 +126,10 @@ impl PacketIo for HmiIo {
             }
         }
         for w in &self.windows {
-            if let (Some(dst), Some(src)) = (packets.get_mut(w.start..w.start + w.len), self.window.get(w.start..w.start + w.len)) {
+            if let (Some(dst), Some(src)) = (
+                packets.get_mut(w.start..w.start + w.len),
+                self.window.get(w.start..w.start + w.len),
+            ) {
                 dst.copy_from_slice(src);
             }
         }
@@ -140,12 +161,20 @@ impl HmiService {
         if n == 0 || n > 2000 {
             return Err(ExceptionCode::IllegalDataValue);
         }
-        if a + n > BITS || (a..a + n).any(|bit| is_a_input_connector((bit / 32) as u16) != want_input) {
+        if a + n > BITS
+            || (a..a + n).any(|bit| is_a_input_connector((bit / 32) as u16) != want_input)
+        {
             return Err(ExceptionCode::IllegalDataAddress);
         }
-        let mut reader = self.shared.snapshot.lock().map_err(|_| ExceptionCode::ServerDeviceFailure)?;
+        let mut reader = self
+            .shared
+            .snapshot
+            .lock()
+            .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
         let (img, _) = reader.read();
-        Ok((a..a + n).map(|bit| img[bit / 8] >> (bit % 8) & 1 == 1).collect())
+        Ok((a..a + n)
+            .map(|bit| img[bit / 8] >> (bit % 8) & 1 == 1)
+            .collect())
     }
 
     fn registers(&self, a: u16, n: u16, holding: bool) -> Result<Vec<u16>, ExceptionCode> {
@@ -161,17 +190,32 @@ impl HmiService {
             if !(a..a + n).all(|r| self.writable(base + 2 * r)) {
                 return Err(ExceptionCode::IllegalDataAddress);
             }
-            let shadow = self.shared.shadow.lock().map_err(|_| ExceptionCode::ServerDeviceFailure)?;
-            return Ok((a..a + n).map(|r| u16::from(shadow[base + 2 * r]) | u16::from(shadow[base + 2 * r + 1]) << 8).collect());
+            let shadow = self
+                .shared
+                .shadow
+                .lock()
+                .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
+            return Ok((a..a + n)
+                .map(|r| u16::from(shadow[base + 2 * r]) | u16::from(shadow[base + 2 * r + 1]) << 8)
+                .collect());
         }
-        let mut reader = self.shared.snapshot.lock().map_err(|_| ExceptionCode::ServerDeviceFailure)?;
+        let mut reader = self
+            .shared
+            .snapshot
+            .lock()
+            .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
         let (img, _) = reader.read();
-        Ok((a..a + n).map(|r| u16::from(img[base + 2 * r]) | u16::from(img[base + 2 * r + 1]) << 8).collect())
+        Ok((a..a + n)
+            .map(|r| u16::from(img[base + 2 * r]) | u16::from(img[base + 2 * r + 1]) << 8)
+            .collect())
     }
 
     /// True when both bytes of the register starting at image byte `at` are in a window.
     fn writable(&self, at: usize) -> bool {
-        self.shared.windows.iter().any(|w| w.start <= at && at + 2 <= w.start + w.len)
+        self.shared
+            .windows
+            .iter()
+            .any(|w| w.start <= at && at + 2 <= w.start + w.len)
     }
 
     fn write_registers(&self, a: u16, words: &[u16]) -> Result<(), ExceptionCode> {
@@ -183,11 +227,19 @@ impl HmiService {
         if start + n > REGISTERS || !(start..start + n).all(|r| self.writable(base + 2 * r)) {
             return Err(ExceptionCode::IllegalDataAddress);
         }
-        let mut ring = self.shared.writes.lock().map_err(|_| ExceptionCode::ServerDeviceFailure)?;
+        let mut ring = self
+            .shared
+            .writes
+            .lock()
+            .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
         if ring.slots() < 2 * n {
             return Err(ExceptionCode::ServerDeviceBusy);
         }
-        let mut shadow = self.shared.shadow.lock().map_err(|_| ExceptionCode::ServerDeviceFailure)?;
+        let mut shadow = self
+            .shared
+            .shadow
+            .lock()
+            .map_err(|_| ExceptionCode::ServerDeviceFailure)?;
         for (k, w) in words.iter().enumerate() {
             let at = base + 2 * (start + k);
             for (i, v) in [(*w & 0xFF) as u8, (*w >> 8) as u8].into_iter().enumerate() {
@@ -208,14 +260,23 @@ impl tokio_modbus::server::Service for HmiService {
 
     fn call(&self, req: Self::Request) -> Self::Future {
         let r = match req {
-            Request::ReadDiscreteInputs(a, n) => self.bits(a, n, true).map(Response::ReadDiscreteInputs),
+            Request::ReadDiscreteInputs(a, n) => {
+                self.bits(a, n, true).map(Response::ReadDiscreteInputs)
+            }
             Request::ReadCoils(a, n) => self.bits(a, n, false).map(Response::ReadCoils),
-            Request::ReadInputRegisters(a, n) => self.registers(a, n, false).map(Response::ReadInputRegisters),
-            Request::ReadHoldingRegisters(a, n) => self.registers(a, n, true).map(Response::ReadHoldingRegisters),
-            Request::WriteSingleRegister(a, w) => self.write_registers(a, &[w]).map(|()| Response::WriteSingleRegister(a, w)),
+            Request::ReadInputRegisters(a, n) => self
+                .registers(a, n, false)
+                .map(Response::ReadInputRegisters),
+            Request::ReadHoldingRegisters(a, n) => self
+                .registers(a, n, true)
+                .map(Response::ReadHoldingRegisters),
+            Request::WriteSingleRegister(a, w) => self
+                .write_registers(a, &[w])
+                .map(|()| Response::WriteSingleRegister(a, w)),
             Request::WriteMultipleRegisters(a, words) => {
                 let n = words.len() as u16;
-                self.write_registers(a, &words).map(|()| Response::WriteMultipleRegisters(a, n))
+                self.write_registers(a, &words)
+                    .map(|()| Response::WriteMultipleRegisters(a, n))
             }
             _ => Err(ExceptionCode::IllegalFunction),
         };

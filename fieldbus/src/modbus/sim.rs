@@ -34,6 +34,8 @@ pub struct SimState {
     pub delay: Duration,
     /// When true the device swallows requests and never answers.
     pub mute: bool,
+    /// When the device applied the last write.
+    pub last_write: Option<std::time::Instant>,
 }
 
 impl Default for SimState {
@@ -46,6 +48,7 @@ impl Default for SimState {
             writes: Vec::new(),
             delay: Duration::ZERO,
             mute: false,
+            last_write: None,
         }
     }
 }
@@ -60,13 +63,20 @@ pub struct RemoteIoSim {
 }
 
 fn lock(state: &Mutex<SimState>) -> MutexGuard<'_, SimState> {
-    state.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+    state
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
 impl RemoteIoSim {
     /// Starts a device on `addr` (use port 0 for a free port).
     pub async fn start(addr: SocketAddr) -> std::io::Result<RemoteIoSim> {
-        let mut sim = RemoteIoSim { state: Arc::new(Mutex::new(SimState::default())), addr, task: None, written: Arc::new(Notify::new()) };
+        let mut sim = RemoteIoSim {
+            state: Arc::new(Mutex::new(SimState::default())),
+            addr,
+            task: None,
+            written: Arc::new(Notify::new()),
+        };
         sim.addr = sim.listen(addr).await?;
         Ok(sim)
     }
@@ -82,9 +92,19 @@ impl RemoteIoSim {
         self.task = Some(tokio::spawn(async move {
             let server = tokio_modbus::server::tcp::Server::new(listener);
             let on_connected = move |stream: tokio::net::TcpStream, peer| {
-                let svc = SimService { state: state.clone(), written: written.clone() };
+                let svc = SimService {
+                    state: state.clone(),
+                    written: written.clone(),
+                };
                 let _ = stream.set_nodelay(true);
-                async move { tokio_modbus::server::tcp::accept_tcp_connection(stream, peer, move |_| Ok(Some(SimService { state: svc.state.clone(), written: svc.written.clone() }))) }
+                async move {
+                    tokio_modbus::server::tcp::accept_tcp_connection(stream, peer, move |_| {
+                        Ok(Some(SimService {
+                            state: svc.state.clone(),
+                            written: svc.written.clone(),
+                        }))
+                    })
+                }
             };
             let _ = server.serve(&on_connected, |_err| {}).await;
         }));
@@ -139,16 +159,35 @@ struct SimService {
 
 fn range(a: u16, n: usize) -> Result<std::ops::Range<usize>, ExceptionCode> {
     let a = usize::from(a);
-    if n == 0 || a + n > TABLE { Err(ExceptionCode::IllegalDataAddress) } else { Ok(a..a + n) }
+    if n == 0 || a + n > TABLE {
+        Err(ExceptionCode::IllegalDataAddress)
+    } else {
+        Ok(a..a + n)
+    }
 }
 
 fn apply(state: &Mutex<SimState>, req: Request<'static>) -> Result<Response, ExceptionCode> {
     let mut s = lock(state);
+    if matches!(
+        req,
+        Request::WriteMultipleCoils(..)
+            | Request::WriteSingleCoil(..)
+            | Request::WriteMultipleRegisters(..)
+            | Request::WriteSingleRegister(..)
+    ) {
+        s.last_write = Some(std::time::Instant::now());
+    }
     match req {
-        Request::ReadDiscreteInputs(a, n) => Ok(Response::ReadDiscreteInputs(s.discrete[range(a, n.into())?].to_vec())),
+        Request::ReadDiscreteInputs(a, n) => Ok(Response::ReadDiscreteInputs(
+            s.discrete[range(a, n.into())?].to_vec(),
+        )),
         Request::ReadCoils(a, n) => Ok(Response::ReadCoils(s.coils[range(a, n.into())?].to_vec())),
-        Request::ReadInputRegisters(a, n) => Ok(Response::ReadInputRegisters(s.input_regs[range(a, n.into())?].to_vec())),
-        Request::ReadHoldingRegisters(a, n) => Ok(Response::ReadHoldingRegisters(s.holding[range(a, n.into())?].to_vec())),
+        Request::ReadInputRegisters(a, n) => Ok(Response::ReadInputRegisters(
+            s.input_regs[range(a, n.into())?].to_vec(),
+        )),
+        Request::ReadHoldingRegisters(a, n) => Ok(Response::ReadHoldingRegisters(
+            s.holding[range(a, n.into())?].to_vec(),
+        )),
         Request::WriteMultipleCoils(a, bits) => {
             let r = range(a, bits.len())?;
             s.coils[r].copy_from_slice(&bits);
@@ -197,7 +236,13 @@ impl tokio_modbus::server::Service for SimService {
             if !delay.is_zero() {
                 tokio::time::sleep(delay).await;
             }
-            let is_write = matches!(req, Request::WriteMultipleCoils(..) | Request::WriteSingleCoil(..) | Request::WriteMultipleRegisters(..) | Request::WriteSingleRegister(..));
+            let is_write = matches!(
+                req,
+                Request::WriteMultipleCoils(..)
+                    | Request::WriteSingleCoil(..)
+                    | Request::WriteMultipleRegisters(..)
+                    | Request::WriteSingleRegister(..)
+            );
             let r = apply(&state, req);
             if is_write {
                 written.notify_waiters();
