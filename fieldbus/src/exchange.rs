@@ -99,6 +99,9 @@ pub(crate) struct OutFrame {
     pub data: [u8; 128],
 }
 
+/// Alarms a driver keeps for a runtime that does not call `take_alarms`; later ones are dropped.
+pub const MAX_PENDING_ALARMS: usize = 256;
+
 /// Producer side of the alarm ring (held by the I/O tasks, behind their own lock if shared).
 pub type AlarmTx = rtrb::Producer<IoAlarm>;
 /// Consumer side of the alarm ring (held by the driver on the scan thread).

@@ -357,3 +357,24 @@ fn sdo_upload_reads_the_object_dictionary() {
         );
     });
 }
+
+#[test]
+fn a_missing_node_fails_its_sdo_check_and_raises_the_alarm() {
+    let bus = VirtualBus::new();
+    let port = bus.port();
+    let mut cfg = node_cfg(60, Vec::new());
+    cfg.nodes[0].node_id = 7; // nobody answers as node 7
+    let mut io = CanopenIo::start(&cfg, || async { Ok(port) }).expect("master");
+    let mut image = vec![0u8; PACKETS_LEN];
+    let mut alarms = Vec::new();
+    tick_until(
+        &mut io,
+        &mut image,
+        Duration::from_secs(5),
+        &mut alarms,
+        |_, _, a| !a.is_empty(),
+    )
+    .expect("alarm");
+    assert_eq!(alarms[0].message, "SDO configuration failed");
+    assert_eq!(&image[0..5], &[0, 0, 0, 0, 0xEE]);
+}

@@ -22,11 +22,13 @@ use tokio::time::Instant;
 
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
-use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
+use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{CanNode, CanopenConfig};
 
 const A_LEN: usize = 128;
+/// Device profile number of CiA 401 (low 16 bits of object `1000h`).
+const CIA_401: u32 = 401;
 /// Ticks without any sign of life from the master task before the scan declares a node lost (a
 /// backstop: the heartbeat consumer normally decides much earlier).
 const STALE_TICKS: u32 = 1000;
@@ -173,7 +175,9 @@ impl PacketIo for CanopenIo {
         let (frame, _) = self.inputs.read();
         for (i, n) in self.nodes.iter_mut().enumerate() {
             let st = frame.nodes.get(i).copied().unwrap_or_default();
-            if let Some(a) = n.health.tick(st.seq, st.fault) {
+            if let Some(a) = n.health.tick(st.seq, st.fault)
+                && self.alarms.len() < MAX_PENDING_ALARMS
+            {
                 self.alarms.push(a);
             }
             let healthy = n.health.healthy();
@@ -279,12 +283,27 @@ impl<B: CanBus> Master<B> {
         }
     }
 
+    /// Reads each node's device type (`1000h`, must be CiA 401) and performs its SDO writes; a
+    /// node where either fails is marked [`Fault::Sdo`] and is not started.
     async fn configure(&mut self) {
         let timeout = self.cfg.sdo_timeout;
         for i in 0..self.cfg.nodes.len() {
             let node = self.cfg.nodes[i].clone();
+            let mut seen = Vec::new();
+            let device_type = sdo::upload(
+                &mut self.bus,
+                node.node_id,
+                0x1000,
+                0,
+                timeout,
+                &mut |m: &CanMsg| seen.push(*m),
+            )
+            .await;
+            let mut ok = matches!(device_type, Ok((v, _)) if v & 0xFFFF == CIA_401);
             for w in &node.sdo {
-                let mut seen = Vec::new();
+                if !ok {
+                    break;
+                }
                 let r = sdo::download(
                     &mut self.bus,
                     node.node_id,
@@ -293,14 +312,12 @@ impl<B: CanBus> Master<B> {
                     &mut |m: &CanMsg| seen.push(*m),
                 )
                 .await;
-                for m in &seen {
-                    self.on_frame(m);
-                }
-                if r.is_err() {
-                    self.status[i].sdo_failed = true;
-                    break;
-                }
+                ok = r.is_ok();
             }
+            for m in &seen {
+                self.on_frame(m);
+            }
+            self.status[i].sdo_failed = !ok;
         }
     }
 

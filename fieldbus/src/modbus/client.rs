@@ -24,7 +24,7 @@ use tokio::sync::Notify;
 use tokio_modbus::Slave;
 use tokio_modbus::client::{Context, Reader, Writer};
 
-use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
+use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
@@ -156,7 +156,9 @@ impl PacketIo for ModbusIo {
     fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
         for d in &mut self.devices {
             let (frame, _) = d.inputs.read();
-            if let Some(alarm) = d.health.tick(frame.seq, frame.fault) {
+            if let Some(alarm) = d.health.tick(frame.seq, frame.fault)
+                && self.alarms.len() < MAX_PENDING_ALARMS
+            {
                 self.alarms.push(alarm);
             }
             let healthy = d.health.healthy();
