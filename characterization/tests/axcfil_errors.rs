@@ -1524,3 +1524,39 @@ fn block_num_diagnostic_names_section_one() {
         [(926, Some(1), Some(1))]
     );
 }
+
+case!(
+    p945_slave_homing,
+    &slave(),
+    [("POS=.005,2", "MCZ=I0A7,0,300\nPOS=.005,2")],
+    945,
+    [("MCZ=I0A8", 0)],
+    []
+);
+case!(
+    p931_vgas_without_backlash,
+    BASE,
+    [("GAS=0.004,0.002,,", "GAS=,0.002,,\nVGAS=3,U180K0,U180K1")],
+    931,
+    [("VGAS", 0)],
+    []
+);
+case!(
+    p929_kkrm_hdbrp,
+    BASE,
+    [
+        ("TPA=41,", "TPA=40041,"),
+        ("POS=.005,2", "MCZ=,0,200,0,0.02\nPOS=.005,2")
+    ],
+    929,
+    [("MCZ", 0)],
+    []
+);
+
+#[test]
+fn slave_with_the_masters_homing_is_valid() {
+    let src = edit(&slave(), &[("POS=.005,2", "MCZ=I0A7,0,200\nPOS=.005,2")]);
+    assert_eq!(diags(&src), []);
+    let vgas = edit(BASE, &[("GM0=10000", "VGAS=3,U180K0,U180K1\nGM0=10000")]);
+    assert_eq!(diags(&vgas), []);
+}

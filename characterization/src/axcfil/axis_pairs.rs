@@ -24,7 +24,26 @@ pub fn check(ctx: &Ctx, p: &Process, index: usize, axis: &Axis, diags: &mut Vec<
     let t = axis.axis_type();
     let slave = t.slave_parallel;
     let interpolator = p.interpolator_of(name);
-    // Slave parallel axes.
+    // Slave parallel axes: homing direction and speed equal the master's (003:992).
+    if let Some(master) = axis
+        .skw
+        .as_ref()
+        .and_then(|k| k.master.chars().next())
+        .and_then(|m| p.axis(m))
+        && slave
+        && let (Some(mine), Some(theirs)) = (&axis.mcz, &master.mcz)
+        && (mine.negative != theirs.negative || mine.speed != theirs.speed)
+    {
+        err(
+            codes::SLAVE_HOMING,
+            at("MCZ"),
+            format!(
+                "slave {name} homes differently from its master {}",
+                master.name
+            ),
+            "give the slave the master's MCZ direction and speed",
+        );
+    }
     if let Some(skw) = &axis.skw {
         let span = at("SKW");
         if !slave {

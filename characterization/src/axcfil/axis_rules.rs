@@ -507,10 +507,26 @@ pub fn check(
             "for an SSI encoder el_pitch = 2^resolution ST",
         );
     }
+    if axis.vgas.is_some() && axis.gas.as_ref().and_then(|g| g.backlash).unwrap_or(0.0) == 0.0 {
+        err(
+            codes::TYPE_FORBIDS,
+            at("VGAS"),
+            format!("VGAS on axis {name}, whose GAS declares no backlash"),
+            "VGAS sets the backlash take-up speed; write it only with a GAS backlash",
+        );
+    }
     if let Some(mcz) = &axis.mcz {
-        let long = mcz.hdbrp.is_some()
-            || mcz.delta_s.is_some()
-            || axis.span_of("MCZ").is_some_and(|_| false);
+        let long = mcz.hdbrp.is_some() || mcz.delta_s.is_some();
+        if t.distance_coded
+            && (mcz.hdbrp.is_some_and(|h| h <= 0.0) || mcz.delta_s.is_some_and(|d| d == 0.0))
+        {
+            err(
+                codes::RANGE,
+                at("MCZ"),
+                format!("KKRM MCZ of axis {name}: HDBRP must be > 0 and Δs not 0"),
+                "HDBRP is half the distance between basic marks (default 20 mm), Δs the change of distance (e.g. 0.02)",
+            );
+        }
         if t.distance_coded && mcz.zero_input.is_some() {
             err(
                 codes::MCZ_KKRM_INPUT,
