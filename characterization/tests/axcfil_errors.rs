@@ -65,6 +65,13 @@ fn edit(base: &str, edits: &[(&str, &str)]) -> String {
 fn diags(src: &str) -> Vec<(u32, u32, u32)> {
     let (f, mut d) = read("AXCFIL", src.as_bytes());
     d.extend(axcfil::validate(&f).1);
+    for x in &d {
+        assert!(
+            !x.hint.is_empty() && !x.message.is_empty(),
+            "diagnostic without message or hint: {x:?}"
+        );
+        assert_eq!(x.file, "AXCFIL");
+    }
     d.iter().map(|d| (d.code, d.line, d.column)).collect()
 }
 
