@@ -1567,3 +1567,29 @@ fn slave_with_the_masters_homing_is_valid() {
     let vgas = edit(BASE, &[("GM0=10000", "VGAS=3,U180K0,U180K1\nGM0=10000")]);
     assert_eq!(diags(&vgas), []);
 }
+
+/// Diagnostics carry the section and process they were found in.
+#[test]
+fn diagnostics_name_section_and_process() {
+    let src = edit(
+        BASE,
+        &[
+            ("MAN=2000,200", "MAN=20000,200"),
+            ("TIM=1,", "TIM=64,"),
+            ("*3\n", "*3\nPRO=1\nNAS=Z\nPAS=50\nE002=0\nE001=0\n"),
+        ],
+    );
+    let (f, mut d) = read("AXCFIL", src.as_bytes());
+    d.extend(axcfil::validate(&f).1);
+    let got: Vec<(u32, Option<u32>, Option<u32>)> =
+        d.iter().map(|d| (d.code, d.section, d.process)).collect();
+    assert_eq!(
+        got,
+        [
+            (101, Some(1), None),
+            (174, Some(3), Some(1)),
+            (175, Some(3), Some(1)),
+            (139, Some(2), Some(1))
+        ]
+    );
+}
