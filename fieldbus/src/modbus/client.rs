@@ -266,9 +266,15 @@ impl DeviceTask {
                 return fault;
             }
             *backoff = self.cfg.reconnect_min;
-            tokio::select! {
-                () = self.wake.notified() => {}
-                () = tokio::time::sleep(self.cfg.poll) => {}
+            if self.cfg.poll.is_zero() {
+                // Back-to-back polling: tokio timers round up to whole milliseconds, so a zero
+                // sleep would cost up to 1 ms; yield instead (outputs are checked every cycle).
+                tokio::task::yield_now().await;
+            } else {
+                tokio::select! {
+                    () = self.wake.notified() => {}
+                    () = tokio::time::sleep(self.cfg.poll) => {}
+                }
             }
         }
     }
