@@ -333,3 +333,60 @@ fn safe_state_writes_the_safe_values() {
     assert!(s.coils[100..132].iter().all(|c| !c));
     assert_eq!(s.holding[7], 0x5555);
 }
+
+#[test]
+fn a_dead_device_does_not_hold_up_a_live_one() {
+    let rt = sim_runtime();
+    let mut a = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim a");
+    let b = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim b");
+    let mut second = device(b.addr());
+    second.name = "rio2".into();
+    second.healthy = Some("I100K1".parse().expect("signal"));
+    second.inputs = vec![ModbusMapping {
+        range: ByteRange { start: 32, len: 4 },
+        area: ModbusArea::DiscreteInputs,
+        address: 0,
+        fail: 0,
+    }];
+    second.outputs = vec![ModbusMapping {
+        range: ByteRange { start: 48, len: 4 },
+        area: ModbusArea::Coils,
+        address: 0,
+        fail: 0,
+    }];
+    let mut io = ModbusIo::start(&[device(a.addr()), second]).expect("driver");
+    let mut image = vec![0u8; PACKETS_LEN];
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
+        io.is_healthy("rio1") && io.is_healthy("rio2")
+    })
+    .expect("both healthy");
+    a.kill();
+    let mut alarms = Vec::new();
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
+        alarms.extend(io.take_alarms());
+        !alarms.is_empty()
+    })
+    .expect("rio1 lost");
+    assert_eq!(
+        alarms.iter().map(|a| a.device.as_str()).collect::<Vec<_>>(),
+        ["rio1"]
+    );
+    // rio2 keeps exchanging: an input change arrives and an output change is written.
+    b.state().discrete[5] = true;
+    image[48] = 0x80;
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
+        img[32] == 0x20 && b.state().coils[7]
+    })
+    .expect("rio2 still runs");
+    assert!(io.is_healthy("rio2"));
+    assert!(!io.is_healthy("rio1"));
+    assert_eq!(
+        image[128 + 400] & 0b11,
+        0b10,
+        "healthy bits: rio1 0, rio2 1"
+    );
+}
