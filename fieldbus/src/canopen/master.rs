@@ -81,6 +81,18 @@ impl CanopenIo {
             .enable_all()
             .build()?;
         let bus = runtime.block_on(connect())?;
+        // Validation guarantees these; a hand-built config must not make the scan panic.
+        let mut cfg = cfg.clone();
+        for n in &mut cfg.nodes {
+            let fits = |m: &crate::map::PdoMapping| {
+                m.range.len > 0
+                    && m.range.end() <= A_LEN
+                    && usize::from(m.offset) + m.range.len <= 8
+            };
+            n.inputs.retain(fits);
+            n.outputs.retain(fits);
+        }
+        let cfg = &cfg;
         let n = cfg.nodes.len();
         let (in_tx, in_rx) = triple(CanIn {
             nodes: vec![NodeStatus::default(); n],

@@ -71,6 +71,13 @@ impl ModbusIo {
             .build()?;
         let mut sides = Vec::new();
         for cfg in devices {
+            // Validation guarantees these; a hand-built config must not make the scan panic.
+            let mut cfg = cfg.clone();
+            cfg.inputs
+                .retain(|m| m.range.len > 0 && m.range.end() <= A_LEN);
+            cfg.outputs
+                .retain(|m| m.range.len > 0 && m.range.end() <= A_LEN);
+            let cfg = &cfg;
             let (in_tx, in_rx) = triple(InFrame {
                 seq: 0,
                 fault: Fault::None,
