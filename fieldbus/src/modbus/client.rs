@@ -194,7 +194,7 @@ impl PacketIo for ModbusIo {
     }
 
     /// Commands every output mapping's `safe` value and waits (at most 4 request timeouts) until the
-    /// devices that answer have acknowledged it.
+    /// devices not declared lost have acknowledged it.
     fn safe_state(&mut self) {
         let mut image = [0u8; A_LEN];
         for d in &self.devices {
@@ -214,7 +214,7 @@ impl PacketIo for ModbusIo {
             if self
                 .devices
                 .iter()
-                .all(|d| !d.health.healthy() || d.acked.load(Ordering::Acquire) >= d.out_seq)
+                .all(|d| d.health.lost() || d.acked.load(Ordering::Acquire) >= d.out_seq)
             {
                 break;
             }
