@@ -97,7 +97,7 @@ fn configured_node_is_started_and_exchanges_pdos_every_sync() {
     node.state().inputs[8] = 0x55;
     let port = bus.port();
     let mut io =
-        CanopenIo::start(&node_cfg(60, heartbeat_20ms()), || async { Ok(port) }).expect("master");
+        CanopenIo::start(&node_cfg(300, heartbeat_20ms()), || async { Ok(port) }).expect("master");
     let mut image = vec![0u8; PACKETS_LEN];
     let mut alarms = Vec::new();
     tick_until(
