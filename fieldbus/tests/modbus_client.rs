@@ -15,9 +15,9 @@ fn device(addr: SocketAddr) -> ModbusDevice {
         name: "rio1".into(),
         address: addr,
         unit: 1,
-        timeout: Duration::from_millis(40),
+        timeout: Duration::from_millis(80),
         poll: Duration::from_micros(500),
-        alarm_ticks: 20,
+        alarm_ticks: 50,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(40),
         healthy: Some("I100K0".parse().expect("signal")),
@@ -148,8 +148,8 @@ fn killed_device_raises_alarm_takes_fail_state_and_recovers() {
     })
     .expect("alarm raised");
     assert!(
-        ticks <= 21,
-        "alarm within alarm_ticks (20) + 1, took {ticks}"
+        ticks <= 51,
+        "alarm within alarm_ticks (50) + 1, took {ticks}"
     );
     assert_eq!(alarms[0].device, "rio1");
     assert!(!alarms[0].cleared);
@@ -184,7 +184,7 @@ fn slow_and_mute_devices_time_out_into_the_alarm() {
     })
     .expect("healthy first");
 
-    sim.set_delay(Duration::from_millis(100)); // timeout is 40 ms
+    sim.set_delay(Duration::from_millis(250)); // timeout is 80 ms
     let mut alarms = Vec::new();
     tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
         alarms.extend(io.take_alarms());
