@@ -3,3 +3,23 @@
 //! See ARCHITECTURE.md at the repository root for how the crates fit together.
 
 pub mod cli;
+pub mod clock;
+pub mod compiled;
+pub mod config;
+pub mod handshake;
+pub mod image;
+pub mod io;
+pub mod machine;
+pub mod online;
+pub mod program;
+pub mod replay;
+pub mod retain;
+pub mod scheduler;
+pub mod sim;
+pub mod stats;
+pub mod testkit;
+pub mod trace;
+
+#[cfg(test)]
+#[path = "scheduler_tests.rs"]
+mod scheduler_tests;

@@ -1,0 +1,92 @@
+//! Opening an example machine directory for `run` and `replay`: configuration, PLC source, sim script.
+//!
+//! File locations come from FCRSYS through `characterization::load_machine`. TEMPORARY part
+//! (until the lead fills [`RunConfig`] from the typed `characterization::Machine`): the values
+//! are read by [`RunConfig::from_files_temporary`].
+
+use std::path::{Path, PathBuf};
+
+use compiler::InterfaceMap;
+
+use crate::compiled::{EngineKind, compile};
+use crate::config::RunConfig;
+use crate::online::CompileFn;
+use crate::sim::{CncSignals, Script, Sim};
+
+/// A machine ready to run.
+#[derive(Debug, Clone)]
+pub struct Machine {
+    /// The machine directory.
+    pub dir: PathBuf,
+    /// Runtime settings.
+    pub config: RunConfig,
+    /// The simulated machine's script (empty when there is no `sim.toml`).
+    pub script: Script,
+    /// The handshake signals.
+    pub signals: CncSignals,
+    /// The interface map (builtin plus `<machine>/interface.toml`).
+    pub interface: InterfaceMap,
+}
+
+impl Machine {
+    /// Opens `dir`; `plc` overrides the PLC source (as `ncplc build --plc`).
+    pub fn open(dir: &Path, plc: Option<&Path>) -> Result<Machine, String> {
+        if !dir.is_dir() {
+            return Err(format!("{}: not a machine directory", dir.display()));
+        }
+        // FCRSYS decides where the files are; the values are still read by the temporary helper.
+        let mut config = match characterization::load_machine(dir).machine {
+            Some(m) => {
+                let mp0 = &m.paths.mp0;
+                RunConfig::from_files_temporary(
+                    dir,
+                    &m.paths.iocfil.clone().unwrap_or_else(|| mp0.join("IOCFIL")),
+                    &m.paths.pgcfil.clone().unwrap_or_else(|| mp0.join("PGCFIL")),
+                    &m.paths.plc_source,
+                )
+            }
+            None => RunConfig::from_machine_dir_temporary(dir),
+        };
+        if let Some(p) = plc {
+            config.plc_source = p.to_path_buf();
+        }
+        let sim_path = dir.join("sim.toml");
+        let script = match std::fs::read_to_string(&sim_path) {
+            Ok(text) => {
+                Sim::parse_script(&text).map_err(|e| format!("{}: {e}", sim_path.display()))?
+            }
+            Err(_) => Script {
+                strobe_timeout_ms: 10_000,
+                ..Script::default()
+            },
+        };
+        let interface = InterfaceMap::load_for_machine(dir).map_err(|e| e.to_string())?;
+        let signals = CncSignals::from_lookup(|name| interface.signal(name));
+        Ok(Machine {
+            dir: dir.to_path_buf(),
+            config,
+            script,
+            signals,
+            interface,
+        })
+    }
+
+    /// Reads the PLC source.
+    pub fn read_source(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.config.plc_source)
+            .map_err(|e| format!("{}: {e}", self.config.plc_source.display()))
+    }
+
+    /// The source's name for diagnostics.
+    pub fn source_name(&self) -> String {
+        self.config.plc_source.display().to_string()
+    }
+
+    /// A compile function for this machine, `engine` and tick.
+    pub fn compile_fn(&self, engine: EngineKind, tick_ms: u32) -> CompileFn {
+        let cfg = self.config.clone();
+        let name = self.source_name();
+        let map = self.interface.clone();
+        std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, &map, tick_ms, engine))
+    }
+}
