@@ -279,7 +279,7 @@ fn master_and_node_talk_over_cannelloni_udp() {
     });
     let node = rt.block_on(async { Cia401Node::spawn(node_bus, 2) });
     node.state().inputs[0] = 0x5A;
-    let mut io = CanopenIo::start(&node_cfg(60, heartbeat_20ms()), || {
+    let mut io = CanopenIo::start(&node_cfg(60, heartbeat_20ms()), move || {
         UdpBus::bind(master_addr, node_addr)
     })
     .expect("master");
