@@ -10,7 +10,8 @@
 //!    simulated I/O and with the Modbus client (default 1 ms poll) and the HMI server active, an
 //!    HMI client reading 100 registers every millisecond.
 //!
-//! `FIELDBUS_BENCH_EVENTS` overrides the number of latency events (default 10,000).
+//! `FIELDBUS_BENCH_EVENTS` overrides the number of latency events (default 10,000);
+//! `FIELDBUS_BENCH_FIFO=1` runs the scan thread as SCHED_FIFO 80 (as `ncplc run` does when it may).
 
 use std::hint::black_box;
 use std::sync::Arc;
@@ -93,6 +94,15 @@ fn latency_report() {
     let scan = {
         let stop = stop.clone();
         std::thread::spawn(move || {
+            if std::env::var("FIELDBUS_BENCH_FIFO").is_ok_and(|v| v == "1") {
+                let param = libc::sched_param { sched_priority: 80 };
+                // SAFETY: plain syscall on the calling thread with a valid parameter block.
+                let rc = unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) };
+                println!(
+                    "scan thread SCHED_FIFO 80: {}",
+                    if rc == 0 { "on" } else { "refused" }
+                );
+            }
             let mut io = ModbusIo::start(&[device(addr, Duration::ZERO)]).expect("driver");
             let mut image = vec![0u8; PACKETS_LEN];
             let mut next = Instant::now();
