@@ -73,7 +73,9 @@ pub mod codes {
 }
 
 /// Default HMI server address.
-pub const DEFAULT_HMI_BIND: &str = "127.0.0.1:1502";
+pub const DEFAULT_HMI_BIND: std::net::SocketAddr = std::net::SocketAddr::V4(
+    std::net::SocketAddrV4::new(std::net::Ipv4Addr::LOCALHOST, 1502),
+);
 
 pub(crate) struct Ctx<'a> {
     file: &'a str,

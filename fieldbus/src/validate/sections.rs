@@ -10,12 +10,11 @@ use super::{Ctx, codes};
 use crate::map::*;
 
 pub(super) fn hmi(cx: &mut Ctx, raw: &RawHmi) -> HmiConfig {
-    let default: SocketAddr = SocketAddr::from(([127, 0, 0, 1], 1502));
     let bind = raw
         .bind
         .as_ref()
         .and_then(|b| cx.addr(b))
-        .unwrap_or(default);
+        .unwrap_or(super::DEFAULT_HMI_BIND);
     let mut holding: Vec<HmiWindow> = Vec::new();
     for w in &raw.holding {
         let w_ref = w.get_ref();
