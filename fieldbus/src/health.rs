@@ -82,6 +82,11 @@ impl Health {
         self.state == State::Healthy
     }
 
+    /// True once the device has been declared lost (and has not come back).
+    pub fn lost(&self) -> bool {
+        self.state == State::Lost
+    }
+
     /// Advances one tick with the newest frame's sequence number and fault; returns the alarm to
     /// raise or clear, if the state changed.
     pub fn tick(&mut self, seq: u64, fault: Fault) -> Option<IoAlarm> {

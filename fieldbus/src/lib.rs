@@ -6,6 +6,30 @@
 //! ([`canopen::master`]). [`start_hmi`] wraps any driver (the simulated one too) with the Modbus TCP
 //! server for an HMI or SCADA ([`modbus::server`]). Drivers never block the scan: their network tasks
 //! run on a private tokio runtime and exchange images through lock-free buffers ([`exchange`]).
+//!
+//! # Wiring it into `ncplc run`
+//! ```no_run
+//! use std::path::Path;
+//! use fieldbus::{DeclaredConnectors, IoKind};
+//!
+//! let machine = Path::new("plc-programs/lathe");
+//! // From IOCFIL: INx → inputs, OUx → outputs.
+//! let declared = DeclaredConnectors { inputs: vec![0, 1], outputs: vec![4, 5] };
+//! let kind: IoKind = "modbus".parse().expect("sim | modbus | canopen");
+//! let io = fieldbus::open(kind, machine, &declared).map_err(|diags| diags.len()).expect("valid map");
+//! // Optional HMI/SCADA server around any driver (returns `io` unchanged without `[hmi]`).
+//! let mut io = fieldbus::start_hmi(machine, &declared, io).map_err(|d| d.len()).expect("hmi");
+//! let mut image = vec![0u8; packets::PACKETS_LEN];
+//! for tick in 0..3 {
+//!     io.latch_inputs(tick, &mut image);
+//!     // … scan …
+//!     io.publish_outputs(tick, &image);
+//!     for alarm in io.take_alarms() {
+//!         eprintln!("{}: {}", alarm.device, alarm.message);
+//!     }
+//! }
+//! io.safe_state();
+//! ```
 
 pub mod canopen;
 pub mod exchange;

@@ -231,3 +231,29 @@ fn open_canopen_virtual_runs_the_simulated_nodes() {
     );
     assert!(io.take_alarms().is_empty());
 }
+
+#[test]
+fn drivers_start_from_inside_another_tokio_runtime() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let text = "[hmi]\nbind = \"127.0.0.1:0\"\n[canopen]\n[[canopen.node]]\nname = \"dio1\"\nnode_id = 4\n\
+                [[output]]\ndevice = \"dio1\"\nconnector = 4\npdo = 1\n";
+    std::fs::write(dir.path().join("io.toml"), text).expect("write");
+    let declared = DeclaredConnectors {
+        inputs: vec![],
+        outputs: vec![4],
+    };
+    let rt = runtime();
+    let names = rt.block_on(async {
+        let io = fieldbus::open(IoKind::Canopen, dir.path(), &declared)
+            .map_err(|d| format!("{d:?}"))
+            .expect("driver");
+        let io = fieldbus::start_hmi(dir.path(), &declared, io)
+            .map_err(|d| format!("{d:?}"))
+            .expect("hmi");
+        let name = io.name().to_string();
+        // Dropping the drivers inside the runtime must not panic either.
+        drop(io);
+        name
+    });
+    assert_eq!(names, "canopen");
+}

@@ -66,21 +66,41 @@ pub struct CanopenIo {
 
 impl CanopenIo {
     /// Starts a private runtime, connects the bus with `connect` (run inside that runtime, so it may
-    /// spawn tasks such as simulated nodes) and starts the master task.
+    /// spawn tasks such as simulated nodes) and starts the master task. Callable from any thread,
+    /// inside another tokio runtime too.
     pub fn start<B, F>(
         cfg: &CanopenConfig,
-        connect: impl FnOnce() -> F,
+        connect: impl FnOnce() -> F + Send + 'static,
     ) -> std::io::Result<CanopenIo>
     where
         B: CanBus,
-        F: Future<Output = std::io::Result<B>>,
+        F: Future<Output = std::io::Result<B>> + Send + 'static,
     {
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
             .thread_name("ncplc-canopen")
             .enable_all()
             .build()?;
-        let bus = runtime.block_on(connect())?;
+        // Not `block_on`: that panics when the caller is itself inside a tokio runtime.
+        let (tx, rx) = std::sync::mpsc::channel();
+        runtime.spawn(async move {
+            let _ = tx.send(connect().await);
+        });
+        let bus = rx
+            .recv()
+            .map_err(|_| std::io::Error::other("the CAN connect task ended"))??;
+        // Validation guarantees these; a hand-built config must not make the scan panic.
+        let mut cfg = cfg.clone();
+        for n in &mut cfg.nodes {
+            let fits = |m: &crate::map::PdoMapping| {
+                m.range.len > 0
+                    && m.range.end() <= A_LEN
+                    && usize::from(m.offset) + m.range.len <= 8
+            };
+            n.inputs.retain(fits);
+            n.outputs.retain(fits);
+        }
+        let cfg = &cfg;
         let n = cfg.nodes.len();
         let (in_tx, in_rx) = triple(CanIn {
             nodes: vec![NodeStatus::default(); n],

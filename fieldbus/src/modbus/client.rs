@@ -71,6 +71,13 @@ impl ModbusIo {
             .build()?;
         let mut sides = Vec::new();
         for cfg in devices {
+            // Validation guarantees these; a hand-built config must not make the scan panic.
+            let mut cfg = cfg.clone();
+            cfg.inputs
+                .retain(|m| m.range.len > 0 && m.range.end() <= A_LEN);
+            cfg.outputs
+                .retain(|m| m.range.len > 0 && m.range.end() <= A_LEN);
+            let cfg = &cfg;
             let (in_tx, in_rx) = triple(InFrame {
                 seq: 0,
                 fault: Fault::None,
@@ -187,7 +194,7 @@ impl PacketIo for ModbusIo {
     }
 
     /// Commands every output mapping's `safe` value and waits (at most 4 request timeouts) until the
-    /// devices that answer have acknowledged it.
+    /// devices not declared lost have acknowledged it.
     fn safe_state(&mut self) {
         let mut image = [0u8; A_LEN];
         for d in &self.devices {
@@ -207,7 +214,7 @@ impl PacketIo for ModbusIo {
             if self
                 .devices
                 .iter()
-                .all(|d| !d.health.healthy() || d.acked.load(Ordering::Acquire) >= d.out_seq)
+                .all(|d| d.health.lost() || d.acked.load(Ordering::Acquire) >= d.out_seq)
             {
                 break;
             }
@@ -266,9 +273,15 @@ impl DeviceTask {
                 return fault;
             }
             *backoff = self.cfg.reconnect_min;
-            tokio::select! {
-                () = self.wake.notified() => {}
-                () = tokio::time::sleep(self.cfg.poll) => {}
+            if self.cfg.poll.is_zero() {
+                // Back-to-back polling: tokio timers round up to whole milliseconds, so a zero
+                // sleep would cost up to 1 ms; yield instead (outputs are checked every cycle).
+                tokio::task::yield_now().await;
+            } else {
+                tokio::select! {
+                    () = self.wake.notified() => {}
+                    () = tokio::time::sleep(self.cfg.poll) => {}
+                }
             }
         }
     }

@@ -62,7 +62,13 @@ impl HmiIo {
             .thread_name("ncplc-hmi")
             .enable_all()
             .build()?;
-        let listener = runtime.block_on(tokio::net::TcpListener::bind(cfg.bind))?;
+        // A std bind, not `block_on`, which panics when the caller is inside a tokio runtime.
+        let std_listener = std::net::TcpListener::bind(cfg.bind)?;
+        std_listener.set_nonblocking(true)?;
+        let listener = {
+            let _guard = runtime.enter();
+            tokio::net::TcpListener::from_std(std_listener)?
+        };
         let local = listener.local_addr()?;
         let (snap_tx, snap_rx) = triple(vec![0u8; IMAGE]);
         let (w_tx, w_rx) = rtrb::RingBuffer::new(4096);
