@@ -430,11 +430,9 @@ pub fn tokenize(text: &str) -> (Vec<Spanned<'_>>, Vec<LexError>) {
             }
             continue;
         }
-        if let Some(at) = held_newline.take() {
-            if tok.starts_line() {
-                depth = 0;
-                out.push((at, Tok::Newline, at + 1));
-            }
+        if let Some(at) = held_newline.take().filter(|_| tok.starts_line()) {
+            depth = 0;
+            out.push((at, Tok::Newline, at + 1));
         }
         match tok {
             Tok::LParen | Tok::LBracket => depth += 1,

@@ -13,7 +13,7 @@ use crate::lexer::{self, LexErrorKind, Spanned, Tok};
 use crate::sema::codes;
 
 lalrpop_util::lalrpop_mod!(
-    #[allow(clippy::all, unused, missing_docs)]
+    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
     grammar
 );
 

@@ -7,6 +7,7 @@
 //! the rules of [`types`]; finally the usage warnings are computed. Every problem becomes a
 //! [`Diagnostic`] with a stable code ([`codes`]); checking never stops at the first error.
 
+mod calls;
 pub mod codes;
 mod expr;
 pub mod signals;
