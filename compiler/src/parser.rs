@@ -144,6 +144,21 @@ fn syntax_diagnostic(
             } else {
                 l..(l + 1).min(text.len())
             };
+            let after_def = text
+                .get(..l)
+                .map(|b| b.trim_end().to_ascii_uppercase())
+                .is_some_and(|b| b.ends_with("DEF") && !b.ends_with("_DEF"));
+            if after_def && !matches!(t, Tok::Newline | Tok::Error) {
+                let kind = match t {
+                    Tok::Signal(_) => "a signal",
+                    Tok::Pulse(_) => "a one-shot",
+                    _ => "a keyword or symbol",
+                };
+                return Some(
+                    Diagnostic::error(codes::RESERVED_NAME, file, span, format!("{what} is {kind}, not a name"))
+                        .with_hint("a name is letters, digits and `_`, starts with a letter and must not look like a signal (U10K5), a one-shot (P2) or a keyword"),
+                );
+            }
             Diagnostic::error(codes::SYNTAX, file, span, format!("unexpected {what}"))
                 .with_hint(format!("expected {}", friendly(&expected)))
         }
@@ -387,5 +402,13 @@ mod tests {
     #[test]
     fn eof_inside_brackets() {
         assert_eq!(codes_of("U1K0=(I0K0"), vec![(1003, 1, 11)]);
+    }
+
+    #[test]
+    fn names_that_look_like_signals_or_keywords() {
+        assert_eq!(
+            codes_of("DEF U10K5 = I0K0\nDEF P2 : BOOL\ndef THEN : BOOL\nDEF X = 5"),
+            vec![(1202, 1, 5), (1202, 2, 5), (1202, 3, 5), (1003, 4, 9)]
+        );
     }
 }
