@@ -537,6 +537,8 @@ mod tests {
             toks("\n\nU1K0=I0K0+\n I0K1\n\nU1K1=(I0K0\n*I0K1)\n"),
             toks("U1K0=I0K0+I0K1\nU1K1=(I0K0*I0K1)\n")
         );
+        // A comment after the operator does not end the statement.
+        assert_eq!(toks("U1K0=I0K0+ ; more below\nI0K1"), toks("U1K0=I0K0+I0K1"));
         // A keyword that starts a line ends an unclosed bracket's statement.
         let t = toks("U1K0=(I0K0\nDEF x : BOOL\n");
         assert_eq!(t.iter().filter(|t| **t == Tok::Newline).count(), 2);

@@ -302,6 +302,8 @@ mod tests {
             ),
             (vec![0, 1], vec![4, 5], 400, 20, 4)
         );
+        let bare = tempfile::tempdir().expect("temp dir");
+        assert_eq!(default_plc_source(bare.path()), bare.path().join("MP0").join("PLCPRG"));
         assert_eq!(
             default_plc_source(dir.path()),
             dir.path().join("MP0").join("LOGIC")
