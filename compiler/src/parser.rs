@@ -50,7 +50,8 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
         }
     }
     let program = nest(file, lines, &mut diags);
-    let diags = diags.into_iter().map(|d| d.locate(text)).collect();
+    let lines = lexer::LineIndex::new(text);
+    let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
     (program, diags)
 }
 
