@@ -216,9 +216,9 @@ fn nest(file: &str, lines: Vec<Line>, diags: &mut Vec<Diagnostic>) -> Program {
             &mut program.fast
         };
         match line {
-            Line::Stmt(s) => push(&mut stack, top, s),
+            Line::Stmt(s) => push(&mut stack, top, *s),
             Line::If(cond, span) => stack.push(Frame {
-                cond,
+                cond: *cond,
                 span,
                 then_body: Vec::new(),
                 else_body: None,
