@@ -27,7 +27,14 @@ impl MachineContext {
     /// The example lathe's facts, for tests: inputs IN0, IN1, outputs OU4, OU5, `SPL=64`,
     /// `CLO=10,2`, the builtin interface map.
     pub fn lathe_like() -> Self {
-        MachineContext { a_inputs: vec![0, 1], a_outputs: vec![4, 5], spl: 64, tick_ms: 10, time_slow_ms: 2, interface: InterfaceMap::builtin() }
+        MachineContext {
+            a_inputs: vec![0, 1],
+            a_outputs: vec![4, 5],
+            spl: 64,
+            tick_ms: 10,
+            time_slow_ms: 2,
+            interface: InterfaceMap::builtin(),
+        }
     }
 
     /// True when packet-A connector `c` is declared (as input or output).

@@ -64,5 +64,10 @@ pub fn compile(file_name: &str, source: &[u8], ctx: &MachineContext) -> Compilat
     }
     diagnostics.sort_by_key(|d| (d.line, d.column));
     stats.front_end_micros = u64::try_from(start.elapsed().as_micros()).unwrap_or(u64::MAX);
-    Compilation { program, diagnostics, stats, text }
+    Compilation {
+        program,
+        diagnostics,
+        stats,
+        text,
+    }
 }

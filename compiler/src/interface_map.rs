@@ -142,35 +142,63 @@ impl InterfaceMap {
 
     /// A map without entries.
     pub fn empty() -> Self {
-        InterfaceMap { signals: Vec::new(), by_name: HashMap::new() }
+        InterfaceMap {
+            signals: Vec::new(),
+            by_name: HashMap::new(),
+        }
     }
 
     /// Parses a map file's text (`file` names it in errors).
     pub fn parse(file: &str, text: &str) -> Result<Self, InterfaceMapError> {
-        let raw: RawMap = toml::from_str(text).map_err(|e| InterfaceMapError::Toml { file: file.to_string(), message: e.to_string() })?;
+        let raw: RawMap = toml::from_str(text).map_err(|e| InterfaceMapError::Toml {
+            file: file.to_string(),
+            message: e.to_string(),
+        })?;
         let mut map = Self::empty();
         for e in raw.signal {
-            let bad = |message: String| InterfaceMapError::Entry { file: file.to_string(), name: e.name.clone(), message };
+            let bad = |message: String| InterfaceMapError::Entry {
+                file: file.to_string(),
+                name: e.name.clone(),
+                message,
+            };
             let name = e.name.to_ascii_uppercase();
             let valid_name = name.chars().next().is_some_and(|c| c.is_ascii_alphabetic())
                 && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
             if !valid_name {
-                return Err(bad("a name is letters, digits and `_`, starting with a letter".into()));
+                return Err(bad(
+                    "a name is letters, digits and `_`, starting with a letter".into(),
+                ));
             }
-            let signal: Signal = e.address.parse().map_err(|err: packets::SignalError| bad(err.to_string()))?;
+            let signal: Signal = e
+                .address
+                .parse()
+                .map_err(|err: packets::SignalError| bad(err.to_string()))?;
             match (signal, e.width) {
                 (Signal::Bit { .. }, Width::Bit) => {}
                 (Signal::Byte { index, .. }, w) if w != Width::Bit => {
                     if index + w.bytes() > 4 {
-                        return Err(bad(format!("a {w:?} at {signal} runs past the end of its connector")));
+                        return Err(bad(format!(
+                            "a {w:?} at {signal} runs past the end of its connector"
+                        )));
                     }
                 }
-                _ => return Err(bad(format!("width {:?} does not fit address {signal} (bits use I/U, bytes W)", e.width))),
+                _ => {
+                    return Err(bad(format!(
+                        "width {:?} does not fit address {signal} (bits use I/U, bytes W)",
+                        e.width
+                    )));
+                }
             }
             if map.by_name.contains_key(&name) {
                 return Err(bad("defined twice".into()));
             }
-            map.insert(InterfaceSignal { name, signal, width: e.width, dir: e.dir, meaning: e.meaning });
+            map.insert(InterfaceSignal {
+                name,
+                signal,
+                width: e.width,
+                dir: e.dir,
+                meaning: e.meaning,
+            });
         }
         Ok(map)
     }
@@ -200,13 +228,18 @@ impl InterfaceMap {
             return Ok(Self::builtin());
         }
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| InterfaceMapError::Io { file: file.clone(), message: e.to_string() })?;
+        let text = std::fs::read_to_string(&path).map_err(|e| InterfaceMapError::Io {
+            file: file.clone(),
+            message: e.to_string(),
+        })?;
         Ok(Self::builtin().with_overrides(Self::parse(&file, &text)?))
     }
 
     /// The entry named `name` (case-insensitive).
     pub fn get(&self, name: &str) -> Option<&InterfaceSignal> {
-        self.by_name.get(&name.to_ascii_uppercase()).map(|&i| &self.signals[i])
+        self.by_name
+            .get(&name.to_ascii_uppercase())
+            .map(|&i| &self.signals[i])
     }
 
     /// The address of `name` (case-insensitive).
@@ -247,7 +280,10 @@ mod tests {
         assert_eq!(map.signal("MFIN"), Some("U11K0".parse().expect("signal")));
         assert_eq!(map.signal("RABI3"), Some("U10K10".parse().expect("signal")));
         let scode = map.get("SCODE").expect("SCODE");
-        assert_eq!((scode.width, scode.dir), (Width::Dword, Direction::CncToPlc));
+        assert_eq!(
+            (scode.width, scode.dir),
+            (Width::Dword, Direction::CncToPlc)
+        );
         assert_eq!(map.fault_flag(), Some("U11K8".parse().expect("signal")));
     }
 
@@ -262,14 +298,26 @@ mod tests {
         let map = InterfaceMap::builtin().with_overrides(o);
         assert_eq!(map.len(), 50);
         assert_eq!(map.signal("MFIN"), Some("U12K0".parse().expect("signal")));
-        assert_eq!(map.get("door").map(|s| s.meaning.as_str()), Some("door closed"));
+        assert_eq!(
+            map.get("door").map(|s| s.meaning.as_str()),
+            Some("door closed")
+        );
     }
 
     #[test]
     fn bad_entries_are_rejected_with_the_reason() {
-        let e = InterfaceMap::parse("f", "[[signal]]\nname='X'\naddress='W0K2'\nwidth='dword'\ndir='in'\n");
-        assert!(matches!(e, Err(InterfaceMapError::Entry { ref name, .. }) if name == "X"), "{e:?}");
-        let e = InterfaceMap::parse("f", "[[signal]]\nname='X'\naddress='I0K2'\nwidth='byte'\ndir='in'\n");
+        let e = InterfaceMap::parse(
+            "f",
+            "[[signal]]\nname='X'\naddress='W0K2'\nwidth='dword'\ndir='in'\n",
+        );
+        assert!(
+            matches!(e, Err(InterfaceMapError::Entry { ref name, .. }) if name == "X"),
+            "{e:?}"
+        );
+        let e = InterfaceMap::parse(
+            "f",
+            "[[signal]]\nname='X'\naddress='I0K2'\nwidth='byte'\ndir='in'\n",
+        );
         assert!(matches!(e, Err(InterfaceMapError::Entry { .. })), "{e:?}");
         let e = InterfaceMap::parse("f", "[[signal]]\nname='X'\naddress='I0K2'\n");
         assert!(matches!(e, Err(InterfaceMapError::Toml { .. })), "{e:?}");

@@ -20,12 +20,28 @@ pub fn decode_source(bytes: &[u8]) -> String {
     if let Ok(text) = std::str::from_utf8(bytes) {
         return text.to_string();
     }
-    let cp866_lower = bytes.iter().filter(|&&b| (0xA0..=0xAF).contains(&b)).count();
+    let cp866_lower = bytes
+        .iter()
+        .filter(|&&b| (0xA0..=0xAF).contains(&b))
+        .count();
     let cp1251_letters = bytes.iter().filter(|&&b| b >= 0xC0).count();
-    let table: Vec<char> = if cp866_lower > cp1251_letters { CP866_HIGH.chars().collect() } else { CP1251_HIGH.chars().collect() };
+    let table: Vec<char> = if cp866_lower > cp1251_letters {
+        CP866_HIGH.chars().collect()
+    } else {
+        CP1251_HIGH.chars().collect()
+    };
     bytes
         .iter()
-        .map(|&b| if b < 0x80 { char::from(b) } else { table.get(usize::from(b - 0x80)).copied().unwrap_or('\u{FFFD}') })
+        .map(|&b| {
+            if b < 0x80 {
+                char::from(b)
+            } else {
+                table
+                    .get(usize::from(b - 0x80))
+                    .copied()
+                    .unwrap_or('\u{FFFD}')
+            }
+        })
         .collect()
 }
 
@@ -267,7 +283,9 @@ fn hex<'a>(lex: &mut logos::Lexer<'a, Tok<'a>>) -> Result<u32, LexErrorKind> {
 }
 
 fn real<'a>(lex: &mut logos::Lexer<'a, Tok<'a>>) -> Result<f64, LexErrorKind> {
-    lex.slice().parse().map_err(|_| LexErrorKind::NumberTooLarge)
+    lex.slice()
+        .parse()
+        .map_err(|_| LexErrorKind::NumberTooLarge)
 }
 
 fn duration<'a>(lex: &mut logos::Lexer<'a, Tok<'a>>) -> Result<f64, LexErrorKind> {
@@ -292,15 +310,35 @@ fn signal<'a>(lex: &mut logos::Lexer<'a, Tok<'a>>) -> Result<RawSignal, LexError
         _ => SignalKind::W,
     };
     let body = &s[1..];
-    let p = body.find(|c: char| c.is_ascii_alphabetic()).ok_or(LexErrorKind::InvalidChar)?;
-    let packet = body[p..].chars().next().and_then(Packet::from_letter).ok_or(LexErrorKind::InvalidChar)?;
-    Ok(RawSignal { kind, connector: number(&body[..p], 10)?, packet, number: number(&body[p + 1..], 10)? })
+    let p = body
+        .find(|c: char| c.is_ascii_alphabetic())
+        .ok_or(LexErrorKind::InvalidChar)?;
+    let packet = body[p..]
+        .chars()
+        .next()
+        .and_then(Packet::from_letter)
+        .ok_or(LexErrorKind::InvalidChar)?;
+    Ok(RawSignal {
+        kind,
+        connector: number(&body[..p], 10)?,
+        packet,
+        number: number(&body[p + 1..], 10)?,
+    })
 }
 
 fn sys_signal<'a>(lex: &mut logos::Lexer<'a, Tok<'a>>) -> Result<RawSignal, LexErrorKind> {
     let s = lex.slice();
-    let packet = s[1..].chars().next().and_then(Packet::from_letter).ok_or(LexErrorKind::InvalidChar)?;
-    Ok(RawSignal { kind: SignalKind::S, connector: 0, packet, number: number(&s[2..], 10)? })
+    let packet = s[1..]
+        .chars()
+        .next()
+        .and_then(Packet::from_letter)
+        .ok_or(LexErrorKind::InvalidChar)?;
+    Ok(RawSignal {
+        kind: SignalKind::S,
+        connector: 0,
+        packet,
+        number: number(&s[2..], 10)?,
+    })
 }
 
 /// A token with its byte span `(start, token, end)`, the triple LALRPOP's external lexer expects.
@@ -340,7 +378,10 @@ impl Tok<'_> {
     /// True for keywords that can only start a line: a line break before one of them always ends
     /// the statement, even inside an unclosed bracket (limits the damage of a missing `)`).
     fn starts_line(&self) -> bool {
-        matches!(self, Tok::Def | Tok::If | Tok::Else | Tok::EndIf | Tok::Set | Tok::Res | Tok::Dollar)
+        matches!(
+            self,
+            Tok::Def | Tok::If | Tok::Else | Tok::EndIf | Tok::Set | Tok::Res | Tok::Dollar
+        )
     }
 }
 
@@ -359,7 +400,9 @@ pub fn tokenize(text: &str) -> (Vec<Spanned<'_>>, Vec<LexError>) {
             Ok(t) => t,
             Err(kind) => {
                 // Merge a run of invalid characters into one error.
-                if let (Some(last), Some((_, Tok::Error, end))) = (errors.last_mut(), out.last_mut()) {
+                if let (Some(last), Some((_, Tok::Error, end))) =
+                    (errors.last_mut(), out.last_mut())
+                {
                     let last: &mut LexError = last;
                     if *end == span.start && last.kind == kind {
                         *end = span.end;
@@ -367,7 +410,10 @@ pub fn tokenize(text: &str) -> (Vec<Spanned<'_>>, Vec<LexError>) {
                         continue;
                     }
                 }
-                errors.push(LexError { kind, span: span.clone() });
+                errors.push(LexError {
+                    kind,
+                    span: span.clone(),
+                });
                 Tok::Error
             }
         };
@@ -427,7 +473,14 @@ mod tests {
 
     #[test]
     fn seed_line_tokens() {
-        let sig = |kind, connector, packet, number| Tok::Signal(RawSignal { kind, connector, packet, number });
+        let sig = |kind, connector, packet, number| {
+            Tok::Signal(RawSignal {
+                kind,
+                connector,
+                packet,
+                number,
+            })
+        };
         assert_eq!(
             toks("U150N0=[W3K0=91H]+u150n0*/I150N1 ; комментарий"),
             vec![
@@ -446,7 +499,15 @@ mod tests {
                 Tok::Newline,
             ]
         );
-        assert_eq!(toks("P2=SK1023"), vec![Tok::Pulse(2), Tok::Eq, sig(SignalKind::S, 0, Packet::K, 1023), Tok::Newline]);
+        assert_eq!(
+            toks("P2=SK1023"),
+            vec![
+                Tok::Pulse(2),
+                Tok::Eq,
+                sig(SignalKind::S, 0, Packet::K, 1023),
+                Tok::Newline
+            ]
+        );
     }
 
     #[test]

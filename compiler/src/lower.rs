@@ -10,8 +10,16 @@ use crate::sema::{Checked, codes};
 
 /// Finishes a checked program; an IR error becomes a located diagnostic at the start of `file`.
 pub fn lower(file: &str, checked: Checked) -> Result<ir::Program, Diagnostic> {
-    checked.builder.finish(checked.fast, checked.slow).map_err(|e| {
-        Diagnostic::error(codes::LOWERING, file, 0..0, format!("internal compiler error while lowering: {e}"))
+    checked
+        .builder
+        .finish(checked.fast, checked.slow)
+        .map_err(|e| {
+            Diagnostic::error(
+                codes::LOWERING,
+                file,
+                0..0,
+                format!("internal compiler error while lowering: {e}"),
+            )
             .with_hint("please report this program; it passed all checks but the IR rejected it")
-    })
+        })
 }

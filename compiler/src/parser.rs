@@ -32,10 +32,15 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
     truncate_after_second_dollar(file, text, &mut tokens, &mut diags);
 
     let mut recovered = Vec::new();
-    let lines = match grammar::LinesParser::new().parse(&mut recovered, tokens.into_iter().map(Ok::<_, ()>)) {
+    let lines = match grammar::LinesParser::new()
+        .parse(&mut recovered, tokens.into_iter().map(Ok::<_, ()>))
+    {
         Ok(lines) => lines,
         Err(e) => {
-            recovered.push(lalrpop_util::ErrorRecovery { error: e, dropped_tokens: Vec::new() });
+            recovered.push(lalrpop_util::ErrorRecovery {
+                error: e,
+                dropped_tokens: Vec::new(),
+            });
             Vec::new()
         }
     };
@@ -50,11 +55,18 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
 }
 
 /// Finds the second `$` line; drops every token after it and reports them once.
-fn truncate_after_second_dollar(file: &str, text: &str, tokens: &mut Vec<Spanned<'_>>, diags: &mut Vec<Diagnostic>) {
+fn truncate_after_second_dollar(
+    file: &str,
+    text: &str,
+    tokens: &mut Vec<Spanned<'_>>,
+    diags: &mut Vec<Diagnostic>,
+) {
     let mut seen = 0;
     let mut at_line_start = true;
     for i in 0..tokens.len() {
-        let is_dollar_line = at_line_start && tokens[i].1 == Tok::Dollar && matches!(tokens.get(i + 1), Some((_, Tok::Newline, _)));
+        let is_dollar_line = at_line_start
+            && tokens[i].1 == Tok::Dollar
+            && matches!(tokens.get(i + 1), Some((_, Tok::Newline, _)));
         at_line_start = tokens[i].1 == Tok::Newline;
         if is_dollar_line {
             seen += 1;
@@ -98,31 +110,61 @@ fn friendly(expected: &[String]) -> String {
     if names.len() > 10 {
         return "an operand (signal, name, number, `(`, `[`) or an operator".to_string();
     }
-    let quoted: Vec<String> =
-        names.iter().map(|n| if n.starts_with("a ") || n.starts_with("an ") || *n == "end of line" { n.to_string() } else { format!("`{n}`") }).collect();
+    let quoted: Vec<String> = names
+        .iter()
+        .map(|n| {
+            if n.starts_with("a ") || n.starts_with("an ") || *n == "end of line" {
+                n.to_string()
+            } else {
+                format!("`{n}`")
+            }
+        })
+        .collect();
     quoted.join(", ")
 }
 
-fn syntax_diagnostic(file: &str, text: &str, e: ParseError<usize, Tok<'_>, ()>) -> Option<Diagnostic> {
+fn syntax_diagnostic(
+    file: &str,
+    text: &str,
+    e: ParseError<usize, Tok<'_>, ()>,
+) -> Option<Diagnostic> {
     Some(match e {
         // The lexer already reported the unreadable text.
-        ParseError::UnrecognizedToken { token: (_, Tok::Error, _), .. } => return None,
-        ParseError::UnrecognizedToken { token: (l, t, r), expected } => {
+        ParseError::UnrecognizedToken {
+            token: (_, Tok::Error, _),
+            ..
+        } => return None,
+        ParseError::UnrecognizedToken {
+            token: (l, t, r),
+            expected,
+        } => {
             let what = describe(text, l, &t, r);
-            let span = if r > l { l..r } else { l..(l + 1).min(text.len()) };
-            Diagnostic::error(codes::SYNTAX, file, span, format!("unexpected {what}")).with_hint(format!("expected {}", friendly(&expected)))
+            let span = if r > l {
+                l..r
+            } else {
+                l..(l + 1).min(text.len())
+            };
+            Diagnostic::error(codes::SYNTAX, file, span, format!("unexpected {what}"))
+                .with_hint(format!("expected {}", friendly(&expected)))
         }
         ParseError::UnrecognizedEof { location, expected } => {
             let start = location.min(text.len());
-            Diagnostic::error(codes::UNEXPECTED_EOF, file, start..start, "the file ends inside a statement")
-                .with_hint(format!("expected {}", friendly(&expected)))
+            Diagnostic::error(
+                codes::UNEXPECTED_EOF,
+                file,
+                start..start,
+                "the file ends inside a statement",
+            )
+            .with_hint(format!("expected {}", friendly(&expected)))
         }
         ParseError::ExtraToken { token: (l, t, r) } => {
             let what = describe(text, l, &t, r);
-            Diagnostic::error(codes::SYNTAX, file, l..r, format!("unexpected {what}")).with_hint("one statement per line")
+            Diagnostic::error(codes::SYNTAX, file, l..r, format!("unexpected {what}"))
+                .with_hint("one statement per line")
         }
         ParseError::InvalidToken { location } => {
-            Diagnostic::error(codes::SYNTAX, file, location..location, "unreadable token").with_hint("check the spelling")
+            Diagnostic::error(codes::SYNTAX, file, location..location, "unreadable token")
+                .with_hint("check the spelling")
         }
         ParseError::User { .. } => return None,
     })
@@ -152,37 +194,67 @@ fn nest(file: &str, lines: Vec<Line>, diags: &mut Vec<Diagnostic>) -> Program {
     let mut stack: Vec<Frame> = Vec::new();
     let mut in_slow = false;
     for line in lines {
-        let top = if in_slow { &mut program.slow } else { &mut program.fast };
+        let top = if in_slow {
+            &mut program.slow
+        } else {
+            &mut program.fast
+        };
         match line {
             Line::Stmt(s) => push(&mut stack, top, s),
-            Line::If(cond, span) => stack.push(Frame { cond, span, then_body: Vec::new(), else_body: None }),
+            Line::If(cond, span) => stack.push(Frame {
+                cond,
+                span,
+                then_body: Vec::new(),
+                else_body: None,
+            }),
             Line::Else(span) => match stack.last_mut() {
                 Some(f) if f.else_body.is_none() => f.else_body = Some(Vec::new()),
                 Some(_) => diags.push(
-                    Diagnostic::error(codes::ELSE_WITHOUT_IF, file, span, "second `ELSE` in one `IF`")
-                        .with_hint("an `IF` has at most one `ELSE`; close it with `END_IF` first"),
+                    Diagnostic::error(
+                        codes::ELSE_WITHOUT_IF,
+                        file,
+                        span,
+                        "second `ELSE` in one `IF`",
+                    )
+                    .with_hint("an `IF` has at most one `ELSE`; close it with `END_IF` first"),
                 ),
                 None => diags.push(
-                    Diagnostic::error(codes::ELSE_WITHOUT_IF, file, span, "`ELSE` without `IF`").with_hint("`ELSE` belongs between `IF … THEN` and `END_IF`"),
+                    Diagnostic::error(codes::ELSE_WITHOUT_IF, file, span, "`ELSE` without `IF`")
+                        .with_hint("`ELSE` belongs between `IF … THEN` and `END_IF`"),
                 ),
             },
             Line::EndIf(span) => match stack.pop() {
                 Some(f) => {
                     let stmt = Stmt {
-                        kind: StmtKind::If { cond: f.cond, then_body: f.then_body, else_body: f.else_body.unwrap_or_default() },
+                        kind: StmtKind::If {
+                            cond: f.cond,
+                            then_body: f.then_body,
+                            else_body: f.else_body.unwrap_or_default(),
+                        },
                         span: f.span,
                     };
                     push(&mut stack, top, stmt);
                 }
                 None => diags.push(
-                    Diagnostic::error(codes::END_IF_WITHOUT_IF, file, span, "`END_IF` without `IF`").with_hint("every `END_IF` closes an earlier `IF … THEN` line"),
+                    Diagnostic::error(
+                        codes::END_IF_WITHOUT_IF,
+                        file,
+                        span,
+                        "`END_IF` without `IF`",
+                    )
+                    .with_hint("every `END_IF` closes an earlier `IF … THEN` line"),
                 ),
             },
             Line::Dollar(span) => {
                 if !stack.is_empty() {
                     diags.push(
-                        Diagnostic::error(codes::DOLLAR_IN_IF, file, span, "`$` inside an `IF` block")
-                            .with_hint("close the `IF` with `END_IF` before the `$` line"),
+                        Diagnostic::error(
+                            codes::DOLLAR_IN_IF,
+                            file,
+                            span,
+                            "`$` inside an `IF` block",
+                        )
+                        .with_hint("close the `IF` with `END_IF` before the `$` line"),
                     );
                 } else if program.separator.is_none() {
                     program.separator = Some(span);
@@ -194,11 +266,27 @@ fn nest(file: &str, lines: Vec<Line>, diags: &mut Vec<Diagnostic>) -> Program {
     // Close what is still open so that sema checks the statements inside; report each IF.
     while let Some(f) = stack.pop() {
         diags.push(
-            Diagnostic::error(codes::IF_WITHOUT_END_IF, file, f.span.clone(), "`IF` without `END_IF`").with_hint("add an `END_IF` line after the block"),
+            Diagnostic::error(
+                codes::IF_WITHOUT_END_IF,
+                file,
+                f.span.clone(),
+                "`IF` without `END_IF`",
+            )
+            .with_hint("add an `END_IF` line after the block"),
         );
-        let top = if in_slow { &mut program.slow } else { &mut program.fast };
-        let stmt =
-            Stmt { kind: StmtKind::If { cond: f.cond, then_body: f.then_body, else_body: f.else_body.unwrap_or_default() }, span: f.span };
+        let top = if in_slow {
+            &mut program.slow
+        } else {
+            &mut program.fast
+        };
+        let stmt = Stmt {
+            kind: StmtKind::If {
+                cond: f.cond,
+                then_body: f.then_body,
+                else_body: f.else_body.unwrap_or_default(),
+            },
+            span: f.span,
+        };
         push(&mut stack, top, stmt);
     }
     program
@@ -210,7 +298,11 @@ mod tests {
     use crate::ast::*;
 
     fn codes_of(src: &str) -> Vec<(u32, u32, u32)> {
-        parse("t.plc", src).1.iter().map(|d| (d.code, d.line, d.column)).collect()
+        parse("t.plc", src)
+            .1
+            .iter()
+            .map(|d| (d.code, d.line, d.column))
+            .collect()
     }
 
     #[test]
@@ -228,9 +320,15 @@ mod tests {
     fn precedence_or_below_and_below_not() {
         let (p, d) = parse("t", "U1K0=I0K0+I0K1*/I0K2");
         assert_eq!(d, vec![]);
-        let StmtKind::Assign { value, .. } = &p.fast[0].kind else { panic!("assignment expected") };
-        let ExprKind::Binary(BinOp::Plus, _, rhs) = &value.kind else { panic!("+ at the top: {value:?}") };
-        let ExprKind::Binary(BinOp::Star, _, not) = &rhs.kind else { panic!("* below +") };
+        let StmtKind::Assign { value, .. } = &p.fast[0].kind else {
+            panic!("assignment expected")
+        };
+        let ExprKind::Binary(BinOp::Plus, _, rhs) = &value.kind else {
+            panic!("+ at the top: {value:?}")
+        };
+        let ExprKind::Binary(BinOp::Star, _, not) = &rhs.kind else {
+            panic!("* below +")
+        };
         assert!(matches!(not.kind, ExprKind::Unary(UnOp::Slash, _)));
     }
 
@@ -240,7 +338,14 @@ mod tests {
         let (p, d) = parse("t", src);
         assert_eq!(d, vec![]);
         assert_eq!(p.fast.len(), 1);
-        let StmtKind::If { then_body, else_body, .. } = &p.fast[0].kind else { panic!("IF expected") };
+        let StmtKind::If {
+            then_body,
+            else_body,
+            ..
+        } = &p.fast[0].kind
+        else {
+            panic!("IF expected")
+        };
         assert_eq!(then_body.len(), 2);
         assert_eq!(else_body.len(), 1);
         assert_eq!(p.slow.len(), 1);
@@ -251,15 +356,32 @@ mod tests {
         let src = "U1K0=\nU1K1==I0K0\nU1K2=I0K0\nU1K3=I0K0 I0K1\nU1K4=§\n";
         let (p, d) = parse("t", src);
         // Line 1 continues onto line 2 (ends with `=`), so the first error is on line 2.
-        assert_eq!(d.iter().map(|d| (d.code, d.line, d.column)).collect::<Vec<_>>(), vec![(1001, 5, 6), (1003, 2, 5), (1003, 4, 11)]);
-        assert_eq!(p.fast.iter().filter(|s| matches!(s.kind, StmtKind::Assign { .. })).count(), 1);
+        assert_eq!(
+            d.iter()
+                .map(|d| (d.code, d.line, d.column))
+                .collect::<Vec<_>>(),
+            vec![(1001, 5, 6), (1003, 2, 5), (1003, 4, 11)]
+        );
+        assert_eq!(
+            p.fast
+                .iter()
+                .filter(|s| matches!(s.kind, StmtKind::Assign { .. }))
+                .count(),
+            1
+        );
     }
 
     #[test]
     fn block_structure_errors() {
-        assert_eq!(codes_of("ELSE\nEND_IF\nIF I0K0 THEN\nU1K0=1\n"), vec![(1006, 1, 1), (1007, 2, 1), (1008, 3, 1)]);
+        assert_eq!(
+            codes_of("ELSE\nEND_IF\nIF I0K0 THEN\nU1K0=1\n"),
+            vec![(1006, 1, 1), (1007, 2, 1), (1008, 3, 1)]
+        );
         assert_eq!(codes_of("IF I0K0 THEN\n$\nEND_IF\n"), vec![(1009, 2, 1)]);
-        assert_eq!(codes_of("U1K0=1\n$\nU1K1=1\n$\nU1K2=1\ngarbage ]]\n"), vec![(1005, 5, 1)]);
+        assert_eq!(
+            codes_of("U1K0=1\n$\nU1K1=1\n$\nU1K2=1\ngarbage ]]\n"),
+            vec![(1005, 5, 1)]
+        );
     }
 
     #[test]

@@ -17,11 +17,21 @@ fn not(e: Expr) -> Expr {
 }
 
 fn bin(op: BinOp, a: Expr, b: Expr) -> Expr {
-    Expr::Binary { op, ty: Ty::Bool, lhs: Box::new(a), rhs: Box::new(b) }
+    Expr::Binary {
+        op,
+        ty: Ty::Bool,
+        lhs: Box::new(a),
+        rhs: Box::new(b),
+    }
 }
 
 fn cmp_byte(s: &str, v: u8) -> Expr {
-    Expr::Cmp { op: CmpOp::Eq, ty: Ty::Byte, lhs: Box::new(load(s)), rhs: Box::new(Expr::Const(Value::Byte(v))) }
+    Expr::Cmp {
+        op: CmpOp::Eq,
+        ty: Ty::Byte,
+        lhs: Box::new(load(s)),
+        rhs: Box::new(Expr::Const(Value::Byte(v))),
+    }
 }
 
 fn one(src: &str) -> Stmt {
@@ -33,22 +43,50 @@ fn one(src: &str) -> Stmt {
 }
 
 fn assign(target: &str, value: Expr) -> Stmt {
-    Stmt::Assign { place: Place::Signal(sig(target)), value }
+    Stmt::Assign {
+        place: Place::Signal(sig(target)),
+        value,
+    }
 }
 
 #[test]
 fn each_seed_statement_has_its_ladder_meaning() {
-    assert_eq!(one(";comment line\nU180K0=I0K2"), assign("U180K0", load("I0K2")));
+    assert_eq!(
+        one(";comment line\nU180K0=I0K2"),
+        assign("U180K0", load("I0K2"))
+    );
     assert_eq!(one("U170K7=/I1A29"), assign("U170K7", not(load("I1A29"))));
-    assert_eq!(one("U10K5=U150N0*/I150N1"), assign("U10K5", bin(BinOp::And, load("U150N0"), not(load("I150N1")))));
-    assert_eq!(one("U150N2=/U250N0+U250N0"), assign("U150N2", bin(BinOp::Or, not(load("U250N0")), load("U250N0"))));
+    assert_eq!(
+        one("U10K5=U150N0*/I150N1"),
+        assign(
+            "U10K5",
+            bin(BinOp::And, load("U150N0"), not(load("I150N1")))
+        )
+    );
+    assert_eq!(
+        one("U150N2=/U250N0+U250N0"),
+        assign(
+            "U150N2",
+            bin(BinOp::Or, not(load("U250N0")), load("U250N0"))
+        )
+    );
     let latch = bin(
         BinOp::Or,
         cmp_byte("W3K0", 0x91),
-        bin(BinOp::And, bin(BinOp::And, load("U150N0"), not(cmp_byte("W3K0", 0x90))), not(load("I0K1"))),
+        bin(
+            BinOp::And,
+            bin(BinOp::And, load("U150N0"), not(cmp_byte("W3K0", 0x90))),
+            not(load("I0K1")),
+        ),
     );
-    assert_eq!(one("U150N0=[W3K0=91H]+U150N0*/[W3K0=90H]*/I0K1"), assign("U150N0", latch));
-    assert_eq!(one("U10K10=I0K2*/U150N0"), assign("U10K10", bin(BinOp::And, load("I0K2"), not(load("U150N0")))));
+    assert_eq!(
+        one("U150N0=[W3K0=91H]+U150N0*/[W3K0=90H]*/I0K1"),
+        assign("U150N0", latch)
+    );
+    assert_eq!(
+        one("U10K10=I0K2*/U150N0"),
+        assign("U10K10", bin(BinOp::And, load("I0K2"), not(load("U150N0"))))
+    );
 }
 
 #[test]
@@ -63,7 +101,13 @@ fn the_whole_seed_block_compiles_with_pulse_pair() {
     assert_eq!(p.pulses.len(), 1);
     assert_eq!(p.pulses[0].n, 2);
     let pid = compiler::ir::PulseId(0);
-    assert_eq!(p.fast[6], Stmt::Pulse { pulse: pid, input: load("U100K0") });
+    assert_eq!(
+        p.fast[6],
+        Stmt::Pulse {
+            pulse: pid,
+            input: load("U100K0")
+        }
+    );
     assert_eq!(p.fast[7], assign("U100K0", Expr::Pulse(pid)));
     assert_eq!(c.stats.statements, 8);
 }
@@ -73,5 +117,8 @@ fn seeds_compile_from_legacy_bytes_and_lower_case() {
     let src = b";\xcf\xf0\xe8\xe2\xe5\xf2 CP1251\r\nu170k7=/i1a29\r\n";
     let c = compile("seed", src, &MachineContext::lathe_like());
     assert_eq!(c.diagnostics, vec![]);
-    assert_eq!(c.program.expect("compiles").fast[0], assign("U170K7", not(load("I1A29"))));
+    assert_eq!(
+        c.program.expect("compiles").fast[0],
+        assign("U170K7", not(load("I1A29")))
+    );
 }

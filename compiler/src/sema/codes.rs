@@ -127,7 +127,10 @@ pub const ALL: &[(u32, &str)] = &[
     (WRITE_INPUT, "write to a packet A input"),
     (PULSE_RANGE, "one-shot number out of range"),
     (WRITE_I_PREFIX, "write to an `I` signal of K/N"),
-    (VIEW_CROSSES_CONNECTOR, "typed view crosses the connector end"),
+    (
+        VIEW_CROSSES_CONNECTOR,
+        "typed view crosses the connector end",
+    ),
     (VIEW_BAD_BASE, "typed view on a bit"),
     (DUPLICATE, "duplicate definition"),
     (RESERVED_NAME, "reserved name"),

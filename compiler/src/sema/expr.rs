@@ -39,26 +39,50 @@ impl Checker<'_> {
             Val::Lit(l) => match lit_value(l, ty) {
                 Ok(v) => Some(ir::Expr::Const(v)),
                 Err(LitError::Range(r)) => {
-                    self.error(codes::LITERAL_RANGE, span, format!("{} does not fit {}", l.describe(), ty.name()), format!("{} holds {r}", ty.name()));
+                    self.error(
+                        codes::LITERAL_RANGE,
+                        span,
+                        format!("{} does not fit {}", l.describe(), ty.name()),
+                        format!("{} holds {r}", ty.name()),
+                    );
                     None
                 }
                 Err(LitError::Kind) => {
                     let hint = match (l, ty) {
-                        (Lit::Real(_), t) if t.is_int() => format!("write a whole number, or convert: {}(…)", t.name()),
+                        (Lit::Real(_), t) if t.is_int() => {
+                            format!("write a whole number, or convert: {}(…)", t.name())
+                        }
                         (_, Ty::Bool) => "a BOOL takes TRUE, FALSE, 1 or 0".to_string(),
                         _ => format!("write a {} constant", ty.name()),
                     };
-                    self.error(codes::TYPE_MISMATCH, span, format!("expected {}, found the constant {}", ty.name(), l.describe()), hint);
+                    self.error(
+                        codes::TYPE_MISMATCH,
+                        span,
+                        format!(
+                            "expected {}, found the constant {}",
+                            ty.name(),
+                            l.describe()
+                        ),
+                        hint,
+                    );
                     None
                 }
             },
             Val::Typed(e, t) if t == ty => Some(e),
-            Val::Typed(e, t) if widens(t, ty) && t != Ty::Bool => Some(ir::Expr::Convert { from: t, to: ty, arg: bx(e) }),
+            Val::Typed(e, t) if widens(t, ty) && t != Ty::Bool => Some(ir::Expr::Convert {
+                from: t,
+                to: ty,
+                arg: bx(e),
+            }),
             Val::Typed(_, t) if t != Ty::Bool && ty != Ty::Bool => {
                 self.error(
                     codes::NARROWING,
                     span,
-                    format!("a {} value does not fit {} without a conversion", t.name(), ty.name()),
+                    format!(
+                        "a {} value does not fit {} without a conversion",
+                        t.name(),
+                        ty.name()
+                    ),
                     format!("convert explicitly: {}(…) keeps the low bits", ty.name()),
                 );
                 None
@@ -69,7 +93,12 @@ impl Checker<'_> {
                 } else {
                     format!("convert explicitly: {}(x) gives 0 or 1", ty.name())
                 };
-                self.error(codes::TYPE_MISMATCH, span, format!("expected {}, found {}", ty.name(), t.name()), hint);
+                self.error(
+                    codes::TYPE_MISMATCH,
+                    span,
+                    format!("expected {}, found {}", ty.name(), t.name()),
+                    hint,
+                );
                 None
             }
         }
@@ -92,14 +121,20 @@ impl Checker<'_> {
             return Some(Val::Lit(l));
         }
         match &e.kind {
-            ExprKind::Bool(_) | ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Duration(_) => None,
+            ExprKind::Bool(_) | ExprKind::Int(_) | ExprKind::Real(_) | ExprKind::Duration(_) => {
+                None
+            }
             ExprKind::Error => None,
             ExprKind::Signal(raw) => {
                 let mut d = Vec::new();
                 let sig = check_signal(raw, &e.span, Access::Read, self.ctx, self.file, &mut d);
                 self.diags.append(&mut d);
                 let sig = sig?;
-                let ty = if sig.bit().is_some() { Ty::Bool } else { Ty::Byte };
+                let ty = if sig.bit().is_some() {
+                    Ty::Bool
+                } else {
+                    Ty::Byte
+                };
                 Some(Val::Typed(ir::Expr::Load(ir::Place::Signal(sig)), ty))
             }
             ExprKind::Pulse(n) => {
@@ -114,19 +149,41 @@ impl Checker<'_> {
                 let (value, ty) = match v {
                     Val::Typed(x, t) if t.is_int() => (x, t),
                     Val::Typed(_, t) => {
-                        self.error(codes::BAD_OPERATOR, &base.span, format!("`.{bit}` needs an integer, found {}", t.name()), "bits can be taken of BYTE, WORD, DWORD, INT, DINT");
+                        self.error(
+                            codes::BAD_OPERATOR,
+                            &base.span,
+                            format!("`.{bit}` needs an integer, found {}", t.name()),
+                            "bits can be taken of BYTE, WORD, DWORD, INT, DINT",
+                        );
                         return None;
                     }
                     Val::Lit(_) => {
-                        self.error(codes::BAD_OPERATOR, &base.span, "`.n` of a constant", "take bits of a signal or variable");
+                        self.error(
+                            codes::BAD_OPERATOR,
+                            &base.span,
+                            "`.n` of a constant",
+                            "take bits of a signal or variable",
+                        );
                         return None;
                     }
                 };
                 if *bit >= ty.bits() {
-                    self.error(codes::BIT_RANGE, bit_span, format!("{} has no bit {bit}", ty.name()), format!("bits of a {} are 0..{}", ty.name(), ty.bits() - 1));
+                    self.error(
+                        codes::BIT_RANGE,
+                        bit_span,
+                        format!("{} has no bit {bit}", ty.name()),
+                        format!("bits of a {} are 0..{}", ty.name(), ty.bits() - 1),
+                    );
                     return None;
                 }
-                Some(Val::Typed(ir::Expr::BitOf { ty, value: bx(value), bit: *bit as u8 }, Ty::Bool))
+                Some(Val::Typed(
+                    ir::Expr::BitOf {
+                        ty,
+                        value: bx(value),
+                        bit: *bit as u8,
+                    },
+                    Ty::Bool,
+                ))
             }
             ExprKind::Unary(op, arg) => self.unary(*op, arg, &e.span),
             ExprKind::Binary(op, a, b) => self.binary(*op, a, b, &e.span),
@@ -138,7 +195,12 @@ impl Checker<'_> {
     /// Checks a one-shot number (0..1023).
     pub(crate) fn pulse_number(&mut self, n: u32, span: &Span) -> Option<u16> {
         if n > 1023 {
-            self.error(codes::PULSE_RANGE, span, format!("one-shot P{n} does not exist"), "one-shots are P0..P1023");
+            self.error(
+                codes::PULSE_RANGE,
+                span,
+                format!("one-shot P{n} does not exist"),
+                "one-shots are P0..P1023",
+            );
             return None;
         }
         Some(n as u16)
@@ -147,7 +209,12 @@ impl Checker<'_> {
     fn name_value(&mut self, n: &str, span: &Span) -> Option<Val> {
         let Some(i) = self.lookup(n) else {
             if type_by_name(n).is_some() || FUNCTIONS.contains(&n) {
-                self.error(codes::NOT_A_VALUE, span, format!("`{n}` is a type or function, not a value"), format!("call it: {n}(…)"));
+                self.error(
+                    codes::NOT_A_VALUE,
+                    span,
+                    format!("`{n}` is a type or function, not a value"),
+                    format!("call it: {n}(…)"),
+                );
             } else if !self.failed.contains(n) {
                 self.error(
                     codes::UNDEFINED,
@@ -180,16 +247,34 @@ impl Checker<'_> {
             _ => None,
         };
         match (kind, m) {
-            (Some(SymKind::Timer { id, .. }), "ET") => Some(Val::Typed(ir::Expr::TimerEt(id), Ty::Dint)),
-            (Some(SymKind::Timer { id, .. }), "Q") => Some(Val::Typed(ir::Expr::TimerQ(id), Ty::Bool)),
-            (Some(SymKind::Counter { id, .. }), "CV") => Some(Val::Typed(ir::Expr::CounterCv(id), Ty::Dint)),
-            (Some(SymKind::Counter { id, .. }), "Q") => Some(Val::Typed(ir::Expr::CounterQ(id), Ty::Bool)),
+            (Some(SymKind::Timer { id, .. }), "ET") => {
+                Some(Val::Typed(ir::Expr::TimerEt(id), Ty::Dint))
+            }
+            (Some(SymKind::Timer { id, .. }), "Q") => {
+                Some(Val::Typed(ir::Expr::TimerQ(id), Ty::Bool))
+            }
+            (Some(SymKind::Counter { id, .. }), "CV") => {
+                Some(Val::Typed(ir::Expr::CounterCv(id), Ty::Dint))
+            }
+            (Some(SymKind::Counter { id, .. }), "Q") => {
+                Some(Val::Typed(ir::Expr::CounterQ(id), Ty::Bool))
+            }
             (Some(SymKind::Timer { .. }), _) => {
-                self.error(codes::BAD_MEMBER, &member.span, format!("a timer has no readable `.{m}`"), "a timer reads as its Q; `.Q` and `.ET` (elapsed ms) can be read");
+                self.error(
+                    codes::BAD_MEMBER,
+                    &member.span,
+                    format!("a timer has no readable `.{m}`"),
+                    "a timer reads as its Q; `.Q` and `.ET` (elapsed ms) can be read",
+                );
                 None
             }
             (Some(SymKind::Counter { .. }), _) => {
-                self.error(codes::BAD_MEMBER, &member.span, format!("a counter has no readable `.{m}`"), "a counter reads as its Q; `.Q` and `.CV` (the count) can be read");
+                self.error(
+                    codes::BAD_MEMBER,
+                    &member.span,
+                    format!("a counter has no readable `.{m}`"),
+                    "a counter reads as its Q; `.Q` and `.CV` (the count) can be read",
+                );
                 None
             }
             _ => {
@@ -205,32 +290,72 @@ impl Checker<'_> {
             UnOp::Slash | UnOp::Not => match v {
                 Val::Lit(Lit::Bool(b)) => Some(Val::Lit(Lit::Bool(!b))),
                 Val::Typed(e, Ty::Bool) => Some(Val::Typed(ir::Expr::Not(bx(e)), Ty::Bool)),
-                Val::Typed(e, t) if t.is_int() && op == UnOp::Not => Some(Val::Typed(ir::Expr::Unary { op: ir::UnOp::BitNot, ty: t, arg: bx(e) }, t)),
+                Val::Typed(e, t) if t.is_int() && op == UnOp::Not => Some(Val::Typed(
+                    ir::Expr::Unary {
+                        op: ir::UnOp::BitNot,
+                        ty: t,
+                        arg: bx(e),
+                    },
+                    t,
+                )),
                 other => {
                     let found = match other {
                         Val::Typed(_, t) => t.name().to_string(),
                         Val::Lit(l) => format!("the constant {}", l.describe()),
                     };
-                    self.error(codes::TYPE_MISMATCH, span, format!("`/` negates a BOOL, found {found}"), "use `~` (or NOT) for the bitwise complement of an integer");
+                    self.error(
+                        codes::TYPE_MISMATCH,
+                        span,
+                        format!("`/` negates a BOOL, found {found}"),
+                        "use `~` (or NOT) for the bitwise complement of an integer",
+                    );
                     None
                 }
             },
             UnOp::Neg => {
                 let (e, t) = self.typed(v, &arg.span)?;
                 if t == Ty::Bool {
-                    self.error(codes::BAD_OPERATOR, span, "unary `-` on a BOOL", "use `/` or NOT to negate a BOOL");
+                    self.error(
+                        codes::BAD_OPERATOR,
+                        span,
+                        "unary `-` on a BOOL",
+                        "use `/` or NOT to negate a BOOL",
+                    );
                     return None;
                 }
-                Some(Val::Typed(ir::Expr::Unary { op: ir::UnOp::Neg, ty: t, arg: bx(e) }, t))
+                Some(Val::Typed(
+                    ir::Expr::Unary {
+                        op: ir::UnOp::Neg,
+                        ty: t,
+                        arg: bx(e),
+                    },
+                    t,
+                ))
             }
             UnOp::BitNot => {
                 let (e, t) = self.typed(v, &arg.span)?;
                 if !t.is_int() {
-                    let hint = if t == Ty::Bool { "use `/` or NOT to negate a BOOL" } else { "`~` works on BYTE, WORD, DWORD, INT, DINT" };
-                    self.error(codes::BAD_OPERATOR, span, format!("`~` on {}", t.name()), hint);
+                    let hint = if t == Ty::Bool {
+                        "use `/` or NOT to negate a BOOL"
+                    } else {
+                        "`~` works on BYTE, WORD, DWORD, INT, DINT"
+                    };
+                    self.error(
+                        codes::BAD_OPERATOR,
+                        span,
+                        format!("`~` on {}", t.name()),
+                        hint,
+                    );
                     return None;
                 }
-                Some(Val::Typed(ir::Expr::Unary { op: ir::UnOp::BitNot, ty: t, arg: bx(e) }, t))
+                Some(Val::Typed(
+                    ir::Expr::Unary {
+                        op: ir::UnOp::BitNot,
+                        ty: t,
+                        arg: bx(e),
+                    },
+                    t,
+                ))
             }
         }
     }
@@ -256,12 +381,26 @@ impl Checker<'_> {
             self.error(
                 codes::TYPE_MISMATCH,
                 &span,
-                format!("operands of different kinds: {} and {}", ta.name(), tb.name()),
+                format!(
+                    "operands of different kinds: {} and {}",
+                    ta.name(),
+                    tb.name()
+                ),
                 "convert one side (BOOL(x), BYTE(x), DINT(x), …) or compare in brackets",
             );
             return None;
         };
-        let widen = |e: ir::Expr, from: Ty| if from == t { e } else { ir::Expr::Convert { from, to: t, arg: bx(e) } };
+        let widen = |e: ir::Expr, from: Ty| {
+            if from == t {
+                e
+            } else {
+                ir::Expr::Convert {
+                    from,
+                    to: t,
+                    arg: bx(e),
+                }
+            }
+        };
         Some((widen(ea, ta), widen(eb, tb), t))
     }
 
@@ -289,7 +428,12 @@ impl Checker<'_> {
                 BinOp::Star | BinOp::AndKw | BinOp::Amp => Some(I::And),
                 BinOp::XorKw | BinOp::Caret => Some(I::Xor),
                 BinOp::Slash => {
-                    self.error(codes::BOOL_DIVISION, span, "`/` between BOOLs", "for AND NOT write `*/` (e.g. A*/B); `/` alone only negates");
+                    self.error(
+                        codes::BOOL_DIVISION,
+                        span,
+                        "`/` between BOOLs",
+                        "for AND NOT write `*/` (e.g. A*/B); `/` alone only negates",
+                    );
                     return None;
                 }
                 _ => None,
@@ -310,11 +454,28 @@ impl Checker<'_> {
             }
         };
         let Some(irop) = irop else {
-            let hint = if t == Ty::Bool { "BOOL operators: + (OR), * (AND), XOR, / (NOT)" } else { "MOD, bitwise and shift operators need integers" };
-            self.error(codes::BAD_OPERATOR, span, format!("`{sym}` is not defined for {}", t.name()), hint);
+            let hint = if t == Ty::Bool {
+                "BOOL operators: + (OR), * (AND), XOR, / (NOT)"
+            } else {
+                "MOD, bitwise and shift operators need integers"
+            };
+            self.error(
+                codes::BAD_OPERATOR,
+                span,
+                format!("`{sym}` is not defined for {}", t.name()),
+                hint,
+            );
             return None;
         };
-        Some(Val::Typed(ir::Expr::Binary { op: irop, ty: t, lhs: bx(ea), rhs: bx(eb) }, t))
+        Some(Val::Typed(
+            ir::Expr::Binary {
+                op: irop,
+                ty: t,
+                lhs: bx(ea),
+                rhs: bx(eb),
+            },
+            t,
+        ))
     }
 
     fn compare(&mut self, op: CmpOp, a: &Expr, b: &Expr) -> Option<Val> {
@@ -327,21 +488,44 @@ impl Checker<'_> {
             CmpOp::Gt => ir::CmpOp::Gt,
             CmpOp::Ge => ir::CmpOp::Ge,
         };
-        Some(Val::Typed(ir::Expr::Cmp { op, ty, lhs: bx(lhs), rhs: bx(rhs) }, Ty::Bool))
+        Some(Val::Typed(
+            ir::Expr::Cmp {
+                op,
+                ty,
+                lhs: bx(lhs),
+                rhs: bx(rhs),
+            },
+            Ty::Bool,
+        ))
     }
 
     fn arity(&mut self, name: &Name, args: &[Expr], n: usize, span: &Span, form: &str) -> bool {
         if args.len() == n {
             return true;
         }
-        self.error(codes::ARITY, span, format!("{} takes {n} argument{}, found {}", name.text, if n == 1 { "" } else { "s" }, args.len()), format!("write {form}"));
+        self.error(
+            codes::ARITY,
+            span,
+            format!(
+                "{} takes {n} argument{}, found {}",
+                name.text,
+                if n == 1 { "" } else { "s" },
+                args.len()
+            ),
+            format!("write {form}"),
+        );
         false
     }
 
     fn number(&mut self, v: Val, span: &Span, what: &str) -> Option<(ir::Expr, Ty)> {
         let (e, t) = self.typed(v, span)?;
         if t == Ty::Bool {
-            self.error(codes::TYPE_MISMATCH, span, format!("{what} needs a number, found BOOL"), "convert with BYTE(x), DINT(x), …");
+            self.error(
+                codes::TYPE_MISMATCH,
+                span,
+                format!("{what} needs a number, found BOOL"),
+                "convert with BYTE(x), DINT(x), …",
+            );
             return None;
         }
         Some((e, t))
@@ -358,7 +542,14 @@ impl Checker<'_> {
             if from == to {
                 return Some(Val::Typed(e, to));
             }
-            return Some(Val::Typed(ir::Expr::Convert { from, to, arg: bx(e) }, to));
+            return Some(Val::Typed(
+                ir::Expr::Convert {
+                    from,
+                    to,
+                    arg: bx(e),
+                },
+                to,
+            ));
         }
         match f {
             "BCD" | "BIN" | "ABS" => {
@@ -368,13 +559,22 @@ impl Checker<'_> {
                 let v = self.infer(&args[0])?;
                 let (e, t) = self.number(v, &args[0].span, f)?;
                 if f != "ABS" && !t.is_int() {
-                    self.error(codes::BAD_OPERATOR, &args[0].span, format!("{f} needs an integer, found {}", t.name()), "convert first: DINT(x)");
+                    self.error(
+                        codes::BAD_OPERATOR,
+                        &args[0].span,
+                        format!("{f} needs an integer, found {}", t.name()),
+                        "convert first: DINT(x)",
+                    );
                     return None;
                 }
                 let out = match f {
                     "BCD" => ir::Expr::Bcd { ty: t, arg: bx(e) },
                     "BIN" => ir::Expr::Bin { ty: t, arg: bx(e) },
-                    _ => ir::Expr::Unary { op: ir::UnOp::Abs, ty: t, arg: bx(e) },
+                    _ => ir::Expr::Unary {
+                        op: ir::UnOp::Abs,
+                        ty: t,
+                        arg: bx(e),
+                    },
                 };
                 Some(Val::Typed(out, t))
             }
@@ -384,11 +584,28 @@ impl Checker<'_> {
                 }
                 let (a, b, t) = self.operands(&args[0], &args[1])?;
                 if t == Ty::Bool {
-                    self.error(codes::TYPE_MISMATCH, span, format!("{f} needs numbers, found BOOL"), "use + (OR) or * (AND) for BOOLs");
+                    self.error(
+                        codes::TYPE_MISMATCH,
+                        span,
+                        format!("{f} needs numbers, found BOOL"),
+                        "use + (OR) or * (AND) for BOOLs",
+                    );
                     return None;
                 }
-                let op = if f == "MIN" { ir::BinOp::Min } else { ir::BinOp::Max };
-                Some(Val::Typed(ir::Expr::Binary { op, ty: t, lhs: bx(a), rhs: bx(b) }, t))
+                let op = if f == "MIN" {
+                    ir::BinOp::Min
+                } else {
+                    ir::BinOp::Max
+                };
+                Some(Val::Typed(
+                    ir::Expr::Binary {
+                        op,
+                        ty: t,
+                        lhs: bx(a),
+                        rhs: bx(b),
+                    },
+                    t,
+                ))
             }
             "LIMIT" => {
                 if !self.arity(name, args, 3, span, "LIMIT(lo, x, hi)") {
@@ -415,7 +632,12 @@ impl Checker<'_> {
                     _ => None,
                 };
                 let Some(t) = t.filter(|t| *t != Ty::Bool) else {
-                    self.error(codes::TYPE_MISMATCH, span, "LIMIT needs three numbers of compatible types", "convert the operands to one type");
+                    self.error(
+                        codes::TYPE_MISMATCH,
+                        span,
+                        "LIMIT needs three numbers of compatible types",
+                        "convert the operands to one type",
+                    );
                     return None;
                 };
                 let mut it = vals.into_iter().zip(args);
@@ -424,10 +646,24 @@ impl Checker<'_> {
                 let x = next(self);
                 let hi = next(self);
                 let (lo, x, hi) = (lo?, x?, hi?);
-                Some(Val::Typed(ir::Expr::Limit { ty: t, lo: bx(lo), x: bx(x), hi: bx(hi) }, t))
+                Some(Val::Typed(
+                    ir::Expr::Limit {
+                        ty: t,
+                        lo: bx(lo),
+                        x: bx(x),
+                        hi: bx(hi),
+                    },
+                    t,
+                ))
             }
             "TON" | "TOF" | "TP" => {
-                if !self.arity(name, args, 2, span, &format!("{f}(input, preset) e.g. {f}(I0A5, 2s)")) {
+                if !self.arity(
+                    name,
+                    args,
+                    2,
+                    span,
+                    &format!("{f}(input, preset) e.g. {f}(I0A5, 2s)"),
+                ) {
                     return None;
                 }
                 let input = self.expr_to(&args[0], Ty::Bool);
@@ -435,7 +671,12 @@ impl Checker<'_> {
                     Some(Lit::Int(v)) if v >= 0 => Some(v as u64),
                     Some(Lit::Real(r)) if (0.0..2.0e9).contains(&r) => Some(r.ceil() as u64),
                     _ => {
-                        self.error(codes::BAD_PRESET, &args[1].span, format!("invalid preset for {f}"), "the preset is a constant time such as 500ms, 2s or 1.5s");
+                        self.error(
+                            codes::BAD_PRESET,
+                            &args[1].span,
+                            format!("invalid preset for {f}"),
+                            "the preset is a constant time such as 500ms, 2s or 1.5s",
+                        );
                         None
                     }
                 };
@@ -451,7 +692,12 @@ impl Checker<'_> {
                 Some(Val::Typed(ir::Expr::TimerQ(id), Ty::Bool))
             }
             "CTU" | "CTD" => {
-                self.error(codes::BAD_STATEFUL_USE, span, format!("{f} cannot be used inline"), format!("declare it: `DEF c : {f}(preset)`, then `c = input`"));
+                self.error(
+                    codes::BAD_STATEFUL_USE,
+                    span,
+                    format!("{f} cannot be used inline"),
+                    format!("declare it: `DEF c : {f}(preset)`, then `c = input`"),
+                );
                 None
             }
             _ => {

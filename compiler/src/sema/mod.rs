@@ -21,7 +21,9 @@ use diag::Diagnostic;
 use crate::ast::{self, Span};
 use crate::context::MachineContext;
 use crate::interface_map::Direction;
-use crate::ir::{self, CounterId, CounterKind, Place, ProgramBuilder, TimerId, TimerKind, Ty, VarId};
+use crate::ir::{
+    self, CounterId, CounterKind, Place, ProgramBuilder, TimerId, TimerKind, Ty, VarId,
+};
 
 /// What a name stands for.
 #[derive(Debug, Clone, PartialEq)]
@@ -138,13 +140,27 @@ impl<'a> Checker<'a> {
     }
 
     /// Records an error.
-    pub fn error(&mut self, code: u32, span: &Span, msg: impl Into<String>, hint: impl Into<String>) {
-        self.diags.push(Diagnostic::error(code, self.file, span.clone(), msg).with_hint(hint));
+    pub fn error(
+        &mut self,
+        code: u32,
+        span: &Span,
+        msg: impl Into<String>,
+        hint: impl Into<String>,
+    ) {
+        self.diags
+            .push(Diagnostic::error(code, self.file, span.clone(), msg).with_hint(hint));
     }
 
     /// Records a warning.
-    pub fn warning(&mut self, code: u32, span: &Span, msg: impl Into<String>, hint: impl Into<String>) {
-        self.diags.push(Diagnostic::warning(code, self.file, span.clone(), msg).with_hint(hint));
+    pub fn warning(
+        &mut self,
+        code: u32,
+        span: &Span,
+        msg: impl Into<String>,
+        hint: impl Into<String>,
+    ) {
+        self.diags
+            .push(Diagnostic::warning(code, self.file, span.clone(), msg).with_hint(hint));
     }
 
     /// `line:column` of a byte offset, for messages.
@@ -182,14 +198,31 @@ pub(crate) fn interface_place(entry: &crate::interface_map::InterfaceSignal) -> 
     match entry.width {
         Width::Bit => (Place::Signal(entry.signal), Ty::Bool),
         Width::Byte => (Place::Signal(entry.signal), Ty::Byte),
-        Width::Word => (Place::View { at: entry.signal, ty: Ty::Word }, Ty::Word),
-        Width::Dword => (Place::View { at: entry.signal, ty: Ty::Dword }, Ty::Dword),
+        Width::Word => (
+            Place::View {
+                at: entry.signal,
+                ty: Ty::Word,
+            },
+            Ty::Word,
+        ),
+        Width::Dword => (
+            Place::View {
+                at: entry.signal,
+                ty: Ty::Dword,
+            },
+            Ty::Dword,
+        ),
     }
 }
 
 /// Checks `program` (parsed from `text`, the decoded source of `file`) against `ctx`. Returns the
 /// checked program when there is no error, and all diagnostics (located) either way.
-pub fn check(file: &str, text: &str, program: &ast::Program, ctx: &MachineContext) -> (Option<Checked>, Vec<Diagnostic>) {
+pub fn check(
+    file: &str,
+    text: &str,
+    program: &ast::Program,
+    ctx: &MachineContext,
+) -> (Option<Checked>, Vec<Diagnostic>) {
     let mut c = Checker::new(file, text, ctx);
     c.declare_all(program.fast.iter().chain(&program.slow));
     let fast = c.block(&program.fast);
@@ -199,6 +232,12 @@ pub fn check(file: &str, text: &str, program: &ast::Program, ctx: &MachineContex
     if diag::has_errors(&diags) {
         return (None, diags);
     }
-    let checked = Checked { builder: c.builder, fast, slow, statements: c.statements, symbolic_names: c.symbolic_names };
+    let checked = Checked {
+        builder: c.builder,
+        fast,
+        slow,
+        statements: c.statements,
+        symbolic_names: c.symbolic_names,
+    };
     (Some(checked), diags)
 }

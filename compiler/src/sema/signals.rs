@@ -41,24 +41,38 @@ pub fn check_signal(
 ) -> Option<Signal> {
     let packet = raw.packet;
     let max_conn = u32::from(packet.connectors()) - 1;
-    let err = |code: u32, msg: String, hint: String| Diagnostic::error(code, file, span.clone(), msg).with_hint(hint);
+    let err = |code: u32, msg: String, hint: String| {
+        Diagnostic::error(code, file, span.clone(), msg).with_hint(hint)
+    };
     let signal = match raw.kind {
         SignalKind::S => {
             if raw.number as usize >= packet.len() {
                 diags.push(err(
                     codes::BYTE_RANGE,
-                    format!("byte {} is past the end of packet {}", raw.number, packet.letter()),
+                    format!(
+                        "byte {} is past the end of packet {}",
+                        raw.number,
+                        packet.letter()
+                    ),
                     format!("S{} bytes are 0..{}", packet.letter(), packet.len() - 1),
                 ));
                 return None;
             }
-            Signal::Byte { packet, connector: (raw.number / 4) as u16, index: (raw.number % 4) as u8 }
+            Signal::Byte {
+                packet,
+                connector: (raw.number / 4) as u16,
+                index: (raw.number % 4) as u8,
+            }
         }
         kind => {
             if raw.connector > max_conn {
                 diags.push(err(
                     codes::CONNECTOR_RANGE,
-                    format!("connector {} does not exist in packet {}", raw.connector, packet.letter()),
+                    format!(
+                        "connector {} does not exist in packet {}",
+                        raw.connector,
+                        packet.letter()
+                    ),
                     format!("packet {} has connectors 0..{max_conn}", packet.letter()),
                 ));
                 return None;
@@ -74,7 +88,11 @@ pub fn check_signal(
                         ));
                         return None;
                     }
-                    Signal::Byte { packet, connector, index: raw.number as u8 }
+                    Signal::Byte {
+                        packet,
+                        connector,
+                        index: raw.number as u8,
+                    }
                 }
                 _ => {
                     if raw.number > 31 {
@@ -85,8 +103,17 @@ pub fn check_signal(
                         ));
                         return None;
                     }
-                    let dir = if kind == SignalKind::I { Dir::In } else { Dir::Out };
-                    Signal::Bit { dir, packet, connector, contact: raw.number as u8 }
+                    let dir = if kind == SignalKind::I {
+                        Dir::In
+                    } else {
+                        Dir::Out
+                    };
+                    Signal::Bit {
+                        dir,
+                        packet,
+                        connector,
+                        contact: raw.number as u8,
+                    }
                 }
             }
         }
@@ -114,7 +141,11 @@ pub fn check_signal(
                 diags.push(err(
                     codes::I_ON_OUTPUT,
                     format!("`I` on output connector {connector}"),
-                    format!("an output is written `U{connector}A{}`; inputs are on connectors {}", raw.number, list(&ctx.a_inputs)),
+                    format!(
+                        "an output is written `U{connector}A{}`; inputs are on connectors {}",
+                        raw.number,
+                        list(&ctx.a_inputs)
+                    ),
                 ));
                 return None;
             }
@@ -122,7 +153,11 @@ pub fn check_signal(
                 diags.push(err(
                     codes::U_ON_INPUT,
                     format!("`U` on input connector {connector}"),
-                    format!("an input is written `I{connector}A{}`; outputs are on connectors {}", raw.number, list(&ctx.a_outputs)),
+                    format!(
+                        "an input is written `I{connector}A{}`; outputs are on connectors {}",
+                        raw.number,
+                        list(&ctx.a_outputs)
+                    ),
                 ));
                 return None;
             }
@@ -132,14 +167,26 @@ pub fn check_signal(
             diags.push(err(
                 codes::WRITE_INPUT,
                 format!("{signal} is a physical input; the logic cannot write it"),
-                format!("write an output connector ({}) or a free K/N signal instead", list(&ctx.a_outputs)),
+                format!(
+                    "write an output connector ({}) or a free K/N signal instead",
+                    list(&ctx.a_outputs)
+                ),
             ));
             return None;
         }
     } else if access == Access::Write && raw.kind == SignalKind::I {
         diags.push(
-            Diagnostic::warning(codes::WRITE_I_PREFIX, file, span.clone(), format!("the logic writes {signal}, spelled as a CNC→PLC input"))
-                .with_hint(format!("it is the same bit as U{connector}{}{}; write it that way if the logic owns it", packet.letter(), raw.number)),
+            Diagnostic::warning(
+                codes::WRITE_I_PREFIX,
+                file,
+                span.clone(),
+                format!("the logic writes {signal}, spelled as a CNC→PLC input"),
+            )
+            .with_hint(format!(
+                "it is the same bit as U{connector}{}{}; write it that way if the logic owns it",
+                packet.letter(),
+                raw.number
+            )),
         );
     }
     Some(signal)
@@ -151,17 +198,35 @@ mod tests {
 
     fn check(text: &str, access: Access) -> (Option<Signal>, Vec<u32>) {
         let (tokens, _) = crate::lexer::tokenize(text);
-        let crate::lexer::Tok::Signal(raw) = tokens[0].1 else { panic!("not a signal: {text}") };
+        let crate::lexer::Tok::Signal(raw) = tokens[0].1 else {
+            panic!("not a signal: {text}")
+        };
         let mut d = Vec::new();
-        let s = check_signal(&raw, &(0..text.len()), access, &MachineContext::lathe_like(), "t", &mut d);
+        let s = check_signal(
+            &raw,
+            &(0..text.len()),
+            access,
+            &MachineContext::lathe_like(),
+            "t",
+            &mut d,
+        );
         (s, d.iter().map(|d| d.code).collect())
     }
 
     #[test]
     fn limits_and_packet_a_rules() {
-        assert_eq!(check("I0A5", Access::Read), (Some("I0A5".parse().expect("sig")), vec![]));
-        assert_eq!(check("U4A0", Access::Write), (Some("U4A0".parse().expect("sig")), vec![]));
-        assert_eq!(check("U256K0", Access::Read).1, vec![codes::CONNECTOR_RANGE]);
+        assert_eq!(
+            check("I0A5", Access::Read),
+            (Some("I0A5".parse().expect("sig")), vec![])
+        );
+        assert_eq!(
+            check("U4A0", Access::Write),
+            (Some("U4A0".parse().expect("sig")), vec![])
+        );
+        assert_eq!(
+            check("U256K0", Access::Read).1,
+            vec![codes::CONNECTOR_RANGE]
+        );
         assert_eq!(check("I0K32", Access::Read).1, vec![codes::CONTACT_RANGE]);
         assert_eq!(check("W0K4", Access::Read).1, vec![codes::BYTE_RANGE]);
         assert_eq!(check("ST64", Access::Read).1, vec![codes::BYTE_RANGE]);
@@ -170,7 +235,13 @@ mod tests {
         assert_eq!(check("U1A0", Access::Read).1, vec![codes::U_ON_INPUT]);
         assert_eq!(check("I1A0", Access::Write).1, vec![codes::WRITE_INPUT]);
         assert_eq!(check("W0A1", Access::Write).1, vec![codes::WRITE_INPUT]);
-        assert_eq!(check("I150K3", Access::Write).1, vec![codes::WRITE_I_PREFIX]);
-        assert_eq!(check("SK13", Access::Read).0, Some("W3K1".parse().expect("sig")));
+        assert_eq!(
+            check("I150K3", Access::Write).1,
+            vec![codes::WRITE_I_PREFIX]
+        );
+        assert_eq!(
+            check("SK13", Access::Read).0,
+            Some("W3K1".parse().expect("sig"))
+        );
     }
 }

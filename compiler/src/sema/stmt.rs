@@ -36,7 +36,11 @@ impl Checker<'_> {
         self.pending.clear();
         match &s.kind {
             StmtKind::Alias { .. } | StmtKind::Var { .. } | StmtKind::Error => {}
-            StmtKind::If { cond, then_body, else_body } => {
+            StmtKind::If {
+                cond,
+                then_body,
+                else_body,
+            } => {
                 self.statements += 1;
                 let cond = self.expr_to(cond, Ty::Bool);
                 let pending = std::mem::take(&mut self.pending);
@@ -47,7 +51,11 @@ impl Checker<'_> {
                     out.push(ir::Stmt::If { cond, then_, else_ });
                 }
             }
-            StmtKind::Assign { kind, target, value } => {
+            StmtKind::Assign {
+                kind,
+                target,
+                value,
+            } => {
                 self.statements += 1;
                 if let Some(st) = self.assign(*kind, target, value, &s.span) {
                     out.append(&mut self.pending);
@@ -57,7 +65,13 @@ impl Checker<'_> {
         }
     }
 
-    fn assign(&mut self, kind: AssignKind, target: &Target, value: &Expr, stmt_span: &Span) -> Option<ir::Stmt> {
+    fn assign(
+        &mut self,
+        kind: AssignKind,
+        target: &Target,
+        value: &Expr,
+        stmt_span: &Span,
+    ) -> Option<ir::Stmt> {
         let tgt = self.target(target);
         let stateful = |c: &mut Self, what: &str| {
             if kind != AssignKind::Coil {
@@ -65,7 +79,10 @@ impl Checker<'_> {
                     codes::BAD_STATEFUL_USE,
                     &target.span,
                     format!("SET/RES cannot drive {what}"),
-                    format!("drive {what} with a plain assignment: `{} = <input>`", &c.text[target.span.clone()]),
+                    format!(
+                        "drive {what} with a plain assignment: `{} = <input>`",
+                        &c.text[target.span.clone()]
+                    ),
                 );
                 return false;
             }
@@ -78,11 +95,20 @@ impl Checker<'_> {
                     return Some(ir::Stmt::Assign { place, value });
                 }
                 if ty != Ty::Bool {
-                    self.error(codes::SET_RES_NOT_BOOL, &target.span, format!("SET/RES needs a BOOL target, found {}", ty.name()), "SET/RES write bits; assign numbers with `=`");
+                    self.error(
+                        codes::SET_RES_NOT_BOOL,
+                        &target.span,
+                        format!("SET/RES needs a BOOL target, found {}", ty.name()),
+                        "SET/RES write bits; assign numbers with `=`",
+                    );
                     return None;
                 }
                 let cond = self.expr_to(value, Ty::Bool)?;
-                Some(if kind == AssignKind::Set { ir::Stmt::Set { place, cond } } else { ir::Stmt::Res { place, cond } })
+                Some(if kind == AssignKind::Set {
+                    ir::Stmt::Set { place, cond }
+                } else {
+                    ir::Stmt::Res { place, cond }
+                })
             }
             Tgt::Pulse(pulse, n) => {
                 if !stateful(self, "a one-shot") {
@@ -105,7 +131,11 @@ impl Checker<'_> {
                 if !stateful(self, "a counter") {
                     return None;
                 }
-                self.drive(Driven::Count(counter.0), &target.span, "this counter's count input");
+                self.drive(
+                    Driven::Count(counter.0),
+                    &target.span,
+                    "this counter's count input",
+                );
                 let input = self.expr_to(value, Ty::Bool)?;
                 Some(ir::Stmt::CounterCount { counter, input })
             }
@@ -114,7 +144,11 @@ impl Checker<'_> {
                     return None;
                 }
                 let _ = stmt_span;
-                self.drive(Driven::Reset(counter.0), &target.span, "this counter's R/LD input");
+                self.drive(
+                    Driven::Reset(counter.0),
+                    &target.span,
+                    "this counter's R/LD input",
+                );
                 let input = self.expr_to(value, Ty::Bool)?;
                 Some(ir::Stmt::CounterReset { counter, input })
             }
@@ -133,8 +167,14 @@ impl Checker<'_> {
 
     /// The write rules for a signal reached through a name or a bit of a byte.
     fn check_write(&mut self, sig: &Signal, span: &Span) -> bool {
-        if sig.packet() == Packet::A && packets::is_a_input_connector(sig.packet_byte() as u16 / 4) {
-            self.error(codes::WRITE_INPUT, span, format!("{sig} is a physical input; the logic cannot write it"), "write an output connector or a free K/N signal instead");
+        if sig.packet() == Packet::A && packets::is_a_input_connector(sig.packet_byte() as u16 / 4)
+        {
+            self.error(
+                codes::WRITE_INPUT,
+                span,
+                format!("{sig} is a physical input; the logic cannot write it"),
+                "write an output connector or a free K/N signal instead",
+            );
             return false;
         }
         true
@@ -147,7 +187,11 @@ impl Checker<'_> {
                 let sig = check_signal(raw, &t.span, Access::Write, self.ctx, self.file, &mut d);
                 self.diags.append(&mut d);
                 let sig = sig?;
-                let ty = if sig.bit().is_some() { Ty::Bool } else { Ty::Byte };
+                let ty = if sig.bit().is_some() {
+                    Ty::Bool
+                } else {
+                    Ty::Byte
+                };
                 Some(Tgt::Place(Place::Signal(sig), ty))
             }
             TargetKind::Pulse(n) => {
@@ -174,20 +218,51 @@ impl Checker<'_> {
                 let i = self.target_symbol(&name.text, &t.span)?;
                 let m = member.text.as_str();
                 match (self.syms[i].kind.clone(), m) {
-                    (SymKind::Counter { id, kind: CounterKind::Ctu }, "R") => Some(Tgt::Reset(id)),
-                    (SymKind::Counter { id, kind: CounterKind::Ctd }, "LD") => Some(Tgt::Reset(id)),
+                    (
+                        SymKind::Counter {
+                            id,
+                            kind: CounterKind::Ctu,
+                        },
+                        "R",
+                    ) => Some(Tgt::Reset(id)),
+                    (
+                        SymKind::Counter {
+                            id,
+                            kind: CounterKind::Ctd,
+                        },
+                        "LD",
+                    ) => Some(Tgt::Reset(id)),
                     (SymKind::Timer { id, .. }, "IN") => Some(Tgt::Timer(id)),
                     (SymKind::Counter { kind, .. }, _) => {
-                        let valid = if kind == CounterKind::Ctu { "`c = x` counts, `c.R = x` resets" } else { "`c = x` counts down, `c.LD = x` loads" };
-                        self.error(codes::NOT_ASSIGNABLE, &member.span, format!("`.{m}` of this counter cannot be assigned"), valid);
+                        let valid = if kind == CounterKind::Ctu {
+                            "`c = x` counts, `c.R = x` resets"
+                        } else {
+                            "`c = x` counts down, `c.LD = x` loads"
+                        };
+                        self.error(
+                            codes::NOT_ASSIGNABLE,
+                            &member.span,
+                            format!("`.{m}` of this counter cannot be assigned"),
+                            valid,
+                        );
                         None
                     }
                     (SymKind::Timer { .. }, _) => {
-                        self.error(codes::NOT_ASSIGNABLE, &member.span, format!("`.{m}` of a timer cannot be assigned"), "drive the timer's input: `t = x`");
+                        self.error(
+                            codes::NOT_ASSIGNABLE,
+                            &member.span,
+                            format!("`.{m}` of a timer cannot be assigned"),
+                            "drive the timer's input: `t = x`",
+                        );
                         None
                     }
                     _ => {
-                        self.error(codes::BAD_MEMBER, &member.span, format!("`{}` has no member `.{m}`", name.text), "members exist on counters (`.R`, `.LD`) and timers; `x.n` is bit n");
+                        self.error(
+                            codes::BAD_MEMBER,
+                            &member.span,
+                            format!("`{}` has no member `.{m}`", name.text),
+                            "members exist on counters (`.R`, `.LD`) and timers; `x.n` is bit n",
+                        );
                         None
                     }
                 }
@@ -200,13 +275,23 @@ impl Checker<'_> {
     fn target_symbol(&mut self, name: &str, span: &Span) -> Option<usize> {
         let Some(i) = self.lookup(name) else {
             if !self.failed.contains(name) {
-                self.error(codes::UNDEFINED, span, format!("`{name}` is not defined"), format!("define it first: `DEF {name} = <signal>` or `DEF {name} : <type>`"));
+                self.error(
+                    codes::UNDEFINED,
+                    span,
+                    format!("`{name}` is not defined"),
+                    format!("define it first: `DEF {name} = <signal>` or `DEF {name} : <type>`"),
+                );
             }
             return None;
         };
         self.syms[i].written = true;
         if self.syms[i].cnc_writes {
-            self.warning(codes::WRITE_I_PREFIX, span, format!("`{name}` is written by the CNC (interface map direction CNC→PLC)"), "the CNC overwrites it; the logic normally only reads it");
+            self.warning(
+                codes::WRITE_I_PREFIX,
+                span,
+                format!("`{name}` is written by the CNC (interface map direction CNC→PLC)"),
+                "the CNC overwrites it; the logic normally only reads it",
+            );
         }
         Some(i)
     }
@@ -219,7 +304,12 @@ impl Checker<'_> {
                 self.diags.append(&mut d);
                 let sig = sig?;
                 if sig.bit().is_some() {
-                    self.error(codes::BAD_OPERATOR, span, format!("{sig} is already a bit"), "`.n` takes a bit of a byte or an integer");
+                    self.error(
+                        codes::BAD_OPERATOR,
+                        span,
+                        format!("{sig} is already a bit"),
+                        "`.n` takes a bit of a byte or an integer",
+                    );
                     return None;
                 }
                 (Place::Signal(sig), Ty::Byte)
@@ -230,7 +320,12 @@ impl Checker<'_> {
                     SymKind::Place { place, ty, .. } => (place, ty),
                     SymKind::Var { id, ty } => (Place::Var(id), ty),
                     _ => {
-                        self.error(codes::BAD_OPERATOR, span, format!("`{}` has no bits", name.text), "`.n` takes a bit of a byte or an integer");
+                        self.error(
+                            codes::BAD_OPERATOR,
+                            span,
+                            format!("`{}` has no bits", name.text),
+                            "`.n` takes a bit of a byte or an integer",
+                        );
                         return None;
                     }
                 }
@@ -238,18 +333,37 @@ impl Checker<'_> {
             _ => return None,
         };
         if !ty.is_int() {
-            self.error(codes::BAD_OPERATOR, span, format!("`.{bit}` needs an integer, found {}", ty.name()), "bits can be taken of BYTE, WORD, DWORD, INT, DINT");
+            self.error(
+                codes::BAD_OPERATOR,
+                span,
+                format!("`.{bit}` needs an integer, found {}", ty.name()),
+                "bits can be taken of BYTE, WORD, DWORD, INT, DINT",
+            );
             return None;
         }
         if bit >= ty.bits() {
-            self.error(codes::BIT_RANGE, span, format!("{} has no bit {bit}", ty.name()), format!("bits of a {} are 0..{}", ty.name(), ty.bits() - 1));
+            self.error(
+                codes::BIT_RANGE,
+                span,
+                format!("{} has no bit {bit}", ty.name()),
+                format!("bits of a {} are 0..{}", ty.name(), ty.bits() - 1),
+            );
             return None;
         }
         let bit = bit as u8;
         let sig_bit = |at: Signal| match at {
-            Signal::Byte { packet, connector, index } => {
+            Signal::Byte {
+                packet,
+                connector,
+                index,
+            } => {
                 let contact = index * 8 + bit;
-                Some(Signal::Bit { dir: Dir::Out, packet, connector, contact })
+                Some(Signal::Bit {
+                    dir: Dir::Out,
+                    packet,
+                    connector,
+                    contact,
+                })
             }
             Signal::Bit { .. } => None,
         };

@@ -11,13 +11,17 @@ use crate::ir::{CounterKind, Place, TimerKind, Ty};
 use crate::lexer::RawSignal;
 
 /// Function and block names: they cannot be used as symbolic names.
-pub(crate) const FUNCTIONS: &[&str] = &["BCD", "BIN", "MIN", "MAX", "LIMIT", "ABS", "TON", "TOF", "TP", "CTU", "CTD"];
+pub(crate) const FUNCTIONS: &[&str] = &[
+    "BCD", "BIN", "MIN", "MAX", "LIMIT", "ABS", "TON", "TOF", "TP", "CTU", "CTD",
+];
 
 /// True for packet signals the logic owns: `U` bits and bytes of packet-A output connectors.
 fn is_output(sig: &Signal) -> bool {
     match *sig {
         Signal::Bit { dir, .. } => dir == packets::Dir::Out,
-        Signal::Byte { packet, connector, .. } => packet == Packet::A && !packets::is_a_input_connector(connector),
+        Signal::Byte {
+            packet, connector, ..
+        } => packet == Packet::A && !packets::is_a_input_connector(connector),
     }
 }
 
@@ -57,26 +61,46 @@ impl Checker<'_> {
             self.error(
                 codes::SPL_EXCEEDED,
                 &span,
-                format!("the program defines {} symbolic names, but IOCFIL SPL allows {spl}", counted.len()),
-                format!("set `SPL={}` in IOCFIL (at most 5000), or use signal names directly", counted.len()),
+                format!(
+                    "the program defines {} symbolic names, but IOCFIL SPL allows {spl}",
+                    counted.len()
+                ),
+                format!(
+                    "set `SPL={}` in IOCFIL (at most 5000), or use signal names directly",
+                    counted.len()
+                ),
             );
         }
     }
 
     fn declare(&mut self, s: &Stmt, counted: &mut Vec<Span>) {
         match &s.kind {
-            StmtKind::Alias { name, signal, signal_span } => {
+            StmtKind::Alias {
+                name,
+                signal,
+                signal_span,
+            } => {
                 self.declare_alias(name, signal, signal_span, counted);
                 self.note_failed(name);
             }
-            StmtKind::Var { name, ty, at, init, retain } => {
+            StmtKind::Var {
+                name,
+                ty,
+                at,
+                init,
+                retain,
+            } => {
                 if self.name_available(name, None) {
                     counted.push(name.span.clone());
                     self.declare_var(name, ty, at.as_ref(), init.as_ref(), retain.as_ref());
                 }
                 self.note_failed(name);
             }
-            StmtKind::If { then_body, else_body, .. } => {
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
                 for s in then_body.iter().chain(else_body) {
                     self.declare(s, counted);
                 }
@@ -102,7 +126,12 @@ impl Checker<'_> {
         if let Some(&i) = self.by_name.get(n) {
             let first = self.syms[i].span.start;
             let at = self.position(first);
-            self.error(codes::DUPLICATE, &name.span, format!("`{n}` is already defined"), format!("the first definition is at {at}; rename one of them"));
+            self.error(
+                codes::DUPLICATE,
+                &name.span,
+                format!("`{n}` is already defined"),
+                format!("the first definition is at {at}; rename one of them"),
+            );
             return false;
         }
         if let Some(entry) = self.ctx.interface.get(n) {
@@ -148,7 +177,13 @@ impl Checker<'_> {
         });
     }
 
-    fn declare_alias(&mut self, name: &Name, raw: &RawSignal, span: &Span, counted: &mut Vec<Span>) {
+    fn declare_alias(
+        &mut self,
+        name: &Name,
+        raw: &RawSignal,
+        span: &Span,
+        counted: &mut Vec<Span>,
+    ) {
         let mut d = Vec::new();
         let sig = check_signal(raw, span, Access::Read, self.ctx, self.file, &mut d);
         self.diags.append(&mut d);
@@ -157,11 +192,29 @@ impl Checker<'_> {
             return;
         }
         counted.push(name.span.clone());
-        let ty = if sig.bit().is_some() { Ty::Bool } else { Ty::Byte };
-        self.insert(name, SymKind::Place { place: Place::Signal(sig), ty, output: is_output(&sig) });
+        let ty = if sig.bit().is_some() {
+            Ty::Bool
+        } else {
+            Ty::Byte
+        };
+        self.insert(
+            name,
+            SymKind::Place {
+                place: Place::Signal(sig),
+                ty,
+                output: is_output(&sig),
+            },
+        );
     }
 
-    fn declare_var(&mut self, name: &Name, spec: &TypeSpec, at: Option<&(RawSignal, Span)>, init: Option<&Expr>, retain: Option<&Span>) {
+    fn declare_var(
+        &mut self,
+        name: &Name,
+        spec: &TypeSpec,
+        at: Option<&(RawSignal, Span)>,
+        init: Option<&Expr>,
+        retain: Option<&Span>,
+    ) {
         let tn = spec.name.text.as_str();
         let timer = match tn {
             "TON" => Some(TimerKind::Ton),
@@ -175,15 +228,30 @@ impl Checker<'_> {
             _ => None,
         };
         if timer.is_some() || counter.is_some() {
-            for (extra, what) in [(at.map(|a| &a.1), "AT"), (init.map(|e| &e.span), ":="), (retain, "RETAIN")] {
+            for (extra, what) in [
+                (at.map(|a| &a.1), "AT"),
+                (init.map(|e| &e.span), ":="),
+                (retain, "RETAIN"),
+            ] {
                 if let Some(span) = extra {
-                    let code = if what == "RETAIN" { codes::BAD_RETAIN } else { codes::BAD_INIT };
-                    self.error(code, span, format!("a {tn} takes no {what}"), format!("write `DEF {} : {tn}(preset)`", name.text));
+                    let code = if what == "RETAIN" {
+                        codes::BAD_RETAIN
+                    } else {
+                        codes::BAD_INIT
+                    };
+                    self.error(
+                        code,
+                        span,
+                        format!("a {tn} takes no {what}"),
+                        format!("write `DEF {} : {tn}(preset)`", name.text),
+                    );
                 }
             }
             let preset = self.preset(spec, tn, timer.is_some());
             if let Some(kind) = timer {
-                let id = self.builder.timer(&name.text, kind, preset.unwrap_or(0).max(0) as u64);
+                let id = self
+                    .builder
+                    .timer(&name.text, kind, preset.unwrap_or(0).max(0) as u64);
                 self.insert(name, SymKind::Timer { id, kind });
             } else if let Some(kind) = counter {
                 let pv = preset.and_then(|p| i32::try_from(p).ok()).unwrap_or(0);
@@ -203,32 +271,61 @@ impl Checker<'_> {
         };
         if let Some(args) = &spec.args {
             let span = args.first().map_or(spec.span.clone(), |a| a.span.clone());
-            self.error(codes::BAD_PRESET, &span, format!("the type {tn} takes no arguments"), format!("write `DEF {} : {tn}`", name.text));
+            self.error(
+                codes::BAD_PRESET,
+                &span,
+                format!("the type {tn} takes no arguments"),
+                format!("write `DEF {} : {tn}`", name.text),
+            );
         }
         if let Some((raw, sspan)) = at {
             if let Some(e) = init {
-                self.error(codes::BAD_INIT, &e.span, "a typed view takes its value from the packet", "remove the `:=` initial value");
+                self.error(
+                    codes::BAD_INIT,
+                    &e.span,
+                    "a typed view takes its value from the packet",
+                    "remove the `:=` initial value",
+                );
             }
             if let Some(r) = retain {
-                self.error(codes::BAD_RETAIN, r, "a typed view cannot be RETAIN", "only internal variables (without AT) are retained");
+                self.error(
+                    codes::BAD_RETAIN,
+                    r,
+                    "a typed view cannot be RETAIN",
+                    "only internal variables (without AT) are retained",
+                );
             }
             let mut d = Vec::new();
             let sig = check_signal(raw, sspan, Access::Read, self.ctx, self.file, &mut d);
             self.diags.append(&mut d);
             let Some(sig) = sig else { return };
             let kind = match (sig, ty) {
-                (Signal::Bit { .. }, Ty::Bool) => SymKind::Place { place: Place::Signal(sig), ty, output: is_output(&sig) },
+                (Signal::Bit { .. }, Ty::Bool) => SymKind::Place {
+                    place: Place::Signal(sig),
+                    ty,
+                    output: is_output(&sig),
+                },
                 (Signal::Bit { .. }, _) => {
                     self.error(
                         codes::VIEW_BAD_BASE,
                         sspan,
                         format!("a {tn} cannot be AT the bit {sig}"),
-                        format!("a {tn} view starts at a byte: W<c><P><b> (e.g. W{}{}{})", raw.connector, raw.packet.letter(), 0),
+                        format!(
+                            "a {tn} view starts at a byte: W<c><P><b> (e.g. W{}{}{})",
+                            raw.connector,
+                            raw.packet.letter(),
+                            0
+                        ),
                     );
                     return;
                 }
                 (Signal::Byte { .. }, Ty::Bool) => {
-                    self.error(codes::VIEW_BAD_BASE, sspan, "a BOOL cannot be AT a byte", "use a bit signal (I…/U…) or `x.n` for a bit of a byte");
+                    self.error(
+                        codes::VIEW_BAD_BASE,
+                        sspan,
+                        "a BOOL cannot be AT a byte",
+                        "use a bit signal (I…/U…) or `x.n` for a bit of a byte",
+                    );
                     return;
                 }
                 (Signal::Byte { index, .. }, _) => {
@@ -237,12 +334,24 @@ impl Checker<'_> {
                             codes::VIEW_CROSSES_CONNECTOR,
                             sspan,
                             format!("a {tn} at {sig} runs past the end of its connector"),
-                            format!("a {tn} ({} bytes) may start at byte 0..{} of a connector", ty.size(), 4 - ty.size()),
+                            format!(
+                                "a {tn} ({} bytes) may start at byte 0..{} of a connector",
+                                ty.size(),
+                                4 - ty.size()
+                            ),
                         );
                         return;
                     }
-                    let place = if ty == Ty::Byte { Place::Signal(sig) } else { Place::View { at: sig, ty } };
-                    SymKind::Place { place, ty, output: is_output(&sig) }
+                    let place = if ty == Ty::Byte {
+                        Place::Signal(sig)
+                    } else {
+                        Place::View { at: sig, ty }
+                    };
+                    SymKind::Place {
+                        place,
+                        ty,
+                        output: is_output(&sig),
+                    }
                 }
             };
             self.insert(name, kind);
@@ -251,34 +360,62 @@ impl Checker<'_> {
         let init_value = init.and_then(|e| match const_lit(e).map(|l| (l, lit_value(l, ty))) {
             Some((_, Ok(v))) => Some(v),
             Some((l, Err(LitError::Range(r)))) => {
-                self.error(codes::LITERAL_RANGE, &e.span, format!("{} does not fit {tn}", l.describe()), format!("{tn} holds {r}"));
+                self.error(
+                    codes::LITERAL_RANGE,
+                    &e.span,
+                    format!("{} does not fit {tn}", l.describe()),
+                    format!("{tn} holds {r}"),
+                );
                 None
             }
             _ => {
-                self.error(codes::BAD_INIT, &e.span, format!("the initial value of a {tn} must be a constant of that type"), "write a literal, e.g. `:= 0`");
+                self.error(
+                    codes::BAD_INIT,
+                    &e.span,
+                    format!("the initial value of a {tn} must be a constant of that type"),
+                    "write a literal, e.g. `:= 0`",
+                );
                 None
             }
         });
-        let id = self.builder.var(&name.text, ty, init_value, retain.is_some());
+        let id = self
+            .builder
+            .var(&name.text, ty, init_value, retain.is_some());
         self.insert(name, SymKind::Var { id, ty });
     }
 
     /// The preset of `DEF t : TON(…)` in ms (timers) or counts (counters).
     fn preset(&mut self, spec: &TypeSpec, tn: &str, timer: bool) -> Option<i64> {
-        let valid = if timer { "a constant time such as 500ms, 2s or 1.5s (a bare number is ms)" } else { "a constant whole number" };
+        let valid = if timer {
+            "a constant time such as 500ms, 2s or 1.5s (a bare number is ms)"
+        } else {
+            "a constant whole number"
+        };
         let Some(args) = spec.args.as_ref().filter(|a| a.len() == 1) else {
-            self.error(codes::BAD_PRESET, &spec.span, format!("{tn} needs exactly one preset"), format!("write {tn}(preset) with {valid}"));
+            self.error(
+                codes::BAD_PRESET,
+                &spec.span,
+                format!("{tn} needs exactly one preset"),
+                format!("write {tn}(preset) with {valid}"),
+            );
             return None;
         };
         let e = &args[0];
         let v = match const_lit(e) {
             Some(Lit::Int(v)) if v >= 0 && (timer || v <= i64::from(i32::MAX)) => Some(v),
-            Some(Lit::Int(v)) if !timer && v >= i64::from(i32::MIN) && v <= i64::from(i32::MAX) => Some(v),
+            Some(Lit::Int(v)) if !timer && v >= i64::from(i32::MIN) && v <= i64::from(i32::MAX) => {
+                Some(v)
+            }
             Some(Lit::Real(r)) if timer && r >= 0.0 && r < 2.0e9 => Some(r.ceil() as i64),
             _ => None,
         };
         if v.is_none() {
-            self.error(codes::BAD_PRESET, &e.span, format!("invalid preset for {tn}"), format!("the preset is {valid}"));
+            self.error(
+                codes::BAD_PRESET,
+                &e.span,
+                format!("invalid preset for {tn}"),
+                format!("the preset is {valid}"),
+            );
         }
         v
     }
@@ -292,7 +429,12 @@ impl Checker<'_> {
                 SymKind::Var { .. } | SymKind::Timer { .. } | SymKind::Counter { .. } => !s.written,
             };
             if !s.read && !s.written {
-                warnings.push((codes::NEVER_USED, s.span.clone(), format!("`{}` is never used", s.name), "remove the DEF (it counts against SPL)".to_string()));
+                warnings.push((
+                    codes::NEVER_USED,
+                    s.span.clone(),
+                    format!("`{}` is never used", s.name),
+                    "remove the DEF (it counts against SPL)".to_string(),
+                ));
             } else if never_written {
                 let what = match s.kind {
                     SymKind::Place { .. } => "output",

@@ -4,7 +4,16 @@
 use crate::ir::{Ty, Value};
 
 /// All types, in the order the language lists them.
-pub const ALL_TYPES: [Ty; 8] = [Ty::Bool, Ty::Byte, Ty::Word, Ty::Dword, Ty::Int, Ty::Dint, Ty::Real, Ty::Lreal];
+pub const ALL_TYPES: [Ty; 8] = [
+    Ty::Bool,
+    Ty::Byte,
+    Ty::Word,
+    Ty::Dword,
+    Ty::Int,
+    Ty::Dint,
+    Ty::Real,
+    Ty::Lreal,
+];
 
 /// The type named `name` (upper case), if it is a type keyword.
 pub fn type_by_name(name: &str) -> Option<Ty> {
@@ -37,7 +46,9 @@ pub fn common(a: Ty, b: Ty) -> Option<Ty> {
     if widens(b, a) {
         return Some(a);
     }
-    [Ty::Int, Ty::Dint, Ty::Real, Ty::Lreal].into_iter().find(|&t| widens(a, t) && widens(b, t))
+    [Ty::Int, Ty::Dint, Ty::Real, Ty::Lreal]
+        .into_iter()
+        .find(|&t| widens(a, t) && widens(b, t))
 }
 
 /// An untyped constant as written.
@@ -132,7 +143,10 @@ mod tests {
     #[test]
     fn literals_take_types_with_range_checks() {
         assert_eq!(lit_value(Lit::Int(0x91), Ty::Byte), Ok(Value::Byte(0x91)));
-        assert_eq!(lit_value(Lit::Int(256), Ty::Byte), Err(LitError::Range("0..255".into())));
+        assert_eq!(
+            lit_value(Lit::Int(256), Ty::Byte),
+            Err(LitError::Range("0..255".into()))
+        );
         assert_eq!(lit_value(Lit::Int(1), Ty::Bool), Ok(Value::Bool(true)));
         assert_eq!(lit_value(Lit::Int(-1), Ty::Int), Ok(Value::Int(-1)));
         assert_eq!(lit_value(Lit::Real(2.5), Ty::Dint), Err(LitError::Kind));
