@@ -71,10 +71,20 @@ fn scan(c: &mut Criterion) {
     let mut g = c.benchmark_group("scan_10k");
     let mut interp = Interpreter::new(p.clone());
     let mut jit = jit::compile(&p).expect("jit");
-    for engine in [&mut interp as &mut dyn Engine, &mut jit as &mut dyn Engine] {
+    let speed = JitOptions {
+        opt_level: "speed",
+        ..JitOptions::default()
+    };
+    let mut jit_speed = jit::compile_with(&p, &speed).expect("jit");
+    let engines: [(&str, &mut dyn Engine); 3] = [
+        ("interp", &mut interp),
+        ("jit", &mut jit),
+        ("jit_opt_speed", &mut jit_speed),
+    ];
+    for (name, engine) in engines {
         let mut image = p.new_image();
         let mut t = 0u8;
-        g.bench_function(engine.name(), |b| {
+        g.bench_function(name, |b| {
             b.iter(|| {
                 t = t.wrapping_add(1);
                 image[0] = t;
@@ -95,39 +105,22 @@ fn compile_time(c: &mut Criterion) {
     g.bench_function("front_end", |b| {
         b.iter(|| compile("bench", black_box(src.as_bytes()), &ctx))
     });
+    let opts = |opt_level, regalloc, chunk_cost| JitOptions {
+        opt_level,
+        regalloc,
+        chunk_cost,
+    };
     let variants = [
+        ("jit_default_none_single_pass_2000", JitOptions::default()),
         (
-            "jit_none_backtracking",
-            JitOptions {
-                opt_level: "none",
-                regalloc: "backtracking",
-                chunk_cost: 4000,
-            },
+            "jit_none_backtracking_2000",
+            opts("none", "backtracking", 2000),
         ),
         (
-            "jit_none_single_pass",
-            JitOptions {
-                opt_level: "none",
-                regalloc: "single_pass",
-                chunk_cost: 4000,
-            },
+            "jit_speed_single_pass_2000",
+            opts("speed", "single_pass", 2000),
         ),
-        (
-            "jit_speed_backtracking",
-            JitOptions {
-                opt_level: "speed",
-                regalloc: "backtracking",
-                chunk_cost: 4000,
-            },
-        ),
-        (
-            "jit_none_backtracking_chunk1000",
-            JitOptions {
-                opt_level: "none",
-                regalloc: "backtracking",
-                chunk_cost: 1000,
-            },
-        ),
+        ("jit_none_single_pass_250", opts("none", "single_pass", 250)),
     ];
     for (name, opts) in variants {
         g.bench_function(name, |b| {
