@@ -50,6 +50,9 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
         }
     }
     let program = nest(file, lines, &mut diags);
+    if diags.is_empty() {
+        return (program, diags);
+    }
     let lines = lexer::LineIndex::new(text);
     let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
     (program, diags)
