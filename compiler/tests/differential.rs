@@ -60,7 +60,9 @@ fn places(ty: Ty) -> Vec<Place> {
                 bit: 31,
             });
         }
-        Ty::Byte => v.extend(["W0A0", "W1A2", "W4A1", "W102K3"].map(|s| Place::Signal(sig(s)))),
+        Ty::Byte => v.extend(
+            ["W0A0", "W1A2", "W4A1", "W4A3", "W5A1", "W102K3"].map(|s| Place::Signal(sig(s))),
+        ),
         Ty::Word | Ty::Int => v.extend([view("W4A2"), view("W100K1")]),
         Ty::Dword | Ty::Dint | Ty::Real => v.extend([view("W5A0"), view("W102K0")]),
         Ty::Lreal => {}

@@ -119,6 +119,7 @@ fn build(
             p,
             mem,
             consts: Default::default(),
+            mem_cache: Default::default(),
         };
         t.stmts(stmts);
     }

@@ -1,7 +1,7 @@
 //! IR → cranelift IR for expressions and plain statements. Every operation is branch-free except
 //! IF zones; divisions are guarded so that no emitted instruction can trap.
 
-use std::collections::HashMap;
+use std::collections::{BTreeMap, HashMap};
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::immediates::{Ieee32, Ieee64};
@@ -37,6 +37,8 @@ pub(super) struct Translator<'a, 'b> {
     pub mem: Value,
     /// Integer constants already materialized in the current block.
     pub consts: HashMap<(Type, i64), Value>,
+    /// The value each image offset holds, as far as this block has loaded or stored it.
+    pub mem_cache: BTreeMap<usize, (Type, Value)>,
 }
 
 macro_rules! with_k {
@@ -78,6 +80,7 @@ impl Translator<'_, '_> {
     /// Switches to `block`; constants of the previous block are forgotten.
     fn switch(&mut self, block: cranelift_codegen::ir::Block) {
         self.consts.clear();
+        self.mem_cache.clear();
         self.b.switch_to_block(block);
     }
 
@@ -91,15 +94,43 @@ impl Translator<'_, '_> {
     }
 
     pub(super) fn load8(&mut self, at: usize) -> Value {
-        self.b.ins().load(types::I8, FL, self.mem, Self::off(at))
+        self.load(types::I8, at)
+    }
+
+    /// Loads a value of type `ty` at image offset `at`, reusing the value last loaded from or
+    /// stored to exactly that place in this block (all offsets are constants, so aliasing is
+    /// known exactly).
+    fn load(&mut self, ty: Type, at: usize) -> Value {
+        if let Some(&(t, v)) = self.mem_cache.get(&at) {
+            if t == ty {
+                return v;
+            }
+        }
+        let v = self.b.ins().load(ty, FL, self.mem, Self::off(at));
+        self.mem_cache.insert(at, (ty, v));
+        v
     }
 
     pub(super) fn load32(&mut self, at: usize) -> Value {
-        self.b.ins().load(types::I32, FL, self.mem, Self::off(at))
+        self.load(types::I32, at)
     }
 
+    /// Stores `v` at image offset `at`; cached values overlapping the written bytes are dropped
+    /// and the stored value is remembered for later loads.
     pub(super) fn store(&mut self, v: Value, at: usize) {
+        let ty = self.b.func.dfg.value_type(v);
+        let end = at + ty.bytes() as usize;
+        let stale: Vec<usize> = self
+            .mem_cache
+            .range(at.saturating_sub(7)..end)
+            .filter(|(o, (t, _))| **o + t.bytes() as usize > at)
+            .map(|(o, _)| *o)
+            .collect();
+        for o in stale {
+            self.mem_cache.remove(&o);
+        }
         self.b.ins().store(FL, v, self.mem, Self::off(at));
+        self.mem_cache.insert(at, (ty, v));
     }
 
     /// BOOL (I8 0/1) from a nonzero test.
@@ -127,7 +158,7 @@ impl Translator<'_, '_> {
             return self.band_k(s, 1);
         }
         let ty = self.p.place_ty(place);
-        let v = self.b.ins().load(clty(ty), FL, self.mem, Self::off(at));
+        let v = self.load(clty(ty), at);
         if ty == Ty::Bool { self.nonzero(v) } else { v }
     }
 
