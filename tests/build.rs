@@ -100,3 +100,27 @@ fn a_missing_machine_is_exit_2() {
     assert_eq!(code, 2);
     assert!(err.contains("cannot read"), "{err}");
 }
+
+#[test]
+fn legacy_comment_bytes_are_shown_decoded_in_the_source_line() {
+    // "Привет" in CP1251 in a comment on the erroneous line.
+    let dir = machine(b"U4A0 = I2A0 ; \xcf\xf0\xe8\xe2\xe5\xf2\r\n");
+    let (code, out, _) = ncplc(&[], dir.path());
+    assert_eq!(code, 1);
+    assert!(out.contains("U4A0 = I2A0 ; Привет"), "{out}");
+    assert!(out.contains("MP0/PLCPRG:1:8"), "{out}");
+}
+
+#[test]
+fn machine_interface_toml_adds_predeclared_names() {
+    let dir = machine(b"U4A0 = DOOR\n");
+    let (code, out, _) = ncplc(&[], dir.path());
+    assert_eq!(code, 1, "DOOR is not predeclared by default: {out}");
+    std::fs::write(
+        dir.path().join("interface.toml"),
+        "[[signal]]\nname = \"DOOR\"\naddress = \"I150K0\"\nwidth = \"bit\"\ndir = \"in\"\nmeaning = \"door closed\"\n",
+    )
+    .expect("write");
+    let (code, out, err) = ncplc(&[], dir.path());
+    assert_eq!(code, 0, "{out}{err}");
+}

@@ -2,8 +2,9 @@
 //!
 //! Prints every diagnostic rustc-style (default) or as one JSON object per line (`--format json`,
 //! the fields of `ncplc check`), then a one-line summary (statements, image size, compile time).
+//! With `--format json` the summary goes to stderr, so that stdout holds only JSON lines.
 //! `--emit ir` prints the lowered IR as JSON, `--emit clif` the cranelift IR of the JIT; the
-//! diagnostics then go to stderr. Exit code 0 when the program compiles, 1 on errors, 2 when the
+//! diagnostics and the summary then go to stderr. Exit code 0 when the program compiles, 1 on errors, 2 when the
 //! machine or the source cannot be read.
 //!
 //! The PLC source is `--plc FILE`, else the file FCRSYS section 2 binds to `PLCSRC`, else
@@ -301,6 +302,11 @@ mod tests {
                 ctx.time_slow_ms
             ),
             (vec![0, 1], vec![4, 5], 400, 20, 4)
+        );
+        let bare = tempfile::tempdir().expect("temp dir");
+        assert_eq!(
+            default_plc_source(bare.path()),
+            bare.path().join("MP0").join("PLCPRG")
         );
         assert_eq!(
             default_plc_source(dir.path()),
