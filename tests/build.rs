@@ -3,21 +3,18 @@
 use std::path::Path;
 use std::process::Command;
 
-/// A machine directory with FCRSYS, MP0/IOCFIL (lathe-like) and `plc` as the PLC source.
+/// A copy of the example lathe's characterization (FCRSYS, MP0/AXCFIL, PGCFIL, IOCFIL) with
+/// `plc` as its PLC program.
 fn machine(plc: &[u8]) -> tempfile::TempDir {
+    let lathe = Path::new(env!("CARGO_MANIFEST_DIR")).join("../plc-programs/lathe");
     let dir = tempfile::tempdir().expect("temp dir");
     let mp0 = dir.path().join("MP0");
     std::fs::create_dir(&mp0).expect("mkdir");
-    std::fs::write(
-        dir.path().join("FCRSYS"),
-        "*1\nMP0=C:\\CNC32\\MP0\n*2\nIOCONF, IOCFIL/MP0\nPLCSRC, PLCPRG/MP0\n*\n",
-    )
-    .expect("write");
-    std::fs::write(
-        mp0.join("IOCFIL"),
-        "*1\nALM=0\nIN0=0,1,,,,,,\nOU0=4,5,,,,,,\nCLO=10,2\nSPL=400\n*2\nPRO=1\n",
-    )
-    .expect("write");
+    std::fs::copy(lathe.join("FCRSYS"), dir.path().join("FCRSYS")).expect("copy FCRSYS");
+    for f in ["AXCFIL", "PGCFIL", "IOCFIL"] {
+        std::fs::copy(lathe.join("MP0").join(f), mp0.join(f))
+            .expect("copy a characterization file");
+    }
     std::fs::write(mp0.join("PLCPRG"), plc).expect("write");
     dir
 }
@@ -98,5 +95,33 @@ fn a_missing_machine_is_exit_2() {
     let dir = tempfile::tempdir().expect("temp dir");
     let (code, _, err) = ncplc(&[], dir.path());
     assert_eq!(code, 2);
-    assert!(err.contains("cannot read"), "{err}");
+    assert!(
+        err.contains("the characterization files have errors"),
+        "{err}"
+    );
+    assert!(err.contains("FCRSYS"), "{err}");
+}
+
+#[test]
+fn legacy_comment_bytes_are_shown_decoded_in_the_source_line() {
+    // "Привет" in CP1251 in a comment on the erroneous line.
+    let dir = machine(b"U4A0 = I2A0 ; \xcf\xf0\xe8\xe2\xe5\xf2\r\n");
+    let (code, out, _) = ncplc(&[], dir.path());
+    assert_eq!(code, 1);
+    assert!(out.contains("U4A0 = I2A0 ; Привет"), "{out}");
+    assert!(out.contains("MP0/PLCPRG:1:8"), "{out}");
+}
+
+#[test]
+fn machine_interface_toml_adds_predeclared_names() {
+    let dir = machine(b"U4A0 = DOOR\n");
+    let (code, out, _) = ncplc(&[], dir.path());
+    assert_eq!(code, 1, "DOOR is not predeclared by default: {out}");
+    std::fs::write(
+        dir.path().join("interface.toml"),
+        "[[signal]]\nname = \"DOOR\"\naddress = \"I150K0\"\nwidth = \"bit\"\ndir = \"in\"\nmeaning = \"door closed\"\n",
+    )
+    .expect("write");
+    let (code, out, err) = ncplc(&[], dir.path());
+    assert_eq!(code, 0, "{out}{err}");
 }

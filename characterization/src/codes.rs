@@ -31,25 +31,26 @@
 //! | 918 | AXCFIL: NBP software extension is not a sum of 0, 1, 2 and ECDF |
 //! | 920 | AXCFIL: instruction used before `PRO` opened a process subsection |
 //! | 921 | AXCFIL: process declared twice (`PRO=n` repeated in one section) |
-//! | 922 | AXCFIL: process missing a section-1 instruction (`INx` or `CAS`) or a section-2 subsection |
+//! | 922 | AXCFIL: a process of NBP has no `PRO` in section 1, or a process has no `INx` or no `CAS` |
 //! | 923 | AXCFIL: COM in process 1, or COM names a later process |
 //! | 925 | AXCFIL: continuous axis name not one of A B C D X Y Z U V W P Q |
 //! | 926 | AXCFIL: block_num of a PTP interpolator is not 1, or of a coordinated interpolator not 2…64 |
 //! | 927 | AXCFIL: the axes of CAS are not in the order of the interpolators |
 //! | 928 | AXCFIL: NAS subsections are not in CAS order |
-//! | 929 | AXCFIL: a parameter is out of the range the manual gives for it |
+//! | 929 | AXCFIL: a parameter is out of the range the manual gives for it (PAS el_pitch > 0, POM deviation 0…1, ADP levels, ATR ST/MT, ADG voltages, KKRM speed 4.9, HDBRP > 0 and Δs ≠ 0, SSI el_pitch = 2^ST) |
 //! | 930 | AXCFIL: unknown or unused axis-type bit in TPA (bit 17, bits 22–31) |
-//! | 931 | AXCFIL: instruction not allowed for this axis type (SRV not 0 for a spindle/PTP axis, MAN or RAP speed on a spindle, …) |
+//! | 931 | AXCFIL: instruction not allowed for this axis type (SRV not 0 for a spindle/PTP axis; VGAS without a GAS backlash; MAN, RAP speed or POS wait time on a spindle; 5-parameter MCZ without the KKRM bit) |
 //! | 932 | AXCFIL: TSM missing for a spindle with controlled acceleration (0800) or AC motor (4000) |
-//! | 934 | AXCFIL: section-3 rule broken (PAS ≤ 0, more than 1000 points, NAS of an unknown axis) |
+//! | 934 | AXCFIL: section-3 rule broken (PAS ≤ 0, more than 1000 points, NAS/NAC of an unknown axis, formulas 4.13–4.15, rotary pitch not dividing 360°) |
 //! | 935 | AXCFIL: ECDF form of an instruction used without ECDF in NBP |
 //! | 936 | AXCFIL: the same PLC signal twice in one instruction where the manual requires two different ones |
-//! | 938 | AXCFIL: PTP axis in the coordinated interpolator, or coordinate axis in a PTP interpolator |
+//! | 938 | AXCFIL: point-to-point axis in the coordinated interpolator (with continuous axes or the spindle) |
 //! | 940 | AXCFIL: handwheel (correction) axis listed in an interpolator |
 //! | 941 | AXCFIL: the axis named in COM was not declared in the named process |
 //! | 942 | AXCFIL: NBP, TIM or ACC written more than once in section 1 |
 //! | 943 | AXCFIL: a section-3 FEG file does not exist or has a line that is not `Ennn=value` |
 //! | 944 | AXCFIL: bad `file/MPx` reference in FTP or FEG |
+//! | 945 | AXCFIL: a slave parallel axis homes (MCZ direction or speed) differently from its master |
 
 /// Table 7.1 code 1: not enough sections.
 pub const MISSING_SECTIONS: u32 = 1;
@@ -180,6 +181,8 @@ pub const SECTION1_TWICE: u32 = 942;
 pub const FEG_FILE: u32 = 943;
 /// Project 944: bad `file/MPx` reference.
 pub const FILE_REF: u32 = 944;
+/// Project 945: slave homes differently from its master.
+pub const SLAVE_HOMING: u32 = 945;
 
 // AXCFIL, Table 7.2 (numbers ≥ 101 are file-specific: these are the AXCFIL meanings).
 

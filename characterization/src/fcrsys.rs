@@ -228,10 +228,9 @@ pub fn validate(file: &ParsedFile) -> (Fcrsys, Vec<Diagnostic>) {
 fn check_case(file: &ParsedFile, diags: &mut Vec<Diagnostic>) {
     let mut offset = 0;
     for line in file.text.split_inclusive('\n') {
-        let code = line.trim_start();
-        if !code.starts_with(';')
-            && let Some(i) = line.find(|c: char| c.is_ascii_lowercase())
-        {
+        // A `;` starts a comment (whole line or after an instruction); comments may be any case.
+        let code = &line[..line.find(';').unwrap_or(line.len())];
+        if let Some(i) = code.find(|c: char| c.is_ascii_lowercase()) {
             let at = offset + i;
             diags.push(Ctx::new(file).error(
                 codes::FCRSYS_CASE,
@@ -462,6 +461,25 @@ mod tests {
                 (908, 5, 1),
                 (910, 6, 1)
             ]
+        );
+    }
+
+    #[test]
+    fn unknown_logical_name_warns_and_bad_hdd_fails() {
+        let base = "*1\nMP0=C:\\CNC32\\MP0\nMP1=C:\\CNC32\\MP1\n*2\nAXCONF,AXCFIL/MP0\nPGCONF,PGCFIL/MP0\nIOCONF,IOCFIL/MP0\nFORMAT,FORMAT/MP0\n";
+        let (_, d) = load(&format!(
+            "{base}FILXYZ,ABC/MP0 ; unknown name\n*3\nHDD=CDFG\n*\n"
+        ));
+        assert_eq!(d, [(907, 9, 1), (914, 11, 5)]);
+        let (f, mut d) = read_with(
+            "FCRSYS",
+            format!("{base}FILXYZ,ABC/MP0\n*\n").as_bytes(),
+            Grammar::FCRSYS,
+        );
+        d.extend(validate(&f).1);
+        assert_eq!(
+            d.iter().map(|d| d.severity).collect::<Vec<_>>(),
+            [diag::Severity::Warning]
         );
     }
 }

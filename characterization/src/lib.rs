@@ -16,6 +16,7 @@
 
 pub mod axcfil;
 pub mod codes;
+pub mod decode;
 pub mod fcrsys;
 pub mod iocfil;
 pub mod machine;

@@ -14,6 +14,17 @@ fn bench_compile(c: &mut Criterion) {
     };
     let mut group = c.benchmark_group("compile_10k");
     group.sample_size(10);
+    group.bench_function("lex", |b| {
+        b.iter(|| compiler::lexer::tokenize(black_box(&src)).0.len())
+    });
+    group.bench_function("parse", |b| {
+        b.iter(|| {
+            compiler::parser::parse("bench", black_box(&src))
+                .0
+                .fast
+                .len()
+        })
+    });
     group.bench_function("parse_check_lower", |b| {
         b.iter(|| {
             let c = compile("bench", black_box(src.as_bytes()), &ctx);

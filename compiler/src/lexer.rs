@@ -46,6 +46,49 @@ pub fn decode_source(bytes: &[u8]) -> String {
         .collect()
 }
 
+/// Line starts of a text, for turning byte offsets into 1-based line and column quickly
+/// (`diag::line_column` scans from the start of the text, too slow for thousands of lookups).
+#[derive(Debug, Clone)]
+pub struct LineIndex<'a> {
+    text: &'a str,
+    starts: Vec<usize>,
+}
+
+impl<'a> LineIndex<'a> {
+    /// Indexes `text`.
+    pub fn new(text: &'a str) -> Self {
+        let mut starts = vec![0];
+        starts.extend(
+            text.bytes()
+                .enumerate()
+                .filter(|&(_, b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        LineIndex { text, starts }
+    }
+
+    /// 1-based line and column (in characters) of byte `offset`, as `diag::line_column` gives them.
+    pub fn line_column(&self, offset: usize) -> (u32, u32) {
+        let mut offset = offset.min(self.text.len());
+        while !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let line = self.starts.partition_point(|&s| s <= offset);
+        let start = self.starts[line - 1];
+        let column = self.text[start..offset].chars().count() + 1;
+        (
+            u32::try_from(line).unwrap_or(u32::MAX),
+            u32::try_from(column).unwrap_or(u32::MAX),
+        )
+    }
+
+    /// Fills a diagnostic's line and column from its span.
+    pub fn locate(&self, mut d: diag::Diagnostic) -> diag::Diagnostic {
+        (d.line, d.column) = self.line_column(d.span.start);
+        d
+    }
+}
+
 /// Characters of bytes 0x80..=0xFF in code page 866 (DOS Cyrillic).
 const CP866_HIGH: &str = concat!(
     "АБВГДЕЖЗИЙКЛМНОПРСТУФХЦЧШЩЪЫЬЭЮЯ",
@@ -430,11 +473,9 @@ pub fn tokenize(text: &str) -> (Vec<Spanned<'_>>, Vec<LexError>) {
             }
             continue;
         }
-        if let Some(at) = held_newline.take() {
-            if tok.starts_line() {
-                depth = 0;
-                out.push((at, Tok::Newline, at + 1));
-            }
+        if let Some(at) = held_newline.take().filter(|_| tok.starts_line()) {
+            depth = 0;
+            out.push((at, Tok::Newline, at + 1));
         }
         match tok {
             Tok::LParen | Tok::LBracket => depth += 1,
@@ -455,6 +496,19 @@ mod tests {
 
     fn toks(s: &str) -> Vec<Tok<'_>> {
         tokenize(s).0.into_iter().map(|(_, t, _)| t).collect()
+    }
+
+    #[test]
+    fn line_index_agrees_with_diag() {
+        let text = "ab\nдве\n\nx\u{FFFD}y\n";
+        let index = LineIndex::new(text);
+        for at in 0..=text.len() + 2 {
+            assert_eq!(
+                index.line_column(at),
+                diag::line_column(text, at),
+                "offset {at}"
+            );
+        }
     }
 
     #[test]
@@ -538,6 +592,11 @@ mod tests {
         assert_eq!(
             toks("\n\nU1K0=I0K0+\n I0K1\n\nU1K1=(I0K0\n*I0K1)\n"),
             toks("U1K0=I0K0+I0K1\nU1K1=(I0K0*I0K1)\n")
+        );
+        // A comment after the operator does not end the statement.
+        assert_eq!(
+            toks("U1K0=I0K0+ ; more below\nI0K1"),
+            toks("U1K0=I0K0+I0K1")
         );
         // A keyword that starts a line ends an unclosed bracket's statement.
         let t = toks("U1K0=(I0K0\nDEF x : BOOL\n");

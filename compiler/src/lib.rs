@@ -10,6 +10,7 @@ pub mod ir;
 pub mod jit;
 pub mod lexer;
 pub mod lower;
+pub mod migrate;
 pub mod parser;
 pub mod sema;
 pub mod synth;
@@ -20,6 +21,4 @@ pub use front::{Compilation, CompileStats, compile};
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;
 pub use jit::{JitError, JitProgram};
-pub mod migrate;
-
 pub use migrate::migrate_state;

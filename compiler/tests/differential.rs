@@ -9,6 +9,7 @@ use compiler::ir::{
     BinOp, CmpOp, CounterId, CounterKind, Expr, Place, Program, ProgramBuilder, PulseId, Stmt,
     TimerId, TimerKind, Ty, UnOp, Value, VarId,
 };
+use compiler::jit::JitOptions;
 use compiler::{Engine, Interpreter};
 use packets::Signal;
 use proptest::prelude::*;
@@ -59,7 +60,9 @@ fn places(ty: Ty) -> Vec<Place> {
                 bit: 31,
             });
         }
-        Ty::Byte => v.extend(["W0A0", "W1A2", "W4A1", "W102K3"].map(|s| Place::Signal(sig(s)))),
+        Ty::Byte => v.extend(
+            ["W0A0", "W1A2", "W4A1", "W4A3", "W5A1", "W102K3"].map(|s| Place::Signal(sig(s))),
+        ),
         Ty::Word | Ty::Int => v.extend([view("W4A2"), view("W100K1")]),
         Ty::Dword | Ty::Dint | Ty::Real => v.extend([view("W5A0"), view("W102K0")]),
         Ty::Lreal => {}
@@ -357,15 +360,22 @@ proptest! {
         let p = Arc::new(p);
         let mut interp = Interpreter::new(p.clone());
         let mut jit = compiler::jit::compile(&p).expect("jit compiles every valid program");
+        // One function per statement, optimized, other register allocator: same results.
+        let opts = JitOptions { opt_level: "speed", regalloc: "backtracking", chunk_cost: 1 };
+        let mut jit2 = compiler::jit::compile_with(&p, &opts).expect("jit compiles every valid program");
         let mut a = p.new_image();
         let mut c = p.new_image();
+        let mut d = p.new_image();
         for (t, pokes) in ticks.iter().enumerate() {
             for &(at, v) in pokes {
                 a[at] = v;
                 c[at] = v;
+                d[at] = v;
             }
             interp.tick(&mut a);
             jit.tick(&mut c);
+            jit2.tick(&mut d);
+            prop_assert!(c == d, "tick {t}: the two JIT configurations differ");
             if a != c {
                 let diff: Vec<_> = (0..a.len()).filter(|&i| a[i] != c[i]).map(|i| (i, a[i], c[i])).collect();
                 prop_assert!(false, "tick {t}: (offset, interp, jit) {diff:?}\n{p:#?}");
@@ -387,4 +397,47 @@ fn short_images_are_left_untouched() {
     compiler::jit::compile(&p).expect("jit").tick(&mut short);
     Interpreter::new(p.clone()).tick(&mut short);
     assert!(short.iter().all(|&b| b == 0));
+}
+
+#[test]
+fn programs_can_be_recompiled_and_dropped_repeatedly() {
+    fn assert_send<T: Send>(_: &T) {}
+    let mut pb = ProgramBuilder::new(10, 5);
+    let t = pb.timer("t", TimerKind::Ton, 20);
+    let fast = vec![
+        Stmt::Timer {
+            timer: t,
+            input: Expr::Load(Place::Signal(sig("I0A0"))),
+        },
+        Stmt::Assign {
+            place: Place::Signal(sig("U4A0")),
+            value: Expr::TimerQ(t),
+        },
+    ];
+    let p = pb.finish(fast, vec![]).expect("valid");
+    let mut image = p.new_image();
+    sig("I0A0").write(&mut image, 1);
+    for _ in 0..30 {
+        let mut jit = compiler::jit::compile(&p).expect("jit");
+        assert_send(&jit);
+        jit.tick(&mut image);
+    }
+    // 30 executions with IN held: ET saturated at the preset, Q on.
+    assert_eq!(sig("U4A0").read(&image), 1);
+    assert_eq!(image[p.timers[0].offset], 20);
+}
+
+#[test]
+fn emit_clif_lists_one_function_per_part() {
+    let pb = ProgramBuilder::new(10, 0);
+    let x = || Stmt::Assign {
+        place: Place::Signal(sig("U4A0")),
+        value: Expr::Load(Place::Signal(sig("I0A0"))),
+    };
+    let p = pb.finish(vec![x()], vec![x(), x()]).expect("valid");
+    let clif = compiler::jit::emit_clif(&p).expect("clif");
+    assert_eq!(clif.matches("function u0:").count(), 3);
+    assert!(clif.contains("; FAST, function part0"));
+    assert!(clif.contains("; SLOW slice 1, function part2"));
+    assert!(clif.contains("load.i8 notrap little"));
 }

@@ -496,3 +496,59 @@ fn float_nan_results_are_canonical_and_min_max_follow_the_documented_order() {
     );
     assert_eq!(got[0], (0x7FC0_0000, 0x7FF8_0000_0000_0000, 0x7FA0_0001));
 }
+
+#[test]
+fn a_byte_store_inside_a_view_is_seen_by_the_next_view_load() {
+    // The JIT forwards loads and stores within a block; a store to one byte of a DWORD view (or
+    // to a bit of a DINT variable) must invalidate what it knows about the whole view.
+    let mut b = ProgramBuilder::new(10, 5);
+    let x = b.var("x", Ty::Dint, None, false);
+    let before = b.var("before", Ty::Dword, None, false);
+    let after = b.var("after", Ty::Dword, None, false);
+    let vx = b.var("vx", Ty::Dint, None, false);
+    let view = || {
+        Expr::Load(Place::View {
+            at: sig("W102K0"),
+            ty: Ty::Dword,
+        })
+    };
+    let lx = || Expr::Load(Place::Var(x));
+    let fast = vec![
+        Stmt::Assign {
+            place: Place::Var(before),
+            value: view(),
+        },
+        assign("W102K3", Expr::Const(Value::Byte(0xAB))),
+        Stmt::Assign {
+            place: Place::Var(after),
+            value: view(),
+        },
+        Stmt::Assign {
+            place: Place::Var(x),
+            value: bin(BinOp::Add, Ty::Dint, lx(), Expr::Const(Value::Dint(1))),
+        },
+        Stmt::Set {
+            place: Place::VarBit { var: x, bit: 31 },
+            cond: Expr::Const(Value::Bool(true)),
+        },
+        Stmt::Assign {
+            place: Place::Var(vx),
+            value: lx(),
+        },
+    ];
+    let p = b.finish(fast, vec![]).expect("valid");
+    let offs: Vec<usize> = p.vars.iter().map(|v| v.offset).collect();
+    let got = run(
+        p,
+        1,
+        |_, m| sig("W102K0").write(m, 0x11),
+        |m| {
+            (
+                i32_at(m, offs[1]) as u32,
+                i32_at(m, offs[2]) as u32,
+                i32_at(m, offs[3]),
+            )
+        },
+    );
+    assert_eq!(got[0], (0x11, 0xAB00_0011, i32::MIN + 1));
+}

@@ -10,6 +10,7 @@ pub mod handshake;
 pub mod image;
 pub mod io;
 pub mod machine;
+pub mod machine_facts;
 pub mod online;
 pub mod program;
 pub mod replay;

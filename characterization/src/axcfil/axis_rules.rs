@@ -7,9 +7,6 @@ use super::model::{Axcfil, Axis, Process};
 use crate::codes;
 use crate::values::Ctx;
 
-/// Instructions a slave parallel axis may have (003:990, error 198; PAS from 003:994).
-const SLAVE_KEYS: [&str; 8] = ["NAS", "TPA", "NTC", "GAS", "PAS", "MCZ", "MFC", "SKW"];
-
 /// Checks axis `index` of process `p`.
 pub fn check(
     ctx: &Ctx,
@@ -311,24 +308,23 @@ pub fn check(
             "declare the orientation, e.g. `POM=0.5,100`",
         );
     }
-    if spindle || t.ptp {
-        if let Some(srv) = axis.srv
-            && srv.iter().any(|v| v.unwrap_or(0.0) != 0.0)
-        {
-            err(
-                codes::TYPE_FORBIDS,
-                at("SRV"),
-                format!(
-                    "SRV of {} {name} is not 0,0,0",
-                    if spindle {
-                        "spindle"
-                    } else {
-                        "point-to-point axis"
-                    }
-                ),
-                "write `SRV=0,0,0` (or `SRV=,,`) for spindles and point-to-point axes",
-            );
-        }
+    if (spindle || t.ptp)
+        && let Some(srv) = axis.srv
+        && srv.iter().any(|v| v.unwrap_or(0.0) != 0.0)
+    {
+        err(
+            codes::TYPE_FORBIDS,
+            at("SRV"),
+            format!(
+                "SRV of {} {name} is not 0,0,0",
+                if spindle {
+                    "spindle"
+                } else {
+                    "point-to-point axis"
+                }
+            ),
+            "write `SRV=0,0,0` (or `SRV=,,`) for spindles and point-to-point axes",
+        );
     }
     if spindle {
         if axis.rap.is_some_and(|r| r.a.is_some_and(|v| v != 0.0)) {
@@ -511,10 +507,26 @@ pub fn check(
             "for an SSI encoder el_pitch = 2^resolution ST",
         );
     }
+    if axis.vgas.is_some() && axis.gas.as_ref().and_then(|g| g.backlash).unwrap_or(0.0) == 0.0 {
+        err(
+            codes::TYPE_FORBIDS,
+            at("VGAS"),
+            format!("VGAS on axis {name}, whose GAS declares no backlash"),
+            "VGAS sets the backlash take-up speed; write it only with a GAS backlash",
+        );
+    }
     if let Some(mcz) = &axis.mcz {
-        let long = mcz.hdbrp.is_some()
-            || mcz.delta_s.is_some()
-            || axis.span_of("MCZ").is_some_and(|_| false);
+        let long = mcz.hdbrp.is_some() || mcz.delta_s.is_some();
+        if t.distance_coded
+            && (mcz.hdbrp.is_some_and(|h| h <= 0.0) || mcz.delta_s.is_some_and(|d| d == 0.0))
+        {
+            err(
+                codes::RANGE,
+                at("MCZ"),
+                format!("KKRM MCZ of axis {name}: HDBRP must be > 0 and Δs not 0"),
+                "HDBRP is half the distance between basic marks (default 20 mm), Δs the change of distance (e.g. 0.02)",
+            );
+        }
         if t.distance_coded && mcz.zero_input.is_some() {
             err(
                 codes::MCZ_KKRM_INPUT,
@@ -548,154 +560,5 @@ pub fn check(
             }
         }
     }
-    // Slave parallel axes.
-    if let Some(skw) = &axis.skw {
-        let span = at("SKW");
-        if !slave {
-            err(
-                codes::SKW_NOT_SLAVE,
-                span.clone(),
-                format!("SKW on axis {name}, which is not a slave parallel axis"),
-                "SKW is written only for an axis with code 1000",
-            );
-        }
-        if skw.master.len() != 1 {
-            err(
-                codes::SKW_NAME,
-                span.clone(),
-                format!("SKW master `{}` is not one letter", skw.master),
-                "write the master axis letter",
-            );
-        } else if let Some(m) = skw.master.chars().next() {
-            if m == name {
-                err(
-                    codes::SKW_SELF,
-                    span.clone(),
-                    format!("axis {name} is declared slave of itself"),
-                    "name another axis as master",
-                );
-            } else if !p.cas.as_ref().is_some_and(|c| c.axes.contains(&m)) {
-                err(
-                    codes::SKW_UNDECLARED,
-                    span.clone(),
-                    format!("SKW master {m} is not declared"),
-                    "the master must be an axis of this process",
-                );
-            } else if p
-                .axes
-                .iter()
-                .position(|a| a.name == m)
-                .is_none_or(|mi| mi > index)
-            {
-                err(
-                    codes::SLAVE_BEFORE_MASTER,
-                    span.clone(),
-                    format!("slave {name} is described before its master {m}"),
-                    "describe the master axis first in section 2",
-                );
-            }
-        }
-    }
-    if slave {
-        if interpolator.is_some() {
-            err(
-                codes::SLAVE_INTERPOLATED,
-                axis.span.clone(),
-                format!(
-                    "slave axis {name} is listed in interpolator {}",
-                    interpolator.map_or("", |i| i.name.as_str())
-                ),
-                "list slave parallel axes only in CAS, not in INx",
-            );
-        }
-        for (key, span) in axis
-            .order
-            .iter()
-            .filter(|(k, _)| !SLAVE_KEYS.contains(&k.as_str()))
-        {
-            err(
-                codes::SLAVE_INSTRUCTIONS,
-                span.clone(),
-                format!("slave axis {name} has {key}"),
-                "a slave axis has only NAS, TPA, NTC, GAS, PAS, MCZ, MFC and SKW",
-            );
-        }
-    }
-    // Handwheel / correction axes.
-    if let Some(hwc) = &axis.hwc {
-        let ok = hwc.axis.len() == 1
-            && hwc.axis.chars().next().is_some_and(|c| {
-                c != name && p.cas.as_ref().is_some_and(|cas| cas.axes.contains(&c))
-            });
-        if !ok {
-            err(
-                codes::HWC_AXIS,
-                at("HWC"),
-                format!(
-                    "HWC names `{}`, which is not another axis of the process",
-                    hwc.axis
-                ),
-                "name the correction axis, one letter from CAS",
-            );
-        } else if let Some(c) = hwc.axis.chars().next()
-            && let Some(i) = p.interpolator_of(c)
-        {
-            err(
-                codes::INTERPOLATOR_EXCLUDED,
-                at("HWC"),
-                format!("handwheel axis {c} is listed in interpolator {}", i.name),
-                "list a handwheel axis only in CAS, not in INx",
-            );
-        }
-    }
-    // Interpolator kinds and letters.
-    if let Some(ip) = interpolator {
-        let coordinated = ip.spindle.is_some()
-            || ip
-                .axes
-                .iter()
-                .any(|a| p.axis(*a).is_some_and(|x| !x.axis_type().ptp));
-        if t.ptp && coordinated && ip.spindle != Some(name) {
-            err(
-                codes::INTERPOLATOR_KIND,
-                axis.span.clone(),
-                format!(
-                    "point-to-point axis {name} is in the coordinated interpolator {}",
-                    ip.name
-                ),
-                "declare a point-to-point axis in its own interpolator, e.g. `IN2=1,T,,1,1`",
-            );
-        }
-        if t.coordinate && !super::rules::continuous_letter(name) && ip.axes.contains(&name) {
-            err(
-                codes::AXIS_LETTER,
-                axis.span.clone(),
-                format!("continuous axis {name} uses a letter not allowed for continuous axes"),
-                "continuous axes are named A B C D X Y Z U V W P Q",
-            );
-        }
-        let ptp_only = ip.spindle.is_none()
-            && ip
-                .axes
-                .iter()
-                .all(|a| p.axis(*a).is_some_and(|x| x.axis_type().ptp));
-        if ptp_only && ip.block_num != 1 && ip.axes.first() == Some(&name) {
-            err(
-                codes::BLOCK_NUM,
-                ip.span.clone(),
-                format!(
-                    "point-to-point interpolator {} buffers {} blocks",
-                    ip.name, ip.block_num
-                ),
-                "a point-to-point interpolator has block_num 1",
-            );
-        } else if !ptp_only && ip.block_num == 1 && ip.axes.first() == Some(&name) {
-            err(
-                codes::BLOCK_NUM,
-                ip.span.clone(),
-                format!("coordinated interpolator {} buffers 1 block", ip.name),
-                "a coordinated interpolator has block_num 2 to 64",
-            );
-        }
-    }
+    super::axis_pairs::check(ctx, p, index, axis, diags);
 }

@@ -5,8 +5,10 @@
 //! otherwise). Side files named by FTP and FEG are read through a loader callback
 //! ([`validate_with`]), so the machine loader can resolve `file/MPx` in the machine directory.
 
+pub mod axis_type;
 pub mod model;
 
+mod axis_pairs;
 mod axis_rules;
 mod rules;
 mod section1;

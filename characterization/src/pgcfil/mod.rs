@@ -1,6 +1,7 @@
 //! PGCFIL, the technological-process characterization file (manual chapter 5).
 //!
-//! [`parse`] decodes a file read by [`crate::reader::read`] into the typed [`Pgcfil`] and reports
+//! [`parse`] decodes a file read with [`crate::reader::read_with`] and `Grammar::PGCFIL` (so the
+//! `NEW`/`OLD` header is kept) into the typed [`Pgcfil`] and reports
 //! every rule that needs no other file; [`check_against`] applies the rules that need AXCFIL
 //! (process numbers against NBP, interpolator and axis names, axis kinds, ECDF-only
 //! instructions). Error numbers are those of Table 7.3 (and Table 7.1 for syntax); rules the manual

@@ -1,5 +1,5 @@
 //! Decodes a read PGCFIL into [`Pgcfil`]: the NEW/OLD word, sections 1–4 here, sections 5 and 6
-//! in [`super::machine`]. Every rule that needs no other file is checked while decoding.
+//! in `sections56`. Every rule that needs no other file is checked while decoding.
 
 use std::collections::BTreeSet;
 
@@ -19,7 +19,7 @@ use super::tables;
 const S2: &str = "PRO, SIM";
 const S4: &str = "PRO, ASS, NPL, NDD, PRF, FIL, FLC, STR, SER, CHN, SCR";
 
-/// Decodes `file` (read by [`crate::reader::read`]) into a [`Pgcfil`] and the diagnostics of every rule
+/// Decodes `file` (read with [`crate::reader::read_with`] and [`crate::reader::Grammar::PGCFIL`]) into a [`Pgcfil`] and the diagnostics of every rule
 /// that needs no other file; cross-file rules are in [`super::check_against`].
 pub fn parse(file: &ParsedFile) -> (Pgcfil, Vec<Diagnostic>) {
     let mut e = Emit::new(file);

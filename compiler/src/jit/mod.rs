@@ -46,8 +46,8 @@ impl Default for JitOptions {
     fn default() -> Self {
         JitOptions {
             opt_level: "none",
-            regalloc: "backtracking",
-            chunk_cost: 4000,
+            regalloc: "single_pass",
+            chunk_cost: 2000,
         }
     }
 }
@@ -114,7 +114,13 @@ fn build(
     b.switch_to_block(entry);
     let mem = b.block_params(entry)[0];
     {
-        let mut t = Translator { b: &mut b, p, mem };
+        let mut t = Translator {
+            b: &mut b,
+            p,
+            mem,
+            consts: Default::default(),
+            mem_cache: Default::default(),
+        };
         t.stmts(stmts);
     }
     b.ins().return_(&[]);

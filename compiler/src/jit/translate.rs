@@ -1,6 +1,8 @@
 //! IR → cranelift IR for expressions and plain statements. Every operation is branch-free except
 //! IF zones; divisions are guarded so that no emitted instruction can trap.
 
+use std::collections::{BTreeMap, HashMap};
+
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::immediates::{Ieee32, Ieee64};
 use cranelift_codegen::ir::{InstBuilder, MemFlagsData, Type, Value, types};
@@ -33,33 +35,107 @@ pub(super) struct Translator<'a, 'b> {
     pub p: &'a Program,
     /// The image pointer.
     pub mem: Value,
+    /// Integer constants already materialized in the current block.
+    pub consts: HashMap<(Type, i64), Value>,
+    /// The value each image offset holds, as far as this block has loaded or stored it.
+    pub mem_cache: BTreeMap<usize, (Type, Value)>,
+}
+
+macro_rules! with_k {
+    ($($name:ident => $op:ident),* $(,)?) => {$(
+        /// The operation with a constant right operand (shared per block).
+        pub(super) fn $name(&mut self, x: Value, v: i64) -> Value {
+            let ty = self.b.func.dfg.value_type(x);
+            let c = self.k(ty, v);
+            self.b.ins().$op(x, c)
+        }
+    )*};
 }
 
 impl Translator<'_, '_> {
+    with_k!(band_k => band, bxor_k => bxor, ushr_k => ushr, ishl_k => ishl, sshr_k => sshr, iadd_k => iadd);
+
+    /// An integer constant of type `ty` (the low bits of `v`), materialized once per block.
+    pub(super) fn k(&mut self, ty: Type, v: i64) -> Value {
+        let v = if ty.bits() >= 64 {
+            v
+        } else {
+            v & ((1i64 << ty.bits()) - 1)
+        };
+        if let Some(&c) = self.consts.get(&(ty, v)) {
+            return c;
+        }
+        let c = self.b.ins().iconst(ty, v);
+        self.consts.insert((ty, v), c);
+        c
+    }
+
+    /// Compares with a constant.
+    pub(super) fn icmp_k(&mut self, cc: IntCC, x: Value, v: i64) -> Value {
+        let ty = self.b.func.dfg.value_type(x);
+        let c = self.k(ty, v);
+        self.b.ins().icmp(cc, x, c)
+    }
+
+    /// Switches to `block`; constants of the previous block are forgotten.
+    fn switch(&mut self, block: cranelift_codegen::ir::Block) {
+        self.consts.clear();
+        self.mem_cache.clear();
+        self.b.switch_to_block(block);
+    }
+
     pub(super) fn off(o: usize) -> i32 {
         o as i32
     }
 
     /// An I8 constant 0/1 or any I8 constant.
     pub(super) fn i8c(&mut self, v: i64) -> Value {
-        self.b.ins().iconst(types::I8, v & 0xFF)
+        self.k(types::I8, v & 0xFF)
     }
 
     pub(super) fn load8(&mut self, at: usize) -> Value {
-        self.b.ins().load(types::I8, FL, self.mem, Self::off(at))
+        self.load(types::I8, at)
+    }
+
+    /// Loads a value of type `ty` at image offset `at`, reusing the value last loaded from or
+    /// stored to exactly that place in this block (all offsets are constants, so aliasing is
+    /// known exactly).
+    fn load(&mut self, ty: Type, at: usize) -> Value {
+        if let Some(&(t, v)) = self.mem_cache.get(&at) {
+            if t == ty {
+                return v;
+            }
+        }
+        let v = self.b.ins().load(ty, FL, self.mem, Self::off(at));
+        self.mem_cache.insert(at, (ty, v));
+        v
     }
 
     pub(super) fn load32(&mut self, at: usize) -> Value {
-        self.b.ins().load(types::I32, FL, self.mem, Self::off(at))
+        self.load(types::I32, at)
     }
 
+    /// Stores `v` at image offset `at`; cached values overlapping the written bytes are dropped
+    /// and the stored value is remembered for later loads.
     pub(super) fn store(&mut self, v: Value, at: usize) {
+        let ty = self.b.func.dfg.value_type(v);
+        let end = at + ty.bytes() as usize;
+        let stale: Vec<usize> = self
+            .mem_cache
+            .range(at.saturating_sub(7)..end)
+            .filter(|(o, (t, _))| **o + t.bytes() as usize > at)
+            .map(|(o, _)| *o)
+            .collect();
+        for o in stale {
+            self.mem_cache.remove(&o);
+        }
         self.b.ins().store(FL, v, self.mem, Self::off(at));
+        self.mem_cache.insert(at, (ty, v));
     }
 
     /// BOOL (I8 0/1) from a nonzero test.
     fn nonzero(&mut self, v: Value) -> Value {
-        self.b.ins().icmp_imm_u(IntCC::NotEqual, v, 0)
+        self.icmp_k(IntCC::NotEqual, v, 0)
     }
 
     fn place_at(&self, place: &Place) -> (usize, Option<u8>) {
@@ -78,19 +154,19 @@ impl Translator<'_, '_> {
         let (at, bit) = self.place_at(place);
         if let Some(bit) = bit {
             let byte = self.load8(at);
-            let s = self.b.ins().ushr_imm_u(byte, i64::from(bit));
-            return self.b.ins().band_imm_u(s, 1);
+            let s = self.ushr_k(byte, i64::from(bit));
+            return self.band_k(s, 1);
         }
         let ty = self.p.place_ty(place);
-        let v = self.b.ins().load(clty(ty), FL, self.mem, Self::off(at));
+        let v = self.load(clty(ty), at);
         if ty == Ty::Bool { self.nonzero(v) } else { v }
     }
 
     /// Writes bit `bit` of the byte at `at` to `v` (I8 0/1).
     fn store_bit(&mut self, at: usize, bit: u8, v: Value) {
         let byte = self.load8(at);
-        let cleared = self.b.ins().band_imm_u(byte, i64::from(!(1u8 << bit)));
-        let sh = self.b.ins().ishl_imm_u(v, i64::from(bit));
+        let cleared = self.band_k(byte, i64::from(!(1u8 << bit)));
+        let sh = self.ishl_k(v, i64::from(bit));
         let n = self.b.ins().bor(cleared, sh);
         self.store(n, at);
     }
@@ -107,7 +183,7 @@ impl Translator<'_, '_> {
         match self.place_at(place) {
             (at, Some(bit)) => {
                 let byte = self.load8(at);
-                let m = self.b.ins().ishl_imm_u(cond, i64::from(bit));
+                let m = self.ishl_k(cond, i64::from(bit));
                 let n = if set {
                     self.b.ins().bor(byte, m)
                 } else {
@@ -179,13 +255,13 @@ impl Translator<'_, '_> {
                     self.b.create_block(),
                 );
                 self.b.ins().brif(c, tb, &[], eb, &[]);
-                self.b.switch_to_block(tb);
+                self.switch(tb);
                 self.stmts(then_);
                 self.b.ins().jump(join, &[]);
-                self.b.switch_to_block(eb);
+                self.switch(eb);
                 self.stmts(else_);
                 self.b.ins().jump(join, &[]);
-                self.b.switch_to_block(join);
+                self.switch(join);
             }
         }
     }
@@ -207,8 +283,8 @@ impl Translator<'_, '_> {
             Expr::Load(place) => self.load_place(place),
             Expr::BitOf { ty, value, bit } => {
                 let v = self.expr(value);
-                let s = self.b.ins().ushr_imm_u(v, i64::from(*bit));
-                let s = self.b.ins().band_imm_u(s, 1);
+                let s = self.ushr_k(v, i64::from(*bit));
+                let s = self.band_k(s, 1);
                 if clty(*ty) == types::I8 {
                     s
                 } else {
@@ -217,7 +293,7 @@ impl Translator<'_, '_> {
             }
             Expr::Not(a) => {
                 let v = self.expr(a);
-                self.b.ins().bxor_imm_u(v, 1)
+                self.bxor_k(v, 1)
             }
             Expr::Unary { op, ty, arg } => {
                 let v = self.expr(arg);
@@ -247,11 +323,11 @@ impl Translator<'_, '_> {
             Expr::Bcd { ty, arg } => {
                 let v = self.expr(arg);
                 let mut v = self.ext_u64(*ty, v);
-                let ten = self.b.ins().iconst(types::I64, 10);
-                let mut r = self.b.ins().iconst(types::I64, 0);
+                let ten = self.k(types::I64, 10);
+                let mut r = self.k(types::I64, 0);
                 for i in 0..2 * ty.size() {
                     let d = self.b.ins().urem(v, ten);
-                    let d = self.b.ins().ishl_imm_u(d, 4 * i as i64);
+                    let d = self.ishl_k(d, 4 * i as i64);
                     r = self.b.ins().bor(r, d);
                     v = self.b.ins().udiv(v, ten);
                 }
@@ -260,12 +336,12 @@ impl Translator<'_, '_> {
             Expr::Bin { ty, arg } => {
                 let v = self.expr(arg);
                 let v = self.ext_u64(*ty, v);
-                let mut r = self.b.ins().iconst(types::I64, 0);
+                let mut r = self.k(types::I64, 0);
                 let mut scale = 1i64;
                 for i in 0..2 * ty.size() {
-                    let n = self.b.ins().ushr_imm_u(v, 4 * i as i64);
-                    let n = self.b.ins().band_imm_u(n, 0xF);
-                    let k = self.b.ins().iconst(types::I64, scale);
+                    let n = self.ushr_k(v, 4 * i as i64);
+                    let n = self.band_k(n, 0xF);
+                    let k = self.k(types::I64, scale);
                     let n = self.b.ins().imul(n, k);
                     r = self.b.ins().iadd(r, n);
                     scale = scale.wrapping_mul(10);
@@ -281,11 +357,11 @@ impl Translator<'_, '_> {
             }
             Expr::Pulse(id) => {
                 let v = self.load8(self.p.pulses[id.0 as usize].offset);
-                self.b.ins().band_imm_u(v, 1)
+                self.band_k(v, 1)
             }
             Expr::TimerQ(id) => {
                 let v = self.load8(self.p.timers[id.0 as usize].offset + 4);
-                self.b.ins().band_imm_u(v, i64::from(FLAG_Q))
+                self.band_k(v, i64::from(FLAG_Q))
             }
             Expr::TimerEt(id) => self.load32(self.p.timers[id.0 as usize].offset),
             Expr::CounterQ(id) => {
@@ -293,14 +369,10 @@ impl Translator<'_, '_> {
                 let (kind, preset) = (d.kind, d.preset);
                 let cv = self.load32(d.offset);
                 match kind {
-                    CounterKind::Ctu => self.b.ins().icmp_imm_s(
-                        IntCC::SignedGreaterThanOrEqual,
-                        cv,
-                        i64::from(preset),
-                    ),
-                    CounterKind::Ctd => {
-                        self.b.ins().icmp_imm_s(IntCC::SignedLessThanOrEqual, cv, 0)
+                    CounterKind::Ctu => {
+                        self.icmp_k(IntCC::SignedGreaterThanOrEqual, cv, i64::from(preset))
                     }
+                    CounterKind::Ctd => self.icmp_k(IntCC::SignedLessThanOrEqual, cv, 0),
                 }
             }
             Expr::CounterCv(id) => self.load32(self.p.counters[id.0 as usize].offset),
@@ -312,7 +384,7 @@ impl Translator<'_, '_> {
         match v.ty() {
             Ty::Real => self.b.ins().f32const(Ieee32::with_bits(bits as u32)),
             Ty::Lreal => self.b.ins().f64const(Ieee64::with_bits(bits)),
-            ty => self.b.ins().iconst(clty(ty), bits as i64),
+            ty => self.k(clty(ty), bits as i64),
         }
     }
 
@@ -360,20 +432,16 @@ impl Translator<'_, '_> {
             BinOp::BitOr | BinOp::Or => self.b.ins().bor(a, c),
             BinOp::BitXor | BinOp::Xor => self.b.ins().bxor(a, c),
             BinOp::Shl | BinOp::Shr => {
-                let over = self.b.ins().icmp_imm_u(
-                    IntCC::UnsignedGreaterThanOrEqual,
-                    c,
-                    i64::from(ty.bits()),
-                );
+                let over = self.icmp_k(IntCC::UnsignedGreaterThanOrEqual, c, i64::from(ty.bits()));
                 let (raw, sat) = if op == BinOp::Shl {
-                    (self.b.ins().ishl(a, c), self.b.ins().iconst(clty(ty), 0))
+                    (self.b.ins().ishl(a, c), self.k(clty(ty), 0))
                 } else if signed {
                     (
                         self.b.ins().sshr(a, c),
-                        self.b.ins().sshr_imm_u(a, i64::from(ty.bits() - 1)),
+                        self.sshr_k(a, i64::from(ty.bits() - 1)),
                     )
                 } else {
-                    (self.b.ins().ushr(a, c), self.b.ins().iconst(clty(ty), 0))
+                    (self.b.ins().ushr(a, c), self.k(clty(ty), 0))
                 };
                 self.b.ins().select(over, sat, raw)
             }
@@ -394,15 +462,15 @@ impl Translator<'_, '_> {
     /// (MOD gives 0). The divisor reaching the machine instruction is never 0 or -1.
     fn division(&mut self, op: BinOp, ty: Ty, a: Value, c: Value) -> Value {
         let t = clty(ty);
-        let zero = self.b.ins().icmp_imm_u(IntCC::Equal, c, 0);
+        let zero = self.icmp_k(IntCC::Equal, c, 0);
         let faults = self.load32(ir::HDR_FAULTS);
         let z32 = self.b.ins().uextend(types::I32, zero);
         let f = self.b.ins().bor(faults, z32);
         self.store(f, ir::HDR_FAULTS);
-        let one = self.b.ins().iconst(t, 1);
-        let zv = self.b.ins().iconst(t, 0);
+        let one = self.k(t, 1);
+        let zv = self.k(t, 0);
         let r = if ty.is_signed() {
-            let m1 = self.b.ins().icmp_imm_s(IntCC::Equal, c, -1);
+            let m1 = self.icmp_k(IntCC::Equal, c, -1);
             let bad = self.b.ins().bor(zero, m1);
             let safe = self.b.ins().select(bad, one, c);
             let (q, special) = if op == BinOp::Div {

@@ -2,8 +2,9 @@
 //!
 //! Prints every diagnostic rustc-style (default) or as one JSON object per line (`--format json`,
 //! the fields of `ncplc check`), then a one-line summary (statements, image size, compile time).
+//! With `--format json` the summary goes to stderr, so that stdout holds only JSON lines.
 //! `--emit ir` prints the lowered IR as JSON, `--emit clif` the cranelift IR of the JIT; the
-//! diagnostics then go to stderr. Exit code 0 when the program compiles, 1 on errors, 2 when the
+//! diagnostics and the summary then go to stderr. Exit code 0 when the program compiles, 1 on errors, 2 when the
 //! machine or the source cannot be read.
 //!
 //! The PLC source is `--plc FILE`, else the file FCRSYS section 2 binds to `PLCSRC`, else
@@ -14,7 +15,9 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use compiler::{InterfaceMap, MachineContext};
+use compiler::MachineContext;
+
+use crate::machine_facts::{Facts, MachineError};
 
 /// Output format of the diagnostics.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -50,147 +53,24 @@ pub struct Args {
     pub emit: Option<Emit>,
 }
 
-/// Why the machine's facts could not be read.
-#[derive(Debug, thiserror::Error)]
-pub enum BuildError {
-    /// A file could not be read.
-    #[error("cannot read {path}: {source}")]
-    Read {
-        /// The file.
-        path: String,
-        /// The OS error.
-        source: std::io::Error,
-    },
-    /// The interface map override is invalid.
-    #[error(transparent)]
-    Interface(#[from] compiler::interface_map::InterfaceMapError),
-}
-
-/// FCRSYS section 2: logical name → file (as `name/MPx` or a DOS path), mapped into `dir`.
-// TEMPORARY (until characterization::load_machine is glued in by the lead): a minimal reader of
-// FCRSYS section 2 that only resolves one logical name.
-fn fcrsys_file(dir: &Path, logical: &str) -> Option<PathBuf> {
-    let text = std::fs::read(dir.join("FCRSYS")).ok()?;
-    let text = String::from_utf8_lossy(&text);
-    let mut section = 0;
-    for line in text.lines() {
-        let line = line.split(';').next().unwrap_or("").trim();
-        if let Some(s) = line.strip_prefix('*') {
-            section = s.trim().parse().unwrap_or(0);
-            continue;
-        }
-        if section != 2 {
-            continue;
-        }
-        let mut parts = line.splitn(2, ',');
-        let (Some(name), Some(file)) = (parts.next(), parts.next()) else {
-            continue;
-        };
-        if !name.trim().eq_ignore_ascii_case(logical) {
-            continue;
-        }
-        let file = file.trim();
-        // `PLCPRG/MP0` (file/directory) or a DOS path `C:\CNC32\MP0\PLCPRG` (…\directory\file).
-        let path = match file.split_once('/') {
-            Some((f, d)) => dir.join(d.trim()).join(f.trim()),
-            None => {
-                let comps: Vec<&str> = file
-                    .split(['\\', '/'])
-                    .filter(|c| !c.is_empty() && !c.ends_with(':'))
-                    .collect();
-                match comps.as_slice() {
-                    [.., d, f] => dir.join(d).join(f),
-                    [f] => dir.join(f),
-                    [] => return None,
-                }
-            }
-        };
-        return Some(path);
-    }
-    None
-}
-
-/// The PLC source of a machine: FCRSYS `PLCSRC`, else `MP0/PLCPRG`.
-pub fn default_plc_source(dir: &Path) -> PathBuf {
-    fcrsys_file(dir, "PLCSRC").unwrap_or_else(|| dir.join("MP0").join("PLCPRG"))
-}
-
-/// The compiler's view of the machine in `dir`.
-// TEMPORARY: reads only the `INx=`, `OUx=`, `CLO=` and `SPL=` lines of section 1 of the IOCFIL
-// that FCRSYS binds to IOCONF (else MP0/IOCFIL). The lead replaces this with
-// characterization::load_machine. Missing values take the manual's defaults (SPL 1, CLO 10,2).
-pub fn machine_context(dir: &Path) -> Result<MachineContext, BuildError> {
-    let iocfil = fcrsys_file(dir, "IOCONF").unwrap_or_else(|| dir.join("MP0").join("IOCFIL"));
-    let bytes = std::fs::read(&iocfil).map_err(|source| BuildError::Read {
-        path: iocfil.display().to_string(),
-        source,
-    })?;
-    let text = String::from_utf8_lossy(&bytes);
-    let mut ctx = MachineContext {
-        a_inputs: Vec::new(),
-        a_outputs: Vec::new(),
-        spl: 1,
-        tick_ms: 10,
-        time_slow_ms: 2,
-        interface: InterfaceMap::load_for_machine(dir)?,
-    };
-    let mut section = 1;
-    for line in text.lines() {
-        let line: String = line
-            .split(';')
-            .next()
-            .unwrap_or("")
-            .chars()
-            .filter(|c| !c.is_whitespace())
-            .collect::<String>()
-            .to_ascii_uppercase();
-        if let Some(s) = line.strip_prefix('*') {
-            section = s.parse().unwrap_or(0);
-            continue;
-        }
-        let Some((key, value)) = line.split_once('=') else {
-            continue;
-        };
-        if section != 1 {
-            continue;
-        }
-        let numbers = || {
-            value
-                .split(',')
-                .filter_map(|v| v.parse::<u32>().ok())
-                .collect::<Vec<_>>()
-        };
-        if key.len() == 3 && key.starts_with("IN") {
-            ctx.a_inputs
-                .extend(numbers().into_iter().filter_map(|n| u16::try_from(n).ok()));
-        } else if key.len() == 3 && key.starts_with("OU") {
-            ctx.a_outputs
-                .extend(numbers().into_iter().filter_map(|n| u16::try_from(n).ok()));
-        } else if key == "SPL" {
-            ctx.spl = numbers().first().copied().unwrap_or(1);
-        } else if key == "CLO" {
-            let n = numbers();
-            ctx.tick_ms = n.first().copied().unwrap_or(10);
-            ctx.time_slow_ms = n.get(1).copied().unwrap_or(2);
-        }
-    }
-    Ok(ctx)
+/// The compiler's view of the machine in `dir` and its default PLC source (FCRSYS `PLCSRC`, else
+/// `MP0/PLCPRG`), from the validated characterization.
+pub fn machine_context(dir: &Path) -> Result<(MachineContext, PathBuf), MachineError> {
+    let facts = Facts::load(dir)?;
+    Ok((facts.compiler_context()?, facts.plc_source().to_path_buf()))
 }
 
 /// Runs `ncplc build`.
 pub fn run(args: Args) -> ExitCode {
     let started = Instant::now();
-    let ctx = match machine_context(&args.machine_dir) {
+    let (ctx, default_source) = match machine_context(&args.machine_dir) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("ncplc build: {e}");
             return ExitCode::from(2);
         }
     };
-    let path = args
-        .plc
-        .clone()
-        .unwrap_or_else(|| default_plc_source(&args.machine_dir));
+    let path = args.plc.clone().unwrap_or(default_source);
     let bytes = match std::fs::read(&path) {
         Ok(b) => b,
         Err(e) => {
@@ -270,41 +150,5 @@ pub fn run(args: Args) -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(1)
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn fcrsys_names_and_iocfil_lines_are_read() {
-        let dir = tempfile::tempdir().expect("temp dir");
-        std::fs::create_dir(dir.path().join("MP0")).expect("mkdir");
-        std::fs::write(
-            dir.path().join("FCRSYS"),
-            "*1\nMP0=C:\\CNC32\\MP0\n*2\nIOCONF, IOCFIL/MP0\nPLCSRC,C:\\CNC32\\MP0\\LOGIC\n*\n",
-        )
-        .expect("write");
-        std::fs::write(
-            dir.path().join("MP0/IOCFIL"),
-            "*1\nIN0=0,1,,,,,,\nOU0 = 4,5\nCLO=20,4 ; tick\nSPL=400\n*2\nIN1=9\n",
-        )
-        .expect("write");
-        let ctx = machine_context(dir.path()).expect("context");
-        assert_eq!(
-            (
-                ctx.a_inputs,
-                ctx.a_outputs,
-                ctx.spl,
-                ctx.tick_ms,
-                ctx.time_slow_ms
-            ),
-            (vec![0, 1], vec![4, 5], 400, 20, 4)
-        );
-        assert_eq!(
-            default_plc_source(dir.path()),
-            dir.path().join("MP0").join("LOGIC")
-        );
     }
 }
