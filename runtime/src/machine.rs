@@ -1,8 +1,7 @@
 //! Opening an example machine directory for `run` and `replay`: configuration, PLC source, sim script.
 //!
-//! File locations come from FCRSYS through `characterization::load_machine`. TEMPORARY part
-//! (until the lead fills [`RunConfig`] from the typed `characterization::Machine`): the values
-//! are read by [`RunConfig::from_files_temporary`].
+//! The characterization is loaded and validated by `machine_facts::Facts` (a machine with errors is
+//! refused); [`RunConfig::from_facts`] takes what the runtime needs from it.
 
 use std::path::{Path, PathBuf};
 
@@ -10,6 +9,7 @@ use compiler::InterfaceMap;
 
 use crate::compiled::{EngineKind, compile};
 use crate::config::RunConfig;
+use crate::machine_facts::Facts;
 use crate::online::CompileFn;
 use crate::sim::{CncSignals, Script, Sim};
 
@@ -31,22 +31,8 @@ pub struct Machine {
 impl Machine {
     /// Opens `dir`; `plc` overrides the PLC source (as `ncplc build --plc`).
     pub fn open(dir: &Path, plc: Option<&Path>) -> Result<Machine, String> {
-        if !dir.is_dir() {
-            return Err(format!("{}: not a machine directory", dir.display()));
-        }
-        // FCRSYS decides where the files are; the values are still read by the temporary helper.
-        let mut config = match characterization::load_machine(dir).machine {
-            Some(m) => {
-                let mp0 = &m.paths.mp0;
-                RunConfig::from_files_temporary(
-                    dir,
-                    &m.paths.iocfil.clone().unwrap_or_else(|| mp0.join("IOCFIL")),
-                    &m.paths.pgcfil.clone().unwrap_or_else(|| mp0.join("PGCFIL")),
-                    &m.paths.plc_source,
-                )
-            }
-            None => RunConfig::from_machine_dir_temporary(dir),
-        };
+        let facts = Facts::load(dir).map_err(|e| e.to_string())?;
+        let mut config = RunConfig::from_facts(&facts);
         if let Some(p) = plc {
             config.plc_source = p.to_path_buf();
         }

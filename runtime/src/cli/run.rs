@@ -104,8 +104,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         .or_else(|| machine.config.retain_file.clone());
     // Retained data matters only with PGCFIL OLD; recordings and virtual runs start fresh.
     let use_retain = machine.config.restore_old && args.record.is_none() && !args.virtual_time;
-    if use_retain && let Some(path) = &retain_path
-    {
+    if use_retain && let Some(path) = &retain_path {
         match retain::load(path) {
             Ok(Some(rec)) => {
                 let layout = RetainLayout::new(
@@ -136,8 +135,11 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         machine.signals.clone(),
         tick_ms,
     )?;
-    let clock: Box<dyn Clock> =
-        if args.virtual_time { Box::new(VirtualClock::new()) } else { Box::new(RealClock::new()) };
+    let clock: Box<dyn Clock> = if args.virtual_time {
+        Box::new(VirtualClock::new())
+    } else {
+        Box::new(RealClock::new())
+    };
     let settings = Settings {
         tick_ns: u64::from(tick_ms) * 1_000_000,
         overrun_limit: args.overrun_limit,
