@@ -191,3 +191,34 @@ fn online_change_swaps_a_good_edit_and_rejects_a_bad_one() {
     );
     assert!(err.contains("edit-to-running"), "{err}");
 }
+
+#[test]
+fn an_unanswered_m_strobe_raises_an_alarm_naming_the_function() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = old_machine(dir.path());
+    std::fs::write(
+        m.join("sim.toml"),
+        "strobe_timeout_ms = 50\n[[at]]\ntick = 1\nm = [91]\n",
+    )
+    .expect("sim");
+    let out = ncplc(&[
+        "run".as_ref(),
+        m.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--ticks".as_ref(),
+        "20".as_ref(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.matches("alarm: cnc: M91 not acknowledged (FIN) within the strobe timeout")
+            .count(),
+        1,
+        "{err}"
+    );
+}
