@@ -62,9 +62,6 @@ pub struct JitProgram {
     image_len: usize,
 }
 
-// SAFETY: the function pointers point into the module's memory, which the JitProgram owns and
-// which is immutable after finalization; JITModule itself is Send.
-unsafe impl Send for JitProgram {}
 
 fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
     let setup = |e: &dyn std::fmt::Display| JitError::Setup(e.to_string());
