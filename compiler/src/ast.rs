@@ -239,10 +239,10 @@ pub struct Program {
 /// One line as the grammar sees it; [`crate::parser`] nests the `IF` blocks.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Line {
-    /// A simple statement.
-    Stmt(Stmt),
+    /// A simple statement (boxed: keeps the parser's symbol stack small and fast).
+    Stmt(Box<Stmt>),
     /// `IF cond THEN`.
-    If(Expr, Span),
+    If(Box<Expr>, Span),
     /// `ELSE`.
     Else(Span),
     /// `END_IF`.

@@ -48,18 +48,16 @@ pub fn compile(file_name: &str, source: &[u8], ctx: &MachineContext) -> Compilat
     let mut stats = CompileStats::default();
     let mut program = None;
     // A program with syntax errors is never handed out, even if the recovered lines check.
-    if !diag::has_errors(&diagnostics) {
-        if let Some(checked) = checked {
-            stats.statements = checked.statements;
-            stats.symbolic_names = checked.symbolic_names;
-            match lower::lower(file_name, checked) {
-                Ok(p) => {
-                    stats.image_size = p.image_len();
-                    stats.slow_slices = p.slow.len();
-                    program = Some(p);
-                }
-                Err(d) => diagnostics.push(d.locate(&text)),
+    if let Some(checked) = checked.filter(|_| !diag::has_errors(&diagnostics)) {
+        stats.statements = checked.statements;
+        stats.symbolic_names = checked.symbolic_names;
+        match lower::lower(file_name, checked) {
+            Ok(p) => {
+                stats.image_size = p.image_len();
+                stats.slow_slices = p.slow.len();
+                program = Some(p);
             }
+            Err(d) => diagnostics.push(d.locate(&text)),
         }
     }
     diagnostics.sort_by_key(|d| (d.line, d.column));

@@ -18,7 +18,8 @@ use packets::Packet;
 /// CP866 or CP1251 (chosen by which one makes more Cyrillic lowercase letters).
 pub fn decode_source(bytes: &[u8]) -> String {
     if let Ok(text) = std::str::from_utf8(bytes) {
-        return text.to_string();
+        // A UTF-8 byte-order mark is not part of the program (editors do not count it either).
+        return text.strip_prefix('\u{FEFF}').unwrap_or(text).to_string();
     }
     let cp866_lower = bytes
         .iter()
@@ -43,6 +44,49 @@ pub fn decode_source(bytes: &[u8]) -> String {
             }
         })
         .collect()
+}
+
+/// Line starts of a text, for turning byte offsets into 1-based line and column quickly
+/// (`diag::line_column` scans from the start of the text, too slow for thousands of lookups).
+#[derive(Debug, Clone)]
+pub struct LineIndex<'a> {
+    text: &'a str,
+    starts: Vec<usize>,
+}
+
+impl<'a> LineIndex<'a> {
+    /// Indexes `text`.
+    pub fn new(text: &'a str) -> Self {
+        let mut starts = vec![0];
+        starts.extend(
+            text.bytes()
+                .enumerate()
+                .filter(|&(_, b)| b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        LineIndex { text, starts }
+    }
+
+    /// 1-based line and column (in characters) of byte `offset`, as `diag::line_column` gives them.
+    pub fn line_column(&self, offset: usize) -> (u32, u32) {
+        let mut offset = offset.min(self.text.len());
+        while !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let line = self.starts.partition_point(|&s| s <= offset);
+        let start = self.starts[line - 1];
+        let column = self.text[start..offset].chars().count() + 1;
+        (
+            u32::try_from(line).unwrap_or(u32::MAX),
+            u32::try_from(column).unwrap_or(u32::MAX),
+        )
+    }
+
+    /// Fills a diagnostic's line and column from its span.
+    pub fn locate(&self, mut d: diag::Diagnostic) -> diag::Diagnostic {
+        (d.line, d.column) = self.line_column(d.span.start);
+        d
+    }
 }
 
 /// Characters of bytes 0x80..=0xFF in code page 866 (DOS Cyrillic).
@@ -429,11 +473,9 @@ pub fn tokenize(text: &str) -> (Vec<Spanned<'_>>, Vec<LexError>) {
             }
             continue;
         }
-        if let Some(at) = held_newline.take() {
-            if tok.starts_line() {
-                depth = 0;
-                out.push((at, Tok::Newline, at + 1));
-            }
+        if let Some(at) = held_newline.take().filter(|_| tok.starts_line()) {
+            depth = 0;
+            out.push((at, Tok::Newline, at + 1));
         }
         match tok {
             Tok::LParen | Tok::LBracket => depth += 1,
@@ -457,6 +499,19 @@ mod tests {
     }
 
     #[test]
+    fn line_index_agrees_with_diag() {
+        let text = "ab\nдве\n\nx\u{FFFD}y\n";
+        let index = LineIndex::new(text);
+        for at in 0..=text.len() + 2 {
+            assert_eq!(
+                index.line_column(at),
+                diag::line_column(text, at),
+                "offset {at}"
+            );
+        }
+    }
+
+    #[test]
     fn code_page_tables_have_128_characters() {
         assert_eq!(CP866_HIGH.chars().count(), 128);
         assert_eq!(CP1251_HIGH.chars().count(), 128);
@@ -469,6 +524,7 @@ mod tests {
         assert_eq!(decode_source(cp1251), ";Привет\nU1K0=I0K0");
         let cp866 = b";\x8f\xe0\xa8\xa2\xa5\xe2";
         assert_eq!(decode_source(cp866), ";Привет");
+        assert_eq!(decode_source("\u{FEFF}U1K0=1".as_bytes()), "U1K0=1");
     }
 
     #[test]
@@ -536,6 +592,11 @@ mod tests {
         assert_eq!(
             toks("\n\nU1K0=I0K0+\n I0K1\n\nU1K1=(I0K0\n*I0K1)\n"),
             toks("U1K0=I0K0+I0K1\nU1K1=(I0K0*I0K1)\n")
+        );
+        // A comment after the operator does not end the statement.
+        assert_eq!(
+            toks("U1K0=I0K0+ ; more below\nI0K1"),
+            toks("U1K0=I0K0+I0K1")
         );
         // A keyword that starts a line ends an unclosed bracket's statement.
         let t = toks("U1K0=(I0K0\nDEF x : BOOL\n");

@@ -13,6 +13,7 @@ pub mod lower;
 pub mod migrate;
 pub mod parser;
 pub mod sema;
+pub mod synth;
 
 pub use context::MachineContext;
 pub use engine::Engine;

@@ -13,7 +13,7 @@ use crate::lexer::{self, LexErrorKind, Spanned, Tok};
 use crate::sema::codes;
 
 lalrpop_util::lalrpop_mod!(
-    #[allow(clippy::all, unused, missing_docs)]
+    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
     grammar
 );
 
@@ -23,9 +23,9 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
     let mut diags: Vec<Diagnostic> = lex_errors
         .iter()
         .map(|e| match e.kind {
-            LexErrorKind::InvalidChar => Diagnostic::error(codes::INVALID_CHAR, file, e.span.clone(), format!("invalid character `{}`", &text[e.span.clone()]))
+            LexErrorKind::InvalidChar => Diagnostic::error(codes::INVALID_CHAR, file, e.span.clone(), format!("invalid character `{}`", text.get(e.span.clone()).unwrap_or("?")))
                 .with_hint("outside a `;` comment only ASCII letters, digits, operators and brackets are allowed"),
-            LexErrorKind::NumberTooLarge => Diagnostic::error(codes::NUMBER_TOO_LARGE, file, e.span.clone(), format!("number `{}` is too large", &text[e.span.clone()]))
+            LexErrorKind::NumberTooLarge => Diagnostic::error(codes::NUMBER_TOO_LARGE, file, e.span.clone(), format!("number `{}` is too large", text.get(e.span.clone()).unwrap_or("?")))
                 .with_hint("numbers must fit 32 bits (at most 4294967295 or 0FFFFFFFFH)"),
         })
         .collect();
@@ -50,7 +50,11 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
         }
     }
     let program = nest(file, lines, &mut diags);
-    let diags = diags.into_iter().map(|d| d.locate(text)).collect();
+    if diags.is_empty() {
+        return (program, diags);
+    }
+    let lines = lexer::LineIndex::new(text);
+    let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
     (program, diags)
 }
 
@@ -144,6 +148,21 @@ fn syntax_diagnostic(
             } else {
                 l..(l + 1).min(text.len())
             };
+            let after_def = text
+                .get(..l)
+                .map(|b| b.trim_end().to_ascii_uppercase())
+                .is_some_and(|b| b.ends_with("DEF") && !b.ends_with("_DEF"));
+            if after_def && !matches!(t, Tok::Newline | Tok::Error) {
+                let kind = match t {
+                    Tok::Signal(_) => "a signal",
+                    Tok::Pulse(_) => "a one-shot",
+                    _ => "a keyword or symbol",
+                };
+                return Some(
+                    Diagnostic::error(codes::RESERVED_NAME, file, span, format!("{what} is {kind}, not a name"))
+                        .with_hint("a name is letters, digits and `_`, starts with a letter and must not look like a signal (U10K5), a one-shot (P2) or a keyword"),
+                );
+            }
             Diagnostic::error(codes::SYNTAX, file, span, format!("unexpected {what}"))
                 .with_hint(format!("expected {}", friendly(&expected)))
         }
@@ -200,9 +219,9 @@ fn nest(file: &str, lines: Vec<Line>, diags: &mut Vec<Diagnostic>) -> Program {
             &mut program.fast
         };
         match line {
-            Line::Stmt(s) => push(&mut stack, top, s),
+            Line::Stmt(s) => push(&mut stack, top, *s),
             Line::If(cond, span) => stack.push(Frame {
-                cond,
+                cond: *cond,
                 span,
                 then_body: Vec::new(),
                 else_body: None,
@@ -387,5 +406,13 @@ mod tests {
     #[test]
     fn eof_inside_brackets() {
         assert_eq!(codes_of("U1K0=(I0K0"), vec![(1003, 1, 11)]);
+    }
+
+    #[test]
+    fn names_that_look_like_signals_or_keywords() {
+        assert_eq!(
+            codes_of("DEF U10K5 = I0K0\nDEF P2 : BOOL\ndef THEN : BOOL\nDEF X = 5"),
+            vec![(1202, 1, 5), (1202, 2, 5), (1202, 3, 5), (1003, 4, 9)]
+        );
     }
 }

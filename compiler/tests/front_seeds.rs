@@ -122,3 +122,42 @@ fn seeds_compile_from_legacy_bytes_and_lower_case() {
         assign("U170K7", not(load("I1A29")))
     );
 }
+
+/// The example machines' contexts (their IOCFIL section 1).
+fn example_ctx(inputs: &[u16], outputs: &[u16]) -> MachineContext {
+    MachineContext {
+        a_inputs: inputs.to_vec(),
+        a_outputs: outputs.to_vec(),
+        spl: 400,
+        ..MachineContext::lathe_like()
+    }
+}
+
+#[test]
+fn example_lathe_program_compiles_without_diagnostics() {
+    let src = include_bytes!("../../plc-programs/lathe/MP0/PLCPRG");
+    let c = compile("lathe/MP0/PLCPRG", src, &example_ctx(&[0, 1], &[4, 5]));
+    assert_eq!(c.diagnostics, vec![]);
+    let p = c.program.expect("compiles");
+    assert_eq!(p.timers.len(), 6);
+    assert!(!p.slow.is_empty());
+}
+
+#[test]
+fn the_synthetic_benchmark_program_compiles() {
+    let src = compiler::synth::synthetic_program(2_000);
+    let ctx = MachineContext {
+        spl: 5000,
+        ..MachineContext::lathe_like()
+    };
+    let c = compile("synth", src.as_bytes(), &ctx);
+    let errors: Vec<_> = c
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .take(3)
+        .collect();
+    assert!(errors.is_empty(), "{errors:?}");
+    assert_eq!(c.stats.statements, 2_000);
+    assert!(!c.program.expect("compiles").slow.is_empty());
+}

@@ -7,6 +7,7 @@
 //! the rules of [`types`]; finally the usage warnings are computed. Every problem becomes a
 //! [`Diagnostic`] with a stable code ([`codes`]); checking never stops at the first error.
 
+mod calls;
 pub mod codes;
 mod expr;
 pub mod signals;
@@ -117,6 +118,8 @@ pub(crate) struct Checker<'a> {
     pub symbolic_names: usize,
     /// Names whose `DEF` was rejected (uses are not reported as undefined).
     pub failed: HashSet<String>,
+    /// Line starts of `text`, for positions in messages and for locating diagnostics.
+    pub lines: crate::lexer::LineIndex<'a>,
 }
 
 impl<'a> Checker<'a> {
@@ -136,6 +139,7 @@ impl<'a> Checker<'a> {
             statements: 0,
             symbolic_names: 0,
             failed: HashSet::new(),
+            lines: crate::lexer::LineIndex::new(text),
         }
     }
 
@@ -165,7 +169,7 @@ impl<'a> Checker<'a> {
 
     /// `line:column` of a byte offset, for messages.
     pub fn position(&self, at: usize) -> String {
-        let (l, c) = diag::line_column(self.text, at);
+        let (l, c) = self.lines.line_column(at);
         format!("{l}:{c}")
     }
 
@@ -228,7 +232,10 @@ pub fn check(
     let fast = c.block(&program.fast);
     let slow = c.block(&program.slow);
     c.usage_warnings();
-    let diags: Vec<Diagnostic> = c.diags.into_iter().map(|d| d.locate(text)).collect();
+    let diags: Vec<Diagnostic> = std::mem::take(&mut c.diags)
+        .into_iter()
+        .map(|d| c.lines.locate(d))
+        .collect();
     if diag::has_errors(&diags) {
         return (None, diags);
     }

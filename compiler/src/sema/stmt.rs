@@ -81,7 +81,7 @@ impl Checker<'_> {
                     format!("SET/RES cannot drive {what}"),
                     format!(
                         "drive {what} with a plain assignment: `{} = <input>`",
-                        &c.text[target.span.clone()]
+                        c.text.get(target.span.clone()).unwrap_or("target")
                     ),
                 );
                 return false;
@@ -202,10 +202,10 @@ impl Checker<'_> {
                 let i = self.target_symbol(&name.text, &t.span)?;
                 match self.syms[i].kind.clone() {
                     SymKind::Place { place, ty, .. } => {
-                        if let Place::Signal(sig) = place {
-                            if !self.check_write(&sig, &t.span) {
-                                return None;
-                            }
+                        if let Place::Signal(sig) = place
+                            && !self.check_write(&sig, &t.span)
+                        {
+                            return None;
                         }
                         Some(Tgt::Place(place, ty))
                     }

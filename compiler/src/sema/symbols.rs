@@ -406,7 +406,7 @@ impl Checker<'_> {
             Some(Lit::Int(v)) if !timer && v >= i64::from(i32::MIN) && v <= i64::from(i32::MAX) => {
                 Some(v)
             }
-            Some(Lit::Real(r)) if timer && r >= 0.0 && r < 2.0e9 => Some(r.ceil() as i64),
+            Some(Lit::Real(r)) if timer && (0.0..2.0e9).contains(&r) => Some(r.ceil() as i64),
             _ => None,
         };
         if v.is_none() {
