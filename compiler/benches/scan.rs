@@ -105,22 +105,33 @@ fn compile_time(c: &mut Criterion) {
     g.bench_function("front_end", |b| {
         b.iter(|| compile("bench", black_box(src.as_bytes()), &ctx))
     });
-    let opts = |opt_level, regalloc, chunk_cost| JitOptions {
+    let opts = |opt_level, regalloc, chunk_cost, threads| JitOptions {
         opt_level,
         regalloc,
         chunk_cost,
+        threads,
     };
     let variants = [
-        ("jit_default_none_single_pass_2000", JitOptions::default()),
+        (
+            "jit_default_none_single_pass_2000_auto_threads",
+            JitOptions::default(),
+        ),
+        (
+            "jit_none_single_pass_2000_1_thread",
+            opts("none", "single_pass", 2000, 1),
+        ),
         (
             "jit_none_backtracking_2000",
-            opts("none", "backtracking", 2000),
+            opts("none", "backtracking", 2000, 0),
         ),
         (
             "jit_speed_single_pass_2000",
-            opts("speed", "single_pass", 2000),
+            opts("speed", "single_pass", 2000, 0),
         ),
-        ("jit_none_single_pass_250", opts("none", "single_pass", 250)),
+        (
+            "jit_none_single_pass_250",
+            opts("none", "single_pass", 250, 0),
+        ),
     ];
     for (name, opts) in variants {
         g.bench_function(name, |b| {

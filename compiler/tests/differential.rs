@@ -361,7 +361,7 @@ proptest! {
         let mut interp = Interpreter::new(p.clone());
         let mut jit = compiler::jit::compile(&p).expect("jit compiles every valid program");
         // One function per statement, optimized, other register allocator: same results.
-        let opts = JitOptions { opt_level: "speed", regalloc: "backtracking", chunk_cost: 1 };
+        let opts = JitOptions { opt_level: "speed", regalloc: "backtracking", chunk_cost: 1, threads: 3 };
         let mut jit2 = compiler::jit::compile_with(&p, &opts).expect("jit compiles every valid program");
         let mut a = p.new_image();
         let mut c = p.new_image();

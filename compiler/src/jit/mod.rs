@@ -40,6 +40,8 @@ pub struct JitOptions {
     pub regalloc: &'static str,
     /// Largest cost ([`ir::Stmt::cost`]) of top-level statements put into one function.
     pub chunk_cost: u32,
+    /// Threads compiling functions in parallel (0: the available cores, at most 4).
+    pub threads: usize,
 }
 
 impl Default for JitOptions {
@@ -48,6 +50,7 @@ impl Default for JitOptions {
             opt_level: "none",
             regalloc: "single_pass",
             chunk_cost: 2000,
+            threads: 0,
         }
     }
 }
@@ -61,10 +64,6 @@ pub struct JitProgram {
     slow: Vec<Vec<ScanFn>>,
     image_len: usize,
 }
-
-// SAFETY: the function pointers point into the module's memory, which the JitProgram owns and
-// which is immutable after finalization; JITModule itself is Send.
-unsafe impl Send for JitProgram {}
 
 fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
     let setup = |e: &dyn std::fmt::Display| JitError::Setup(e.to_string());
@@ -147,53 +146,109 @@ pub fn compile(p: &Program) -> Result<JitProgram, JitError> {
     compile_with(p, &JitOptions::default())
 }
 
+/// Machine code of one function: bytes and required alignment.
+type Code = (Vec<u8>, u64);
+
+/// Builds and compiles one function for `stmts` (position-independent, no relocations).
+fn machine_code(
+    p: &Program,
+    stmts: &[Stmt],
+    isa: &OwnedTargetIsa,
+    sig: &Signature,
+    fctx: &mut FunctionBuilderContext,
+) -> Result<Code, JitError> {
+    let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
+    build(&mut func, fctx, p, stmts, isa);
+    let mut ctx = cranelift_codegen::Context::for_function(func);
+    let mut ctrl = cranelift_codegen::control::ControlPlane::default();
+    let code = ctx
+        .compile(&**isa, &mut ctrl)
+        .map_err(|e| JitError::Codegen(format!("{:?}", e.inner)))?;
+    if !code.buffer.relocs().is_empty() {
+        return Err(JitError::Codegen("scan code needs relocations".into()));
+    }
+    Ok((
+        code.code_buffer().to_vec(),
+        u64::from(code.buffer.alignment),
+    ))
+}
+
+/// Compiles every chunk, on several threads when there is more than one chunk; results keep
+/// the order of `chunks` (and the code does not depend on the thread that made it).
+fn compile_chunks(
+    p: &Program,
+    chunks: &[&[Stmt]],
+    isa: &OwnedTargetIsa,
+    sig: &Signature,
+    threads: usize,
+) -> Result<Vec<Code>, JitError> {
+    let auto = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(4);
+    let threads = if threads == 0 { auto } else { threads };
+    let threads = threads.min(chunks.len()).max(1);
+    let run = |part: &[&[Stmt]]| -> Result<Vec<Code>, JitError> {
+        let mut fctx = FunctionBuilderContext::new();
+        part.iter()
+            .map(|stmts| machine_code(p, stmts, isa, sig, &mut fctx))
+            .collect()
+    };
+    if threads == 1 {
+        return run(chunks);
+    }
+    let per = chunks.len().div_ceil(threads);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = chunks
+            .chunks(per)
+            .map(|part| scope.spawn(move || run(part)))
+            .collect();
+        let mut out = Vec::with_capacity(chunks.len());
+        for h in handles {
+            let codes = h
+                .join()
+                .map_err(|_| JitError::Codegen("a compile thread panicked".into()))??;
+            out.extend(codes);
+        }
+        Ok(out)
+    })
+}
+
 /// Compiles a program with explicit options.
 pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitError> {
     check_len(p)?;
     let isa = isa(opts)?;
-    let call_conv = isa.default_call_conv();
-    let sig = signature(&isa, call_conv);
+    let sig = signature(&isa, isa.default_call_conv());
+    let parts: Vec<Vec<&[Stmt]>> = std::iter::once(&p.fast[..])
+        .chain(p.slow.iter().map(Vec::as_slice))
+        .map(|stmts| chunks(stmts, opts.chunk_cost))
+        .collect();
+    let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
+    let codes = compile_chunks(p, &flat, &isa, &sig, opts.threads)?;
     let mut module = JITModule::new(JITBuilder::with_isa(
         isa.clone(),
         cranelift_module::default_libcall_names(),
     ));
-    let mut ctx = module.make_context();
-    let mut fctx = FunctionBuilderContext::new();
-    let mut parts: Vec<Vec<cranelift_module::FuncId>> = Vec::new();
-    let mut n = 0usize;
-    let lists = std::iter::once(&p.fast[..]).chain(p.slow.iter().map(Vec::as_slice));
     let codegen = |e: &dyn std::fmt::Display| JitError::Codegen(e.to_string());
-    for stmts in lists {
-        let mut ids = Vec::new();
-        for chunk in chunks(stmts, opts.chunk_cost) {
-            let name = format!("part{n}");
-            n += 1;
-            let id = module
-                .declare_function(&name, Linkage::Local, &sig)
-                .map_err(|e| codegen(&e))?;
-            ctx.func.signature = sig.clone();
-            build(&mut ctx.func, &mut fctx, p, chunk, &isa);
-            module
-                .define_function(id, &mut ctx)
-                .map_err(|e| codegen(&format!("{e:?}")))?;
-            module.clear_context(&mut ctx);
-            ids.push(id);
-        }
-        parts.push(ids);
+    let mut ids = Vec::with_capacity(codes.len());
+    for (n, (bytes, align)) in codes.iter().enumerate() {
+        let id = module
+            .declare_function(&format!("part{n}"), Linkage::Local, &sig)
+            .map_err(|e| codegen(&e))?;
+        module
+            .define_function_bytes(id, *align, bytes, &[])
+            .map_err(|e| codegen(&e))?;
+        ids.push(id);
     }
     module.finalize_definitions().map_err(|e| codegen(&e))?;
-    let resolve = |ids: &[cranelift_module::FuncId]| -> Vec<ScanFn> {
-        ids.iter()
-            .map(|&id| {
-                let ptr = module.get_finalized_function(id);
-                // SAFETY: the function was defined with signature `fn(*mut u8)` and the system
-                // calling convention, and is finalized.
-                unsafe { std::mem::transmute::<*const u8, ScanFn>(ptr) }
-            })
-            .collect()
-    };
-    let fast = resolve(&parts[0]);
-    let slow = parts[1..].iter().map(|ids| resolve(ids)).collect();
+    let mut fns = ids.iter().map(|&id| {
+        let ptr = module.get_finalized_function(id);
+        // SAFETY: the function was compiled with signature `fn(*mut u8)` and the system
+        // calling convention, and is finalized.
+        unsafe { std::mem::transmute::<*const u8, ScanFn>(ptr) }
+    });
+    let mut take = |n: usize| fns.by_ref().take(n).collect::<Vec<ScanFn>>();
+    let fast = take(parts[0].len());
+    let slow = parts[1..].iter().map(|c| take(c.len())).collect();
     Ok(JitProgram {
         module: Some(module),
         fast,

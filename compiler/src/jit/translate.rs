@@ -101,10 +101,10 @@ impl Translator<'_, '_> {
     /// stored to exactly that place in this block (all offsets are constants, so aliasing is
     /// known exactly).
     fn load(&mut self, ty: Type, at: usize) -> Value {
-        if let Some(&(t, v)) = self.mem_cache.get(&at) {
-            if t == ty {
-                return v;
-            }
+        if let Some(&(t, v)) = self.mem_cache.get(&at)
+            && t == ty
+        {
+            return v;
         }
         let v = self.b.ins().load(ty, FL, self.mem, Self::off(at));
         self.mem_cache.insert(at, (ty, v));
