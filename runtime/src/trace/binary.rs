@@ -251,4 +251,56 @@ mod tests {
             Some("frame 1: truncated: the last frame has no 0x00 terminator")
         );
     }
+
+    fn arb_signal(dir: Dir) -> impl proptest::strategy::Strategy<Value = Signal> {
+        use proptest::prelude::*;
+        (0usize..4, 0u16..256, 0u8..32, any::<bool>()).prop_map(move |(p, c, n, byte)| {
+            let packet = Packet::ALL[p];
+            let connector = c % packet.connectors();
+            if byte {
+                Signal::Byte {
+                    packet,
+                    connector,
+                    index: n % 4,
+                }
+            } else {
+                Signal::Bit {
+                    dir,
+                    packet,
+                    connector,
+                    contact: n,
+                }
+            }
+        })
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config::with_cases(128))]
+        #[test]
+        fn binary_and_text_round_trip_any_trace(
+            gaps in proptest::collection::vec(1u64..100_000, 0..20),
+            ins in proptest::collection::vec((arb_signal(Dir::In), proptest::prelude::any::<u8>()), 0..40),
+            outs in proptest::collection::vec((arb_signal(Dir::Out), proptest::prelude::any::<u8>()), 0..40),
+        ) {
+            let mut t = 0;
+            let mut ticks = Vec::new();
+            for (i, g) in gaps.iter().enumerate() {
+                let fix = |(s, v): &(Signal, u8)| (*s, if s.bit().is_some() { v & 1 } else { *v });
+                let mut inputs: Vec<_> = ins.iter().skip(i).step_by(3).map(fix).collect();
+                let mut outputs: Vec<_> = outs.iter().skip(i).step_by(3).map(fix).collect();
+                inputs.sort_by_key(|(s, _)| crate::trace::text::canonical_key(s));
+                inputs.dedup_by_key(|(s, _)| *s);
+                outputs.sort_by_key(|(s, _)| crate::trace::text::canonical_key(s));
+                outputs.dedup_by_key(|(s, _)| *s);
+                ticks.push(TickRecord { t, inputs, outputs });
+                t += g;
+            }
+            let trace = Trace { tick_ms: 3, ticks };
+            let bytes = encode(&trace).expect("encode");
+            proptest::prop_assert_eq!(&decode(&bytes).expect("decode"), &trace);
+            let mut text = Vec::new();
+            trace.write_text(&mut text).expect("text");
+            proptest::prop_assert_eq!(&crate::trace::text::parse(&text).expect("parse"), &trace);
+        }
+    }
 }
