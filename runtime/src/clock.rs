@@ -18,6 +18,7 @@ pub trait Clock: Send {
 #[derive(Debug)]
 pub struct RealClock {
     origin: libc::timespec,
+    spin_ns: u64,
 }
 
 fn monotonic() -> libc::timespec {
@@ -39,6 +40,16 @@ impl RealClock {
     pub fn new() -> RealClock {
         RealClock {
             origin: monotonic(),
+            spin_ns: 0,
+        }
+    }
+
+    /// A clock that sleeps until `spin_ns` before each deadline and busy-waits the rest (lower
+    /// wake latency for one core's worth of spinning).
+    pub fn with_spin(spin_ns: u64) -> RealClock {
+        RealClock {
+            origin: monotonic(),
+            spin_ns,
         }
     }
 }
@@ -55,6 +66,27 @@ impl Clock for RealClock {
     }
 
     fn sleep_until(&mut self, deadline_ns: u64) -> u64 {
+        if self.spin_ns > 0 {
+            self.sleep_abs(deadline_ns.saturating_sub(self.spin_ns));
+            loop {
+                let now = self.now_ns();
+                if now >= deadline_ns {
+                    return now;
+                }
+                std::hint::spin_loop();
+            }
+        }
+        self.sleep_abs(deadline_ns);
+        self.now_ns()
+    }
+
+    fn is_virtual(&self) -> bool {
+        false
+    }
+}
+
+impl RealClock {
+    fn sleep_abs(&mut self, deadline_ns: u64) {
         let abs = ts_ns(&self.origin) + i128::from(deadline_ns);
         let ts = libc::timespec {
             tv_sec: (abs / 1_000_000_000) as libc::time_t,
@@ -74,11 +106,6 @@ impl Clock for RealClock {
                 break;
             }
         }
-        self.now_ns()
-    }
-
-    fn is_virtual(&self) -> bool {
-        false
     }
 }
 
@@ -162,5 +189,9 @@ mod tests {
         let start = c.now_ns();
         let woke = c.sleep_until(start + 2_000_000);
         assert!(woke >= start + 2_000_000, "{woke} < {}", start + 2_000_000);
+        let mut c = RealClock::with_spin(500_000);
+        let start = c.now_ns();
+        let woke = c.sleep_until(start + 1_000_000);
+        assert!(woke >= start + 1_000_000, "{woke} < {}", start + 1_000_000);
     }
 }

@@ -52,6 +52,9 @@ pub struct Args {
     /// Do not watch the PLC source for online change.
     #[arg(long)]
     pub no_watch: bool,
+    /// Busy-wait the last N µs before each tick (lower wake latency, costs CPU).
+    #[arg(long, default_value_t = 0)]
+    pub spin_us: u64,
     /// Keep retained data in this file (default: <machine>/retain.bin).
     #[arg(long)]
     pub retain_file: Option<PathBuf>,
@@ -138,7 +141,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let clock: Box<dyn Clock> = if args.virtual_time {
         Box::new(VirtualClock::new())
     } else {
-        Box::new(RealClock::new())
+        Box::new(RealClock::with_spin(args.spin_us * 1_000))
     };
     let settings = Settings {
         tick_ns: u64::from(tick_ms) * 1_000_000,
