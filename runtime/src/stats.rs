@@ -64,7 +64,7 @@ impl Stats {
     pub fn summary(&self) -> String {
         let line = |name: &str, h: &Histogram<u64>| {
             format!(
-                "{name:<14} p50 {:>9.1} µs  p99 {:>9.1} µs  p99.9 {:>9.1} µs  max {:>9.1} µs\n",
+                "{name:<14} p50 {:>9.2} µs  p99 {:>9.2} µs  p99.9 {:>9.2} µs  max {:>9.2} µs\n",
                 h.value_at_quantile(0.5) as f64 / 1e3,
                 h.value_at_quantile(0.99) as f64 / 1e3,
                 h.value_at_quantile(0.999) as f64 / 1e3,
