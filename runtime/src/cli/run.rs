@@ -55,7 +55,7 @@ pub struct Args {
     /// Busy-wait the last N µs before each tick (lower wake latency, costs CPU).
     #[arg(long, default_value_t = 0)]
     pub spin_us: u64,
-    /// Keep retained data in this file (default: <machine>/retain.bin).
+    /// Keep retained data in this file (default: `<machine>/retain.bin`).
     #[arg(long)]
     pub retain_file: Option<PathBuf>,
 }
