@@ -31,7 +31,8 @@ pub enum JitError {
     Codegen(String),
 }
 
-/// Code generation options (the defaults are what [`compile`] uses).
+/// Code generation options (the defaults are what [`compile`] uses: `none`, `single_pass`,
+/// chunks of 2000 cost units, one thread so that compiling never competes with the scan thread).
 #[derive(Debug, Clone)]
 pub struct JitOptions {
     /// Cranelift `opt_level`: `none`, `speed` or `speed_and_size`.
@@ -50,7 +51,7 @@ impl Default for JitOptions {
             opt_level: "none",
             regalloc: "single_pass",
             chunk_cost: 2000,
-            threads: 0,
+            threads: 1,
         }
     }
 }
