@@ -156,16 +156,17 @@ fn retained_data_survives_a_restart_with_pgcfil_old() {
 
 #[test]
 fn online_change_swaps_a_good_edit_and_rejects_a_bad_one() {
+    use std::io::BufRead;
     let dir = tempfile::tempdir().expect("tempdir");
     let m = old_machine(dir.path());
     let plc = m.join("MP0/PLCPRG");
     std::fs::write(&plc, "U4A0 = I0A0\n").expect("plc");
-    let child = Command::new(env!("CARGO_BIN_EXE_ncplc"))
+    let mut child = Command::new(env!("CARGO_BIN_EXE_ncplc"))
         .args([
             "run".as_ref(),
             m.as_os_str(),
             "--ticks".as_ref(),
-            "150".as_ref(),
+            "6000".as_ref(),
             "--tick-ms".as_ref(),
             "10".as_ref(),
         ])
@@ -174,22 +175,38 @@ fn online_change_swaps_a_good_edit_and_rejects_a_bad_one() {
         .stderr(Stdio::piped())
         .spawn()
         .expect("ncplc runs");
-    std::thread::sleep(Duration::from_millis(300));
+    let stderr = child.stderr.take().expect("stderr");
+    let (tx, rx) = std::sync::mpsc::channel::<String>();
+    std::thread::spawn(move || {
+        for line in std::io::BufReader::new(stderr).lines() {
+            let Ok(line) = line else { break };
+            if tx.send(line).is_err() {
+                break;
+            }
+        }
+    });
+    let mut seen = String::new();
+    let mut wait_for = |needle: &str| {
+        while !seen.contains(needle) {
+            match rx.recv_timeout(Duration::from_secs(30)) {
+                Ok(line) => {
+                    seen.push_str(&line);
+                    seen.push('\n');
+                }
+                Err(_) => panic!("no `{needle}` in:\n{seen}"),
+            }
+        }
+    };
+    wait_for("online change: watching");
     std::fs::write(&plc, "U4A0 = I0A0 *\n U4A1 = Q\n").expect("bad edit");
-    std::thread::sleep(Duration::from_millis(300));
+    wait_for("online change rejected; the running program stays");
     std::fs::write(&plc, "U4A0 = /I0A0\n").expect("good edit");
-    let out = child.wait_with_output().expect("wait");
-    assert!(out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("online change rejected; the running program stays"),
-        "{err}"
-    );
-    assert!(
-        err.contains("online change: new program runs from tick"),
-        "{err}"
-    );
-    assert!(err.contains("edit-to-running"), "{err}");
+    wait_for("online change: new program runs from tick");
+    wait_for("edit-to-running");
+    // SAFETY: plain signal to our own child process.
+    unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+    let status = child.wait().expect("wait");
+    assert!(status.success(), "{status:?}");
 }
 
 #[test]

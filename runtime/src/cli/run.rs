@@ -170,7 +170,13 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             swap_tx,
             notes_tx,
         ) {
-            Ok(w) => Some(w),
+            Ok(w) => {
+                eprintln!(
+                    "online change: watching {}",
+                    machine.config.plc_source.display()
+                );
+                Some(w)
+            }
             Err(e) => {
                 eprintln!("warning: online change disabled: {e}");
                 None
