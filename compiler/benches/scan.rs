@@ -113,12 +113,12 @@ fn compile_time(c: &mut Criterion) {
     };
     let variants = [
         (
-            "jit_default_none_single_pass_2000_auto_threads",
+            "jit_default_none_single_pass_2000_1_thread",
             JitOptions::default(),
         ),
         (
-            "jit_none_single_pass_2000_1_thread",
-            opts("none", "single_pass", 2000, 1),
+            "jit_none_single_pass_2000_auto_threads",
+            opts("none", "single_pass", 2000, 0),
         ),
         (
             "jit_none_backtracking_2000",
