@@ -4,8 +4,8 @@ use std::collections::HashMap;
 
 use crate::ir::{HDR_FAULTS, Program, SlotKind, Ty};
 
-/// Copies the packets, the fault flags and every state slot whose name, kind, type and length are
-/// unchanged from `old_image` (laid out for `old`) into `new_image` (laid out for `new`). Slots
+/// Copies the packets, the fault flags and every state slot whose name (ASCII case-insensitive, as
+/// in the language), kind, type and length are unchanged from `old_image` (laid out for `old`) into `new_image` (laid out for `new`). Slots
 /// that are new or changed keep what `new_image` holds (normally the new program's initial
 /// values); the SLOW slice index restarts at 0. Out-of-range slots are skipped, never a panic.
 pub fn migrate_state(old: &Program, old_image: &[u8], new: &Program, new_image: &mut [u8]) {
@@ -25,10 +25,15 @@ pub fn migrate_state(old: &Program, old_image: &[u8], new: &Program, new_image: 
     let old_slots: HashMap<(String, SlotKind), (Ty, usize, usize)> = old
         .state_slots()
         .into_iter()
-        .map(|s| ((s.name, s.kind), (s.ty, s.offset, s.len)))
+        .map(|s| {
+            (
+                (s.name.to_ascii_uppercase(), s.kind),
+                (s.ty, s.offset, s.len),
+            )
+        })
         .collect();
     for s in new.state_slots() {
-        let Some(&(ty, offset, len)) = old_slots.get(&(s.name.clone(), s.kind)) else {
+        let Some(&(ty, offset, len)) = old_slots.get(&(s.name.to_ascii_uppercase(), s.kind)) else {
             continue;
         };
         if ty != s.ty || len != s.len {
@@ -64,7 +69,7 @@ mod tests {
         let mut b = ProgramBuilder::new(10, 5);
         b.timer("t", TimerKind::Ton, 200);
         b.var("mode", Ty::Word, Some(Value::Word(9)), false);
-        b.var("count", Ty::Dint, None, false);
+        b.var("COUNT", Ty::Dint, None, false);
         let new = b.finish(vec![], vec![]).expect("valid");
         let mut new_image = new.new_image();
         migrate_state(&old, &old_image, &new, &mut new_image);
