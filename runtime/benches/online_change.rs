@@ -45,6 +45,7 @@ fn bench(c: &mut Criterion) {
     let io = open_io(
         IoKind::Sim,
         &machine.dir,
+        &machine.declared_connectors(),
         machine.script.clone(),
         machine.signals.clone(),
         1,

@@ -30,6 +30,7 @@ fn record(machine: &Machine) -> Trace {
     let io = open_io(
         IoKind::Sim,
         &machine.dir,
+        &machine.declared_connectors(),
         machine.script.clone(),
         machine.signals.clone(),
         1,

@@ -57,6 +57,14 @@ impl Machine {
         })
     }
 
+    /// The packet-A connectors IOCFIL declares (the fieldbus I/O map must respect them).
+    pub fn declared_connectors(&self) -> fieldbus::DeclaredConnectors {
+        fieldbus::DeclaredConnectors {
+            inputs: self.config.a_inputs.clone(),
+            outputs: self.config.a_outputs.clone(),
+        }
+    }
+
     /// Reads the PLC source.
     pub fn read_source(&self) -> Result<Vec<u8>, String> {
         std::fs::read(&self.config.plc_source)

@@ -134,6 +134,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let io = open_io(
         args.io,
         &machine.dir,
+        &machine.declared_connectors(),
         machine.script.clone(),
         machine.signals.clone(),
         tick_ms,
@@ -191,6 +192,8 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         eprintln!("warning: {w}");
     }
     let status = std::io::stderr().is_terminal();
+    // On a terminal, messages first erase the live status line; elsewhere they are plain lines.
+    let clear = if status { "\r\x1b[K" } else { "" };
     let mut last_status = Instant::now();
     let mut alarms = 0u64;
     let mut last_alarm = String::new();
@@ -199,22 +202,22 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             match ev {
                 Event::Alarm(a) => {
                     alarms += 1;
-                    eprintln!("\r\x1b[Kalarm: {a}");
+                    eprintln!("{clear}alarm: {a}");
                     last_alarm = a;
                 }
-                Event::Cleared(a) => eprintln!("\r\x1b[Kcleared: {a}"),
+                Event::Cleared(a) => eprintln!("{clear}cleared: {a}"),
                 Event::Swapped { tick, latency } => {
-                    eprintln!("\r\x1b[Konline change: new program runs from tick {tick}; edit-to-running {latency:.1?}")
+                    eprintln!("{clear}online change: new program runs from tick {tick}; edit-to-running {latency:.1?}")
                 }
             }
         }
         for note in notes_rx.try_iter() {
             match note {
-                Note::Compiled { compile } => eprintln!("\r\x1b[Konline change: compiled in {compile:.1?}"),
+                Note::Compiled { compile } => eprintln!("{clear}online change: compiled in {compile:.1?}"),
                 Note::Rejected { diagnostics } => {
-                    eprintln!("\r\x1b[Konline change rejected; the running program stays:\n{diagnostics}")
+                    eprintln!("{clear}online change rejected; the running program stays:\n{diagnostics}")
                 }
-                Note::Error(e) => eprintln!("\r\x1b[Konline change: {e}"),
+                Note::Error(e) => eprintln!("{clear}online change: {e}"),
             }
         }
         if status && last_status.elapsed() >= Duration::from_millis(200) {
@@ -282,7 +285,7 @@ fn start_retain_writer(path: PathBuf, sched: &mut Scheduler) -> std::thread::Joi
                 ..latest
             };
             if let Err(e) = retain::save(&path, &rec) {
-                eprintln!("\r\x1b[Kwarning: {e}");
+                eprintln!("warning: {e}");
             }
         }
     });
