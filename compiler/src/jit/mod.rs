@@ -73,6 +73,11 @@ fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
     fb.set("regalloc_algorithm", opts.regalloc)
         .map_err(|e| setup(&e))?;
     fb.set("is_pic", "false").map_err(|e| setup(&e))?;
+    // The IR verifier re-checks every function we emit. Debug builds (all tests) keep it on so an
+    // ill-formed function fails loudly; release builds skip it: it costs compile time on every
+    // online change, and the differential tests guard what it would catch.
+    let verify = if cfg!(debug_assertions) { "true" } else { "false" };
+    fb.set("enable_verifier", verify).map_err(|e| setup(&e))?;
     fb.set("use_colocated_libcalls", "false")
         .map_err(|e| setup(&e))?;
     let builder = cranelift_native::builder().map_err(|e| setup(&e))?;
