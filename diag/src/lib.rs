@@ -213,6 +213,11 @@ impl Sources {
         self.files.insert(name.into(), text.into());
     }
 
+    /// The names of the files held, in sorted order.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.files.keys().map(String::as_str)
+    }
+
     /// The text of `name`, if known.
     pub fn get(&self, name: &str) -> Option<&str> {
         self.files.get(name).map(String::as_str)

@@ -33,6 +33,14 @@ pub struct Args {
 /// Renders the diagnostics of `load` in `format`.
 pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
     match format {
+        Format::Human if load.diagnostics.is_empty() => {
+            // Say what was checked, so a clean run is distinguishable from one that read nothing.
+            let mut files: Vec<&str> = Vec::new();
+            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL"] {
+                files.extend(load.sources.names().filter(|f| f.ends_with(name)));
+            }
+            format!("{}: no problems found\n", files.join(", "))
+        }
         Format::Human => diag::render_human(&load.diagnostics, &load.sources),
         Format::Json => load
             .diagnostics
