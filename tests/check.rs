@@ -33,8 +33,7 @@ fn example_machines_check_clean() {
         let text = String::from_utf8_lossy(&out.stdout);
         assert_eq!(out.status.code(), Some(0), "{name}: {text}");
         assert_eq!(
-            text,
-            "FCRSYS, MP0/AXCFIL, MP0/PGCFIL, MP0/IOCFIL: no problems found\n",
+            text, "FCRSYS, MP0/AXCFIL, MP0/PGCFIL, MP0/IOCFIL: no problems found\n",
             "{name}"
         );
     }

@@ -224,3 +224,35 @@ fn every_code_is_documented_in_the_table() {
     let rows = doc.lines().filter(|l| l.starts_with("| 1")).count();
     assert_eq!(rows, compiler::sema::codes::ALL.len());
 }
+
+#[test]
+fn constant_expressions_take_the_targets_type() {
+    // Two literals fold to one, which then takes the target's type (plc-language.md §4.2).
+    let p =
+        program("W100K0 = 0 + 0\nW100K1 = 200 + 55\nW100K2 = 0FH & 3CH\nU100K0 = TRUE * /FALSE\n");
+    let consts: Vec<&Expr> = p
+        .fast
+        .iter()
+        .map(|s| match s {
+            Stmt::Assign { value, .. } => value,
+            other => panic!("{other:?}"),
+        })
+        .collect();
+    assert_eq!(
+        consts,
+        vec![
+            &Expr::Const(Value::Byte(0)),
+            &Expr::Const(Value::Byte(255)),
+            &Expr::Const(Value::Byte(0x0c)),
+            &Expr::Const(Value::Bool(true)),
+        ]
+    );
+    // A folded constant that does not fit the target is reported where the expression starts.
+    assert_eq!(diags("W100K0 = 200 + 100\n"), vec![(1302, 1, 10)]);
+    // Division by a literal zero is not folded: it stays run-time arithmetic (0 and the fault flag).
+    assert!(
+        diags("DEF D : DINT\nD = 7 / 0\nW100K0 = BYTE(D)\n")
+            .iter()
+            .all(|&(c, _, _)| c != 1302)
+    );
+}

@@ -76,7 +76,11 @@ fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
     // The IR verifier re-checks every function we emit. Debug builds (all tests) keep it on so an
     // ill-formed function fails loudly; release builds skip it: it costs compile time on every
     // online change, and the differential tests guard what it would catch.
-    let verify = if cfg!(debug_assertions) { "true" } else { "false" };
+    let verify = if cfg!(debug_assertions) {
+        "true"
+    } else {
+        "false"
+    };
     fb.set("enable_verifier", verify).map_err(|e| setup(&e))?;
     fb.set("use_colocated_libcalls", "false")
         .map_err(|e| setup(&e))?;

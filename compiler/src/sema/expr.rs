@@ -364,7 +364,11 @@ impl Checker<'_> {
     pub(crate) fn operands(&mut self, a: &Expr, b: &Expr) -> Option<(ir::Expr, ir::Expr, Ty)> {
         let va = self.infer(a);
         let vb = self.infer(b);
-        let (va, vb) = (va?, vb?);
+        self.unify(va?, vb?, a, b)
+    }
+
+    /// Brings two checked operands to one type; literals follow the other side.
+    fn unify(&mut self, va: Val, vb: Val, a: &Expr, b: &Expr) -> Option<(ir::Expr, ir::Expr, Ty)> {
         let (ea, ta) = match (&va, &vb) {
             (Val::Lit(_), Val::Typed(_, tb)) => {
                 let tb = *tb;
@@ -405,7 +409,16 @@ impl Checker<'_> {
     }
 
     fn binary(&mut self, op: BinOp, a: &Expr, b: &Expr, span: &Span) -> Option<Val> {
-        let (ea, eb, t) = self.operands(a, b)?;
+        let va = self.infer(a);
+        let vb = self.infer(b);
+        let (va, vb) = (va?, vb?);
+        // Two literals make a literal, so that the target decides the type (`W3K0 = 0 + 1`).
+        if let (Val::Lit(x), Val::Lit(y)) = (&va, &vb)
+            && let Some(folded) = fold(op, *x, *y)
+        {
+            return Some(Val::Lit(folded));
+        }
+        let (ea, eb, t) = self.unify(va, vb, a, b)?;
         let sym = match op {
             BinOp::Plus => "+",
             BinOp::Minus => "-",
@@ -497,5 +510,38 @@ impl Checker<'_> {
             },
             Ty::Bool,
         ))
+    }
+}
+
+/// Folds an operation on two untyped literals, when the result is exact whatever type it later
+/// takes: integers with checked arithmetic (no overflow, no division by zero) and BOOL logic.
+/// Reals are left to typed arithmetic, so that REAL and LREAL round as they do at run time.
+fn fold(op: BinOp, a: Lit, b: Lit) -> Option<Lit> {
+    match (a, b) {
+        (Lit::Int(x), Lit::Int(y)) => {
+            let v = match op {
+                BinOp::Plus => x.checked_add(y),
+                BinOp::Minus => x.checked_sub(y),
+                BinOp::Star => x.checked_mul(y),
+                BinOp::Slash => x.checked_div(y),
+                BinOp::Mod => x.checked_rem(y),
+                BinOp::Amp | BinOp::AndKw if x >= 0 && y >= 0 => Some(x & y),
+                BinOp::Pipe | BinOp::OrKw if x >= 0 && y >= 0 => Some(x | y),
+                BinOp::Caret | BinOp::XorKw if x >= 0 && y >= 0 => Some(x ^ y),
+                BinOp::Shl if x >= 0 && (0..32).contains(&y) => {
+                    x.checked_shl(y as u32).filter(|v| *v <= u32::MAX as i64)
+                }
+                BinOp::Shr if x >= 0 && (0..64).contains(&y) => Some(x >> y),
+                _ => None,
+            }?;
+            Some(Lit::Int(v))
+        }
+        (Lit::Bool(x), Lit::Bool(y)) => match op {
+            BinOp::Plus | BinOp::OrKw | BinOp::Pipe => Some(Lit::Bool(x || y)),
+            BinOp::Star | BinOp::AndKw | BinOp::Amp => Some(Lit::Bool(x && y)),
+            BinOp::XorKw | BinOp::Caret => Some(Lit::Bool(x != y)),
+            _ => None,
+        },
+        _ => None,
     }
 }
