@@ -1,0 +1,549 @@
+//! Compiled program: files, blocks, program units (main program, subprograms, macrocycles, fixed
+//! cycles) and the static checks of the MEFI dialect.
+//!
+//! A main file holds the main program up to its M02/M30 block followed by subprograms `G79 L … G70`.
+//! The machine's macro folder holds macro files `L<n>` and `$PC` fixed-cycle files whose units
+//! `G79 L8x … G70` implement G81–G89. All of them are parsed, checked and linked here; jump and call
+//! targets written literally are resolved at compile time, computed ones at run time.
+
+use std::collections::{BTreeMap, HashMap};
+use std::path::Path;
+
+use diag::Diagnostic;
+
+use crate::ast::{Block, Decl, ParsedFile, Val, Word};
+use crate::codes;
+use crate::groups::{mefi_g_group, mefi_m_group};
+use crate::lexer::Lit;
+use crate::machine::{Dialect, MachineSpec};
+use crate::parse::parse;
+
+/// What a program unit is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnitKind {
+    /// The main program.
+    Main,
+    /// A subprogram of the main file (`G71 L`).
+    Sub,
+    /// A library unit from the macro folder (`G72 L`, fixed cycles `G8x` → `L8x`).
+    Library,
+}
+
+/// One program unit: a contiguous range of blocks with its own block-number index.
+#[derive(Debug, Clone)]
+pub struct Unit {
+    /// Kind of unit.
+    pub kind: UnitKind,
+    /// Unit number (`G79 L<n>`), 0 for the main program.
+    pub l: u32,
+    /// Index of the file the unit is in.
+    pub file: usize,
+    /// First block (index into [`Program::blocks`]).
+    pub start: usize,
+    /// One past the last block.
+    pub end: usize,
+    /// Block number → block index.
+    pub index: HashMap<u32, usize>,
+}
+
+/// A block ready to run.
+#[derive(Debug, Clone)]
+pub struct CBlock {
+    /// Block number.
+    pub n: Option<u32>,
+    /// File index.
+    pub file: usize,
+    /// Unit index.
+    pub unit: usize,
+    /// Byte range in the file.
+    pub span: (usize, usize),
+    /// Block skip `/`.
+    pub skip: bool,
+    /// Words (not N, not declarations).
+    pub words: Vec<Word>,
+    /// Declarations.
+    pub decls: Vec<Decl>,
+    /// Number of arithmetic operations when G26..G29 is written literally (1..4), else 0.
+    pub arith_ops: u8,
+    /// Index of the native function for this block's arithmetic, when compiled.
+    pub native: Option<usize>,
+}
+
+impl CBlock {
+    /// The first word with address `a`.
+    pub fn word(&self, a: char) -> Option<&Word> {
+        self.words.iter().find(|w| w.addr == a)
+    }
+
+    /// True when a literal `G<g>` is written.
+    pub fn has_g(&self, g: i64) -> bool {
+        self.words.iter().any(|w| w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == g * 1000))
+    }
+}
+
+/// A source file of the program.
+#[derive(Debug, Clone)]
+pub struct SourceFile {
+    /// Name used in diagnostics.
+    pub name: String,
+    /// Text.
+    pub text: String,
+}
+
+/// A compiled partprogram with its subprograms and the machine's library units.
+#[derive(Debug)]
+pub struct Program {
+    /// Dialect.
+    pub dialect: Dialect,
+    /// Program number from the header.
+    pub number: Option<u32>,
+    /// Files: 0 is the main file.
+    pub files: Vec<SourceFile>,
+    /// All blocks.
+    pub blocks: Vec<CBlock>,
+    /// All units; unit 0 is the main program.
+    pub units: Vec<Unit>,
+    /// Subprograms of the main file by number.
+    pub subs: HashMap<u32, usize>,
+    /// Library units by number (macros and fixed cycles).
+    pub library: HashMap<u32, usize>,
+    /// The machine.
+    pub machine: MachineSpec,
+    /// Native code for arithmetic blocks (None when not compiled or not available).
+    pub native: Option<crate::jit::NativeCode>,
+}
+
+/// Integer value of a literal written for a count address (None when it has a fraction).
+pub fn lit_int(l: &Lit) -> Option<i64> {
+    if l.milli % 1000 != 0 { None } else { Some(l.milli / 1000) }
+}
+
+fn err(code: u32, file: &str, src: &str, span: (usize, usize), msg: impl Into<String>, hint: &str) -> Diagnostic {
+    Diagnostic::error(code, file, span.0..span.1, msg).with_hint(hint).locate(src)
+}
+
+/// Compiles the main file `name` (text `src`) for `machine`, loading library units from
+/// `machine.macro_dir`. Returns the program (None when errors prevent running it) and diagnostics.
+pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>, Vec<Diagnostic>) {
+    let mut prog = Program {
+        dialect: machine.dialect,
+        number: None,
+        files: vec![SourceFile { name: name.to_string(), text: src.to_string() }],
+        blocks: Vec::new(),
+        units: Vec::new(),
+        subs: HashMap::new(),
+        library: HashMap::new(),
+        machine: machine.clone(),
+        native: None,
+    };
+    let mut diags = Vec::new();
+    let (parsed, d) = parse(machine.dialect, name, src);
+    diags.extend(d);
+    prog.number = parsed.number;
+    if machine.dialect == Dialect::Fanuc {
+        crate::fanuc::build_units(&mut prog, parsed, &mut diags);
+        crate::fanuc::check(&mut prog, &mut diags);
+    } else {
+        build_main_units(&mut prog, 0, parsed, &mut diags);
+        load_library(&mut prog, &machine.macro_dir, &mut diags);
+        for b in 0..prog.blocks.len() {
+            check_block(&prog, b, &mut diags);
+        }
+        link(&mut prog, &mut diags);
+    }
+    if diag::has_errors(&diags) {
+        return (None, diags);
+    }
+    if machine.dialect == Dialect::Mefi {
+        match crate::jit::compile_program(&prog) {
+            Ok(native) => {
+                for (bi, fi) in &native.block_fn {
+                    prog.blocks[*bi].native = Some(*fi);
+                }
+                prog.native = Some(native);
+            }
+            Err(e) => diags.push(Diagnostic::warning(
+                codes::RUN_ARITH,
+                name,
+                0..0,
+                format!("native code generation failed, the interpreter runs the arithmetic: {e}"),
+            )),
+        }
+    }
+    (Some(prog), diags)
+}
+
+fn g_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
+    b.words.iter().filter(|w| w.addr == 'G').filter_map(|w| match w.val {
+        Val::Lit(l) => lit_int(&l),
+        Val::Param(_) => None,
+    })
+}
+
+fn m_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
+    b.words.iter().filter(|w| w.addr == 'M').filter_map(|w| match w.val {
+        Val::Lit(l) => lit_int(&l),
+        Val::Param(_) => None,
+    })
+}
+
+fn lit_of(b: &Block, a: char) -> Option<i64> {
+    b.words.iter().find(|w| w.addr == a).and_then(|w| match w.val {
+        Val::Lit(l) => lit_int(&l),
+        Val::Param(_) => None,
+    })
+}
+
+fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
+    let arith_ops = g_lits(&b).find(|g| (26..=29).contains(g)).map_or(0, |g| (g - 25) as u8);
+    prog.blocks.push(CBlock {
+        n: b.n,
+        file,
+        unit,
+        span: b.span,
+        skip: b.skip,
+        words: b.words,
+        decls: b.decls,
+        arith_ops,
+        native: None,
+    });
+}
+
+/// Splits a parsed MEFI file into units. `file` 0 is the main file (main program + subprograms);
+/// other files are library files (units only).
+fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: &mut Vec<Diagnostic>) {
+    let (fname, src) = (prog.files[file].name.clone(), prog.files[file].text.clone());
+    let library = file != 0;
+    let mut cur: Option<usize> = None;
+    let mut main_ended = false;
+    if !library {
+        prog.units.push(Unit { kind: UnitKind::Main, l: 0, file, start: prog.blocks.len(), end: prog.blocks.len(), index: HashMap::new() });
+        cur = Some(prog.units.len() - 1);
+    }
+    let mut subs = 0;
+    for b in parsed.blocks {
+        let is_entry = g_lits(&b).any(|g| g == 79);
+        if is_entry {
+            if let Some(u) = cur {
+                if prog.units[u].kind != UnitKind::Main || !main_ended {
+                    if prog.units[u].kind == UnitKind::Main {
+                        diags.push(err(
+                            codes::AFTER_END,
+                            &fname,
+                            &src,
+                            b.span,
+                            "subprogram before the end of the main program",
+                            "subprograms follow the block with M02 or M30",
+                        ));
+                    } else {
+                        diags.push(err(codes::UNIT_NOT_CLOSED, &fname, &src, b.span, "previous unit is not closed by G70", "end every subprogram and macro with a block containing G70"));
+                    }
+                }
+            }
+            let l = lit_of(&b, 'L').unwrap_or(0);
+            let kind = if library { UnitKind::Library } else { UnitKind::Sub };
+            if !library {
+                subs += 1;
+                if subs == 100 {
+                    diags.push(err(codes::TOO_MANY_SUBPROGRAMS, &fname, &src, b.span, "more than 99 subprograms", "a partprogram holds at most 99 subprograms"));
+                }
+            }
+            let map = if library { &mut prog.library } else { &mut prog.subs };
+            if l > 0 && map.insert(l as u32, prog.units.len()).is_some() {
+                diags.push(err(codes::DUPLICATE_N, &fname, &src, b.span, format!("unit L{l} is defined twice"), "every G79 L<n> number must be unique"));
+            }
+            prog.units.push(Unit { kind, l: l as u32, file, start: prog.blocks.len(), end: prog.blocks.len(), index: HashMap::new() });
+            cur = Some(prog.units.len() - 1);
+        }
+        let Some(u) = cur else {
+            diags.push(err(codes::NO_BLOCK_NUMBER, &fname, &src, b.span, "block outside a G79 … G70 unit", "a macro file holds units that start with `G79 L<n>` and end with G70"));
+            continue;
+        };
+        if prog.units[u].kind == UnitKind::Main && main_ended {
+            diags.push(err(codes::AFTER_END, &fname, &src, b.span, "block after the end of the main program", "only subprograms (G79 L<n> … G70) may follow M02/M30"));
+            continue;
+        }
+        let ends_main = prog.units[u].kind == UnitKind::Main && m_lits(&b).any(|m| m == 2 || m == 30);
+        let ends_unit = prog.units[u].kind != UnitKind::Main && g_lits(&b).any(|g| g == 70);
+        let idx = prog.blocks.len();
+        if let Some(n) = b.n {
+            let dup = if library {
+                prog.units[u].index.contains_key(&n)
+            } else {
+                prog.units.iter().filter(|x| x.file == file).any(|x| x.index.contains_key(&n))
+            };
+            if dup {
+                diags.push(err(codes::DUPLICATE_N, &fname, &src, b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
+            } else {
+                prog.units[u].index.insert(n, idx);
+            }
+        }
+        push_block(prog, file, u, b);
+        prog.units[u].end = prog.blocks.len();
+        if ends_main {
+            main_ended = true;
+        }
+        if ends_unit {
+            cur = if library { None } else { Some(0) };
+            if !library {
+                // After a subprogram only further subprograms may follow.
+                main_ended = true;
+            }
+        }
+    }
+    if let Some(u) = cur {
+        if prog.units[u].kind != UnitKind::Main {
+            let span = prog.blocks.get(prog.units[u].start).map_or((0, 0), |b| b.span);
+            diags.push(err(codes::UNIT_NOT_CLOSED, &fname, &src, span, format!("unit L{} has no closing G70", prog.units[u].l), "end the unit with a block containing G70"));
+        } else if !main_ended && !library {
+            diags.push(Diagnostic::warning(codes::NO_END, &fname, 0..0, "the main program has no M02/M30 block").with_hint("end the main program with M02 or M30").locate(&src));
+        }
+    }
+}
+
+/// Loads every macro file `L<n>` and every `$PC` cycle file of `dir`.
+fn load_library(prog: &mut Program, dir: &Path, diags: &mut Vec<Diagnostic>) {
+    if dir.as_os_str().is_empty() {
+        return;
+    }
+    let Ok(rd) = std::fs::read_dir(dir) else { return };
+    let mut paths: Vec<_> = rd.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file()).collect();
+    paths.sort();
+    for path in paths {
+        let fname = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
+        let is_l = stem.len() > 1 && stem.starts_with('L') && stem[1..].bytes().all(|c| c.is_ascii_digit());
+        let text = match std::fs::read(&path) {
+            Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+            Err(e) => {
+                diags.push(Diagnostic::error(codes::MACRO_IO, format!("macros/{fname}"), 0..0, format!("cannot read: {e}")));
+                continue;
+            }
+        };
+        let is_cycle = text.trim_start().starts_with("$PC");
+        if !is_l && !is_cycle {
+            continue;
+        }
+        let name = format!("macros/{fname}");
+        let src = if text.contains('%') || is_cycle { text.clone() } else { format!("%1\n{text}") };
+        let (parsed, d) = parse(Dialect::Mefi, &name, &src);
+        diags.extend(d);
+        prog.files.push(SourceFile { name, text: src });
+        let file = prog.files.len() - 1;
+        build_main_units(prog, file, parsed, diags);
+    }
+}
+
+fn is_axis(machine: &MachineSpec, a: char) -> bool {
+    machine.axes().contains(&a)
+}
+
+/// Static checks of one MEFI block.
+fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
+    let b = &prog.blocks[bi];
+    let f = &prog.files[b.file];
+    let (file, src) = (f.name.as_str(), f.text.as_str());
+    let m = &prog.machine;
+    let mut seen: BTreeMap<char, (usize, usize)> = BTreeMap::new();
+    let mut ggroups: BTreeMap<u8, i64> = BTreeMap::new();
+    let mut mgroups: BTreeMap<u8, i64> = BTreeMap::new();
+    let mut axes = 0;
+    for w in &b.words {
+        let a = w.addr;
+        let known = matches!(a, 'G' | 'M' | 'I' | 'J' | 'K' | 'F' | 'S' | 'T' | 'D' | 'L' | 'Q' | 'H' | 'P' | 'E' | '&') || is_axis(m, a);
+        if !known {
+            let (code, msg, hint) = if a == 'R' {
+                (codes::R_WORD, "`R<n>` without `=`".to_string(), "declare a parameter with `R<n>=<value>`; to use it write `<address>R<n>`")
+            } else if "XYZUVWABC".contains(a) {
+                (codes::UNKNOWN_ADDRESS, format!("the machine has no axis {a}"), "use the axis letters of the machine (AXCFIL)")
+            } else {
+                (codes::UNKNOWN_ADDRESS, format!("unknown address `{a}`"), "MEFI addresses: N G M X Y Z U V W A B C I J K R F S T D L Q H P E & /")
+            };
+            diags.push(err(code, file, src, w.span, msg, hint));
+            continue;
+        }
+        if is_axis(m, a) {
+            axes += 1;
+        }
+        if a != 'G' && a != 'M' {
+            if seen.insert(a, w.span).is_some() {
+                diags.push(err(codes::DUPLICATE_ADDRESS, file, src, w.span, format!("address {a} appears twice in the block"), "each address may be written once per block (G and M once per group)"));
+            }
+        }
+        let lit = match w.val {
+            Val::Lit(l) => l,
+            Val::Param(p) => {
+                if p.point || p.signed || !(0..=95).contains(&p.int) {
+                    diags.push(err(codes::BAD_PARAMETER, file, src, w.span, "parameter number must be 0..95", "write `<address>R<n>` with n = 0..95"));
+                }
+                continue;
+            }
+        };
+        let int = lit_int(&lit);
+        let count_range = |lo: i64, hi: i64, what: &str, diags: &mut Vec<Diagnostic>| match int {
+            Some(v) if (lo..=hi).contains(&v) && !lit.negative => Some(v),
+            Some(_) => {
+                diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, format!("{a} value out of range"), &format!("{what}: {lo}..{hi}")));
+                None
+            }
+            None => {
+                diags.push(err(codes::NOT_INTEGER, file, src, w.span, format!("{a} takes a whole number"), &format!("{what}: {lo}..{hi} without a fraction")));
+                None
+            }
+        };
+        match a {
+            'G' => {
+                if let Some(g) = count_range(0, 99, "G functions", diags) {
+                    match mefi_g_group(g as u16) {
+                        Some(grp) => {
+                            if let Some(prev) = ggroups.insert(grp, g) {
+                                diags.push(err(codes::GROUP_CONFLICT, file, src, w.span, format!("G{g:02} and G{prev:02} belong to the same group"), "one G function per group per block"));
+                            }
+                        }
+                        None => diags.push(err(codes::UNKNOWN_G, file, src, w.span, format!("G{g:02} is not a MEFI G function"), "see the G groups G0…G11 of the dialect")),
+                    }
+                }
+            }
+            'M' => {
+                if let Some(mv) = count_range(0, 99, "M functions", diags) {
+                    let grp = mefi_m_group(mv as u16);
+                    if grp != 14 {
+                        if let Some(prev) = mgroups.insert(grp, mv) {
+                            diags.push(err(codes::GROUP_CONFLICT, file, src, w.span, format!("M{mv:02} and M{prev:02} belong to the same group"), "one M function per group per block"));
+                        }
+                    }
+                    if m.check_m_declared && m.m_timing(mv as u16).is_none() {
+                        diags.push(err(codes::UNDECLARED_M, file, src, w.span, format!("M{mv:02} is not declared for process 1 in IOCFIL section 2"), "declare it as `Mxx=m_type,m_request,class` in IOCFIL section 2, or do not use it"));
+                    }
+                }
+            }
+            'L' | 'Q' => {
+                let lo = if a == 'Q' && b.has_g(4) { 0 } else { 1 };
+                count_range(lo, 9999, if a == 'L' { "L (unit or block number)" } else { "Q" }, diags);
+            }
+            'T' => {
+                count_range(0, 99_999_999, "T", diags);
+            }
+            'S' => {
+                count_range(0, 9999, "S", diags);
+            }
+            'D' => {
+                count_range(0, 99, "D", diags);
+            }
+            'H' | 'P' => {
+                count_range(1, 99, a.to_string().as_str(), diags);
+            }
+            '&' => {
+                if let Some(v) = count_range(0, 2222, "&", diags) {
+                    if v.to_string().bytes().any(|c| c > b'2') {
+                        diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, "& digits must be 0, 1 or 2", "each digit of & is 0, 1 or 2"));
+                    }
+                }
+            }
+            'E' => {
+                if !lit.point {
+                    diags.push(err(codes::E_WITHOUT_POINT, file, src, w.span, "E must be written with a decimal point", "write the thread run-in with a point, e.g. E5.0"));
+                }
+            }
+            'F' => {
+                if lit.negative || lit.milli > 99_999_000 {
+                    diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, "F out of range", "feed is positive, at most 99999"));
+                }
+            }
+            _ => {
+                if lit.int_digits > 5 || lit.frac_digits > 3 {
+                    diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, format!("{a} value out of range"), "dimensions have the format ±5.3 (±69999.999)"));
+                }
+            }
+        }
+    }
+    if axes > 6 {
+        diags.push(err(codes::TOO_MANY_AXES, file, src, b.span, "more than 6 axis words in a block", "at most 6 axes move in one block"));
+    }
+    let gl: Vec<i64> = b.words.iter().filter(|w| w.addr == 'G').filter_map(|w| if let Val::Lit(l) = w.val { lit_int(&l) } else { None }).collect();
+    for g in [71, 72, 73, 79] {
+        if gl.contains(&g) && b.word('L').is_none() {
+            diags.push(err(codes::MISSING_L, file, src, b.span, format!("G{g} needs the address L in the same block"), "write the unit or block number, e.g. `G71 L100`"));
+        }
+    }
+    if gl.contains(&79) {
+        if let Some(w) = b.words.iter().find(|w| !(w.addr == 'L' || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == 79_000)))) {
+            diags.push(err(codes::G79_BLOCK, file, src, w.span, "a G79 block holds only N, G79 and L", "move other words to the next block"));
+        } else if !b.decls.is_empty() {
+            diags.push(err(codes::G79_BLOCK, file, src, b.span, "a G79 block holds only N, G79 and L", "move declarations to the next block"));
+        }
+        if let Some(w) = b.word('L') {
+            if matches!(w.val, Val::Param(_)) {
+                diags.push(err(codes::NOT_PARAMETRISABLE, file, src, w.span, "the L of G79 cannot be a parameter", "write the unit number literally"));
+            }
+        }
+    }
+}
+
+/// Resolves literal jump and call targets and detects recursion.
+fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
+    let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
+    for (bi, b) in prog.blocks.iter().enumerate() {
+        let f = &prog.files[b.file];
+        let (file, src) = (f.name.as_str(), f.text.as_str());
+        let unit = &prog.units[b.unit];
+        let l = b.word('L').and_then(|w| if let Val::Lit(l) = w.val { lit_int(&l) } else { None });
+        let gs: Vec<Option<i64>> = b.words.iter().filter(|w| w.addr == 'G').map(|w| if let Val::Lit(l) = w.val { lit_int(&l) } else { None }).collect();
+        let dyn_g = gs.iter().any(Option::is_none);
+        if let Some(l) = l {
+            let l32 = l as u32;
+            if gs.contains(&Some(73)) || (dyn_g && !gs.iter().any(|g| matches!(g, Some(71) | Some(72) | Some(79)))) {
+                if !unit.index.contains_key(&l32) {
+                    diags.push(err(codes::MISSING_BLOCK, file, src, b.span, format!("jump to N{l}, which is not in this program unit"), "jumps go to a block of the same main program, subprogram or macro"));
+                }
+            }
+            if gs.contains(&Some(71)) {
+                match prog.subs.get(&l32) {
+                    Some(&u) => edges[b.unit].push((u, bi)),
+                    None => diags.push(err(codes::MISSING_SUBPROGRAM, file, src, b.span, format!("subprogram L{l} does not exist in this file"), "subprograms follow M02/M30 as `G79 L<n>` … `G70`")),
+                }
+            }
+            if gs.contains(&Some(72)) {
+                match prog.library.get(&l32) {
+                    Some(&u) => edges[b.unit].push((u, bi)),
+                    None => diags.push(err(codes::MISSING_MACRO, file, src, b.span, format!("macro L{l} is not in the machine's macro folder"), "store the macro as file L<n> in the macro folder")),
+                }
+            }
+        }
+        for g in gs.iter().flatten() {
+            if (81..=89).contains(g) {
+                match prog.library.get(&(*g as u32)) {
+                    Some(&u) => edges[b.unit].push((u, bi)),
+                    None => diags.push(err(codes::MISSING_MACRO, file, src, b.span, format!("fixed cycle G{g} has no unit L{g} in the macro folder"), "ship the fixed cycles as units G79 L81 … G70 in the machine's macro folder")),
+                }
+            }
+        }
+    }
+    // Recursion: a cycle in the static call graph never terminates.
+    let n = prog.units.len();
+    let mut state = vec![0u8; n];
+    fn dfs(u: usize, edges: &[Vec<(usize, usize)>], state: &mut [u8], hit: &mut Vec<usize>) {
+        state[u] = 1;
+        for &(v, bi) in &edges[u] {
+            if state[v] == 1 {
+                hit.push(bi);
+            } else if state[v] == 0 {
+                dfs(v, edges, state, hit);
+            }
+        }
+        state[u] = 2;
+    }
+    let mut hits = Vec::new();
+    for u in 0..n {
+        if state[u] == 0 {
+            dfs(u, &edges, &mut state, &mut hits);
+        }
+    }
+    hits.sort_unstable();
+    hits.dedup();
+    for bi in hits {
+        let b = &prog.blocks[bi];
+        let f = &prog.files[b.file];
+        diags.push(err(codes::RECURSION, &f.name, &f.text, b.span, "this call leads back to its own unit: unbounded recursion", "a subprogram or macro must not call itself directly or through other calls"));
+    }
+}
