@@ -523,6 +523,7 @@ impl<'p> Exec<'p> {
         if !moved && (!mfuncs.is_empty() || s.is_some() || t.is_some()) {
             self.emit(b, Kind::Aux, Vec::new(), None, &mfuncs, false);
         }
+        let active_cycle = if cancel_cycle { None } else { self.modal.cycle };
         // 7. Program flow at the end of the block.
         match flow {
             Some(71) | Some(72) => {
@@ -546,8 +547,8 @@ impl<'p> Exec<'p> {
         }
         // 8. The active fixed cycle runs after the motion of the block (before the flow takes effect,
         //    which is already recorded in the frames below it).
-        if let Some(c) = self.modal.cycle {
-            if !cancel_cycle {
+        if let Some(c) = active_cycle {
+            {
                 let unit = *prog.library.get(&u32::from(c)).ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("fixed cycle G{c} has no unit L{c}")))?;
                 let snap = Box::new(Snapshot { r: self.st.r, modal: self.modal.clone(), m_groups: self.st.m_groups, g_groups: self.st.g_groups, s_t_d: self.st.s_t_d });
                 self.modal.cycle = None;

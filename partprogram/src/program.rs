@@ -221,23 +221,21 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
         cur = Some(prog.units.len() - 1);
     }
     let mut subs = 0;
+    let first_unit = prog.units.len();
+    let mut closed = std::collections::HashSet::new();
     for b in parsed.blocks {
         let is_entry = g_lits(&b).any(|g| g == 79);
         if is_entry {
             if let Some(u) = cur {
-                if prog.units[u].kind != UnitKind::Main || !main_ended {
-                    if prog.units[u].kind == UnitKind::Main {
-                        diags.push(err(
-                            codes::AFTER_END,
-                            &fname,
-                            &src,
-                            b.span,
-                            "subprogram before the end of the main program",
-                            "subprograms follow the block with M02 or M30",
-                        ));
-                    } else {
-                        diags.push(err(codes::UNIT_NOT_CLOSED, &fname, &src, b.span, "previous unit is not closed by G70", "end every subprogram and macro with a block containing G70"));
-                    }
+                if prog.units[u].kind == UnitKind::Main && !main_ended {
+                    diags.push(err(
+                        codes::AFTER_END,
+                        &fname,
+                        &src,
+                        b.span,
+                        "subprogram before the end of the main program",
+                        "subprograms follow the block with M02 or M30",
+                    ));
                 }
             }
             let l = lit_of(&b, 'L').unwrap_or(0);
@@ -284,20 +282,19 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
             main_ended = true;
         }
         if ends_unit {
-            cur = if library { None } else { Some(0) };
-            if !library {
-                // After a subprogram only further subprograms may follow.
-                main_ended = true;
-            }
+            // A unit runs until the next G79 (the cycle files put blocks after an inner G70), but it
+            // must contain at least one G70.
+            closed.insert(u);
         }
     }
-    if let Some(u) = cur {
-        if prog.units[u].kind != UnitKind::Main {
-            let span = prog.blocks.get(prog.units[u].start).map_or((0, 0), |b| b.span);
-            diags.push(err(codes::UNIT_NOT_CLOSED, &fname, &src, span, format!("unit L{} has no closing G70", prog.units[u].l), "end the unit with a block containing G70"));
-        } else if !main_ended && !library {
-            diags.push(Diagnostic::warning(codes::NO_END, &fname, 0..0, "the main program has no M02/M30 block").with_hint("end the main program with M02 or M30").locate(&src));
+    for (u, unit) in prog.units.iter().enumerate().skip(first_unit) {
+        if unit.kind != UnitKind::Main && !closed.contains(&u) {
+            let span = prog.blocks.get(unit.start).map_or((0, 0), |b| b.span);
+            diags.push(err(codes::UNIT_NOT_CLOSED, &fname, &src, span, format!("unit L{} has no G70", unit.l), "end the unit with a block containing G70"));
         }
+    }
+    if !library && !main_ended {
+        diags.push(Diagnostic::warning(codes::NO_END, &fname, 0..0, "the main program has no M02/M30 block").with_hint("end the main program with M02 or M30").locate(&src));
     }
 }
 
