@@ -225,6 +225,9 @@ impl<'p> Exec<'p> {
     }
 
     fn run(&mut self) -> Result<(), RunError> {
+        if self.prog.units.is_empty() {
+            return Ok(());
+        }
         while !self.ended {
             let Some(fr) = self.frames.last_mut() else { break };
             let unit = &self.prog.units[fr.unit];
