@@ -409,9 +409,6 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
                             diags.push(err(codes::GROUP_CONFLICT, file, src, w.span, format!("M{mv:02} and M{prev:02} belong to the same group"), "one M function per group per block"));
                         }
                     }
-                    if m.check_m_declared && m.m_timing(mv as u16).is_none() {
-                        diags.push(err(codes::UNDECLARED_M, file, src, w.span, format!("M{mv:02} is not declared for process 1 in IOCFIL section 2"), "declare it as `Mxx=m_type,m_request,class` in IOCFIL section 2, or do not use it"));
-                    }
                 }
             }
             'L' | 'Q' => {
@@ -534,6 +531,33 @@ fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
     for u in 0..n {
         if state[u] == 0 {
             dfs(u, &edges, &mut state, &mut hits);
+        }
+    }
+    // M functions must be declared in IOCFIL section 2: checked in the main file and in every library
+    // unit the program reaches through literal calls (computed calls cannot be followed statically).
+    if prog.machine.check_m_declared {
+        let mut reach = vec![false; n];
+        let mut stack: Vec<usize> = (0..n).filter(|&u| prog.units[u].kind != UnitKind::Library).collect();
+        while let Some(u) = stack.pop() {
+            if std::mem::replace(&mut reach[u], true) {
+                continue;
+            }
+            stack.extend(edges[u].iter().map(|e| e.0));
+        }
+        for b in &prog.blocks {
+            if !reach[b.unit] {
+                continue;
+            }
+            let f = &prog.files[b.file];
+            for w in b.words.iter().filter(|w| w.addr == 'M') {
+                if let Val::Lit(l) = w.val {
+                    if let Some(mv) = lit_int(&l).filter(|v| (0..=99).contains(v)) {
+                        if prog.machine.m_timing(mv as u16).is_none() {
+                            diags.push(err(codes::UNDECLARED_M, &f.name, &f.text, w.span, format!("M{mv:02} is not declared for process 1 in IOCFIL section 2"), "declare it as `Mxx=m_type,m_request,class` in IOCFIL section 2, or do not use it"));
+                        }
+                    }
+                }
+            }
         }
     }
     hits.sort_unstable();
