@@ -12,6 +12,7 @@ pub mod canon;
 pub mod codes;
 pub mod exec;
 pub mod fanuc;
+pub mod fanuc_exec;
 pub mod geom;
 pub mod groups;
 pub mod jit;
