@@ -44,7 +44,7 @@ fn fx04_o00023_drills_and_countersinks_four_holes_then_mills_the_square() {
     // G28 G91 Z0 sends Z to machine zero; the program ends with T1 M06 and M30.
     let last = p.blocks.last().expect("blocks");
     assert_eq!(last.m.iter().map(|m| m.m).collect::<Vec<_>>(), vec![30]);
-    assert_eq!(p.blocks.iter().filter(|c| c.kind == Kind::Rapid && end(c, 'Z') == 0.0).count(), 3);
+    assert_eq!(p.blocks.windows(2).filter(|w| w[1].kind == Kind::Rapid && end(&w[1], 'Z') == 0.0 && end(&w[0], 'Z') == 25.0).count(), 3);
 }
 
 #[test]
