@@ -80,3 +80,18 @@ fn plan_reports_run_time_errors_with_exit_code_1() {
     assert_eq!(json_lines(&out.stdout).len(), 1, "the block before the error is planned");
     assert!(String::from_utf8_lossy(&out.stderr).contains("\"code\":2502"));
 }
+
+#[test]
+fn fanuc_programs_are_detected_and_planned() {
+    let out = ncplc(&["nc", "plan", "plc-programs/lathe", "O1000.nc"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let lines = json_lines(&out.stdout);
+    let n120 = lines.iter().find(|v| v["n"] == 120).expect("N120");
+    assert_eq!(n120["kind"], "arc_cw");
+    assert_eq!(n120["plane"], "YZ");
+    assert_eq!(n120["center"]["Z"], -25.0);
+    let out = ncplc(&["nc", "check", "plc-programs/mill", "O00023.nc", "--dialect", "fanuc"]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let out = ncplc(&["nc", "check", "plc-programs/mill", "O00023.nc", "--dialect", "mefi"]);
+    assert_eq!(out.status.code(), Some(1));
+}

@@ -151,6 +151,7 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         }
         link(&mut prog, &mut diags);
     }
+    diags.sort_by(|a, b| (a.file != name, &a.file, a.line, a.column).cmp(&(b.file != name, &b.file, b.line, b.column)));
     if diag::has_errors(&diags) {
         return (None, diags);
     }

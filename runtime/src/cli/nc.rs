@@ -73,20 +73,28 @@ pub enum MachineError {
 /// Builds the partprogram view of the machine in `dir`.
 ///
 /// TEMPORARY (to be replaced by the lead with `characterization::Machine`): reads only the `Mxx=` lines
-/// of `<dir>/MP0/IOCFIL` section 2 for process 1, and takes the axes from a default: a machine whose
-/// directory name contains "lathe" has X, Z with diameter programming, any other X, Y, Z. Macros live
-/// in `<dir>/macros`.
-pub fn machine_spec(dir: &Path, dialect: Option<&str>) -> Result<MachineSpec, MachineError> {
+/// of `<dir>/MP0/IOCFIL` section 2 for process 1, and takes the axes from a default per dialect: a
+/// machine whose directory name contains "lathe" has X, Z (MEFI) or X, Z, C (Fanuc, for G7.1) with
+/// diameter programming, any other X, Y, Z. Macros live in `<dir>/macros`.
+///
+/// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
+/// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
+pub fn machine_spec(dir: &Path, dialect: Option<&str>, program_text: &str) -> Result<MachineSpec, MachineError> {
     if !dir.is_dir() {
         return Err(MachineError::NoMachine(dir.to_path_buf()));
     }
-    let dialect: Dialect = match dialect {
+    let option = std::fs::read_to_string(dir.join("nc").join("DIALECT")).ok();
+    let dialect: Dialect = match dialect.or(option.as_deref().map(str::trim)) {
         Some(d) => d.parse().map_err(MachineError::Dialect)?,
-        None => Dialect::Mefi,
+        None => detect_dialect(program_text),
     };
     let name = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
     let lathe = name.file_name().is_some_and(|n| n.to_string_lossy().to_ascii_lowercase().contains("lathe"));
-    let axes: &[char] = if lathe { &['X', 'Z'] } else { &['X', 'Y', 'Z'] };
+    let axes: &[char] = match (lathe, dialect) {
+        (true, Dialect::Mefi) => &['X', 'Z'],
+        (true, Dialect::Fanuc) => &['X', 'Z', 'C'],
+        (false, _) => &['X', 'Y', 'Z'],
+    };
     let mut spec = MachineSpec::new(dialect, axes);
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
@@ -126,6 +134,20 @@ fn read_iocfil_m(path: &Path) -> Option<BTreeMap<u16, MTiming>> {
     Some(out)
 }
 
+/// Fanuc when the first word of the program (after `%` lines and comments) is an `O<number>`.
+fn detect_dialect(text: &str) -> Dialect {
+    for line in text.lines() {
+        let t = line.trim();
+        if t.is_empty() || t.starts_with('%') || t.starts_with('(') || t.starts_with(';') {
+            continue;
+        }
+        let mut c = t.chars();
+        let fanuc = matches!(c.next(), Some('O') | Some('o')) && c.next().is_some_and(|d| d.is_ascii_digit());
+        return if fanuc { Dialect::Fanuc } else { Dialect::Mefi };
+    }
+    Dialect::Mefi
+}
+
 fn program_path(machine: &Path, program: &Path) -> PathBuf {
     if program.exists() { program.to_path_buf() } else { machine.join("nc").join(program) }
 }
@@ -140,18 +162,18 @@ pub fn run(args: Args) -> ExitCode {
             format.clone(),
         ),
     };
-    let spec = match machine_spec(&common.machine, common.dialect.as_deref()) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("ncplc nc: {e}");
-            return ExitCode::from(2);
-        }
-    };
     let path = program_path(&common.machine, &common.program);
     let text = match std::fs::read(&path) {
         Ok(b) => String::from_utf8_lossy(&b).into_owned(),
         Err(e) => {
             eprintln!("ncplc nc: cannot read {}: {e}", path.display());
+            return ExitCode::from(2);
+        }
+    };
+    let spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("ncplc nc: {e}");
             return ExitCode::from(2);
         }
     };
