@@ -7,7 +7,6 @@
 
 use std::collections::HashMap;
 
-use diag::Diagnostic;
 
 use crate::arith::{ArithError, ArithState, NPARAM};
 use crate::ast::Val;
@@ -17,70 +16,7 @@ use crate::geom::{Geometry, Target};
 use crate::groups::mefi_m_group;
 use crate::lexer::Lit;
 use crate::program::{CBlock, Program, UnitKind};
-
-/// Which engine runs parameter arithmetic.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Backend {
-    /// Cranelift-compiled native code where available (the interpreter for computed control words).
-    #[default]
-    Native,
-    /// The reference interpreter only.
-    Interpreter,
-}
-
-/// Options of a planning run.
-#[derive(Debug, Clone, Copy)]
-pub struct PlanOptions {
-    /// Arithmetic engine.
-    pub backend: Backend,
-    /// Block-skip mode `/` selected (skip blocks marked with `/`).
-    pub block_skip: bool,
-    /// Stop with an error after this many executed blocks (endless loops).
-    pub max_blocks: u64,
-    /// Record canonical blocks (false: only run, for benchmarks of arithmetic).
-    pub record: bool,
-}
-
-impl Default for PlanOptions {
-    fn default() -> Self {
-        PlanOptions { backend: Backend::Native, block_skip: false, max_blocks: 20_000_000, record: true }
-    }
-}
-
-/// A run-time error with the block it happened in.
-#[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("{message}")]
-pub struct RunError {
-    /// Diagnostic code (2500…).
-    pub code: u32,
-    /// What went wrong.
-    pub message: String,
-    /// File index.
-    pub file: usize,
-    /// Byte range of the block.
-    pub span: (usize, usize),
-}
-
-impl RunError {
-    /// The located diagnostic for this error.
-    pub fn to_diagnostic(&self, prog: &Program) -> Diagnostic {
-        let f = &prog.files[self.file.min(prog.files.len().saturating_sub(1))];
-        Diagnostic::error(self.code, f.name.clone(), self.span.0..self.span.1, self.message.clone()).locate(&f.text)
-    }
-}
-
-/// The result of a planning run.
-#[derive(Debug, Clone)]
-pub struct Plan {
-    /// Canonical blocks in execution order.
-    pub blocks: Vec<Canon>,
-    /// The parameters at the end.
-    pub params: [i64; NPARAM],
-    /// Number of executed blocks.
-    pub executed: u64,
-    /// Messages of arithmetic operation 51.
-    pub messages: Vec<crate::arith::Message>,
-}
+pub use crate::run::{Backend, Plan, PlanOptions, RunError};
 
 /// Modal state that fixed cycles save and restore.
 #[derive(Debug, Clone)]
@@ -98,6 +34,12 @@ pub(crate) struct Modal {
     pub t: Option<i64>,
     pub d: i64,
     pub amp: i64,
+    /// Helix on (G09) until G98.
+    pub helix: bool,
+    /// Helix lift (G10): towed axis index and travel per full circle.
+    pub lift: Option<(usize, f64)>,
+    /// Thread lead (G33), mm per revolution.
+    pub lead: Option<f64>,
 }
 
 #[derive(Debug)]
@@ -210,6 +152,9 @@ impl<'p> Exec<'p> {
                 t: None,
                 d: 0,
                 amp: 0,
+                helix: false,
+                lift: None,
+                lead: None,
             },
             geo: Geometry::new(&m.axes(), m.diameter_x),
             frames: vec![Frame { unit: 0, pc: prog.units.first().map_or(0, |u| u.start), counters: HashMap::new(), repeat: 1, cycle: None }],
@@ -369,6 +314,7 @@ impl<'p> Exec<'p> {
         // 4. Modal G functions.
         let mut block_offset = None;
         let (mut dwell, mut g92, mut g93, mut transform, mut g30) = (false, false, false, None, false);
+        let mut lift = false;
         let mut flow: Option<u16> = None;
         let mut cycle_start = false;
         let mut cancel_cycle = false;
@@ -403,14 +349,24 @@ impl<'p> Exec<'p> {
                 93 => g93 = true,
                 34..=37 => transform = Some(g),
                 70 | 71 | 72 | 73 | 78 | 79 => flow = Some(g),
-                26..=29 | 5..=7 | 9 | 10 | 23 | 24 | 98 | 14..=16 => {}
+                9 => self.modal.helix = true,
+                98 => self.modal.helix = false,
+                10 => lift = true,
+                26..=29 | 5..=7 | 23 | 24 | 14..=16 => {}
                 g => return Err(run_err(b, codes::RUN_BAD_G, format!("G{g:02} is not a MEFI G function"))),
             }
         }
         let _ = cycle_start;
         self.sync_groups(&gs);
         // 5. Technological words.
-        if let Some(v) = f {
+        if let (Some(v), 33) = (f, self.modal.motion) {
+            // Thread lead in mm/rev: with a point mm, without a point µm (as G95), a parameter r µm.
+            self.modal.lead = Some(match v {
+                V::Lit(l) if l.point => l.value(),
+                V::Lit(l) => l.value() / 1000.0,
+                V::R(r) => r as f64 / 1000.0,
+            });
+        } else if let Some(v) = f {
             let per_rev = matches!(self.modal.feed_mode, 95 | 97);
             let value = match (v, per_rev) {
                 (V::Lit(l), false) => if l.point { l.value() * 1000.0 } else { l.value() },
@@ -482,6 +438,10 @@ impl<'p> Exec<'p> {
                 }
             }
             self.geo.select_offset(&self.st, self.modal.offset);
+        } else if lift {
+            if let Some(i) = axes.iter().position(Option::is_some) {
+                self.modal.lift = axes[i].map(|v| (i, v));
+            }
         } else if let Some(g) = transform {
             self.geo.set_transform(g, &axes);
         } else if g30 {
@@ -502,6 +462,11 @@ impl<'p> Exec<'p> {
                 2 | 3 => {
                     let arc = self.geo.arc(&tgt, self.modal.plane, &self.st, prog.machine.circle_tolerance).map_err(|m| run_err(b, codes::RUN_CIRCLE, m))?;
                     let cw = (motion == 2) != arc.mirrored;
+                    if let (true, Some((i, l))) = (self.modal.helix, self.modal.lift) {
+                        let sweep = if motion == 2 { arc.sweep_cw } else { std::f64::consts::TAU - arc.sweep_cw };
+                        let sweep = if sweep < 1e-9 || sweep > std::f64::consts::TAU - 1e-9 { std::f64::consts::TAU } else { sweep };
+                        self.geo.tow(i, l * sweep / std::f64::consts::TAU);
+                    }
                     self.emit(b, if cw { Kind::ArcCw } else { Kind::ArcCcw }, arc.center, self.feed(), &mfuncs, false);
                 }
                 0 => {
@@ -510,7 +475,8 @@ impl<'p> Exec<'p> {
                 }
                 _ => {
                     self.geo.linear(&tgt, &self.st);
-                    self.emit(b, Kind::Linear, Vec::new(), self.feed(), &mfuncs, motion == 33);
+                    let feed = if motion == 33 { self.modal.lead.zip(self.modal.s).map(|(l, s)| l * s) } else { self.feed() };
+                    self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
                 }
             }
             moved = true;

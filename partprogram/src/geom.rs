@@ -29,6 +29,8 @@ pub struct Arc {
     pub center: Vec<(char, f64)>,
     /// True when exactly one plane axis is mirrored (G2 and G3 swap).
     pub mirrored: bool,
+    /// Clockwise angle from start to end about the centre, 0..2π (0 for a full circle).
+    pub sweep_cw: f64,
 }
 
 /// Positions and coordinate transformations.
@@ -180,8 +182,19 @@ impl Geometry {
         let off = st.offsets[t.offset.min(6)];
         let center = vec![(a1, self.fwd(i1, c1) + off[i1]), (a2, self.fwd(i2, c2) + off[i2])];
         let mirrored = self.mirror[i1] != self.mirror[i2];
+        let a0 = ((start[i2] - c2) * half(i2)).atan2((start[i1] - c1) * half(i1));
+        let a1 = ((end[i2] - c2) * half(i2)).atan2((end[i1] - c1) * half(i1));
+        let sweep_cw = (a0 - a1).rem_euclid(std::f64::consts::TAU);
         self.apply(t, end, st);
-        Ok(Arc { center, mirrored })
+        Ok(Arc { center, mirrored, sweep_cw })
+    }
+
+    /// Moves axis `i` by `delta` mm (the towed axis of a helix).
+    pub fn tow(&mut self, i: usize, delta: f64) {
+        if i < self.axes.len() {
+            self.machine[i] += delta;
+            self.refresh_prog();
+        }
     }
 
     /// Writes the programmed positions (X as radius under diameter programming) for arithmetic ops 25/26.

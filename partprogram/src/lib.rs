@@ -20,6 +20,7 @@ pub mod lexer;
 pub mod machine;
 pub mod parse;
 pub mod program;
+pub mod run;
 
 pub use canon::{Canon, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};

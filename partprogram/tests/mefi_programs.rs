@@ -220,3 +220,21 @@ fn lathe_g81_longitudinal_roughing_with_two_finishing_passes() {
     // After the cycle every parameter is restored.
     assert_eq!((p.params[24], p.params[28], p.params[30], p.params[31]), (-8_000, 4_000, -70_000, -100_000));
 }
+
+#[test]
+fn helix_tows_z_by_the_lift_per_circle() {
+    let p = plan("%1\nN5 X0 Y0 Z0 G00\nN10 Z1.05 G10\nN50 G09 G02 X0 Y0 I100 G73 L50 Q20 F500\nN60 X200. Y0 I100\nN70 G98\nN80 M30\n");
+    let circles: Vec<f64> = p.blocks.iter().filter(|c| c.n == Some(50)).map(|c| end(c, 'Z')).collect();
+    assert_eq!(circles.len(), 21);
+    assert_eq!(circles[0], 1.05);
+    assert_eq!(circles[20], 22.05);
+    let n60 = p.blocks.iter().find(|c| c.n == Some(60)).expect("N60");
+    assert_eq!((end(n60, 'X'), end(n60, 'Y'), end(n60, 'Z')), (200.0, 0.0, 22.575));
+}
+
+#[test]
+fn thread_feed_is_lead_times_speed() {
+    let p = plan("%1\nN1 G0 X20 Z5 S200 M03\nN2 G33 Z-40 F1.5\nN3 G0 X30\nN4 M30\n");
+    let t = p.blocks.iter().find(|c| c.n == Some(2)).expect("N2");
+    assert_eq!((t.kind, t.thread, t.feed), (Kind::Linear, true, Some(300.0)));
+}
