@@ -6,7 +6,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         let spec = partprogram::MachineSpec::new(dialect, &['X', 'Y', 'Z']);
         let (prog, _) = partprogram::compile(&spec, "fuzz", &text);
         if let Some(p) = prog {
-            let opts = partprogram::PlanOptions { max_blocks: 10_000, ..Default::default() };
+            let opts = partprogram::PlanOptions {
+                max_blocks: 10_000,
+                ..Default::default()
+            };
             let _ = partprogram::plan(&p, opts);
         }
     }

@@ -9,19 +9,34 @@ use partprogram::{Backend, Dialect, DoublePrecision, MachineSpec, PlanOptions, c
 
 fn cam_program(blocks: usize) -> String {
     let mut s = String::with_capacity(blocks * 40);
-    s.push_str("%1 \"generated CAM program\"\nN1 G54 G90 G17 G00 X0 Y0 Z5 M03 S2000\nN2 G01 Z-1 F800\n");
+    s.push_str(
+        "%1 \"generated CAM program\"\nN1 G54 G90 G17 G00 X0 Y0 Z5 M03 S2000\nN2 G01 Z-1 F800\n",
+    );
     let mut n = 3;
     while n < blocks {
         let t = n as f64 * 0.01;
         if n % 10 == 0 {
             // A quarter circle of radius 1 around the current point + (1, 0).
-            s.push_str(&format!("N{n} G03 X{:.3} Y{:.3} I1 J0\n", (t.cos() * 50.0 * 1000.0).round() / 1000.0 + 1.0, (t.sin() * 50.0 * 1000.0).round() / 1000.0 + 1.0));
+            s.push_str(&format!(
+                "N{n} G03 X{:.3} Y{:.3} I1 J0\n",
+                (t.cos() * 50.0 * 1000.0).round() / 1000.0 + 1.0,
+                (t.sin() * 50.0 * 1000.0).round() / 1000.0 + 1.0
+            ));
             // The arc above starts where the previous block ended; rewrite it as a line if it would not
             // be on the circle.
             s.truncate(s.rfind(&format!("N{n} ")).unwrap_or(s.len()));
-            s.push_str(&format!("N{n} G01 X{:.3} Y{:.3}\n", (t.cos() * 50.0 * 1000.0).round() / 1000.0, (t.sin() * 50.0 * 1000.0).round() / 1000.0));
+            s.push_str(&format!(
+                "N{n} G01 X{:.3} Y{:.3}\n",
+                (t.cos() * 50.0 * 1000.0).round() / 1000.0,
+                (t.sin() * 50.0 * 1000.0).round() / 1000.0
+            ));
         } else {
-            s.push_str(&format!("N{n} X{:.3} Y{:.3} Z{:.3}\n", (t.cos() * 50.0 * 1000.0).round() / 1000.0, (t.sin() * 50.0 * 1000.0).round() / 1000.0, -1.0 - (n % 7) as f64 * 0.1));
+            s.push_str(&format!(
+                "N{n} X{:.3} Y{:.3} Z{:.3}\n",
+                (t.cos() * 50.0 * 1000.0).round() / 1000.0,
+                (t.sin() * 50.0 * 1000.0).round() / 1000.0,
+                -1.0 - (n % 7) as f64 * 0.1
+            ));
         }
         n += 1;
     }
@@ -63,12 +78,34 @@ fn bench_cam(c: &mut Criterion) {
 /// negation, increment, decrement, int→real, odd test, square, real→int): they read R10..R33 and write
 /// R40..R49 only, so repeated runs give the same values and no run-time errors.
 fn words() -> Vec<Vec<i64>> {
-    let w = |raw: bool, op: i64, a: i64, b: i64, c: i64| (if raw { -1 } else { 1 }) * (op * 1_000_000 + a * 10_000 + b * 100 + c);
+    let w = |raw: bool, op: i64, a: i64, b: i64, c: i64| {
+        (if raw { -1 } else { 1 }) * (op * 1_000_000 + a * 10_000 + b * 100 + c)
+    };
     vec![
-        vec![w(false, 1, 10, 11, 40), w(false, 2, 12, 13, 41), w(false, 3, 14, 15, 42), w(false, 3, 16, 17, 43)],
-        vec![w(false, 15, 18, 19, 44), w(false, 4, 20, 21, 45), w(false, 7, 22, 0, 46), w(false, 8, 23, 0, 47)],
-        vec![w(true, 41, 24, 2, 48), w(false, 42, 25, 3, 49), w(false, 23, 26, 0, 40), w(false, 19, 27, 28, 41)],
-        vec![w(false, 46, 29, 0, 42), w(false, 5, 30, 0, 43), w(false, 24, 31, 0, 44), w(true, 17, 32, 33, 45)],
+        vec![
+            w(false, 1, 10, 11, 40),
+            w(false, 2, 12, 13, 41),
+            w(false, 3, 14, 15, 42),
+            w(false, 3, 16, 17, 43),
+        ],
+        vec![
+            w(false, 15, 18, 19, 44),
+            w(false, 4, 20, 21, 45),
+            w(false, 7, 22, 0, 46),
+            w(false, 8, 23, 0, 47),
+        ],
+        vec![
+            w(true, 41, 24, 2, 48),
+            w(false, 42, 25, 3, 49),
+            w(false, 23, 26, 0, 40),
+            w(false, 19, 27, 28, 41),
+        ],
+        vec![
+            w(false, 46, 29, 0, 42),
+            w(false, 5, 30, 0, 43),
+            w(false, 24, 31, 0, 44),
+            w(true, 17, 32, 33, 45),
+        ],
     ]
 }
 
@@ -83,7 +120,8 @@ fn seeded() -> ArithState {
 fn bench_arith(c: &mut Criterion) {
     let words = words();
     let todo: Vec<(usize, Vec<i64>)> = words.iter().cloned().enumerate().collect();
-    let native = partprogram::jit::compile_words(&todo, DoublePrecision::Enabled).unwrap_or_else(|e| panic!("{e}"));
+    let native = partprogram::jit::compile_words(&todo, DoublePrecision::Enabled)
+        .unwrap_or_else(|e| panic!("{e}"));
     // Same results from both engines.
     let mut a = seeded();
     let mut b = seeded();

@@ -163,7 +163,11 @@ pub enum Step {
 
 /// Fits a result into a single 32-bit parameter.
 pub fn fit(v: i64) -> Result<i64, ArithError> {
-    if v < i64::from(i32::MIN) || v > i64::from(i32::MAX) { Err(ArithError::Overflow) } else { Ok(v) }
+    if v < i64::from(i32::MIN) || v > i64::from(i32::MAX) {
+        Err(ArithError::Overflow)
+    } else {
+        Ok(v)
+    }
 }
 
 fn round(v: f64) -> Result<i64, ArithError> {
@@ -215,7 +219,11 @@ impl ArithState {
     }
 
     fn param_index(f: u8) -> Result<usize, ArithError> {
-        if usize::from(f) < NPARAM { Ok(usize::from(f)) } else { Err(ArithError::BadField(f)) }
+        if usize::from(f) < NPARAM {
+            Ok(usize::from(f))
+        } else {
+            Err(ArithError::BadField(f))
+        }
     }
 
     /// Executes the control word with count `r`.
@@ -260,11 +268,19 @@ impl ArithState {
     }
 
     fn cond(&self, w: Word, t: impl Fn(i64, i64) -> bool) -> Result<Step, ArithError> {
-        Ok(if t(self.read(w.a)?, self.read(w.b)?) { Step::Next } else { Step::Skip })
+        Ok(if t(self.read(w.a)?, self.read(w.b)?) {
+            Step::Next
+        } else {
+            Step::Skip
+        })
     }
 
     fn compare(&mut self, w: Word, t: impl Fn(i64, i64) -> bool) -> Result<Step, ArithError> {
-        let v = if t(self.read(w.a)?, self.read(w.b)?) { 73 } else { 78 };
+        let v = if t(self.read(w.a)?, self.read(w.b)?) {
+            73
+        } else {
+            78
+        };
         self.write(w.c, v)?;
         Ok(Step::Next)
     }
@@ -285,11 +301,17 @@ impl ArithState {
                 }
             }
             1 => {
-                let v = self.read(w.a)?.checked_add(self.read(w.b)?).ok_or(ArithError::Overflow)?;
+                let v = self
+                    .read(w.a)?
+                    .checked_add(self.read(w.b)?)
+                    .ok_or(ArithError::Overflow)?;
                 self.write(w.c, v)?;
             }
             2 => {
-                let v = self.read(w.a)?.checked_sub(self.read(w.b)?).ok_or(ArithError::Overflow)?;
+                let v = self
+                    .read(w.a)?
+                    .checked_sub(self.read(w.b)?)
+                    .ok_or(ArithError::Overflow)?;
                 self.write(w.c, v)?;
             }
             3 => {
@@ -302,7 +324,11 @@ impl ArithState {
                 if y == 0 {
                     return Err(ArithError::DivZero);
                 }
-                let q = if raw { i128::from(x) / i128::from(y) } else { i128::from(x) * 1000 / i128::from(y) };
+                let q = if raw {
+                    i128::from(x) / i128::from(y)
+                } else {
+                    i128::from(x) * 1000 / i128::from(y)
+                };
                 self.write(w.c, i64::try_from(q).map_err(|_| ArithError::Overflow)?)?;
             }
             5 => {
@@ -327,7 +353,11 @@ impl ArithState {
             }
             9 => {
                 let n = self.r[Self::param_index(w.b)?];
-                let limit = if self.is_pair(w.a) || self.is_pair(w.c) { 64 } else { 32 };
+                let limit = if self.is_pair(w.a) || self.is_pair(w.c) {
+                    64
+                } else {
+                    32
+                };
                 if n.abs() > limit {
                     return Err(ArithError::Shift);
                 }
@@ -371,7 +401,10 @@ impl ArithState {
             21 => return self.cond(w, |x, y| x != y),
             22 => {}
             23 => {
-                let v = self.read(w.a)?.checked_mul(1000).ok_or(ArithError::Overflow)?;
+                let v = self
+                    .read(w.a)?
+                    .checked_mul(1000)
+                    .ok_or(ArithError::Overflow)?;
                 self.write(w.c, v)?;
             }
             24 => {
@@ -401,7 +434,11 @@ impl ArithState {
             }
             28 => {
                 let (k, n) = (self.float_in(w.a, raw)?, self.float_in(w.b, raw)?);
-                let v = if k == 1.0 { n } else { (k.powf(n) - 1.0) / (k - 1.0) };
+                let v = if k == 1.0 {
+                    n
+                } else {
+                    (k.powf(n) - 1.0) / (k - 1.0)
+                };
                 self.float_out(w.c, raw, v)?;
             }
             29 => return self.cond(w, |x, y| x > y),
@@ -433,7 +470,11 @@ impl ArithState {
                 }
             }
             35 => {
-                let (a, b, c) = (Self::param_index(w.a)?, Self::param_index(w.b)?, Self::param_index(w.c)?);
+                let (a, b, c) = (
+                    Self::param_index(w.a)?,
+                    Self::param_index(w.b)?,
+                    Self::param_index(w.c)?,
+                );
                 if a > b || c + (b - a) >= NPARAM {
                     return Err(ArithError::BadField(w.c));
                 }
@@ -461,7 +502,11 @@ impl ArithState {
                 let step = i64::from(if w.b == 0 { 1 } else { w.b });
                 let step = if raw { step } else { step * 1000 };
                 let x = self.read(w.a)?;
-                let v = if w.op == 41 { x.checked_add(step) } else { x.checked_sub(step) };
+                let v = if w.op == 41 {
+                    x.checked_add(step)
+                } else {
+                    x.checked_sub(step)
+                };
                 self.write(w.c, v.ok_or(ArithError::Overflow)?)?;
             }
             44 => self.saved = self.r,
@@ -469,7 +514,11 @@ impl ArithState {
                 if w.a == 0 && w.b == 0 && w.c == 0 {
                     self.r = self.saved;
                 } else {
-                    let (a, b, c) = (Self::param_index(w.a)?, Self::param_index(w.b)?, Self::param_index(w.c)?);
+                    let (a, b, c) = (
+                        Self::param_index(w.a)?,
+                        Self::param_index(w.b)?,
+                        Self::param_index(w.c)?,
+                    );
                     if a > b || c + (b - a) >= NPARAM {
                         return Err(ArithError::BadField(w.c));
                     }
@@ -488,7 +537,11 @@ impl ArithState {
             50 => self.write_table(w)?,
             51 => {
                 let p = Self::param_index(w.b)?;
-                self.messages.push(Message { code: w.a, value: self.r[p], mode: w.c % 10 });
+                self.messages.push(Message {
+                    code: w.a,
+                    value: self.r[p],
+                    mode: w.c % 10,
+                });
             }
             op => return Err(ArithError::BadOp(op)),
         }
@@ -535,8 +588,16 @@ impl ArithState {
         let (table, col, src) = (w.a / 10, w.a % 10, w.b);
         let v = match table {
             1 => {
-                let e = self.corrections.get(usize::from(src)).ok_or(ArithError::BadField(src))?;
-                round(e.get(usize::from(col)).copied().ok_or(ArithError::BadField(w.a))? * 1000.0)?
+                let e = self
+                    .corrections
+                    .get(usize::from(src))
+                    .ok_or(ArithError::BadField(src))?;
+                round(
+                    e.get(usize::from(col))
+                        .copied()
+                        .ok_or(ArithError::BadField(w.a))?
+                        * 1000.0,
+                )?
             }
             2 => {
                 if !(53..=59).contains(&src) || !(1..=6).contains(&col) {
@@ -546,8 +607,18 @@ impl ArithState {
             }
             3 => 0,
             4 | 5 => match col {
-                1 => i64::from(*self.m_groups.get(usize::from(src)).ok_or(ArithError::BadField(src))?),
-                2 => i64::from(*self.g_groups.get(usize::from(src)).ok_or(ArithError::BadField(src))?),
+                1 => i64::from(
+                    *self
+                        .m_groups
+                        .get(usize::from(src))
+                        .ok_or(ArithError::BadField(src))?,
+                ),
+                2 => i64::from(
+                    *self
+                        .g_groups
+                        .get(usize::from(src))
+                        .ok_or(ArithError::BadField(src))?,
+                ),
                 5 => self.s_t_d[0],
                 6 => self.s_t_d[1],
                 8 => self.s_t_d[2],
@@ -565,8 +636,12 @@ impl ArithState {
         let v = self.r[Self::param_index(w.b)?] as f64 / 1000.0;
         match table {
             1 => {
-                let e = self.corrections.get_mut(usize::from(w.c)).ok_or(ArithError::BadField(w.c))?;
-                *e.get_mut(usize::from(col)).ok_or(ArithError::BadField(w.a))? = v;
+                let e = self
+                    .corrections
+                    .get_mut(usize::from(w.c))
+                    .ok_or(ArithError::BadField(w.c))?;
+                *e.get_mut(usize::from(col))
+                    .ok_or(ArithError::BadField(w.a))? = v;
             }
             2 => {
                 if !(53..=59).contains(&w.c) || !(1..=6).contains(&col) {

@@ -150,7 +150,12 @@ impl Canon {
         }
         s.push_str("],\"m_timing\":[");
         for (i, m) in self.m.iter().enumerate() {
-            let _ = write!(s, "{}\"{}\"", if i > 0 { "," } else { "" }, if m.before { "before" } else { "after" });
+            let _ = write!(
+                s,
+                "{}\"{}\"",
+                if i > 0 { "," } else { "" },
+                if m.before { "before" } else { "after" }
+            );
         }
         s.push(']');
         match self.s {

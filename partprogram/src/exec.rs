@@ -7,7 +7,6 @@
 
 use std::collections::HashMap;
 
-
 use crate::arith::{ArithError, ArithState, NPARAM};
 use crate::ast::Val;
 use crate::canon::{Canon, Kind, MFunc, Plane};
@@ -98,7 +97,12 @@ pub struct Exec<'p> {
 }
 
 fn run_err(b: &CBlock, code: u32, message: impl Into<String>) -> RunError {
-    RunError { code, message: message.into(), file: b.file, span: b.span }
+    RunError {
+        code,
+        message: message.into(),
+        file: b.file,
+        span: b.span,
+    }
 }
 
 fn arith_err(b: &CBlock, e: ArithError) -> RunError {
@@ -113,7 +117,12 @@ fn arith_err(b: &CBlock, e: ArithError) -> RunError {
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
     let mut ex = Exec::new(prog, opts);
     match ex.run() {
-        Ok(()) => Ok(Plan { blocks: ex.out, params: ex.st.r, executed: ex.executed, messages: std::mem::take(&mut ex.st.messages) }),
+        Ok(()) => Ok(Plan {
+            blocks: ex.out,
+            params: ex.st.r,
+            executed: ex.executed,
+            messages: std::mem::take(&mut ex.st.messages),
+        }),
         Err(e) => Err((ex.out, e)),
     }
 }
@@ -157,7 +166,13 @@ impl<'p> Exec<'p> {
                 lead: None,
             },
             geo: Geometry::new(&m.axes(), m.diameter_x),
-            frames: vec![Frame { unit: 0, pc: prog.units.first().map_or(0, |u| u.start), counters: HashMap::new(), repeat: 1, cycle: None }],
+            frames: vec![Frame {
+                unit: 0,
+                pc: prog.units.first().map_or(0, |u| u.start),
+                counters: HashMap::new(),
+                repeat: 1,
+                cycle: None,
+            }],
             out: Vec::new(),
             executed: 0,
             ended: false,
@@ -174,7 +189,9 @@ impl<'p> Exec<'p> {
             return Ok(());
         }
         while !self.ended {
-            let Some(fr) = self.frames.last_mut() else { break };
+            let Some(fr) = self.frames.last_mut() else {
+                break;
+            };
             let unit = &self.prog.units[fr.unit];
             if fr.pc >= unit.end {
                 if unit.kind == UnitKind::Main {
@@ -188,7 +205,14 @@ impl<'p> Exec<'p> {
             fr.pc += 1;
             self.executed += 1;
             if self.executed > self.opts.max_blocks {
-                return Err(run_err(&self.prog.blocks[bi], codes::RUN_LIMIT, format!("more than {} blocks executed: endless loop?", self.opts.max_blocks)));
+                return Err(run_err(
+                    &self.prog.blocks[bi],
+                    codes::RUN_LIMIT,
+                    format!(
+                        "more than {} blocks executed: endless loop?",
+                        self.opts.max_blocks
+                    ),
+                ));
             }
             self.block(bi)?;
         }
@@ -205,17 +229,35 @@ impl<'p> Exec<'p> {
         }
     }
 
-    fn call(&mut self, b: &CBlock, unit: usize, repeat: i64, cycle: Option<Box<Snapshot>>) -> Result<(), RunError> {
+    fn call(
+        &mut self,
+        b: &CBlock,
+        unit: usize,
+        repeat: i64,
+        cycle: Option<Box<Snapshot>>,
+    ) -> Result<(), RunError> {
         if self.frames.len() >= 64 {
-            return Err(run_err(b, codes::RUN_LIMIT, "calls nested deeper than 64 levels"));
+            return Err(run_err(
+                b,
+                codes::RUN_LIMIT,
+                "calls nested deeper than 64 levels",
+            ));
         }
         let start = self.prog.units[unit].start;
-        self.frames.push(Frame { unit, pc: start, counters: HashMap::new(), repeat, cycle });
+        self.frames.push(Frame {
+            unit,
+            pc: start,
+            counters: HashMap::new(),
+            repeat,
+            cycle,
+        });
         Ok(())
     }
 
     fn ret(&mut self, bi: usize) -> Result<(), RunError> {
-        let Some(fr) = self.frames.last_mut() else { return Ok(()) };
+        let Some(fr) = self.frames.last_mut() else {
+            return Ok(());
+        };
         if self.prog.units[fr.unit].kind == UnitKind::Main {
             let b = &self.prog.blocks[bi];
             return Err(run_err(b, codes::RUN_TARGET, "G70 in the main program"));
@@ -242,7 +284,11 @@ impl<'p> Exec<'p> {
         if literal && self.opts.backend == Backend::Native {
             if let (Some(fi), Some(native)) = (b.native, self.prog.native.as_ref()) {
                 let rc = native.call(fi, &mut self.st);
-                return if rc == 0 { Ok(()) } else { Err(arith_err(b, ArithError::from_code(rc))) };
+                return if rc == 0 {
+                    Ok(())
+                } else {
+                    Err(arith_err(b, ArithError::from_code(rc)))
+                };
             }
         }
         let words: Vec<i64> = self.st.r[5..5 + usize::from(ops)].to_vec();
@@ -262,7 +308,8 @@ impl<'p> Exec<'p> {
         let naxes = self.geo.axes.len();
         let mut axes: [Option<f64>; 6] = [None; 6];
         let mut ijk: [Option<f64>; 3] = [None; 3];
-        let (mut f, mut s, mut t, mut d, mut l, mut q, mut amp) = (None, None, None, None, None, None, None);
+        let (mut f, mut s, mut t, mut d, mut l, mut q, mut amp) =
+            (None, None, None, None, None, None, None);
         for w in &b.words {
             let v = match w.val {
                 Val::Lit(l) => V::Lit(l),
@@ -272,14 +319,26 @@ impl<'p> Exec<'p> {
                 'G' => {
                     let g = v.count();
                     if !(0..=99).contains(&g) {
-                        return Err(run_err(b, codes::RUN_RANGE, format!("G{g}: a two-decade address cannot take a value with more than 2 decades")));
+                        return Err(run_err(
+                            b,
+                            codes::RUN_RANGE,
+                            format!(
+                                "G{g}: a two-decade address cannot take a value with more than 2 decades"
+                            ),
+                        ));
                     }
                     gs.push((g as u16, matches!(v, V::Lit(_))));
                 }
                 'M' => {
                     let m = v.count();
                     if !(0..=99).contains(&m) {
-                        return Err(run_err(b, codes::RUN_RANGE, format!("M{m}: a two-decade address cannot take a value with more than 2 decades")));
+                        return Err(run_err(
+                            b,
+                            codes::RUN_RANGE,
+                            format!(
+                                "M{m}: a two-decade address cannot take a value with more than 2 decades"
+                            ),
+                        ));
                     }
                     ms.push(m as u16);
                 }
@@ -313,7 +372,8 @@ impl<'p> Exec<'p> {
         }
         // 4. Modal G functions.
         let mut block_offset = None;
-        let (mut dwell, mut g92, mut g93, mut transform, mut g30) = (false, false, false, None, false);
+        let (mut dwell, mut g92, mut g93, mut transform, mut g30) =
+            (false, false, false, None, false);
         let mut lift = false;
         let mut flow: Option<u16> = None;
         let mut cycle_start = false;
@@ -342,7 +402,10 @@ impl<'p> Exec<'p> {
                 }
                 90 => self.modal.abs = true,
                 91 => self.modal.abs = false,
-                74 => self.geo.diameter = prog.machine.diameter_x || self.geo.axes.first() == Some(&'X'),
+                74 => {
+                    self.geo.diameter =
+                        prog.machine.diameter_x || self.geo.axes.first() == Some(&'X')
+                }
                 75 => self.geo.diameter = false,
                 4 => dwell = true,
                 92 => g92 = true,
@@ -353,7 +416,13 @@ impl<'p> Exec<'p> {
                 98 => self.modal.helix = false,
                 10 => lift = true,
                 26..=29 | 5..=7 | 23 | 24 | 14..=16 => {}
-                g => return Err(run_err(b, codes::RUN_BAD_G, format!("G{g:02} is not a MEFI G function"))),
+                g => {
+                    return Err(run_err(
+                        b,
+                        codes::RUN_BAD_G,
+                        format!("G{g:02} is not a MEFI G function"),
+                    ));
+                }
             }
         }
         let _ = cycle_start;
@@ -369,8 +438,20 @@ impl<'p> Exec<'p> {
         } else if let Some(v) = f {
             let per_rev = matches!(self.modal.feed_mode, 95 | 97);
             let value = match (v, per_rev) {
-                (V::Lit(l), false) => if l.point { l.value() * 1000.0 } else { l.value() },
-                (V::Lit(l), true) => if l.point { l.value() } else { l.value() / 1000.0 },
+                (V::Lit(l), false) => {
+                    if l.point {
+                        l.value() * 1000.0
+                    } else {
+                        l.value()
+                    }
+                }
+                (V::Lit(l), true) => {
+                    if l.point {
+                        l.value()
+                    } else {
+                        l.value() / 1000.0
+                    }
+                }
                 (V::R(r), false) => r as f64,
                 (V::R(r), true) => r as f64 / 1000.0,
             };
@@ -379,7 +460,11 @@ impl<'p> Exec<'p> {
         }
         if let Some(s) = s {
             if !(0..=9999).contains(&s) {
-                return Err(run_err(b, codes::RUN_RANGE, format!("S{s} out of range 0..9999")));
+                return Err(run_err(
+                    b,
+                    codes::RUN_RANGE,
+                    format!("S{s} out of range 0..9999"),
+                ));
             }
             self.modal.s = Some(s as f64);
             self.st.s_t_d[0] = s;
@@ -454,20 +539,50 @@ impl<'p> Exec<'p> {
             self.geo.move_machine(target, &self.st, self.modal.offset);
             self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, false);
             moved = true;
-        } else if any_axis || (matches!(self.modal.motion, 2 | 3) && ijk.iter().any(Option::is_some)) {
+        } else if any_axis
+            || (matches!(self.modal.motion, 2 | 3) && ijk.iter().any(Option::is_some))
+        {
             let offset = block_offset.unwrap_or(self.modal.offset);
-            let tgt = Target { axes, ijk, abs: self.modal.abs, offset };
+            let tgt = Target {
+                axes,
+                ijk,
+                abs: self.modal.abs,
+                offset,
+            };
             let motion = self.modal.motion;
             match motion {
                 2 | 3 => {
-                    let arc = self.geo.arc(&tgt, self.modal.plane, &self.st, prog.machine.circle_tolerance).map_err(|m| run_err(b, codes::RUN_CIRCLE, m))?;
+                    let arc = self
+                        .geo
+                        .arc(
+                            &tgt,
+                            self.modal.plane,
+                            &self.st,
+                            prog.machine.circle_tolerance,
+                        )
+                        .map_err(|m| run_err(b, codes::RUN_CIRCLE, m))?;
                     let cw = (motion == 2) != arc.mirrored;
                     if let (true, Some((i, l))) = (self.modal.helix, self.modal.lift) {
-                        let sweep = if motion == 2 { arc.sweep_cw } else { std::f64::consts::TAU - arc.sweep_cw };
-                        let sweep = if sweep < 1e-9 || sweep > std::f64::consts::TAU - 1e-9 { std::f64::consts::TAU } else { sweep };
+                        let sweep = if motion == 2 {
+                            arc.sweep_cw
+                        } else {
+                            std::f64::consts::TAU - arc.sweep_cw
+                        };
+                        let sweep = if sweep < 1e-9 || sweep > std::f64::consts::TAU - 1e-9 {
+                            std::f64::consts::TAU
+                        } else {
+                            sweep
+                        };
                         self.geo.tow(i, l * sweep / std::f64::consts::TAU);
                     }
-                    self.emit(b, if cw { Kind::ArcCw } else { Kind::ArcCcw }, arc.center, self.feed(), &mfuncs, false);
+                    self.emit(
+                        b,
+                        if cw { Kind::ArcCw } else { Kind::ArcCcw },
+                        arc.center,
+                        self.feed(),
+                        &mfuncs,
+                        false,
+                    );
                 }
                 0 => {
                     self.geo.linear(&tgt, &self.st);
@@ -475,7 +590,11 @@ impl<'p> Exec<'p> {
                 }
                 _ => {
                     self.geo.linear(&tgt, &self.st);
-                    let feed = if motion == 33 { self.modal.lead.zip(self.modal.s).map(|(l, s)| l * s) } else { self.feed() };
+                    let feed = if motion == 33 {
+                        self.modal.lead.zip(self.modal.s).map(|(l, s)| l * s)
+                    } else {
+                        self.feed()
+                    };
                     self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
                 }
             }
@@ -485,7 +604,11 @@ impl<'p> Exec<'p> {
         let count_q = if dwell { 1 } else { q.unwrap_or(1) };
         if dwell {
             let secs = q.unwrap_or(0) as f64 * 0.01;
-            let m = if moved { Vec::new() } else { std::mem::take(&mut mfuncs) };
+            let m = if moved {
+                Vec::new()
+            } else {
+                std::mem::take(&mut mfuncs)
+            };
             self.emit_dwell(b, secs, &m);
             moved = true;
         }
@@ -496,16 +619,28 @@ impl<'p> Exec<'p> {
         // 7. Program flow at the end of the block.
         match flow {
             Some(71) | Some(72) => {
-                let Some(lv) = l else { return Err(run_err(b, codes::RUN_TARGET, "call without L")) };
-                let map = if flow == Some(71) { &prog.subs } else { &prog.library };
-                let unit = *map.get(&(lv as u32)).ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("unit L{lv} does not exist")))?;
+                let Some(lv) = l else {
+                    return Err(run_err(b, codes::RUN_TARGET, "call without L"));
+                };
+                let map = if flow == Some(71) {
+                    &prog.subs
+                } else {
+                    &prog.library
+                };
+                let unit = *map.get(&(lv as u32)).ok_or_else(|| {
+                    run_err(b, codes::RUN_TARGET, format!("unit L{lv} does not exist"))
+                })?;
                 if count_q > 0 {
                     self.call(b, unit, count_q, None)?;
                 }
             }
             Some(73) => self.jump(b, bi, l, count_q)?,
             Some(70) => {
-                if !self.frames.last().is_some_and(|f| prog.units[f.unit].kind == UnitKind::Main) {
+                if !self
+                    .frames
+                    .last()
+                    .is_some_and(|f| prog.units[f.unit].kind == UnitKind::Main)
+                {
                     self.ret(bi)?;
                 }
             }
@@ -518,8 +653,20 @@ impl<'p> Exec<'p> {
         //    which is already recorded in the frames below it).
         if let Some(c) = active_cycle {
             {
-                let unit = *prog.library.get(&u32::from(c)).ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("fixed cycle G{c} has no unit L{c}")))?;
-                let snap = Box::new(Snapshot { r: self.st.r, modal: self.modal.clone(), m_groups: self.st.m_groups, g_groups: self.st.g_groups, s_t_d: self.st.s_t_d });
+                let unit = *prog.library.get(&u32::from(c)).ok_or_else(|| {
+                    run_err(
+                        b,
+                        codes::RUN_TARGET,
+                        format!("fixed cycle G{c} has no unit L{c}"),
+                    )
+                })?;
+                let snap = Box::new(Snapshot {
+                    r: self.st.r,
+                    modal: self.modal.clone(),
+                    m_groups: self.st.m_groups,
+                    g_groups: self.st.g_groups,
+                    s_t_d: self.st.s_t_d,
+                });
                 self.modal.cycle = None;
                 let was_ended = self.ended;
                 self.ended = false;
@@ -536,10 +683,20 @@ impl<'p> Exec<'p> {
     }
 
     fn jump(&mut self, b: &CBlock, bi: usize, l: Option<i64>, q: i64) -> Result<(), RunError> {
-        let Some(lv) = l else { return Err(run_err(b, codes::RUN_TARGET, "G73 without L")) };
+        let Some(lv) = l else {
+            return Err(run_err(b, codes::RUN_TARGET, "G73 without L"));
+        };
         let unit = &self.prog.units[b.unit];
-        let target = *unit.index.get(&(lv as u32)).ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("jump to N{lv}, which is not in this program unit")))?;
-        let Some(fr) = self.frames.last_mut() else { return Ok(()) };
+        let target = *unit.index.get(&(lv as u32)).ok_or_else(|| {
+            run_err(
+                b,
+                codes::RUN_TARGET,
+                format!("jump to N{lv}, which is not in this program unit"),
+            )
+        })?;
+        let Some(fr) = self.frames.last_mut() else {
+            return Ok(());
+        };
         let take = match fr.counters.get(&bi).copied() {
             None => {
                 if q > 0 {
@@ -576,10 +733,22 @@ impl<'p> Exec<'p> {
 
     fn feed(&self) -> Option<f64> {
         let f = self.modal.feed?;
-        if self.modal.per_rev { self.modal.s.map(|s| f * s) } else { Some(f) }
+        if self.modal.per_rev {
+            self.modal.s.map(|s| f * s)
+        } else {
+            Some(f)
+        }
     }
 
-    fn emit(&mut self, b: &CBlock, kind: Kind, center: Vec<(char, f64)>, feed: Option<f64>, m: &[MFunc], thread: bool) {
+    fn emit(
+        &mut self,
+        b: &CBlock,
+        kind: Kind,
+        center: Vec<(char, f64)>,
+        feed: Option<f64>,
+        m: &[MFunc],
+        thread: bool,
+    ) {
         if !self.opts.record {
             return;
         }

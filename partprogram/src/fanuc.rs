@@ -17,11 +17,26 @@ use crate::machine::Dialect;
 use crate::parse::parse;
 use crate::program::{CBlock, Program, SourceFile, Unit, UnitKind};
 
-fn err(code: u32, f: &SourceFile, span: (usize, usize), msg: impl Into<String>, hint: &str) -> Diagnostic {
-    Diagnostic::error(code, f.name.clone(), span.0..span.1, msg).with_hint(hint).locate(&f.text)
+fn err(
+    code: u32,
+    f: &SourceFile,
+    span: (usize, usize),
+    msg: impl Into<String>,
+    hint: &str,
+) -> Diagnostic {
+    Diagnostic::error(code, f.name.clone(), span.0..span.1, msg)
+        .with_hint(hint)
+        .locate(&f.text)
 }
 
-fn push_file(prog: &mut Program, file: usize, parsed: ParsedFile, kind: UnitKind, number: u32, diags: &mut Vec<Diagnostic>) {
+fn push_file(
+    prog: &mut Program,
+    file: usize,
+    parsed: ParsedFile,
+    kind: UnitKind,
+    number: u32,
+    diags: &mut Vec<Diagnostic>,
+) {
     let start = prog.blocks.len();
     let unit = prog.units.len();
     let mut index = HashMap::new();
@@ -29,12 +44,37 @@ fn push_file(prog: &mut Program, file: usize, parsed: ParsedFile, kind: UnitKind
         if let Some(n) = b.n {
             if index.insert(n, prog.blocks.len()).is_some() {
                 let f = &prog.files[file];
-                diags.push(Diagnostic::warning(codes::DUPLICATE_N, f.name.clone(), b.span.0..b.span.1, format!("block number N{n} is used twice")).locate(&f.text));
+                diags.push(
+                    Diagnostic::warning(
+                        codes::DUPLICATE_N,
+                        f.name.clone(),
+                        b.span.0..b.span.1,
+                        format!("block number N{n} is used twice"),
+                    )
+                    .locate(&f.text),
+                );
             }
         }
-        prog.blocks.push(CBlock { n: b.n, file, unit, span: b.span, skip: b.skip, words: b.words, decls: b.decls, arith_ops: 0, native: None });
+        prog.blocks.push(CBlock {
+            n: b.n,
+            file,
+            unit,
+            span: b.span,
+            skip: b.skip,
+            words: b.words,
+            decls: b.decls,
+            arith_ops: 0,
+            native: None,
+        });
     }
-    prog.units.push(Unit { kind, l: number, file, start, end: prog.blocks.len(), index });
+    prog.units.push(Unit {
+        kind,
+        l: number,
+        file,
+        start,
+        end: prog.blocks.len(),
+        index,
+    });
 }
 
 /// Builds the units of a Fanuc main file and loads `O<n>` programs of the macro folder for M98.
@@ -45,14 +85,27 @@ pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagn
     if dir.as_os_str().is_empty() {
         return;
     }
-    let Ok(rd) = std::fs::read_dir(&dir) else { return };
-    let mut paths: Vec<_> = rd.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file()).collect();
+    let Ok(rd) = std::fs::read_dir(&dir) else {
+        return;
+    };
+    let mut paths: Vec<_> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.is_file())
+        .collect();
     paths.sort();
     for path in paths {
-        let fname = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let fname = path
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
-        let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else { continue };
-        let Ok(bytes) = std::fs::read(&path) else { continue };
+        let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else {
+            continue;
+        };
+        let Ok(bytes) = std::fs::read(&path) else {
+            continue;
+        };
         let text = String::from_utf8_lossy(&bytes).into_owned();
         let name = format!("macros/{fname}");
         let (parsed, d) = parse(Dialect::Fanuc, &name, &text);
@@ -82,13 +135,43 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
         let mut m_calls = Vec::new();
         for w in &b.words {
             if let Val::Param(_) = w.val {
-                diags.push(err(codes::UNKNOWN_ADDRESS, f, w.span, "`R<n>` parameters are MEFI syntax", "write literal values in the Fanuc/HAAS dialect"));
+                diags.push(err(
+                    codes::UNKNOWN_ADDRESS,
+                    f,
+                    w.span,
+                    "`R<n>` parameters are MEFI syntax",
+                    "write literal values in the Fanuc/HAAS dialect",
+                ));
                 continue;
             }
             let v = lit(&w.val).unwrap_or(0.0);
-            let known = matches!(w.addr, 'G' | 'M' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'H' | 'P' | 'Q' | 'L' | 'E' | 'U' | 'W') || axes.contains(&w.addr);
+            let known = matches!(
+                w.addr,
+                'G' | 'M'
+                    | 'I'
+                    | 'J'
+                    | 'K'
+                    | 'R'
+                    | 'F'
+                    | 'S'
+                    | 'T'
+                    | 'D'
+                    | 'H'
+                    | 'P'
+                    | 'Q'
+                    | 'L'
+                    | 'E'
+                    | 'U'
+                    | 'W'
+            ) || axes.contains(&w.addr);
             if !known {
-                diags.push(err(codes::UNKNOWN_ADDRESS, f, w.span, format!("unknown address `{}`", w.addr), "Fanuc/HAAS addresses: O N G M X Y Z A B C I J K R F S T D H P Q L E"));
+                diags.push(err(
+                    codes::UNKNOWN_ADDRESS,
+                    f,
+                    w.span,
+                    format!("unknown address `{}`", w.addr),
+                    "Fanuc/HAAS addresses: O N G M X Y Z A B C I J K R F S T D H P Q L E",
+                ));
                 continue;
             }
             match w.addr {
@@ -97,43 +180,102 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                     match u16::try_from(key).ok().and_then(fanuc_g_group) {
                         Some(gr) => {
                             if gr != 0 && groups.insert(gr, ()).is_some() {
-                                diags.push(err(codes::GROUP_CONFLICT, f, w.span, "two G codes of the same group", "one G code per modal group per block"));
+                                diags.push(err(
+                                    codes::GROUP_CONFLICT,
+                                    f,
+                                    w.span,
+                                    "two G codes of the same group",
+                                    "one G code per modal group per block",
+                                ));
                             }
                         }
-                        None => diags.push(err(codes::UNKNOWN_G, f, w.span, format!("G{v} is not supported by the Fanuc/HAAS dialect"), "see gcode-haas-fanuc.md §4")),
+                        None => diags.push(err(
+                            codes::UNKNOWN_G,
+                            f,
+                            w.span,
+                            format!("G{v} is not supported by the Fanuc/HAAS dialect"),
+                            "see gcode-haas-fanuc.md §4",
+                        )),
                     }
                 }
                 'M' => {
                     let m = v as i64;
                     if !(0..=199).contains(&m) || v.fract() != 0.0 {
-                        diags.push(err(codes::OUT_OF_RANGE, f, w.span, "M code out of range", "M0..M199"));
+                        diags.push(err(
+                            codes::OUT_OF_RANGE,
+                            f,
+                            w.span,
+                            "M code out of range",
+                            "M0..M199",
+                        ));
                     } else {
-                        if prog.machine.check_m_declared && m < 97 && prog.machine.m_timing(m as u16).is_none() {
-                            diags.push(err(codes::UNDECLARED_M, f, w.span, format!("M{m:02} is not declared for process 1 in IOCFIL section 2"), "declare it in IOCFIL section 2"));
+                        if prog.machine.check_m_declared
+                            && m < 97
+                            && prog.machine.m_timing(m as u16).is_none()
+                        {
+                            diags.push(err(
+                                codes::UNDECLARED_M,
+                                f,
+                                w.span,
+                                format!(
+                                    "M{m:02} is not declared for process 1 in IOCFIL section 2"
+                                ),
+                                "declare it in IOCFIL section 2",
+                            ));
                         }
                         m_calls.push(m);
                     }
                 }
-                'N' | 'D' | 'H' | 'T' | 'L' if v < 0.0 => diags.push(err(codes::OUT_OF_RANGE, f, w.span, format!("{} must not be negative", w.addr), "")),
+                'N' | 'D' | 'H' | 'T' | 'L' if v < 0.0 => diags.push(err(
+                    codes::OUT_OF_RANGE,
+                    f,
+                    w.span,
+                    format!("{} must not be negative", w.addr),
+                    "",
+                )),
                 _ => {}
             }
             if w.addr != 'G' && w.addr != 'M' && seen.insert(w.addr, ()).is_some() {
-                diags.push(err(codes::DUPLICATE_ADDRESS, f, w.span, format!("address {} appears twice in the block", w.addr), "each address once per block"));
+                diags.push(err(
+                    codes::DUPLICATE_ADDRESS,
+                    f,
+                    w.span,
+                    format!("address {} appears twice in the block", w.addr),
+                    "each address once per block",
+                ));
             }
         }
         let p = b.word('P').and_then(|w| lit(&w.val)).map(|v| v as u32);
         for m in m_calls {
             match (m, p) {
-                (97 | 98, None) => diags.push(err(codes::MISSING_L, f, b.span, format!("M{m} needs P"), "M97 P<line number>, M98 P<program number>")),
+                (97 | 98, None) => diags.push(err(
+                    codes::MISSING_L,
+                    f,
+                    b.span,
+                    format!("M{m} needs P"),
+                    "M97 P<line number>, M98 P<program number>",
+                )),
                 (97, Some(n)) => {
                     if !prog.units[b.unit].index.contains_key(&n) {
-                        diags.push(err(codes::MISSING_BLOCK, f, b.span, format!("M97 P{n}: no block N{n} in this program"), "M97 calls a line number of the same program"));
+                        diags.push(err(
+                            codes::MISSING_BLOCK,
+                            f,
+                            b.span,
+                            format!("M97 P{n}: no block N{n} in this program"),
+                            "M97 calls a line number of the same program",
+                        ));
                     }
                 }
                 (98, Some(n)) => match prog.library.get(&n) {
                     Some(&u) => edges[b.unit].push((u, bi)),
                     None if prog.units[0].l == n && n != 0 => edges[b.unit].push((0, bi)),
-                    None => diags.push(err(codes::MISSING_SUBPROGRAM, f, b.span, format!("M98 P{n}: program O{n} not found"), "store subprograms as files O<n> in the machine's macro folder")),
+                    None => diags.push(err(
+                        codes::MISSING_SUBPROGRAM,
+                        f,
+                        b.span,
+                        format!("M98 P{n}: program O{n} not found"),
+                        "store subprograms as files O<n> in the machine's macro folder",
+                    )),
                 },
                 _ => {}
             }
@@ -161,7 +303,13 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
     }
     for bi in hits {
         let b = &prog.blocks[bi];
-        diags.push(err(codes::RECURSION, &prog.files[b.file], b.span, "M98 call leads back to its own program: unbounded recursion", "a subprogram must not call itself"));
+        diags.push(err(
+            codes::RECURSION,
+            &prog.files[b.file],
+            b.span,
+            "M98 call leads back to its own program: unbounded recursion",
+            "a subprogram must not call itself",
+        ));
     }
 }
 

@@ -46,7 +46,12 @@ struct Ex<'p> {
 }
 
 fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
-    RunError { code, message: msg.into(), file: b.file, span: b.span }
+    RunError {
+        code,
+        message: msg.into(),
+        file: b.file,
+        span: b.span,
+    }
 }
 
 /// Plans a Fanuc/HAAS program.
@@ -81,7 +86,12 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         ended: false,
     };
     match ex.run() {
-        Ok(()) => Ok(Plan { blocks: ex.out, params: [0; 96], executed: ex.executed, messages: Vec::new() }),
+        Ok(()) => Ok(Plan {
+            blocks: ex.out,
+            params: [0; 96],
+            executed: ex.executed,
+            messages: Vec::new(),
+        }),
         Err(e) => Err((ex.out, e)),
     }
 }
@@ -96,10 +106,19 @@ impl Ex<'_> {
     }
 
     fn run(&mut self) -> Result<(), RunError> {
-        let Some(main) = self.prog.units.first() else { return Ok(()) };
-        self.frames.push(Frame { unit: 0, pc: main.start, target: main.start, repeat: 1 });
+        let Some(main) = self.prog.units.first() else {
+            return Ok(());
+        };
+        self.frames.push(Frame {
+            unit: 0,
+            pc: main.start,
+            target: main.start,
+            repeat: 1,
+        });
         while !self.ended {
-            let Some(fr) = self.frames.last_mut() else { break };
+            let Some(fr) = self.frames.last_mut() else {
+                break;
+            };
             let unit = &self.prog.units[fr.unit];
             if fr.pc >= unit.end {
                 if self.frames.len() == 1 {
@@ -112,7 +131,11 @@ impl Ex<'_> {
             fr.pc += 1;
             self.executed += 1;
             if self.executed > self.opts.max_blocks {
-                return Err(run_err(&self.prog.blocks[bi], codes::RUN_LIMIT, "too many blocks executed: endless loop?"));
+                return Err(run_err(
+                    &self.prog.blocks[bi],
+                    codes::RUN_LIMIT,
+                    "too many blocks executed: endless loop?",
+                ));
             }
             self.block(bi)?;
         }
@@ -129,17 +152,37 @@ impl Ex<'_> {
         }
     }
 
-    fn emit(&mut self, b: &CBlock, kind: Kind, center: Vec<(char, f64)>, m: &[MFunc], dwell: Option<f64>) {
+    fn emit(
+        &mut self,
+        b: &CBlock,
+        kind: Kind,
+        center: Vec<(char, f64)>,
+        m: &[MFunc],
+        dwell: Option<f64>,
+    ) {
         if !self.opts.record {
             return;
         }
-        let feed = if matches!(kind, Kind::Linear | Kind::ArcCw | Kind::ArcCcw) { self.feed } else { None };
-        let plane = if self.cyl.is_some() { Plane::YZ } else { self.plane };
+        let feed = if matches!(kind, Kind::Linear | Kind::ArcCw | Kind::ArcCcw) {
+            self.feed
+        } else {
+            None
+        };
+        let plane = if self.cyl.is_some() {
+            Plane::YZ
+        } else {
+            self.plane
+        };
         self.out.push(Canon {
             n: b.n,
             unit: self.label(),
             kind,
-            end: self.axes.iter().enumerate().map(|(i, a)| (*a, self.machine[i])).collect(),
+            end: self
+                .axes
+                .iter()
+                .enumerate()
+                .map(|(i, a)| (*a, self.machine[i]))
+                .collect(),
             center,
             plane,
             feed,
@@ -167,7 +210,15 @@ impl Ex<'_> {
         if b.skip && self.opts.block_skip {
             return Ok(());
         }
-        let val = |a: char| b.word(a).and_then(|w| if let Val::Lit(l) = w.val { Some(l) } else { None });
+        let val = |a: char| {
+            b.word(a).and_then(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l)
+                } else {
+                    None
+                }
+            })
+        };
         let num = |a: char| val(a).map(|l| l.value());
         let mut gs = Vec::new();
         for w in b.words.iter().filter(|w| w.addr == 'G') {
@@ -175,8 +226,20 @@ impl Ex<'_> {
                 gs.push((l.value() * 10.0).round() as u16);
             }
         }
-        let ms: Vec<u16> = b.words.iter().filter(|w| w.addr == 'M').filter_map(|w| if let Val::Lit(l) = w.val { Some(l.value() as u16) } else { None }).collect();
-        let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) = (false, false, false, false, false, None, false);
+        let ms: Vec<u16> = b
+            .words
+            .iter()
+            .filter(|w| w.addr == 'M')
+            .filter_map(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l.value() as u16)
+                } else {
+                    None
+                }
+            })
+            .collect();
+        let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
+            (false, false, false, false, false, None, false);
         let mut new_cycle = false;
         for &g in &gs {
             match g {
@@ -207,7 +270,13 @@ impl Ex<'_> {
                 520 => g52 = true,
                 120 | 130 => pocket = Some(g),
                 71 => cyl_cmd = true,
-                g => return Err(run_err(b, codes::RUN_BAD_G, format!("G{} is not supported by the planner", f64::from(g) / 10.0))),
+                g => {
+                    return Err(run_err(
+                        b,
+                        codes::RUN_BAD_G,
+                        format!("G{} is not supported by the planner", f64::from(g) / 10.0),
+                    ));
+                }
             }
         }
         if let Some(s) = num('S') {
@@ -259,7 +328,11 @@ impl Ex<'_> {
             let mut t = [None; 6];
             for i in 0..ex.axes.len() {
                 if let Some(v) = vals[i] {
-                    t[i] = Some(if incr[i] || !ex.abs { ex.machine[i] + v } else { v + ex.origin(i) });
+                    t[i] = Some(if incr[i] || !ex.abs {
+                        ex.machine[i] + v
+                    } else {
+                        v + ex.origin(i)
+                    });
                 }
             }
             t
@@ -291,7 +364,11 @@ impl Ex<'_> {
             self.move_to(b, Kind::Rapid, zero, &[]);
             moved = true;
         } else if g53 {
-            let kind = if self.motion == 10 { Kind::Linear } else { Kind::Rapid };
+            let kind = if self.motion == 10 {
+                Kind::Linear
+            } else {
+                Kind::Rapid
+            };
             self.move_to(b, kind, vals, &mf);
             moved = true;
         } else if let Some(g) = pocket {
@@ -307,7 +384,11 @@ impl Ex<'_> {
             match self.motion {
                 20 | 30 => {
                     let center = self.arc(b, &t)?;
-                    let kind = if self.motion == 20 { Kind::ArcCw } else { Kind::ArcCcw };
+                    let kind = if self.motion == 20 {
+                        Kind::ArcCw
+                    } else {
+                        Kind::ArcCcw
+                    };
                     for (i, v) in t.iter().enumerate() {
                         if let Some(v) = v {
                             self.machine[i] = *v;
@@ -326,7 +407,11 @@ impl Ex<'_> {
                 Some(l) => l.value() / 1000.0,
                 None => 0.0,
             };
-            let m = if moved { Vec::new() } else { std::mem::take(&mut mf) };
+            let m = if moved {
+                Vec::new()
+            } else {
+                std::mem::take(&mut mf)
+            };
             self.emit(b, Kind::Dwell, Vec::new(), &m, Some(secs));
             moved = true;
         }
@@ -339,17 +424,32 @@ impl Ex<'_> {
         if ms.contains(&97) || ms.contains(&98) {
             let p = p.ok_or_else(|| run_err(b, codes::RUN_TARGET, "M97/M98 without P"))?;
             let (unit, target) = if ms.contains(&97) {
-                let t = *prog.units[b.unit].index.get(&p).ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no block N{p}")))?;
+                let t = *prog.units[b.unit]
+                    .index
+                    .get(&p)
+                    .ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no block N{p}")))?;
                 (b.unit, t)
             } else {
-                let u = *prog.library.get(&p).ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no program O{p}")))?;
+                let u = *prog
+                    .library
+                    .get(&p)
+                    .ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no program O{p}")))?;
                 (u, prog.units[u].start)
             };
             if self.frames.len() >= 64 {
-                return Err(run_err(b, codes::RUN_LIMIT, "calls nested deeper than 64 levels"));
+                return Err(run_err(
+                    b,
+                    codes::RUN_LIMIT,
+                    "calls nested deeper than 64 levels",
+                ));
             }
             if l > 0 {
-                self.frames.push(Frame { unit, pc: target, target, repeat: l });
+                self.frames.push(Frame {
+                    unit,
+                    pc: target,
+                    target,
+                    repeat: l,
+                });
             }
         } else if ms.contains(&99) {
             if self.frames.len() > 1 {
@@ -382,11 +482,27 @@ impl Ex<'_> {
     }
 
     fn arc(&self, b: &CBlock, t: &[Option<f64>; 6]) -> Result<Vec<(char, f64)>, RunError> {
-        let num = |a: char| b.word(a).and_then(|w| if let Val::Lit(l) = w.val { Some(l.value()) } else { None });
+        let num = |a: char| {
+            b.word(a).and_then(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l.value())
+                } else {
+                    None
+                }
+            })
+        };
         let unit = if self.inch { 25.4 } else { 1.0 };
-        let (a1, a2, w1, w2) = if self.cyl.is_some() { ('C', 'Z', 'J', 'K') } else { self.plane_axes() };
+        let (a1, a2, w1, w2) = if self.cyl.is_some() {
+            ('C', 'Z', 'J', 'K')
+        } else {
+            self.plane_axes()
+        };
         let (Some(i1), Some(i2)) = (self.idx(a1), self.idx(a2)) else {
-            return Err(run_err(b, codes::RUN_CIRCLE, format!("the machine has no {a1}{a2} plane")));
+            return Err(run_err(
+                b,
+                codes::RUN_CIRCLE,
+                format!("the machine has no {a1}{a2} plane"),
+            ));
         };
         // Scale to a Cartesian frame: C degrees → development mm, X diameter → radius.
         let k = |i: usize| -> f64 {
@@ -398,43 +514,83 @@ impl Ex<'_> {
         };
         let (k1, k2) = (k(i1), k(i2));
         let s = (self.machine[i1] * k1, self.machine[i2] * k2);
-        let e = (t[i1].unwrap_or(self.machine[i1]) * k1, t[i2].unwrap_or(self.machine[i2]) * k2);
+        let e = (
+            t[i1].unwrap_or(self.machine[i1]) * k1,
+            t[i2].unwrap_or(self.machine[i2]) * k2,
+        );
         let cw = self.motion == 20;
         let c = if let Some(r) = num('R') {
             let r = r * unit;
             let (dx, dy) = (e.0 - s.0, e.1 - s.1);
             let d = dx.hypot(dy);
             if d == 0.0 || d > 2.0 * r.abs() + 1e-6 {
-                return Err(run_err(b, codes::RUN_CIRCLE, format!("R{r} cannot join the start and end point")));
+                return Err(run_err(
+                    b,
+                    codes::RUN_CIRCLE,
+                    format!("R{r} cannot join the start and end point"),
+                ));
             }
             let h = (r * r - d * d / 4.0).max(0.0).sqrt();
             let (ux, uy) = (dx / d, dy / d);
             let right = (uy, -ux);
             let side = if cw == (r > 0.0) { 1.0 } else { -1.0 };
-            ((s.0 + e.0) / 2.0 + side * h * right.0, (s.1 + e.1) / 2.0 + side * h * right.1)
+            (
+                (s.0 + e.0) / 2.0 + side * h * right.0,
+                (s.1 + e.1) / 2.0 + side * h * right.1,
+            )
         } else {
-            let c = (s.0 + num(w1).unwrap_or(0.0) * unit, s.1 + num(w2).unwrap_or(0.0) * unit);
+            let c = (
+                s.0 + num(w1).unwrap_or(0.0) * unit,
+                s.1 + num(w2).unwrap_or(0.0) * unit,
+            );
             let r0 = (s.0 - c.0).hypot(s.1 - c.1);
             let r1 = (e.0 - c.0).hypot(e.1 - c.1);
             if (r0 - r1).abs() > self.prog.machine.circle_tolerance.max(0.002) {
-                return Err(run_err(b, codes::RUN_CIRCLE, format!("end point is not on the circle: radius {r0:.4} at the start, {r1:.4} at the end")));
+                return Err(run_err(
+                    b,
+                    codes::RUN_CIRCLE,
+                    format!(
+                        "end point is not on the circle: radius {r0:.4} at the start, {r1:.4} at the end"
+                    ),
+                ));
             }
             c
         };
         Ok(vec![(a1, c.0 / k1), (a2, c.1 / k2)])
     }
 
-    fn canned(&mut self, b: &CBlock, g: u16, first: bool, vals: &[Option<f64>; 6], m: &[MFunc]) -> Result<(), RunError> {
-        let num = |a: char| b.word(a).and_then(|w| if let Val::Lit(l) = w.val { Some(l.value()) } else { None });
+    fn canned(
+        &mut self,
+        b: &CBlock,
+        g: u16,
+        first: bool,
+        vals: &[Option<f64>; 6],
+        m: &[MFunc],
+    ) -> Result<(), RunError> {
+        let num = |a: char| {
+            b.word(a).and_then(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l.value())
+                } else {
+                    None
+                }
+            })
+        };
         let unit = if self.inch { 25.4 } else { 1.0 };
-        let Some(zi) = self.idx('Z') else { return Err(run_err(b, codes::RUN_BAD_G, "canned cycles need a Z axis")) };
+        let Some(zi) = self.idx('Z') else {
+            return Err(run_err(b, codes::RUN_BAD_G, "canned cycles need a Z axis"));
+        };
         if first {
             self.init_z = self.machine[zi];
         }
         let oz = self.origin(zi);
         // (R plane, Z depth, Q peck, P dwell) in machine Z.
         if let Some(r) = num('R') {
-            self.cyc.0 = if self.abs { r * unit + oz } else { self.init_z + r * unit };
+            self.cyc.0 = if self.abs {
+                r * unit + oz
+            } else {
+                self.init_z + r * unit
+            };
         } else if first {
             self.cyc.0 = self.machine[zi];
         }
@@ -444,7 +600,17 @@ impl Ex<'_> {
         if let Some(q) = num('Q') {
             self.cyc.2 = q.abs() * unit;
         }
-        if let Some(p) = b.word('P').and_then(|w| if let Val::Lit(l) = w.val { Some(if l.point { l.value() } else { l.value() / 1000.0 }) } else { None }) {
+        if let Some(p) = b.word('P').and_then(|w| {
+            if let Val::Lit(l) = w.val {
+                Some(if l.point {
+                    l.value()
+                } else {
+                    l.value() / 1000.0
+                })
+            } else {
+                None
+            }
+        }) {
             self.cyc.3 = p;
         }
         let (r, z, q, p) = self.cyc;
@@ -453,7 +619,11 @@ impl Ex<'_> {
         for (i, a) in self.axes.clone().iter().enumerate() {
             if *a != 'Z' {
                 if let Some(v) = vals[i] {
-                    xy[i] = Some(if self.abs { v + self.origin(i) } else { self.machine[i] + v });
+                    xy[i] = Some(if self.abs {
+                        v + self.origin(i)
+                    } else {
+                        self.machine[i] + v
+                    });
                 }
             }
         }
@@ -501,10 +671,28 @@ impl Ex<'_> {
         match g {
             840 | 740 => {
                 let rev = if g == 840 { 4 } else { 3 };
-                self.emit(b, Kind::Aux, Vec::new(), &[MFunc { m: rev, before: true }], None);
+                self.emit(
+                    b,
+                    Kind::Aux,
+                    Vec::new(),
+                    &[MFunc {
+                        m: rev,
+                        before: true,
+                    }],
+                    None,
+                );
                 zto(self, Kind::Linear, r);
                 let back = if g == 840 { 3 } else { 4 };
-                self.emit(b, Kind::Aux, Vec::new(), &[MFunc { m: back, before: true }], None);
+                self.emit(
+                    b,
+                    Kind::Aux,
+                    Vec::new(),
+                    &[MFunc {
+                        m: back,
+                        before: true,
+                    }],
+                    None,
+                );
                 if !self.g99 {
                     zto(self, Kind::Rapid, top);
                 }
@@ -520,8 +708,22 @@ impl Ex<'_> {
         Ok(())
     }
 
-    fn pocket(&mut self, b: &CBlock, g: u16, vals: &[Option<f64>; 6], m: &[MFunc]) -> Result<(), RunError> {
-        let num = |a: char| b.word(a).and_then(|w| if let Val::Lit(l) = w.val { Some(l.value()) } else { None });
+    fn pocket(
+        &mut self,
+        b: &CBlock,
+        g: u16,
+        vals: &[Option<f64>; 6],
+        m: &[MFunc],
+    ) -> Result<(), RunError> {
+        let num = |a: char| {
+            b.word(a).and_then(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l.value())
+                } else {
+                    None
+                }
+            })
+        };
         let unit = if self.inch { 25.4 } else { 1.0 };
         let (Some(xi), Some(yi), Some(zi)) = (self.idx('X'), self.idx('Y'), self.idx('Z')) else {
             return Err(run_err(b, codes::RUN_BAD_G, "G12/G13 need X, Y and Z axes"));
@@ -529,14 +731,20 @@ impl Ex<'_> {
         let mut centre = [None; 6];
         for i in [xi, yi] {
             if let Some(v) = vals[i] {
-                centre[i] = Some(if self.abs { v + self.origin(i) } else { self.machine[i] + v });
+                centre[i] = Some(if self.abs {
+                    v + self.origin(i)
+                } else {
+                    self.machine[i] + v
+                });
             }
         }
         if centre.iter().any(Option::is_some) {
             self.move_to(b, Kind::Linear, centre, m);
         }
         let (cx, cy) = (self.machine[xi], self.machine[yi]);
-        let first = num('I').map(|v| v * unit).ok_or_else(|| run_err(b, codes::RUN_RANGE, "G12/G13 need I (first radius)"))?;
+        let first = num('I')
+            .map(|v| v * unit)
+            .ok_or_else(|| run_err(b, codes::RUN_RANGE, "G12/G13 need I (first radius)"))?;
         let mut radii = vec![first];
         if let Some(k) = num('K').map(|v| v * unit) {
             if let Some(q) = num('Q').map(|v| v * unit).filter(|q| *q > 0.0) {
@@ -548,12 +756,20 @@ impl Ex<'_> {
             }
             radii.push(k);
         }
-        let reps = if self.abs { 1 } else { num('L').map_or(1, |l| l.max(1.0) as i64) };
+        let reps = if self.abs {
+            1
+        } else {
+            num('L').map_or(1, |l| l.max(1.0) as i64)
+        };
         let cw = g == 120;
         for _ in 0..reps {
             if let Some(z) = vals[zi] {
                 let mut t = [None; 6];
-                t[zi] = Some(if self.abs { z + self.origin(zi) } else { self.machine[zi] + z });
+                t[zi] = Some(if self.abs {
+                    z + self.origin(zi)
+                } else {
+                    self.machine[zi] + z
+                });
                 self.move_to(b, Kind::Linear, t, &[]);
             }
             for &r in &radii {
@@ -561,7 +777,13 @@ impl Ex<'_> {
                 t[xi] = Some(cx + r);
                 t[yi] = Some(cy);
                 self.move_to(b, Kind::Linear, t, &[]);
-                self.emit(b, if cw { Kind::ArcCw } else { Kind::ArcCcw }, vec![('X', cx), ('Y', cy)], &[], None);
+                self.emit(
+                    b,
+                    if cw { Kind::ArcCw } else { Kind::ArcCcw },
+                    vec![('X', cx), ('Y', cy)],
+                    &[],
+                    None,
+                );
             }
             let mut t = [None; 6];
             t[xi] = Some(cx);

@@ -162,14 +162,29 @@ impl Geometry {
 
     /// A circular move in `plane`: I along the first plane axis, J along the second, incremental from the
     /// start; checks that the end point lies on the circle within `tol` mm.
-    pub fn arc(&mut self, t: &Target, plane: Plane, st: &ArithState, tol: f64) -> Result<Arc, String> {
+    pub fn arc(
+        &mut self,
+        t: &Target,
+        plane: Plane,
+        st: &ArithState,
+        tol: f64,
+    ) -> Result<Arc, String> {
         let (a1, a2) = plane.axes();
         let (Some(i1), Some(i2)) = (self.index(a1), self.index(a2)) else {
-            return Err(format!("the machine has no {}{} plane for circular interpolation", a1, a2));
+            return Err(format!(
+                "the machine has no {}{} plane for circular interpolation",
+                a1, a2
+            ));
         };
         let end = self.target(t);
         let start = self.prog;
-        let half = |i: usize| if self.diameter && self.axes[i] == 'X' { 0.5 } else { 1.0 };
+        let half = |i: usize| {
+            if self.diameter && self.axes[i] == 'X' {
+                0.5
+            } else {
+                1.0
+            }
+        };
         let (di, dj) = (t.ijk[0].unwrap_or(0.0), t.ijk[1].unwrap_or(0.0));
         // Centre in the program frame (X as diameter when diameter programming is on).
         let c1 = start[i1] + di / half(i1);
@@ -177,16 +192,25 @@ impl Geometry {
         let r0 = ((start[i1] - c1) * half(i1)).hypot((start[i2] - c2) * half(i2));
         let r1 = ((end[i1] - c1) * half(i1)).hypot((end[i2] - c2) * half(i2));
         if (r0 - r1).abs() > tol {
-            return Err(format!("end point is not on the circle (error 7.56): start radius {r0:.4}, end radius {r1:.4}"));
+            return Err(format!(
+                "end point is not on the circle (error 7.56): start radius {r0:.4}, end radius {r1:.4}"
+            ));
         }
         let off = st.offsets[t.offset.min(6)];
-        let center = vec![(a1, self.fwd(i1, c1) + off[i1]), (a2, self.fwd(i2, c2) + off[i2])];
+        let center = vec![
+            (a1, self.fwd(i1, c1) + off[i1]),
+            (a2, self.fwd(i2, c2) + off[i2]),
+        ];
         let mirrored = self.mirror[i1] != self.mirror[i2];
         let a0 = ((start[i2] - c2) * half(i2)).atan2((start[i1] - c1) * half(i1));
         let a1 = ((end[i2] - c2) * half(i2)).atan2((end[i1] - c1) * half(i1));
         let sweep_cw = (a0 - a1).rem_euclid(std::f64::consts::TAU);
         self.apply(t, end, st);
-        Ok(Arc { center, mirrored, sweep_cw })
+        Ok(Arc {
+            center,
+            mirrored,
+            sweep_cw,
+        })
     }
 
     /// Moves axis `i` by `delta` mm (the towed axis of a helix).
@@ -200,13 +224,21 @@ impl Geometry {
     /// Writes the programmed positions (X as radius under diameter programming) for arithmetic ops 25/26.
     pub fn export_programmed(&self, st: &mut ArithState) {
         for i in 0..self.axes.len() {
-            let half = if self.diameter && self.axes[i] == 'X' { 0.5 } else { 1.0 };
+            let half = if self.diameter && self.axes[i] == 'X' {
+                0.5
+            } else {
+                1.0
+            };
             st.programmed[i] = self.prog[i] * half;
         }
     }
 
     /// The machine position as (axis, mm) pairs.
     pub fn end_list(&self) -> Vec<(char, f64)> {
-        self.axes.iter().enumerate().map(|(i, a)| (*a, self.machine[i])).collect()
+        self.axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (*a, self.machine[i]))
+            .collect()
     }
 }

@@ -113,24 +113,40 @@ fn inline_field(f: u8, mode: DoublePrecision) -> bool {
 
 /// Compiles every block of `prog` whose arithmetic is static.
 pub fn compile_program(prog: &Program) -> Result<NativeCode, String> {
-    let todo: Vec<(usize, Vec<i64>)> =
-        (0..prog.blocks.len()).filter(|&bi| prog.blocks[bi].arith_ops > 0).filter_map(|bi| static_words(prog, bi).map(|w| (bi, w))).collect();
+    let todo: Vec<(usize, Vec<i64>)> = (0..prog.blocks.len())
+        .filter(|&bi| prog.blocks[bi].arith_ops > 0)
+        .filter_map(|bi| static_words(prog, bi).map(|w| (bi, w)))
+        .collect();
     if todo.is_empty() {
-        return Ok(NativeCode { block_fn: Vec::new(), fns: Vec::new(), module: None });
+        return Ok(NativeCode {
+            block_fn: Vec::new(),
+            fns: Vec::new(),
+            module: None,
+        });
     }
     compile_words(&todo, prog.machine.double_precision)
 }
 
 /// Compiles one function per `(key, words)` entry (used by tests and benchmarks directly).
-pub fn compile_words(todo: &[(usize, Vec<i64>)], mode: DoublePrecision) -> Result<NativeCode, String> {
+pub fn compile_words(
+    todo: &[(usize, Vec<i64>)],
+    mode: DoublePrecision,
+) -> Result<NativeCode, String> {
     let e = |x: &dyn std::fmt::Display| x.to_string();
     let mut fb = settings::builder();
     fb.set("opt_level", "speed").map_err(|x| e(&x))?;
     fb.set("is_pic", "false").map_err(|x| e(&x))?;
-    fb.set("use_colocated_libcalls", "false").map_err(|x| e(&x))?;
-    let isa = cranelift_native::builder().map_err(|x| e(&x))?.finish(settings::Flags::new(fb)).map_err(|x| e(&x))?;
+    fb.set("use_colocated_libcalls", "false")
+        .map_err(|x| e(&x))?;
+    let isa = cranelift_native::builder()
+        .map_err(|x| e(&x))?
+        .finish(settings::Flags::new(fb))
+        .map_err(|x| e(&x))?;
     let ptr = isa.pointer_type();
-    let mut module = JITModule::new(JITBuilder::with_isa(isa.clone(), cranelift_module::default_libcall_names()));
+    let mut module = JITModule::new(JITBuilder::with_isa(
+        isa.clone(),
+        cranelift_module::default_libcall_names(),
+    ));
     let mut sig = Signature::new(isa.default_call_conv());
     sig.params.push(AbiParam::new(ptr));
     sig.returns.push(AbiParam::new(types::I32));
@@ -142,17 +158,28 @@ pub fn compile_words(todo: &[(usize, Vec<i64>)], mode: DoublePrecision) -> Resul
     let mut fctx = FunctionBuilderContext::new();
     let mut ids = Vec::with_capacity(todo.len());
     for (i, (_, words)) in todo.iter().enumerate() {
-        let id = module.declare_function(&format!("arith{i}"), Linkage::Local, &sig).map_err(|x| e(&x))?;
+        let id = module
+            .declare_function(&format!("arith{i}"), Linkage::Local, &sig)
+            .map_err(|x| e(&x))?;
         ctx.func.signature = sig.clone();
         {
             let mut b = FunctionBuilder::new(&mut ctx.func, &mut fctx);
             let host_ref = b.import_signature(host_sig.clone());
-            let mut g = Gen { b: &mut b, st: Value::from_u32(0), host_ref, ptr, mode, fail: Block::from_u32(0) };
+            let mut g = Gen {
+                b: &mut b,
+                st: Value::from_u32(0),
+                host_ref,
+                ptr,
+                mode,
+                fail: Block::from_u32(0),
+            };
             g.build(words);
             b.seal_all_blocks();
             b.finalize(isa.frontend_config());
         }
-        module.define_function(id, &mut ctx).map_err(|x| format!("{x:?}"))?;
+        module
+            .define_function(id, &mut ctx)
+            .map_err(|x| format!("{x:?}"))?;
         module.clear_context(&mut ctx);
         ids.push(id);
     }
@@ -165,8 +192,16 @@ pub fn compile_words(todo: &[(usize, Vec<i64>)], mode: DoublePrecision) -> Resul
             unsafe { std::mem::transmute::<*const u8, BlockFn>(p) }
         })
         .collect();
-    let block_fn = todo.iter().enumerate().map(|(i, (bi, _))| (*bi, i)).collect();
-    Ok(NativeCode { block_fn, fns, module: Some(module) })
+    let block_fn = todo
+        .iter()
+        .enumerate()
+        .map(|(i, (bi, _))| (*bi, i))
+        .collect();
+    Ok(NativeCode {
+        block_fn,
+        fns,
+        module: Some(module),
+    })
 }
 
 struct Gen<'a, 'b> {
@@ -209,7 +244,10 @@ impl Gen<'_, '_> {
 
     fn host(&mut self, word: i64) {
         let w = self.c(word);
-        let fp = self.b.ins().iconst(self.ptr, host_op as *const () as usize as i64);
+        let fp = self
+            .b
+            .ins()
+            .iconst(self.ptr, host_op as *const () as usize as i64);
         let call = self.b.ins().call_indirect(self.host_ref, fp, &[self.st, w]);
         let rc = self.b.inst_results(call)[0];
         let zero = self.b.ins().iconst(types::I32, 0);
@@ -245,7 +283,9 @@ impl Gen<'_, '_> {
                 continue;
             };
             // A false condition skips up to and including the next code 22.
-            let skip_to = (i + 1..words.len()).find(|&j| decoded[j].is_some_and(|x| x.op == 22)).map_or(words.len(), |j| j + 1);
+            let skip_to = (i + 1..words.len())
+                .find(|&j| decoded[j].is_some_and(|x| x.op == 22))
+                .map_or(words.len(), |j| j + 1);
             self.op(w, r, start[skip_to]);
             if w.op == 33 {
                 self.b.ins().jump(done, &[]);
@@ -285,13 +325,21 @@ impl Gen<'_, '_> {
                     41 | 42 => {
                         let step = i64::from(if w.b == 0 { 1 } else { w.b });
                         let k = self.c(if w.raw { step } else { step * 1000 });
-                        if w.op == 41 { self.b.ins().iadd(x, k) } else { self.b.ins().isub(x, k) }
+                        if w.op == 41 {
+                            self.b.ins().iadd(x, k)
+                        } else {
+                            self.b.ins().isub(x, k)
+                        }
                     }
                     _ => {
                         let two = self.c(2);
                         let rem = self.b.ins().srem(x, two);
                         let zero = self.c(0);
-                        let cc = if w.op == 46 { IntCC::NotEqual } else { IntCC::Equal };
+                        let cc = if w.op == 46 {
+                            IntCC::NotEqual
+                        } else {
+                            IntCC::Equal
+                        };
                         let want = self.b.ins().icmp(cc, rem, zero);
                         let (t, f) = (self.c(73), self.c(78));
                         self.b.ins().select(want, t, f)
@@ -301,7 +349,11 @@ impl Gen<'_, '_> {
             }
             1 | 2 if ok3 => {
                 let (x, y) = (self.load(w.a), self.load(w.b));
-                let v = if w.op == 1 { self.b.ins().iadd(x, y) } else { self.b.ins().isub(x, y) };
+                let v = if w.op == 1 {
+                    self.b.ins().iadd(x, y)
+                } else {
+                    self.b.ins().isub(x, y)
+                };
                 self.store_fit(w.c, v);
             }
             3 | 5 if ok3 || (w.op == 5 && ok2) => {
@@ -377,8 +429,14 @@ impl Gen<'_, '_> {
             20 | 21 | 29..=32 => {
                 // Conditions on pairs: evaluate through the interpreter, which reports a skip as 1.
                 let wv = self.c(r);
-                let fp = self.b.ins().iconst(self.ptr, host_op_cond as *const () as usize as i64);
-                let call = self.b.ins().call_indirect(self.host_ref, fp, &[self.st, wv]);
+                let fp = self
+                    .b
+                    .ins()
+                    .iconst(self.ptr, host_op_cond as *const () as usize as i64);
+                let call = self
+                    .b
+                    .ins()
+                    .call_indirect(self.host_ref, fp, &[self.st, wv]);
                 let rc = self.b.inst_results(call)[0];
                 let one = self.b.ins().iconst(types::I32, 1);
                 let is_skip = self.b.ins().icmp(IntCC::Equal, rc, one);

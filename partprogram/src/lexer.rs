@@ -61,7 +61,11 @@ fn parse_number(s: &str) -> Option<Lit> {
     if ip_trim.len() > 12 {
         return None;
     }
-    let int: i64 = if ip_trim.is_empty() { 0 } else { ip_trim.parse().ok()? };
+    let int: i64 = if ip_trim.is_empty() {
+        0
+    } else {
+        ip_trim.parse().ok()?
+    };
     let mut frac: i64 = 0;
     for i in 0..3 {
         let d = fp.as_bytes().get(i).map_or(0, |c| i64::from(c - b'0'));
@@ -199,7 +203,12 @@ impl<'a> Lexer<'a> {
             Dialect::Mefi => Inner::Mefi(MefiTok::lexer(text).spanned()),
             Dialect::Fanuc => Inner::Fanuc(FanucTok::lexer(text).spanned()),
         };
-        Lexer { inner, offset, done: false, errors: Vec::new() }
+        Lexer {
+            inner,
+            offset,
+            done: false,
+            errors: Vec::new(),
+        }
     }
 }
 
@@ -257,7 +266,10 @@ impl Iterator for Lexer<'_> {
             }
             Ok(t) => (span.start, t, span.end),
             Err(kind) => {
-                self.errors.push(LexError { kind, span: span.clone() });
+                self.errors.push(LexError {
+                    kind,
+                    span: span.clone(),
+                });
                 (span.start, Tok::LexError, span.end)
             }
         }))

@@ -96,7 +96,10 @@ impl MachineSpec {
         MachineSpec {
             dialect,
             macro_dir: PathBuf::new(),
-            processes: vec![ProcessSpec { declared_m: BTreeMap::new(), axes: axes.to_vec() }],
+            processes: vec![ProcessSpec {
+                declared_m: BTreeMap::new(),
+                axes: axes.to_vec(),
+            }],
             diameter_x: false,
             default_plane: if lathe { 18 } else { 17 },
             double_precision: DoublePrecision::Enabled,
@@ -115,6 +118,8 @@ impl MachineSpec {
 
     /// The timing of M `m` in process 1, if declared.
     pub fn m_timing(&self, m: u16) -> Option<MTiming> {
-        self.processes.first().and_then(|p| p.declared_m.get(&m).copied())
+        self.processes
+            .first()
+            .and_then(|p| p.declared_m.get(&m).copied())
     }
 }

@@ -35,9 +35,14 @@ pub fn parse(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagno
                 (None, Some(c)) => c,
                 (None, None) => {
                     diags.push(
-                        Diagnostic::error(codes::HEADER, file, 0..0, "the partprogram has no `%` header")
-                            .with_hint("start the program with `%<number>` (1..999999)")
-                            .locate(src),
+                        Diagnostic::error(
+                            codes::HEADER,
+                            file,
+                            0..0,
+                            "the partprogram has no `%` header",
+                        )
+                        .with_hint("start the program with `%<number>` (1..999999)")
+                        .locate(src),
                     );
                     return (out, diags);
                 }
@@ -96,15 +101,28 @@ pub fn parse(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagno
     (out, diags)
 }
 
-fn parse_error(file: &str, src: &str, e: ParseError<usize, Tok, crate::lexer::LexError>) -> Option<Diagnostic> {
+fn parse_error(
+    file: &str,
+    src: &str,
+    e: ParseError<usize, Tok, crate::lexer::LexError>,
+) -> Option<Diagnostic> {
     let (span, msg) = match e {
-        ParseError::InvalidToken { location } => (location..location + 1, "invalid token".to_string()),
-        ParseError::UnrecognizedEof { location, .. } => (location..location, "unexpected end of file".to_string()),
-        ParseError::UnrecognizedToken { token: (l, t, r), .. } => {
+        ParseError::InvalidToken { location } => {
+            (location..location + 1, "invalid token".to_string())
+        }
+        ParseError::UnrecognizedEof { location, .. } => {
+            (location..location, "unexpected end of file".to_string())
+        }
+        ParseError::UnrecognizedToken {
+            token: (l, t, r), ..
+        } => {
             if t == Tok::LexError {
                 return None;
             }
-            (l..r, format!("unexpected `{}`", src.get(l..r).unwrap_or("?")))
+            (
+                l..r,
+                format!("unexpected `{}`", src.get(l..r).unwrap_or("?")),
+            )
         }
         ParseError::ExtraToken { token: (l, _, r) } => (l..r, "unexpected token".to_string()),
         ParseError::User { .. } => return None,
@@ -124,28 +142,55 @@ fn uint_of(src: &str, span: &std::ops::Range<usize>) -> Option<u64> {
     t.parse().ok()
 }
 
-fn decl(file: &str, src: &str, p: Lit, v: Lit, span: std::ops::Range<usize>, diags: &mut Vec<Diagnostic>) -> Option<Decl> {
+fn decl(
+    file: &str,
+    src: &str,
+    p: Lit,
+    v: Lit,
+    span: std::ops::Range<usize>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Decl> {
     if p.point || p.signed || !(0..=95).contains(&p.int) {
         diags.push(
-            Diagnostic::error(codes::BAD_PARAMETER, file, span, "parameter number must be 0..95")
-                .with_hint("parameters are R0 … R95, written without sign or point")
-                .locate(src),
+            Diagnostic::error(
+                codes::BAD_PARAMETER,
+                file,
+                span,
+                "parameter number must be 0..95",
+            )
+            .with_hint("parameters are R0 … R95, written without sign or point")
+            .locate(src),
         );
         return None;
     }
     let r = v.r_count();
     if r.abs() > R_MAX || (!v.point && v.int_digits > 8) || (v.point && v.int_digits > 5) {
         diags.push(
-            Diagnostic::error(codes::OUT_OF_RANGE, file, span, "parameter value out of range")
-                .with_hint("a parameter holds ±69999.999 (format +5.3 with a point, +8 digits without)")
-                .locate(src),
+            Diagnostic::error(
+                codes::OUT_OF_RANGE,
+                file,
+                span,
+                "parameter value out of range",
+            )
+            .with_hint("a parameter holds ±69999.999 (format +5.3 with a point, +8 digits without)")
+            .locate(src),
         );
         return None;
     }
-    Some(Decl { param: p.int as u8, r, span: (span.start, span.end) })
+    Some(Decl {
+        param: p.int as u8,
+        r,
+        span: (span.start, span.end),
+    })
 }
 
-fn group_mefi(file: &str, src: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec<Diagnostic>) {
+fn group_mefi(
+    file: &str,
+    src: &str,
+    items: &[Item],
+    out: &mut ParsedFile,
+    diags: &mut Vec<Diagnostic>,
+) {
     let mut cur: Option<Block> = None;
     let mut header_seen = false;
     let mut i = 0;
@@ -157,7 +202,10 @@ fn group_mefi(file: &str, src: &str, items: &[Item], out: &mut ParsedFile, diags
         match item {
             Item::Percent(sp) => {
                 if header_seen || cur.is_some() {
-                    diags.push(Diagnostic::error(codes::HEADER, file, sp.clone(), "a second `%` header").locate(src));
+                    diags.push(
+                        Diagnostic::error(codes::HEADER, file, sp.clone(), "a second `%` header")
+                            .locate(src),
+                    );
                     continue;
                 }
                 header_seen = true;
@@ -167,16 +215,26 @@ fn group_mefi(file: &str, src: &str, items: &[Item], out: &mut ParsedFile, diags
                         match uint_of(src, nsp) {
                             Some(n) if (1..=999_999).contains(&n) => out.number = Some(n as u32),
                             _ => diags.push(
-                                Diagnostic::error(codes::HEADER, file, nsp.clone(), "invalid program number")
-                                    .with_hint("the program number is 1..999999, without sign or point")
-                                    .locate(src),
+                                Diagnostic::error(
+                                    codes::HEADER,
+                                    file,
+                                    nsp.clone(),
+                                    "invalid program number",
+                                )
+                                .with_hint("the program number is 1..999999, without sign or point")
+                                .locate(src),
                             ),
                         }
                     }
                     _ => diags.push(
-                        Diagnostic::error(codes::HEADER, file, sp.clone(), "`%` without a program number")
-                            .with_hint("write `%<number>`, e.g. `%35`")
-                            .locate(src),
+                        Diagnostic::error(
+                            codes::HEADER,
+                            file,
+                            sp.clone(),
+                            "`%` without a program number",
+                        )
+                        .with_hint("write `%<number>`, e.g. `%35`")
+                        .locate(src),
                     ),
                 }
             }
@@ -211,29 +269,49 @@ fn group_mefi(file: &str, src: &str, items: &[Item], out: &mut ParsedFile, diags
                     out.blocks.push(b);
                 }
                 let n = match val {
-                    Val::Lit(l) if !l.point && !l.signed && (1..=99_999_999).contains(&l.int) => Some(l.int as u32),
+                    Val::Lit(l) if !l.point && !l.signed && (1..=99_999_999).contains(&l.int) => {
+                        Some(l.int as u32)
+                    }
                     Val::Param(_) => {
                         diags.push(
-                            Diagnostic::error(codes::NOT_PARAMETRISABLE, file, sp.clone(), "the block number cannot be a parameter")
-                                .with_hint("write the block number literally, e.g. `N10`")
-                                .locate(src),
+                            Diagnostic::error(
+                                codes::NOT_PARAMETRISABLE,
+                                file,
+                                sp.clone(),
+                                "the block number cannot be a parameter",
+                            )
+                            .with_hint("write the block number literally, e.g. `N10`")
+                            .locate(src),
                         );
                         None
                     }
                     Val::Lit(_) => {
                         diags.push(
-                            Diagnostic::error(codes::OUT_OF_RANGE, file, sp.clone(), "invalid block number")
-                                .with_hint("block numbers are 1..99999999 without sign or point")
-                                .locate(src),
+                            Diagnostic::error(
+                                codes::OUT_OF_RANGE,
+                                file,
+                                sp.clone(),
+                                "invalid block number",
+                            )
+                            .with_hint("block numbers are 1..99999999 without sign or point")
+                            .locate(src),
                         );
                         None
                     }
                 };
-                cur = Some(Block { n, span: (sp.start, sp.end), ..Block::default() });
+                cur = Some(Block {
+                    n,
+                    span: (sp.start, sp.end),
+                    ..Block::default()
+                });
             }
             Item::Word(a, val, sp) => match cur.as_mut() {
                 Some(b) => {
-                    b.words.push(Word { addr: *a, val: *val, span: (sp.start, sp.end) });
+                    b.words.push(Word {
+                        addr: *a,
+                        val: *val,
+                        span: (sp.start, sp.end),
+                    });
                     b.span.1 = sp.end;
                 }
                 None => no_block(file, src, sp.clone(), diags),
@@ -254,9 +332,14 @@ fn group_mefi(file: &str, src: &str, items: &[Item], out: &mut ParsedFile, diags
     }
     if !header_seen {
         diags.push(
-            Diagnostic::error(codes::HEADER, file, 0..0, "the partprogram has no `%` header")
-                .with_hint("start the program with `%<number>`")
-                .locate(src),
+            Diagnostic::error(
+                codes::HEADER,
+                file,
+                0..0,
+                "the partprogram has no `%` header",
+            )
+            .with_hint("start the program with `%<number>`")
+            .locate(src),
         );
     }
 }
@@ -269,7 +352,13 @@ fn no_block(file: &str, src: &str, sp: std::ops::Range<usize>, diags: &mut Vec<D
     );
 }
 
-fn group_fanuc(file: &str, src: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec<Diagnostic>) {
+fn group_fanuc(
+    file: &str,
+    src: &str,
+    items: &[Item],
+    out: &mut ParsedFile,
+    diags: &mut Vec<Diagnostic>,
+) {
     let mut cur = Block::default();
     let mut started = false;
     let mut after_slash = false;

@@ -77,7 +77,9 @@ impl CBlock {
 
     /// True when a literal `G<g>` is written.
     pub fn has_g(&self, g: i64) -> bool {
-        self.words.iter().any(|w| w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == g * 1000))
+        self.words
+            .iter()
+            .any(|w| w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == g * 1000))
     }
 }
 
@@ -115,11 +117,24 @@ pub struct Program {
 
 /// Integer value of a literal written for a count address (None when it has a fraction).
 pub fn lit_int(l: &Lit) -> Option<i64> {
-    if l.milli % 1000 != 0 { None } else { Some(l.milli / 1000) }
+    if l.milli % 1000 != 0 {
+        None
+    } else {
+        Some(l.milli / 1000)
+    }
 }
 
-fn err(code: u32, file: &str, src: &str, span: (usize, usize), msg: impl Into<String>, hint: &str) -> Diagnostic {
-    Diagnostic::error(code, file, span.0..span.1, msg).with_hint(hint).locate(src)
+fn err(
+    code: u32,
+    file: &str,
+    src: &str,
+    span: (usize, usize),
+    msg: impl Into<String>,
+    hint: &str,
+) -> Diagnostic {
+    Diagnostic::error(code, file, span.0..span.1, msg)
+        .with_hint(hint)
+        .locate(src)
 }
 
 /// Compiles the main file `name` (text `src`) for `machine`, loading library units from
@@ -128,7 +143,10 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
     let mut prog = Program {
         dialect: machine.dialect,
         number: None,
-        files: vec![SourceFile { name: name.to_string(), text: src.to_string() }],
+        files: vec![SourceFile {
+            name: name.to_string(),
+            text: src.to_string(),
+        }],
         blocks: Vec::new(),
         units: Vec::new(),
         subs: HashMap::new(),
@@ -151,7 +169,14 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         }
         link(&mut prog, &mut diags);
     }
-    diags.sort_by(|a, b| (a.file != name, &a.file, a.line, a.column).cmp(&(b.file != name, &b.file, b.line, b.column)));
+    diags.sort_by(|a, b| {
+        (a.file != name, &a.file, a.line, a.column).cmp(&(
+            b.file != name,
+            &b.file,
+            b.line,
+            b.column,
+        ))
+    });
     if diag::has_errors(&diags) {
         return (None, diags);
     }
@@ -175,28 +200,39 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
 }
 
 fn g_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
-    b.words.iter().filter(|w| w.addr == 'G').filter_map(|w| match w.val {
-        Val::Lit(l) => lit_int(&l),
-        Val::Param(_) => None,
-    })
+    b.words
+        .iter()
+        .filter(|w| w.addr == 'G')
+        .filter_map(|w| match w.val {
+            Val::Lit(l) => lit_int(&l),
+            Val::Param(_) => None,
+        })
 }
 
 fn m_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
-    b.words.iter().filter(|w| w.addr == 'M').filter_map(|w| match w.val {
-        Val::Lit(l) => lit_int(&l),
-        Val::Param(_) => None,
-    })
+    b.words
+        .iter()
+        .filter(|w| w.addr == 'M')
+        .filter_map(|w| match w.val {
+            Val::Lit(l) => lit_int(&l),
+            Val::Param(_) => None,
+        })
 }
 
 fn lit_of(b: &Block, a: char) -> Option<i64> {
-    b.words.iter().find(|w| w.addr == a).and_then(|w| match w.val {
-        Val::Lit(l) => lit_int(&l),
-        Val::Param(_) => None,
-    })
+    b.words
+        .iter()
+        .find(|w| w.addr == a)
+        .and_then(|w| match w.val {
+            Val::Lit(l) => lit_int(&l),
+            Val::Param(_) => None,
+        })
 }
 
 fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
-    let arith_ops = g_lits(&b).find(|g| (26..=29).contains(g)).map_or(0, |g| (g - 25) as u8);
+    let arith_ops = g_lits(&b)
+        .find(|g| (26..=29).contains(g))
+        .map_or(0, |g| (g - 25) as u8);
     prog.blocks.push(CBlock {
         n: b.n,
         file,
@@ -212,13 +248,25 @@ fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
 
 /// Splits a parsed MEFI file into units. `file` 0 is the main file (main program + subprograms);
 /// other files are library files (units only).
-fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: &mut Vec<Diagnostic>) {
+fn build_main_units(
+    prog: &mut Program,
+    file: usize,
+    parsed: ParsedFile,
+    diags: &mut Vec<Diagnostic>,
+) {
     let (fname, src) = (prog.files[file].name.clone(), prog.files[file].text.clone());
     let library = file != 0;
     let mut cur: Option<usize> = None;
     let mut main_ended = false;
     if !library {
-        prog.units.push(Unit { kind: UnitKind::Main, l: 0, file, start: prog.blocks.len(), end: prog.blocks.len(), index: HashMap::new() });
+        prog.units.push(Unit {
+            kind: UnitKind::Main,
+            l: 0,
+            file,
+            start: prog.blocks.len(),
+            end: prog.blocks.len(),
+            index: HashMap::new(),
+        });
         cur = Some(prog.units.len() - 1);
     }
     let mut subs = 0;
@@ -240,36 +288,83 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
                 }
             }
             let l = lit_of(&b, 'L').unwrap_or(0);
-            let kind = if library { UnitKind::Library } else { UnitKind::Sub };
+            let kind = if library {
+                UnitKind::Library
+            } else {
+                UnitKind::Sub
+            };
             if !library {
                 subs += 1;
                 if subs == 100 {
-                    diags.push(err(codes::TOO_MANY_SUBPROGRAMS, &fname, &src, b.span, "more than 99 subprograms", "a partprogram holds at most 99 subprograms"));
+                    diags.push(err(
+                        codes::TOO_MANY_SUBPROGRAMS,
+                        &fname,
+                        &src,
+                        b.span,
+                        "more than 99 subprograms",
+                        "a partprogram holds at most 99 subprograms",
+                    ));
                 }
             }
-            let map = if library { &mut prog.library } else { &mut prog.subs };
+            let map = if library {
+                &mut prog.library
+            } else {
+                &mut prog.subs
+            };
             if l > 0 && map.insert(l as u32, prog.units.len()).is_some() {
-                diags.push(err(codes::DUPLICATE_N, &fname, &src, b.span, format!("unit L{l} is defined twice"), "every G79 L<n> number must be unique"));
+                diags.push(err(
+                    codes::DUPLICATE_N,
+                    &fname,
+                    &src,
+                    b.span,
+                    format!("unit L{l} is defined twice"),
+                    "every G79 L<n> number must be unique",
+                ));
             }
-            prog.units.push(Unit { kind, l: l as u32, file, start: prog.blocks.len(), end: prog.blocks.len(), index: HashMap::new() });
+            prog.units.push(Unit {
+                kind,
+                l: l as u32,
+                file,
+                start: prog.blocks.len(),
+                end: prog.blocks.len(),
+                index: HashMap::new(),
+            });
             cur = Some(prog.units.len() - 1);
         }
         let Some(u) = cur else {
-            diags.push(err(codes::NO_BLOCK_NUMBER, &fname, &src, b.span, "block outside a G79 … G70 unit", "a macro file holds units that start with `G79 L<n>` and end with G70"));
+            diags.push(err(
+                codes::NO_BLOCK_NUMBER,
+                &fname,
+                &src,
+                b.span,
+                "block outside a G79 … G70 unit",
+                "a macro file holds units that start with `G79 L<n>` and end with G70",
+            ));
             continue;
         };
         if prog.units[u].kind == UnitKind::Main && main_ended {
-            diags.push(err(codes::AFTER_END, &fname, &src, b.span, "block after the end of the main program", "only subprograms (G79 L<n> … G70) may follow M02/M30"));
+            diags.push(err(
+                codes::AFTER_END,
+                &fname,
+                &src,
+                b.span,
+                "block after the end of the main program",
+                "only subprograms (G79 L<n> … G70) may follow M02/M30",
+            ));
             continue;
         }
-        let ends_main = prog.units[u].kind == UnitKind::Main && m_lits(&b).any(|m| m == 2 || m == 30);
+        let ends_main =
+            prog.units[u].kind == UnitKind::Main && m_lits(&b).any(|m| m == 2 || m == 30);
         let ends_unit = prog.units[u].kind != UnitKind::Main && g_lits(&b).any(|g| g == 70);
         let idx = prog.blocks.len();
         if let Some(n) = b.n {
             let dup = if library {
                 prog.units[u].index.contains_key(&n)
             } else {
-                prog.units.iter().filter(|x| x.file == file).any(|x| x.index.contains_key(&n))
+                prog.units
+                    .iter()
+                    .filter(|x| x.file == file)
+                    .any(|x| x.index.contains_key(&n))
             };
             if dup {
                 diags.push(err(codes::DUPLICATE_N, &fname, &src, b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
@@ -291,11 +386,27 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
     for (u, unit) in prog.units.iter().enumerate().skip(first_unit) {
         if unit.kind != UnitKind::Main && !closed.contains(&u) {
             let span = prog.blocks.get(unit.start).map_or((0, 0), |b| b.span);
-            diags.push(err(codes::UNIT_NOT_CLOSED, &fname, &src, span, format!("unit L{} has no G70", unit.l), "end the unit with a block containing G70"));
+            diags.push(err(
+                codes::UNIT_NOT_CLOSED,
+                &fname,
+                &src,
+                span,
+                format!("unit L{} has no G70", unit.l),
+                "end the unit with a block containing G70",
+            ));
         }
     }
     if !library && !main_ended {
-        diags.push(Diagnostic::warning(codes::NO_END, &fname, 0..0, "the main program has no M02/M30 block").with_hint("end the main program with M02 or M30").locate(&src));
+        diags.push(
+            Diagnostic::warning(
+                codes::NO_END,
+                &fname,
+                0..0,
+                "the main program has no M02/M30 block",
+            )
+            .with_hint("end the main program with M02 or M30")
+            .locate(&src),
+        );
     }
 }
 
@@ -304,17 +415,33 @@ fn load_library(prog: &mut Program, dir: &Path, diags: &mut Vec<Diagnostic>) {
     if dir.as_os_str().is_empty() {
         return;
     }
-    let Ok(rd) = std::fs::read_dir(dir) else { return };
-    let mut paths: Vec<_> = rd.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file()).collect();
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let mut paths: Vec<_> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.is_file())
+        .collect();
     paths.sort();
     for path in paths {
-        let fname = path.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+        let fname = path
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
         let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
-        let is_l = stem.len() > 1 && stem.starts_with('L') && stem[1..].bytes().all(|c| c.is_ascii_digit());
+        let is_l = stem.len() > 1
+            && stem.starts_with('L')
+            && stem[1..].bytes().all(|c| c.is_ascii_digit());
         let text = match std::fs::read(&path) {
             Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
             Err(e) => {
-                diags.push(Diagnostic::error(codes::MACRO_IO, format!("macros/{fname}"), 0..0, format!("cannot read: {e}")));
+                diags.push(Diagnostic::error(
+                    codes::MACRO_IO,
+                    format!("macros/{fname}"),
+                    0..0,
+                    format!("cannot read: {e}"),
+                ));
                 continue;
             }
         };
@@ -323,7 +450,11 @@ fn load_library(prog: &mut Program, dir: &Path, diags: &mut Vec<Diagnostic>) {
             continue;
         }
         let name = format!("macros/{fname}");
-        let src = if text.contains('%') || is_cycle { text.clone() } else { format!("%1\n{text}") };
+        let src = if text.contains('%') || is_cycle {
+            text.clone()
+        } else {
+            format!("%1\n{text}")
+        };
         let (parsed, d) = parse(Dialect::Mefi, &name, &src);
         diags.extend(d);
         prog.files.push(SourceFile { name, text: src });
@@ -348,14 +479,29 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
     let mut axes = 0;
     for w in &b.words {
         let a = w.addr;
-        let known = matches!(a, 'G' | 'M' | 'I' | 'J' | 'K' | 'F' | 'S' | 'T' | 'D' | 'L' | 'Q' | 'H' | 'P' | 'E' | '&') || is_axis(m, a);
+        let known = matches!(
+            a,
+            'G' | 'M' | 'I' | 'J' | 'K' | 'F' | 'S' | 'T' | 'D' | 'L' | 'Q' | 'H' | 'P' | 'E' | '&'
+        ) || is_axis(m, a);
         if !known {
             let (code, msg, hint) = if a == 'R' {
-                (codes::R_WORD, "`R<n>` without `=`".to_string(), "declare a parameter with `R<n>=<value>`; to use it write `<address>R<n>`")
+                (
+                    codes::R_WORD,
+                    "`R<n>` without `=`".to_string(),
+                    "declare a parameter with `R<n>=<value>`; to use it write `<address>R<n>`",
+                )
             } else if "XYZUVWABC".contains(a) {
-                (codes::UNKNOWN_ADDRESS, format!("the machine has no axis {a}"), "use the axis letters of the machine (AXCFIL)")
+                (
+                    codes::UNKNOWN_ADDRESS,
+                    format!("the machine has no axis {a}"),
+                    "use the axis letters of the machine (AXCFIL)",
+                )
             } else {
-                (codes::UNKNOWN_ADDRESS, format!("unknown address `{a}`"), "MEFI addresses: N G M X Y Z U V W A B C I J K R F S T D L Q H P E & /")
+                (
+                    codes::UNKNOWN_ADDRESS,
+                    format!("unknown address `{a}`"),
+                    "MEFI addresses: N G M X Y Z U V W A B C I J K R F S T D L Q H P E & /",
+                )
             };
             diags.push(err(code, file, src, w.span, msg, hint));
             continue;
@@ -365,14 +511,28 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
         }
         if a != 'G' && a != 'M' {
             if seen.insert(a, w.span).is_some() {
-                diags.push(err(codes::DUPLICATE_ADDRESS, file, src, w.span, format!("address {a} appears twice in the block"), "each address may be written once per block (G and M once per group)"));
+                diags.push(err(
+                    codes::DUPLICATE_ADDRESS,
+                    file,
+                    src,
+                    w.span,
+                    format!("address {a} appears twice in the block"),
+                    "each address may be written once per block (G and M once per group)",
+                ));
             }
         }
         let lit = match w.val {
             Val::Lit(l) => l,
             Val::Param(p) => {
                 if p.point || p.signed || !(0..=95).contains(&p.int) {
-                    diags.push(err(codes::BAD_PARAMETER, file, src, w.span, "parameter number must be 0..95", "write `<address>R<n>` with n = 0..95"));
+                    diags.push(err(
+                        codes::BAD_PARAMETER,
+                        file,
+                        src,
+                        w.span,
+                        "parameter number must be 0..95",
+                        "write `<address>R<n>` with n = 0..95",
+                    ));
                 }
                 continue;
             }
@@ -381,11 +541,25 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
         let count_range = |lo: i64, hi: i64, what: &str, diags: &mut Vec<Diagnostic>| match int {
             Some(v) if (lo..=hi).contains(&v) && !lit.negative => Some(v),
             Some(_) => {
-                diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, format!("{a} value out of range"), &format!("{what}: {lo}..{hi}")));
+                diags.push(err(
+                    codes::OUT_OF_RANGE,
+                    file,
+                    src,
+                    w.span,
+                    format!("{a} value out of range"),
+                    &format!("{what}: {lo}..{hi}"),
+                ));
                 None
             }
             None => {
-                diags.push(err(codes::NOT_INTEGER, file, src, w.span, format!("{a} takes a whole number"), &format!("{what}: {lo}..{hi} without a fraction")));
+                diags.push(err(
+                    codes::NOT_INTEGER,
+                    file,
+                    src,
+                    w.span,
+                    format!("{a} takes a whole number"),
+                    &format!("{what}: {lo}..{hi} without a fraction"),
+                ));
                 None
             }
         };
@@ -395,10 +569,24 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
                     match mefi_g_group(g as u16) {
                         Some(grp) => {
                             if let Some(prev) = ggroups.insert(grp, g) {
-                                diags.push(err(codes::GROUP_CONFLICT, file, src, w.span, format!("G{g:02} and G{prev:02} belong to the same group"), "one G function per group per block"));
+                                diags.push(err(
+                                    codes::GROUP_CONFLICT,
+                                    file,
+                                    src,
+                                    w.span,
+                                    format!("G{g:02} and G{prev:02} belong to the same group"),
+                                    "one G function per group per block",
+                                ));
                             }
                         }
-                        None => diags.push(err(codes::UNKNOWN_G, file, src, w.span, format!("G{g:02} is not a MEFI G function"), "see the G groups G0…G11 of the dialect")),
+                        None => diags.push(err(
+                            codes::UNKNOWN_G,
+                            file,
+                            src,
+                            w.span,
+                            format!("G{g:02} is not a MEFI G function"),
+                            "see the G groups G0…G11 of the dialect",
+                        )),
                     }
                 }
             }
@@ -407,14 +595,30 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
                     let grp = mefi_m_group(mv as u16);
                     if grp != 14 {
                         if let Some(prev) = mgroups.insert(grp, mv) {
-                            diags.push(err(codes::GROUP_CONFLICT, file, src, w.span, format!("M{mv:02} and M{prev:02} belong to the same group"), "one M function per group per block"));
+                            diags.push(err(
+                                codes::GROUP_CONFLICT,
+                                file,
+                                src,
+                                w.span,
+                                format!("M{mv:02} and M{prev:02} belong to the same group"),
+                                "one M function per group per block",
+                            ));
                         }
                     }
                 }
             }
             'L' | 'Q' => {
                 let lo = if a == 'Q' && b.has_g(4) { 0 } else { 1 };
-                count_range(lo, 9999, if a == 'L' { "L (unit or block number)" } else { "Q" }, diags);
+                count_range(
+                    lo,
+                    9999,
+                    if a == 'L' {
+                        "L (unit or block number)"
+                    } else {
+                        "Q"
+                    },
+                    diags,
+                );
             }
             'T' => {
                 count_range(0, 99_999_999, "T", diags);
@@ -431,45 +635,121 @@ fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
             '&' => {
                 if let Some(v) = count_range(0, 2222, "&", diags) {
                     if v.to_string().bytes().any(|c| c > b'2') {
-                        diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, "& digits must be 0, 1 or 2", "each digit of & is 0, 1 or 2"));
+                        diags.push(err(
+                            codes::OUT_OF_RANGE,
+                            file,
+                            src,
+                            w.span,
+                            "& digits must be 0, 1 or 2",
+                            "each digit of & is 0, 1 or 2",
+                        ));
                     }
                 }
             }
             'E' => {
                 if !lit.point {
-                    diags.push(err(codes::E_WITHOUT_POINT, file, src, w.span, "E must be written with a decimal point", "write the thread run-in with a point, e.g. E5.0"));
+                    diags.push(err(
+                        codes::E_WITHOUT_POINT,
+                        file,
+                        src,
+                        w.span,
+                        "E must be written with a decimal point",
+                        "write the thread run-in with a point, e.g. E5.0",
+                    ));
                 }
             }
             'F' => {
                 if lit.negative || lit.milli > 99_999_000 {
-                    diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, "F out of range", "feed is positive, at most 99999"));
+                    diags.push(err(
+                        codes::OUT_OF_RANGE,
+                        file,
+                        src,
+                        w.span,
+                        "F out of range",
+                        "feed is positive, at most 99999",
+                    ));
                 }
             }
             _ => {
                 if lit.int_digits > 5 || lit.frac_digits > 3 {
-                    diags.push(err(codes::OUT_OF_RANGE, file, src, w.span, format!("{a} value out of range"), "dimensions have the format ±5.3 (±69999.999)"));
+                    diags.push(err(
+                        codes::OUT_OF_RANGE,
+                        file,
+                        src,
+                        w.span,
+                        format!("{a} value out of range"),
+                        "dimensions have the format ±5.3 (±69999.999)",
+                    ));
                 }
             }
         }
     }
     if axes > 6 {
-        diags.push(err(codes::TOO_MANY_AXES, file, src, b.span, "more than 6 axis words in a block", "at most 6 axes move in one block"));
+        diags.push(err(
+            codes::TOO_MANY_AXES,
+            file,
+            src,
+            b.span,
+            "more than 6 axis words in a block",
+            "at most 6 axes move in one block",
+        ));
     }
-    let gl: Vec<i64> = b.words.iter().filter(|w| w.addr == 'G').filter_map(|w| if let Val::Lit(l) = w.val { lit_int(&l) } else { None }).collect();
+    let gl: Vec<i64> = b
+        .words
+        .iter()
+        .filter(|w| w.addr == 'G')
+        .filter_map(|w| {
+            if let Val::Lit(l) = w.val {
+                lit_int(&l)
+            } else {
+                None
+            }
+        })
+        .collect();
     for g in [71, 72, 73, 79] {
         if gl.contains(&g) && b.word('L').is_none() {
-            diags.push(err(codes::MISSING_L, file, src, b.span, format!("G{g} needs the address L in the same block"), "write the unit or block number, e.g. `G71 L100`"));
+            diags.push(err(
+                codes::MISSING_L,
+                file,
+                src,
+                b.span,
+                format!("G{g} needs the address L in the same block"),
+                "write the unit or block number, e.g. `G71 L100`",
+            ));
         }
     }
     if gl.contains(&79) {
-        if let Some(w) = b.words.iter().find(|w| !(w.addr == 'L' || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == 79_000)))) {
-            diags.push(err(codes::G79_BLOCK, file, src, w.span, "a G79 block holds only N, G79 and L", "move other words to the next block"));
+        if let Some(w) = b.words.iter().find(|w| {
+            !(w.addr == 'L' || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == 79_000)))
+        }) {
+            diags.push(err(
+                codes::G79_BLOCK,
+                file,
+                src,
+                w.span,
+                "a G79 block holds only N, G79 and L",
+                "move other words to the next block",
+            ));
         } else if !b.decls.is_empty() {
-            diags.push(err(codes::G79_BLOCK, file, src, b.span, "a G79 block holds only N, G79 and L", "move declarations to the next block"));
+            diags.push(err(
+                codes::G79_BLOCK,
+                file,
+                src,
+                b.span,
+                "a G79 block holds only N, G79 and L",
+                "move declarations to the next block",
+            ));
         }
         if let Some(w) = b.word('L') {
             if matches!(w.val, Val::Param(_)) {
-                diags.push(err(codes::NOT_PARAMETRISABLE, file, src, w.span, "the L of G79 cannot be a parameter", "write the unit number literally"));
+                diags.push(err(
+                    codes::NOT_PARAMETRISABLE,
+                    file,
+                    src,
+                    w.span,
+                    "the L of G79 cannot be a parameter",
+                    "write the unit number literally",
+                ));
             }
         }
     }
@@ -482,26 +762,69 @@ fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
         let f = &prog.files[b.file];
         let (file, src) = (f.name.as_str(), f.text.as_str());
         let unit = &prog.units[b.unit];
-        let l = b.word('L').and_then(|w| if let Val::Lit(l) = w.val { lit_int(&l) } else { None });
-        let gs: Vec<Option<i64>> = b.words.iter().filter(|w| w.addr == 'G').map(|w| if let Val::Lit(l) = w.val { lit_int(&l) } else { None }).collect();
+        let l = b.word('L').and_then(|w| {
+            if let Val::Lit(l) = w.val {
+                lit_int(&l)
+            } else {
+                None
+            }
+        });
+        let gs: Vec<Option<i64>> = b
+            .words
+            .iter()
+            .filter(|w| w.addr == 'G')
+            .map(|w| {
+                if let Val::Lit(l) = w.val {
+                    lit_int(&l)
+                } else {
+                    None
+                }
+            })
+            .collect();
         let dyn_g = gs.iter().any(Option::is_none);
         if let Some(l) = l {
             let l32 = l as u32;
-            if gs.contains(&Some(73)) || (dyn_g && !gs.iter().any(|g| matches!(g, Some(71) | Some(72) | Some(79)))) {
+            if gs.contains(&Some(73))
+                || (dyn_g
+                    && !gs
+                        .iter()
+                        .any(|g| matches!(g, Some(71) | Some(72) | Some(79))))
+            {
                 if !unit.index.contains_key(&l32) {
-                    diags.push(err(codes::MISSING_BLOCK, file, src, b.span, format!("jump to N{l}, which is not in this program unit"), "jumps go to a block of the same main program, subprogram or macro"));
+                    diags.push(err(
+                        codes::MISSING_BLOCK,
+                        file,
+                        src,
+                        b.span,
+                        format!("jump to N{l}, which is not in this program unit"),
+                        "jumps go to a block of the same main program, subprogram or macro",
+                    ));
                 }
             }
             if gs.contains(&Some(71)) {
                 match prog.subs.get(&l32) {
                     Some(&u) => edges[b.unit].push((u, bi)),
-                    None => diags.push(err(codes::MISSING_SUBPROGRAM, file, src, b.span, format!("subprogram L{l} does not exist in this file"), "subprograms follow M02/M30 as `G79 L<n>` … `G70`")),
+                    None => diags.push(err(
+                        codes::MISSING_SUBPROGRAM,
+                        file,
+                        src,
+                        b.span,
+                        format!("subprogram L{l} does not exist in this file"),
+                        "subprograms follow M02/M30 as `G79 L<n>` … `G70`",
+                    )),
                 }
             }
             if gs.contains(&Some(72)) {
                 match prog.library.get(&l32) {
                     Some(&u) => edges[b.unit].push((u, bi)),
-                    None => diags.push(err(codes::MISSING_MACRO, file, src, b.span, format!("macro L{l} is not in the machine's macro folder"), "store the macro as file L<n> in the macro folder")),
+                    None => diags.push(err(
+                        codes::MISSING_MACRO,
+                        file,
+                        src,
+                        b.span,
+                        format!("macro L{l} is not in the machine's macro folder"),
+                        "store the macro as file L<n> in the macro folder",
+                    )),
                 }
             }
         }
@@ -538,7 +861,9 @@ fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
     // unit the program reaches through literal calls (computed calls cannot be followed statically).
     if prog.machine.check_m_declared {
         let mut reach = vec![false; n];
-        let mut stack: Vec<usize> = (0..n).filter(|&u| prog.units[u].kind != UnitKind::Library).collect();
+        let mut stack: Vec<usize> = (0..n)
+            .filter(|&u| prog.units[u].kind != UnitKind::Library)
+            .collect();
         while let Some(u) = stack.pop() {
             if std::mem::replace(&mut reach[u], true) {
                 continue;
@@ -566,6 +891,13 @@ fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
     for bi in hits {
         let b = &prog.blocks[bi];
         let f = &prog.files[b.file];
-        diags.push(err(codes::RECURSION, &f.name, &f.text, b.span, "this call leads back to its own unit: unbounded recursion", "a subprogram or macro must not call itself directly or through other calls"));
+        diags.push(err(
+            codes::RECURSION,
+            &f.name,
+            &f.text,
+            b.span,
+            "this call leads back to its own unit: unbounded recursion",
+            "a subprogram or macro must not call itself directly or through other calls",
+        ));
     }
 }

@@ -31,7 +31,12 @@ pub struct PlanOptions {
 
 impl Default for PlanOptions {
     fn default() -> Self {
-        PlanOptions { backend: Backend::Native, block_skip: false, max_blocks: 20_000_000, record: true }
+        PlanOptions {
+            backend: Backend::Native,
+            block_skip: false,
+            max_blocks: 20_000_000,
+            record: true,
+        }
     }
 }
 
@@ -53,7 +58,13 @@ impl RunError {
     /// The located diagnostic for this error.
     pub fn to_diagnostic(&self, prog: &Program) -> Diagnostic {
         let f = &prog.files[self.file.min(prog.files.len().saturating_sub(1))];
-        Diagnostic::error(self.code, f.name.clone(), self.span.0..self.span.1, self.message.clone()).locate(&f.text)
+        Diagnostic::error(
+            self.code,
+            f.name.clone(),
+            self.span.0..self.span.1,
+            self.message.clone(),
+        )
+        .locate(&f.text)
     }
 }
 
@@ -69,4 +80,3 @@ pub struct Plan {
     /// Messages of arithmetic operation 51.
     pub messages: Vec<crate::arith::Message>,
 }
-

@@ -9,8 +9,24 @@ use partprogram::{Backend, PlanOptions};
 /// Runs `src` (a MEFI block list after `%1`) with both backends, asserts equal parameters, returns them.
 fn params(src: &str) -> [i64; 96] {
     let text = format!("%1\n{src}\nN9999 M30\n");
-    let a = run(&mill(), &text, PlanOptions { backend: Backend::Interpreter, ..PlanOptions::default() }).params;
-    let b = run(&mill(), &text, PlanOptions { backend: Backend::Native, ..PlanOptions::default() }).params;
+    let a = run(
+        &mill(),
+        &text,
+        PlanOptions {
+            backend: Backend::Interpreter,
+            ..PlanOptions::default()
+        },
+    )
+    .params;
+    let b = run(
+        &mill(),
+        &text,
+        PlanOptions {
+            backend: Backend::Native,
+            ..PlanOptions::default()
+        },
+    )
+    .params;
     assert_eq!(a, b, "native and interpreter differ for {src}");
     a
 }
@@ -53,12 +69,24 @@ fn op04_division_decimal_and_raw() {
 
 #[test]
 fn op04_division_by_zero_is_a_run_time_error() {
-    let (prog, _) = partprogram::compile(&mill(), "t", "%1\nN1 R1=7 R2=0 G26 R5=04010203\nN2 M30\n");
+    let (prog, _) =
+        partprogram::compile(&mill(), "t", "%1\nN1 R1=7 R2=0 G26 R5=04010203\nN2 M30\n");
     let prog = prog.expect("compiles");
     for backend in [Backend::Native, Backend::Interpreter] {
-        let err = partprogram::plan(&prog, PlanOptions { backend, ..PlanOptions::default() }).expect_err("fails");
+        let err = partprogram::plan(
+            &prog,
+            PlanOptions {
+                backend,
+                ..PlanOptions::default()
+            },
+        )
+        .expect_err("fails");
         assert_eq!(err.1.code, 2500);
-        assert!(err.1.message.contains("division by zero"), "{}", err.1.message);
+        assert!(
+            err.1.message.contains("division by zero"),
+            "{}",
+            err.1.message
+        );
     }
 }
 
@@ -159,16 +187,22 @@ fn op28_geometric_series() {
 #[test]
 fn op29_to_32_conditions() {
     for (op, expect) in [(29, 5), (30, 5), (31, 1_005), (32, 1_005)] {
-        let p = params(&format!("N1 R1=1. R2=2. R3=5 G28 R5={op:02}010200 R6=41030003 R7=22000000"));
+        let p = params(&format!(
+            "N1 R1=1. R2=2. R3=5 G28 R5={op:02}010200 R6=41030003 R7=22000000"
+        ));
         assert_eq!(p[3], expect, "op {op}");
     }
 }
 
 #[test]
 fn op33_runs_a_program_of_control_words() {
-    let p = params("N1 R30=-70. R0=0 R2=+15113010 R3=+17113010 R28=4. G26 R5=+33090012 R9=+31300000 R10=+00020003 R11=+08280028 R12=+22000000");
+    let p = params(
+        "N1 R30=-70. R0=0 R2=+15113010 R3=+17113010 R28=4. G26 R5=+33090012 R9=+31300000 R10=+00020003 R11=+08280028 R12=+22000000",
+    );
     assert_eq!((p[3], p[28]), (15_113_010, -4_000));
-    let p = params("N1 R30=70. R0=0 R2=+15113010 R3=+17113010 R28=4. G26 R5=+33090012 R9=+31300000 R10=+00020003 R11=+08280028 R12=+22000000");
+    let p = params(
+        "N1 R30=70. R0=0 R2=+15113010 R3=+17113010 R28=4. G26 R5=+33090012 R9=+31300000 R10=+00020003 R11=+08280028 R12=+22000000",
+    );
     assert_eq!((p[3], p[28]), (17_113_010, 4_000));
 }
 
@@ -185,8 +219,10 @@ fn op34_35_move_clear_and_exchange() {
 #[test]
 fn op36_40_43_are_run_time_errors() {
     for op in ["36010203", "40010203", "43010203", "52010203"] {
-        let (prog, _) = partprogram::compile(&mill(), "t", &format!("%1\nN1 G26 R5={op}\nN2 M30\n"));
-        let err = partprogram::plan(&prog.expect("compiles"), PlanOptions::default()).expect_err("fails");
+        let (prog, _) =
+            partprogram::compile(&mill(), "t", &format!("%1\nN1 G26 R5={op}\nN2 M30\n"));
+        let err =
+            partprogram::plan(&prog.expect("compiles"), PlanOptions::default()).expect_err("fails");
         assert_eq!(err.1.code, 2501, "{op}");
     }
 }
@@ -213,7 +249,11 @@ fn op41_42_increment_decrement_with_immediates() {
 #[test]
 fn op44_45_save_and_restore() {
     let p = params("N1 R1=1 R2=2 G26 R5=44000000\nN2 R1=5 R2=6 R3=7 G26 R5=45010203");
-    assert_eq!((p[1], p[2], p[3], p[4]), (5, 6, 1, 2), "saved R1..R2 restored into R3, R4");
+    assert_eq!(
+        (p[1], p[2], p[3], p[4]),
+        (5, 6, 1, 2),
+        "saved R1..R2 restored into R3, R4"
+    );
 }
 
 #[test]
@@ -243,7 +283,14 @@ fn op51_message_is_recorded() {
     let text = "%1\nN1 R7=42 G26 R5=51050712\nN2 M30\n";
     let plan = run(&mill(), text, PlanOptions::default());
     assert_eq!(plan.messages.len(), 1);
-    assert_eq!((plan.messages[0].code, plan.messages[0].value, plan.messages[0].mode), (5, 42, 2));
+    assert_eq!(
+        (
+            plan.messages[0].code,
+            plan.messages[0].value,
+            plan.messages[0].mode
+        ),
+        (5, 42, 2)
+    );
 }
 
 #[test]

@@ -8,15 +8,31 @@ use proptest::prelude::*;
 
 fn first(src: &str) -> diag::Diagnostic {
     let (_, d) = compile(&mill(), "t", src);
-    d.into_iter().find(diag::Diagnostic::is_error).expect("an error")
+    d.into_iter()
+        .find(diag::Diagnostic::is_error)
+        .expect("an error")
 }
 
 #[test]
 fn undeclared_m_function_is_an_error_when_iocfil_declares_ms() {
     let mut m = mill();
     m.check_m_declared = true;
-    m.processes[0].declared_m.insert(3, MTiming { m_type: 0x45, m_request: 0, class: 0x21 });
-    m.processes[0].declared_m.insert(30, MTiming { m_type: 0x02, m_request: 0x24, class: 0 });
+    m.processes[0].declared_m.insert(
+        3,
+        MTiming {
+            m_type: 0x45,
+            m_request: 0,
+            class: 0x21,
+        },
+    );
+    m.processes[0].declared_m.insert(
+        30,
+        MTiming {
+            m_type: 0x02,
+            m_request: 0x24,
+            class: 0,
+        },
+    );
     let (_, d) = compile(&m, "t", "%1\nN1 M03\nN2 M08\nN3 M30\n");
     let e: Vec<(u32, u32, u32)> = d.iter().map(|d| (d.code, d.line, d.column)).collect();
     assert_eq!(e, vec![(2016, 3, 4)]);
@@ -25,12 +41,34 @@ fn undeclared_m_function_is_an_error_when_iocfil_declares_ms() {
 #[test]
 fn declared_m_timing_orders_before_motion_first() {
     let mut m = mill();
-    m.processes[0].declared_m.insert(8, MTiming { m_type: 0x02, m_request: 0, class: 0 });
-    m.processes[0].declared_m.insert(3, MTiming { m_type: 0x45, m_request: 0, class: 0 });
-    let p = run(&m, "%1\nN1 X1 M08 M03\nN2 M30\n", partprogram::PlanOptions::default());
+    m.processes[0].declared_m.insert(
+        8,
+        MTiming {
+            m_type: 0x02,
+            m_request: 0,
+            class: 0,
+        },
+    );
+    m.processes[0].declared_m.insert(
+        3,
+        MTiming {
+            m_type: 0x45,
+            m_request: 0,
+            class: 0,
+        },
+    );
+    let p = run(
+        &m,
+        "%1\nN1 X1 M08 M03\nN2 M30\n",
+        partprogram::PlanOptions::default(),
+    );
     let ms: Vec<(u16, bool)> = p.blocks[0].m.iter().map(|f| (f.m, f.before)).collect();
     assert_eq!(ms, vec![(3, true), (8, false)]);
-    assert!(p.blocks[0].to_json_line().contains("\"m\":[3,8],\"m_timing\":[\"before\",\"after\"]"));
+    assert!(
+        p.blocks[0]
+            .to_json_line()
+            .contains("\"m\":[3,8],\"m_timing\":[\"before\",\"after\"]")
+    );
 }
 
 #[test]
@@ -79,12 +117,17 @@ fn jumps_and_calls_to_missing_targets() {
     assert_eq!(first("%1\nN1 G71\nN2 M30\n").code, 2017);
     assert_eq!(first("%1\nN1 R1=73 N2 GR1 L7\nN3 M30\n").code, 2018);
     // A jump from the main program into a subprogram is not allowed.
-    assert_eq!(first("%1\nN1 G73 L11\nN2 M30\nN10 G79 L1\nN11 X1\nN12 G70\n").code, 2018);
+    assert_eq!(
+        first("%1\nN1 G73 L11\nN2 M30\nN10 G79 L1\nN11 X1\nN12 G70\n").code,
+        2018
+    );
 }
 
 #[test]
 fn unbounded_recursion() {
-    let d = first("%1\nN1 G71 L1\nN2 M30\nN10 G79 L1\nN11 G71 L2\nN12 G70\nN20 G79 L2\nN21 G71 L1\nN22 G70\n");
+    let d = first(
+        "%1\nN1 G71 L1\nN2 M30\nN10 G79 L1\nN11 G71 L2\nN12 G70\nN20 G79 L2\nN21 G71 L1\nN22 G70\n",
+    );
     assert_eq!((d.code, d.line), (2021, 8));
 }
 
@@ -93,7 +136,11 @@ fn program_structure() {
     assert_eq!(first("%1\nN1 X1\nN2 M30\nN3 X2\n").code, 2026);
     assert_eq!(first("%1\nN1 M30\nN10 G79 L1 X5\nN11 G70\n").code, 2022);
     assert_eq!(first("%1\nN1 M30\nN10 G79 L1\nN11 X1\n").code, 2025);
-    let (_, d) = compile(&mill(), "t", &format!("%1\nN1 X1 \"{}\"\nN2 M30\n", "x".repeat(90)));
+    let (_, d) = compile(
+        &mill(),
+        "t",
+        &format!("%1\nN1 X1 \"{}\"\nN2 M30\n", "x".repeat(90)),
+    );
     assert_eq!((d[0].code, d[0].severity), (2012, diag::Severity::Warning));
 }
 

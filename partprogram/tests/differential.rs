@@ -14,7 +14,11 @@ fn word() -> impl Strategy<Value = String> {
     ];
     let field = prop_oneof![9 => 10u8..40, 1 => 0u8..99];
     (any::<bool>(), op, field.clone(), field.clone(), field).prop_map(|(neg, op, a, b, c)| {
-        let (a, b, c) = if op == 48 { (10 + a % 80, b % 40, c % 40) } else { (a, b, c) };
+        let (a, b, c) = if op == 48 {
+            (10 + a % 80, b % 40, c % 40)
+        } else {
+            (a, b, c)
+        };
         format!("{}{op:02}{a:02}{b:02}{c:02}", if neg { "-" } else { "+" })
     })
 }
@@ -28,18 +32,22 @@ fn value() -> impl Strategy<Value = String> {
 }
 
 fn block() -> impl Strategy<Value = String> {
-    (proptest::collection::vec((10u8..40, value()), 0..6), proptest::collection::vec(word(), 1..5)).prop_map(|(decls, words)| {
-        let mut s = String::new();
-        for (p, v) in decls {
-            s.push_str(&format!(" R{p}={v}"));
-        }
-        let g = 25 + words.len();
-        s.push_str(&format!(" G{g}"));
-        for (k, w) in words.iter().enumerate() {
-            s.push_str(&format!(" R{}={w}", 5 + k));
-        }
-        s
-    })
+    (
+        proptest::collection::vec((10u8..40, value()), 0..6),
+        proptest::collection::vec(word(), 1..5),
+    )
+        .prop_map(|(decls, words)| {
+            let mut s = String::new();
+            for (p, v) in decls {
+                s.push_str(&format!(" R{p}={v}"));
+            }
+            let g = 25 + words.len();
+            s.push_str(&format!(" G{g}"));
+            for (k, w) in words.iter().enumerate() {
+                s.push_str(&format!(" R{}={w}", 5 + k));
+            }
+            s
+        })
 }
 
 proptest! {
@@ -66,8 +74,18 @@ proptest! {
 
 #[test]
 fn native_code_is_generated_for_static_words() {
-    let (prog, _) = compile(&mill(), "t", "%1\nN1 R1=5 G26 R5=01010102\nN2 G26\nN3 M30\n");
+    let (prog, _) = compile(
+        &mill(),
+        "t",
+        "%1\nN1 R1=5 G26 R5=01010102\nN2 G26\nN3 M30\n",
+    );
     let prog = prog.expect("compiles");
-    assert!(prog.blocks[0].native.is_some(), "declared control word → native");
-    assert!(prog.blocks[1].native.is_none(), "control word from an earlier block → interpreter");
+    assert!(
+        prog.blocks[0].native.is_some(),
+        "declared control word → native"
+    );
+    assert!(
+        prog.blocks[1].native.is_none(),
+        "control word from an earlier block → interpreter"
+    );
 }

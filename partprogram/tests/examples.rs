@@ -18,15 +18,36 @@ fn holes(p: &partprogram::Plan) -> Vec<(f64, f64)> {
 fn l9001_drills_twelve_holes_in_a_serpentine_and_restores_parameters() {
     for backend in [Backend::Native, Backend::Interpreter] {
         let src = std::fs::read_to_string(machines().join("mill/nc/GRID")).expect("GRID");
-        let p = run(&mill(), &src, PlanOptions { backend, ..PlanOptions::default() });
+        let p = run(
+            &mill(),
+            &src,
+            PlanOptions {
+                backend,
+                ..PlanOptions::default()
+            },
+        );
         let expected = vec![
-            (0.0, 0.0), (100.0, 0.0), (200.0, 0.0), (300.0, 0.0),
-            (300.0, 75.0), (200.0, 75.0), (100.0, 75.0), (0.0, 75.0),
-            (0.0, 150.0), (100.0, 150.0), (200.0, 150.0), (300.0, 150.0),
+            (0.0, 0.0),
+            (100.0, 0.0),
+            (200.0, 0.0),
+            (300.0, 0.0),
+            (300.0, 75.0),
+            (200.0, 75.0),
+            (100.0, 75.0),
+            (0.0, 75.0),
+            (0.0, 150.0),
+            (100.0, 150.0),
+            (200.0, 150.0),
+            (300.0, 150.0),
         ];
         assert_eq!(holes(&p), expected, "{backend:?}");
         // The macro returns to the start point.
-        let ret = p.blocks.iter().rev().find(|c| c.n == Some(1210)).expect("N1210 moves");
+        let ret = p
+            .blocks
+            .iter()
+            .rev()
+            .find(|c| c.n == Some(1210))
+            .expect("N1210 moves");
         assert_eq!((end(ret, 'X'), end(ret, 'Y')), (0.0, 0.0));
         // After N1230 every parameter equals its value at the SAVE in N1105.
         assert_eq!(p.params[9], 81);

@@ -28,7 +28,9 @@ pub fn lathe() -> MachineSpec {
 /// Compiles and plans `src` on `m`, panicking with the diagnostics on failure.
 pub fn run(m: &MachineSpec, src: &str, opts: PlanOptions) -> Plan {
     let (prog, diags) = compile(m, "test", src);
-    let Some(prog) = prog else { panic!("compile failed: {diags:#?}") };
+    let Some(prog) = prog else {
+        panic!("compile failed: {diags:#?}")
+    };
     match plan(&prog, opts) {
         Ok(p) => p,
         Err((_, d)) => panic!("run failed: {d}"),

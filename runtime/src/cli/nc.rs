@@ -79,7 +79,11 @@ pub enum MachineError {
 ///
 /// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
 /// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
-pub fn machine_spec(dir: &Path, dialect: Option<&str>, program_text: &str) -> Result<MachineSpec, MachineError> {
+pub fn machine_spec(
+    dir: &Path,
+    dialect: Option<&str>,
+    program_text: &str,
+) -> Result<MachineSpec, MachineError> {
     if !dir.is_dir() {
         return Err(MachineError::NoMachine(dir.to_path_buf()));
     }
@@ -89,7 +93,9 @@ pub fn machine_spec(dir: &Path, dialect: Option<&str>, program_text: &str) -> Re
         None => detect_dialect(program_text),
     };
     let name = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
-    let lathe = name.file_name().is_some_and(|n| n.to_string_lossy().to_ascii_lowercase().contains("lathe"));
+    let lathe = name
+        .file_name()
+        .is_some_and(|n| n.to_string_lossy().to_ascii_lowercase().contains("lathe"));
     let axes: &[char] = match (lathe, dialect) {
         (true, Dialect::Mefi) => &['X', 'Z'],
         (true, Dialect::Fanuc) => &['X', 'Z', 'C'],
@@ -99,7 +105,10 @@ pub fn machine_spec(dir: &Path, dialect: Option<&str>, program_text: &str) -> Re
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
     if let Some(declared) = read_iocfil_m(&dir.join("MP0").join("IOCFIL")) {
-        spec.processes = vec![ProcessSpec { declared_m: declared, axes: axes.to_vec() }];
+        spec.processes = vec![ProcessSpec {
+            declared_m: declared,
+            axes: axes.to_vec(),
+        }];
         spec.check_m_declared = true;
     }
     Ok(spec)
@@ -113,7 +122,12 @@ fn read_iocfil_m(path: &Path) -> Option<BTreeMap<u16, MTiming>> {
     let mut process = 1;
     let mut out = BTreeMap::new();
     for line in text.lines() {
-        let line = line.split(';').next().unwrap_or("").trim().trim_start_matches('\\');
+        let line = line
+            .split(';')
+            .next()
+            .unwrap_or("")
+            .trim()
+            .trim_start_matches('\\');
         if let Some(s) = line.strip_prefix('*') {
             section = s.trim().parse().unwrap_or(0);
             continue;
@@ -121,14 +135,28 @@ fn read_iocfil_m(path: &Path) -> Option<BTreeMap<u16, MTiming>> {
         if section != 2 {
             continue;
         }
-        let Some((key, value)) = line.split_once('=') else { continue };
+        let Some((key, value)) = line.split_once('=') else {
+            continue;
+        };
         let key = key.trim().to_ascii_uppercase();
         if key == "PRO" {
             process = value.trim().parse().unwrap_or(1);
         } else if let Some(num) = key.strip_prefix('M') {
-            let (Ok(m), true) = (num.parse::<u16>(), process == 1) else { continue };
-            let f: Vec<u8> = value.split(',').map(|x| u8::from_str_radix(x.trim(), 16).unwrap_or(0)).collect();
-            out.insert(m, MTiming { m_type: f.first().copied().unwrap_or(0), m_request: f.get(1).copied().unwrap_or(0), class: f.get(2).copied().unwrap_or(0) });
+            let (Ok(m), true) = (num.parse::<u16>(), process == 1) else {
+                continue;
+            };
+            let f: Vec<u8> = value
+                .split(',')
+                .map(|x| u8::from_str_radix(x.trim(), 16).unwrap_or(0))
+                .collect();
+            out.insert(
+                m,
+                MTiming {
+                    m_type: f.first().copied().unwrap_or(0),
+                    m_request: f.get(1).copied().unwrap_or(0),
+                    class: f.get(2).copied().unwrap_or(0),
+                },
+            );
         }
     }
     Some(out)
@@ -142,23 +170,41 @@ fn detect_dialect(text: &str) -> Dialect {
             continue;
         }
         let mut c = t.chars();
-        let fanuc = matches!(c.next(), Some('O') | Some('o')) && c.next().is_some_and(|d| d.is_ascii_digit());
+        let fanuc = matches!(c.next(), Some('O') | Some('o'))
+            && c.next().is_some_and(|d| d.is_ascii_digit());
         return if fanuc { Dialect::Fanuc } else { Dialect::Mefi };
     }
     Dialect::Mefi
 }
 
 fn program_path(machine: &Path, program: &Path) -> PathBuf {
-    if program.exists() { program.to_path_buf() } else { machine.join("nc").join(program) }
+    if program.exists() {
+        program.to_path_buf()
+    } else {
+        machine.join("nc").join(program)
+    }
 }
 
 /// Runs `ncplc nc`.
 pub fn run(args: Args) -> ExitCode {
     let (common, plan_opts, format) = match &args.command {
         NcCommand::Check { common, format } => (common, None, format.clone()),
-        NcCommand::Plan { common, format, interpreter, block_skip } => (
+        NcCommand::Plan {
             common,
-            Some(PlanOptions { backend: if *interpreter { Backend::Interpreter } else { Backend::Native }, block_skip: *block_skip, ..PlanOptions::default() }),
+            format,
+            interpreter,
+            block_skip,
+        } => (
+            common,
+            Some(PlanOptions {
+                backend: if *interpreter {
+                    Backend::Interpreter
+                } else {
+                    Backend::Native
+                },
+                block_skip: *block_skip,
+                ..PlanOptions::default()
+            }),
             format.clone(),
         ),
     };
@@ -177,7 +223,10 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let name = path.file_name().map_or_else(|| path.display().to_string(), |n| format!("nc/{}", n.to_string_lossy()));
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| format!("nc/{}", n.to_string_lossy()),
+    );
     let (prog, diags) = partprogram::compile(&spec, &name, &text);
     let mut sources = diag::Sources::new();
     sources.add(name.clone(), text.clone());
@@ -200,10 +249,16 @@ pub fn run(args: Args) -> ExitCode {
     };
     let json = format == "json";
     print_diags(&diags, json);
-    let Some(prog) = prog else { return ExitCode::from(1) };
+    let Some(prog) = prog else {
+        return ExitCode::from(1);
+    };
     let Some(opts) = plan_opts else {
         if !json {
-            println!("{name}: ok ({} blocks, {} units)", prog.blocks.len(), prog.units.len());
+            println!(
+                "{name}: ok ({} blocks, {} units)",
+                prog.blocks.len(),
+                prog.units.len()
+            );
         }
         return ExitCode::SUCCESS;
     };
@@ -216,8 +271,17 @@ pub fn run(args: Args) -> ExitCode {
         if json {
             out.push_str(&c.to_json_line());
         } else {
-            let end: Vec<String> = c.end.iter().map(|(a, v)| format!("{a}{}", partprogram::canon::num(*v))).collect();
-            out.push_str(&format!("N{} {} {}", c.n.unwrap_or(0), c.kind.name(), end.join(" ")));
+            let end: Vec<String> = c
+                .end
+                .iter()
+                .map(|(a, v)| format!("{a}{}", partprogram::canon::num(*v)))
+                .collect();
+            out.push_str(&format!(
+                "N{} {} {}",
+                c.n.unwrap_or(0),
+                c.kind.name(),
+                end.join(" ")
+            ));
         }
         out.push('\n');
     }
