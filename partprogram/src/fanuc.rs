@@ -41,19 +41,19 @@ fn push_file(
     let unit = prog.units.len();
     let mut index = HashMap::new();
     for b in parsed.blocks {
-        if let Some(n) = b.n {
-            if index.insert(n, prog.blocks.len()).is_some() {
-                let f = &prog.files[file];
-                diags.push(
-                    Diagnostic::warning(
-                        codes::DUPLICATE_N,
-                        f.name.clone(),
-                        b.span.0..b.span.1,
-                        format!("block number N{n} is used twice"),
-                    )
-                    .locate(&f.text),
-                );
-            }
+        if let Some(n) = b.n
+            && index.insert(n, prog.blocks.len()).is_some()
+        {
+            let f = &prog.files[file];
+            diags.push(
+                Diagnostic::warning(
+                    codes::DUPLICATE_N,
+                    f.name.clone(),
+                    b.span.0..b.span.1,
+                    format!("block number N{n} is used twice"),
+                )
+                .locate(&f.text),
+            );
         }
         prog.blocks.push(CBlock {
             n: b.n,
@@ -255,16 +255,14 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                     format!("M{m} needs P"),
                     "M97 P<line number>, M98 P<program number>",
                 )),
-                (97, Some(n)) => {
-                    if !prog.units[b.unit].index.contains_key(&n) {
-                        diags.push(err(
-                            codes::MISSING_BLOCK,
-                            f,
-                            b.span,
-                            format!("M97 P{n}: no block N{n} in this program"),
-                            "M97 calls a line number of the same program",
-                        ));
-                    }
+                (97, Some(n)) if !prog.units[b.unit].index.contains_key(&n) => {
+                    diags.push(err(
+                        codes::MISSING_BLOCK,
+                        f,
+                        b.span,
+                        format!("M97 P{n}: no block N{n} in this program"),
+                        "M97 calls a line number of the same program",
+                    ));
                 }
                 (98, Some(n)) => match prog.library.get(&n) {
                     Some(&u) => edges[b.unit].push((u, bi)),

@@ -9,6 +9,7 @@
 pub mod arith;
 pub mod ast;
 pub mod canon;
+mod check;
 pub mod codes;
 pub mod exec;
 pub mod fanuc;
@@ -17,6 +18,7 @@ pub mod geom;
 pub mod groups;
 pub mod jit;
 pub mod lexer;
+mod link;
 pub mod machine;
 pub mod parse;
 pub mod program;

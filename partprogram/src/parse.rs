@@ -14,7 +14,7 @@ use crate::lexer::{LexErrorKind, Lexer, Lit, Tok};
 use crate::machine::Dialect;
 
 lalrpop_util::lalrpop_mod!(
-    #[allow(clippy::all, unused, missing_docs)]
+    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
     grammar
 );
 

@@ -6,14 +6,13 @@
 //! `G79 L8x … G70` implement G81–G89. All of them are parsed, checked and linked here; jump and call
 //! targets written literally are resolved at compile time, computed ones at run time.
 
-use std::collections::{BTreeMap, HashMap};
+use std::collections::HashMap;
 use std::path::Path;
 
 use diag::Diagnostic;
 
 use crate::ast::{Block, Decl, ParsedFile, Val, Word};
 use crate::codes;
-use crate::groups::{mefi_g_group, mefi_m_group};
 use crate::lexer::Lit;
 use crate::machine::{Dialect, MachineSpec};
 use crate::parse::parse;
@@ -124,7 +123,7 @@ pub fn lit_int(l: &Lit) -> Option<i64> {
     }
 }
 
-fn err(
+pub(crate) fn err(
     code: u32,
     file: &str,
     src: &str,
@@ -165,9 +164,9 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         build_main_units(&mut prog, 0, parsed, &mut diags);
         load_library(&mut prog, &machine.macro_dir, &mut diags);
         for b in 0..prog.blocks.len() {
-            check_block(&prog, b, &mut diags);
+            crate::check::check_block(&prog, b, &mut diags);
         }
-        link(&mut prog, &mut diags);
+        crate::link::link(&mut prog, &mut diags);
     }
     diags.sort_by(|a, b| {
         (a.file != name, &a.file, a.line, a.column).cmp(&(
@@ -275,17 +274,18 @@ fn build_main_units(
     for b in parsed.blocks {
         let is_entry = g_lits(&b).any(|g| g == 79);
         if is_entry {
-            if let Some(u) = cur {
-                if prog.units[u].kind == UnitKind::Main && !main_ended {
-                    diags.push(err(
-                        codes::AFTER_END,
-                        &fname,
-                        &src,
-                        b.span,
-                        "subprogram before the end of the main program",
-                        "subprograms follow the block with M02 or M30",
-                    ));
-                }
+            if let Some(u) = cur
+                && prog.units[u].kind == UnitKind::Main
+                && !main_ended
+            {
+                diags.push(err(
+                    codes::AFTER_END,
+                    &fname,
+                    &src,
+                    b.span,
+                    "subprogram before the end of the main program",
+                    "subprograms follow the block with M02 or M30",
+                ));
             }
             let l = lit_of(&b, 'L').unwrap_or(0);
             let kind = if library {
@@ -460,444 +460,5 @@ fn load_library(prog: &mut Program, dir: &Path, diags: &mut Vec<Diagnostic>) {
         prog.files.push(SourceFile { name, text: src });
         let file = prog.files.len() - 1;
         build_main_units(prog, file, parsed, diags);
-    }
-}
-
-fn is_axis(machine: &MachineSpec, a: char) -> bool {
-    machine.axes().contains(&a)
-}
-
-/// Static checks of one MEFI block.
-fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
-    let b = &prog.blocks[bi];
-    let f = &prog.files[b.file];
-    let (file, src) = (f.name.as_str(), f.text.as_str());
-    let m = &prog.machine;
-    let mut seen: BTreeMap<char, (usize, usize)> = BTreeMap::new();
-    let mut ggroups: BTreeMap<u8, i64> = BTreeMap::new();
-    let mut mgroups: BTreeMap<u8, i64> = BTreeMap::new();
-    let mut axes = 0;
-    for w in &b.words {
-        let a = w.addr;
-        let known = matches!(
-            a,
-            'G' | 'M' | 'I' | 'J' | 'K' | 'F' | 'S' | 'T' | 'D' | 'L' | 'Q' | 'H' | 'P' | 'E' | '&'
-        ) || is_axis(m, a);
-        if !known {
-            let (code, msg, hint) = if a == 'R' {
-                (
-                    codes::R_WORD,
-                    "`R<n>` without `=`".to_string(),
-                    "declare a parameter with `R<n>=<value>`; to use it write `<address>R<n>`",
-                )
-            } else if "XYZUVWABC".contains(a) {
-                (
-                    codes::UNKNOWN_ADDRESS,
-                    format!("the machine has no axis {a}"),
-                    "use the axis letters of the machine (AXCFIL)",
-                )
-            } else {
-                (
-                    codes::UNKNOWN_ADDRESS,
-                    format!("unknown address `{a}`"),
-                    "MEFI addresses: N G M X Y Z U V W A B C I J K R F S T D L Q H P E & /",
-                )
-            };
-            diags.push(err(code, file, src, w.span, msg, hint));
-            continue;
-        }
-        if is_axis(m, a) {
-            axes += 1;
-        }
-        if a != 'G' && a != 'M' {
-            if seen.insert(a, w.span).is_some() {
-                diags.push(err(
-                    codes::DUPLICATE_ADDRESS,
-                    file,
-                    src,
-                    w.span,
-                    format!("address {a} appears twice in the block"),
-                    "each address may be written once per block (G and M once per group)",
-                ));
-            }
-        }
-        let lit = match w.val {
-            Val::Lit(l) => l,
-            Val::Param(p) => {
-                if p.point || p.signed || !(0..=95).contains(&p.int) {
-                    diags.push(err(
-                        codes::BAD_PARAMETER,
-                        file,
-                        src,
-                        w.span,
-                        "parameter number must be 0..95",
-                        "write `<address>R<n>` with n = 0..95",
-                    ));
-                }
-                continue;
-            }
-        };
-        let int = lit_int(&lit);
-        let count_range = |lo: i64, hi: i64, what: &str, diags: &mut Vec<Diagnostic>| match int {
-            Some(v) if (lo..=hi).contains(&v) && !lit.negative => Some(v),
-            Some(_) => {
-                diags.push(err(
-                    codes::OUT_OF_RANGE,
-                    file,
-                    src,
-                    w.span,
-                    format!("{a} value out of range"),
-                    &format!("{what}: {lo}..{hi}"),
-                ));
-                None
-            }
-            None => {
-                diags.push(err(
-                    codes::NOT_INTEGER,
-                    file,
-                    src,
-                    w.span,
-                    format!("{a} takes a whole number"),
-                    &format!("{what}: {lo}..{hi} without a fraction"),
-                ));
-                None
-            }
-        };
-        match a {
-            'G' => {
-                if let Some(g) = count_range(0, 99, "G functions", diags) {
-                    match mefi_g_group(g as u16) {
-                        Some(grp) => {
-                            if let Some(prev) = ggroups.insert(grp, g) {
-                                diags.push(err(
-                                    codes::GROUP_CONFLICT,
-                                    file,
-                                    src,
-                                    w.span,
-                                    format!("G{g:02} and G{prev:02} belong to the same group"),
-                                    "one G function per group per block",
-                                ));
-                            }
-                        }
-                        None => diags.push(err(
-                            codes::UNKNOWN_G,
-                            file,
-                            src,
-                            w.span,
-                            format!("G{g:02} is not a MEFI G function"),
-                            "see the G groups G0…G11 of the dialect",
-                        )),
-                    }
-                }
-            }
-            'M' => {
-                if let Some(mv) = count_range(0, 99, "M functions", diags) {
-                    let grp = mefi_m_group(mv as u16);
-                    if grp != 14 {
-                        if let Some(prev) = mgroups.insert(grp, mv) {
-                            diags.push(err(
-                                codes::GROUP_CONFLICT,
-                                file,
-                                src,
-                                w.span,
-                                format!("M{mv:02} and M{prev:02} belong to the same group"),
-                                "one M function per group per block",
-                            ));
-                        }
-                    }
-                }
-            }
-            'L' | 'Q' => {
-                let lo = if a == 'Q' && b.has_g(4) { 0 } else { 1 };
-                count_range(
-                    lo,
-                    9999,
-                    if a == 'L' {
-                        "L (unit or block number)"
-                    } else {
-                        "Q"
-                    },
-                    diags,
-                );
-            }
-            'T' => {
-                count_range(0, 99_999_999, "T", diags);
-            }
-            'S' => {
-                count_range(0, 9999, "S", diags);
-            }
-            'D' => {
-                count_range(0, 99, "D", diags);
-            }
-            'H' | 'P' => {
-                count_range(1, 99, a.to_string().as_str(), diags);
-            }
-            '&' => {
-                if let Some(v) = count_range(0, 2222, "&", diags) {
-                    if v.to_string().bytes().any(|c| c > b'2') {
-                        diags.push(err(
-                            codes::OUT_OF_RANGE,
-                            file,
-                            src,
-                            w.span,
-                            "& digits must be 0, 1 or 2",
-                            "each digit of & is 0, 1 or 2",
-                        ));
-                    }
-                }
-            }
-            'E' => {
-                if !lit.point {
-                    diags.push(err(
-                        codes::E_WITHOUT_POINT,
-                        file,
-                        src,
-                        w.span,
-                        "E must be written with a decimal point",
-                        "write the thread run-in with a point, e.g. E5.0",
-                    ));
-                }
-            }
-            'F' => {
-                if lit.negative || lit.milli > 99_999_000 {
-                    diags.push(err(
-                        codes::OUT_OF_RANGE,
-                        file,
-                        src,
-                        w.span,
-                        "F out of range",
-                        "feed is positive, at most 99999",
-                    ));
-                }
-            }
-            _ => {
-                if lit.int_digits > 5 || lit.frac_digits > 3 {
-                    diags.push(err(
-                        codes::OUT_OF_RANGE,
-                        file,
-                        src,
-                        w.span,
-                        format!("{a} value out of range"),
-                        "dimensions have the format ±5.3 (±69999.999)",
-                    ));
-                }
-            }
-        }
-    }
-    if axes > 6 {
-        diags.push(err(
-            codes::TOO_MANY_AXES,
-            file,
-            src,
-            b.span,
-            "more than 6 axis words in a block",
-            "at most 6 axes move in one block",
-        ));
-    }
-    let gl: Vec<i64> = b
-        .words
-        .iter()
-        .filter(|w| w.addr == 'G')
-        .filter_map(|w| {
-            if let Val::Lit(l) = w.val {
-                lit_int(&l)
-            } else {
-                None
-            }
-        })
-        .collect();
-    for g in [71, 72, 73, 79] {
-        if gl.contains(&g) && b.word('L').is_none() {
-            diags.push(err(
-                codes::MISSING_L,
-                file,
-                src,
-                b.span,
-                format!("G{g} needs the address L in the same block"),
-                "write the unit or block number, e.g. `G71 L100`",
-            ));
-        }
-    }
-    if gl.contains(&79) {
-        if let Some(w) = b.words.iter().find(|w| {
-            !(w.addr == 'L' || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == 79_000)))
-        }) {
-            diags.push(err(
-                codes::G79_BLOCK,
-                file,
-                src,
-                w.span,
-                "a G79 block holds only N, G79 and L",
-                "move other words to the next block",
-            ));
-        } else if !b.decls.is_empty() {
-            diags.push(err(
-                codes::G79_BLOCK,
-                file,
-                src,
-                b.span,
-                "a G79 block holds only N, G79 and L",
-                "move declarations to the next block",
-            ));
-        }
-        if let Some(w) = b.word('L') {
-            if matches!(w.val, Val::Param(_)) {
-                diags.push(err(
-                    codes::NOT_PARAMETRISABLE,
-                    file,
-                    src,
-                    w.span,
-                    "the L of G79 cannot be a parameter",
-                    "write the unit number literally",
-                ));
-            }
-        }
-    }
-}
-
-/// Resolves literal jump and call targets and detects recursion.
-fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
-    let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
-    for (bi, b) in prog.blocks.iter().enumerate() {
-        let f = &prog.files[b.file];
-        let (file, src) = (f.name.as_str(), f.text.as_str());
-        let unit = &prog.units[b.unit];
-        let l = b.word('L').and_then(|w| {
-            if let Val::Lit(l) = w.val {
-                lit_int(&l)
-            } else {
-                None
-            }
-        });
-        let gs: Vec<Option<i64>> = b
-            .words
-            .iter()
-            .filter(|w| w.addr == 'G')
-            .map(|w| {
-                if let Val::Lit(l) = w.val {
-                    lit_int(&l)
-                } else {
-                    None
-                }
-            })
-            .collect();
-        let dyn_g = gs.iter().any(Option::is_none);
-        if let Some(l) = l {
-            let l32 = l as u32;
-            if gs.contains(&Some(73))
-                || (dyn_g
-                    && !gs
-                        .iter()
-                        .any(|g| matches!(g, Some(71) | Some(72) | Some(79))))
-            {
-                if !unit.index.contains_key(&l32) {
-                    diags.push(err(
-                        codes::MISSING_BLOCK,
-                        file,
-                        src,
-                        b.span,
-                        format!("jump to N{l}, which is not in this program unit"),
-                        "jumps go to a block of the same main program, subprogram or macro",
-                    ));
-                }
-            }
-            if gs.contains(&Some(71)) {
-                match prog.subs.get(&l32) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
-                    None => diags.push(err(
-                        codes::MISSING_SUBPROGRAM,
-                        file,
-                        src,
-                        b.span,
-                        format!("subprogram L{l} does not exist in this file"),
-                        "subprograms follow M02/M30 as `G79 L<n>` … `G70`",
-                    )),
-                }
-            }
-            if gs.contains(&Some(72)) {
-                match prog.library.get(&l32) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
-                    None => diags.push(err(
-                        codes::MISSING_MACRO,
-                        file,
-                        src,
-                        b.span,
-                        format!("macro L{l} is not in the machine's macro folder"),
-                        "store the macro as file L<n> in the macro folder",
-                    )),
-                }
-            }
-        }
-        for g in gs.iter().flatten() {
-            if (81..=89).contains(g) {
-                match prog.library.get(&(*g as u32)) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
-                    None => diags.push(err(codes::MISSING_MACRO, file, src, b.span, format!("fixed cycle G{g} has no unit L{g} in the macro folder"), "ship the fixed cycles as units G79 L81 … G70 in the machine's macro folder")),
-                }
-            }
-        }
-    }
-    // Recursion: a cycle in the static call graph never terminates.
-    let n = prog.units.len();
-    let mut state = vec![0u8; n];
-    fn dfs(u: usize, edges: &[Vec<(usize, usize)>], state: &mut [u8], hit: &mut Vec<usize>) {
-        state[u] = 1;
-        for &(v, bi) in &edges[u] {
-            if state[v] == 1 {
-                hit.push(bi);
-            } else if state[v] == 0 {
-                dfs(v, edges, state, hit);
-            }
-        }
-        state[u] = 2;
-    }
-    let mut hits = Vec::new();
-    for u in 0..n {
-        if state[u] == 0 {
-            dfs(u, &edges, &mut state, &mut hits);
-        }
-    }
-    // M functions must be declared in IOCFIL section 2: checked in the main file and in every library
-    // unit the program reaches through literal calls (computed calls cannot be followed statically).
-    if prog.machine.check_m_declared {
-        let mut reach = vec![false; n];
-        let mut stack: Vec<usize> = (0..n)
-            .filter(|&u| prog.units[u].kind != UnitKind::Library)
-            .collect();
-        while let Some(u) = stack.pop() {
-            if std::mem::replace(&mut reach[u], true) {
-                continue;
-            }
-            stack.extend(edges[u].iter().map(|e| e.0));
-        }
-        for b in &prog.blocks {
-            if !reach[b.unit] {
-                continue;
-            }
-            let f = &prog.files[b.file];
-            for w in b.words.iter().filter(|w| w.addr == 'M') {
-                if let Val::Lit(l) = w.val {
-                    if let Some(mv) = lit_int(&l).filter(|v| (0..=99).contains(v)) {
-                        if prog.machine.m_timing(mv as u16).is_none() {
-                            diags.push(err(codes::UNDECLARED_M, &f.name, &f.text, w.span, format!("M{mv:02} is not declared for process 1 in IOCFIL section 2"), "declare it as `Mxx=m_type,m_request,class` in IOCFIL section 2, or do not use it"));
-                        }
-                    }
-                }
-            }
-        }
-    }
-    hits.sort_unstable();
-    hits.dedup();
-    for bi in hits {
-        let b = &prog.blocks[bi];
-        let f = &prog.files[b.file];
-        diags.push(err(
-            codes::RECURSION,
-            &f.name,
-            &f.text,
-            b.span,
-            "this call leads back to its own unit: unbounded recursion",
-            "a subprogram or macro must not call itself directly or through other calls",
-        ));
     }
 }
