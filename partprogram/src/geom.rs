@@ -51,6 +51,8 @@ pub struct Geometry {
     /// Independent shift (G37).
     pub shift: [f64; 6],
     offset: [f64; 6],
+    /// Active length correction per axis (method A: `&` digits select data of entry D).
+    pub length: [f64; 6],
 }
 
 impl Geometry {
@@ -65,6 +67,7 @@ impl Geometry {
             scale: 1.0,
             shift: [0.0; 6],
             offset: [0.0; 6],
+            length: [0.0; 6],
         }
     }
 
@@ -80,7 +83,7 @@ impl Geometry {
 
     fn refresh_prog(&mut self) {
         for i in 0..self.axes.len() {
-            self.prog[i] = self.inv(i, self.machine[i] - self.offset[i]);
+            self.prog[i] = self.inv(i, self.machine[i] - self.offset[i] - self.length[i]);
         }
     }
 
@@ -137,7 +140,7 @@ impl Geometry {
         let off = st.offsets[t.offset.min(6)];
         for i in 0..self.axes.len() {
             if t.axes[i].is_some() {
-                self.machine[i] = self.fwd(i, p[i]) + off[i];
+                self.machine[i] = self.fwd(i, p[i]) + off[i] + self.length[i];
             }
         }
         self.refresh_prog();
@@ -198,8 +201,8 @@ impl Geometry {
         }
         let off = st.offsets[t.offset.min(6)];
         let center = vec![
-            (a1, self.fwd(i1, c1) + off[i1]),
-            (a2, self.fwd(i2, c2) + off[i2]),
+            (a1, self.fwd(i1, c1) + off[i1] + self.length[i1]),
+            (a2, self.fwd(i2, c2) + off[i2] + self.length[i2]),
         ];
         let mirrored = self.mirror[i1] != self.mirror[i2];
         let a0 = ((start[i2] - c2) * half(i2)).atan2((start[i1] - c1) * half(i1));
@@ -211,6 +214,23 @@ impl Geometry {
             mirrored,
             sweep_cw,
         })
+    }
+
+    /// Sets the length correction (method A): digit k of `amp` (thousands = axis 1 … units = axis 4)
+    /// 0 none, 1 add, 2 subtract datum k of correction `entry` ([radius, axis 1, …, axis 4]).
+    pub fn set_length(&mut self, amp: i64, entry: &[f64; 5]) {
+        for k in 0..4 {
+            let digit = (amp / 10i64.pow(3 - k as u32)) % 10;
+            let v = entry[k + 1];
+            if k < self.axes.len() {
+                self.length[k] = match digit {
+                    1 => v,
+                    2 => -v,
+                    _ => 0.0,
+                };
+            }
+        }
+        self.refresh_prog();
     }
 
     /// Moves axis `i` by `delta` mm (the towed axis of a helix).

@@ -448,3 +448,56 @@ fn thread_feed_is_lead_times_speed() {
         (Kind::Linear, true, Some(300.0))
     );
 }
+
+#[test]
+fn f26_f29_f30_length_correction_method_a() {
+    let p = plan(
+        "%1\nN1 G92 D1 R1=125.0 R2=80.0\nN2 G0 X0 Y0 &1000\nN3 X0 Y0 &100\nN4 G92 D2 R1=80.0 R2=50.0 R3=-5.0\nN5 X0 Y0 Z0 &2201 D2\nN6 X0 Y0 Z0 &0\nN7 M30\n",
+    );
+    let m: Vec<(f64, f64, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.kind == Kind::Rapid)
+        .map(xyz)
+        .collect();
+    assert_eq!(
+        m,
+        vec![
+            (125.0, 0.0, 0.0),
+            (0.0, 80.0, 0.0),
+            (-80.0, -50.0, 0.0),
+            (0.0, 0.0, 0.0)
+        ]
+    );
+}
+
+#[test]
+fn g35_g36_g37_transformations() {
+    let sub = "N1000 G79 L100\nN1010 G01 X0 Y0\nN1020 G01 X30 Y20\nN1030 G02 X50 Y24.849 I16.641 J-24.962\nN1040 G70\n";
+    let p = plan(&format!(
+        "%1\nN10 X0 Y0 F500\nN20 G71 L100\nN30 G35 Y0\nN40 G71 L100\nN50 G35\nN55 G36 X1.54 Y3.08\nN60 G71 L100\nN65 G36\nN66 G37 X100\nN70 G71 L100\nN99 M30\n{sub}"
+    ));
+    let arcs: Vec<(Kind, f64, f64, f64, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| matches!(c.kind, Kind::ArcCw | Kind::ArcCcw))
+        .map(|c| {
+            (
+                c.kind,
+                end(c, 'X'),
+                end(c, 'Y'),
+                um(c.center[0].1),
+                um(c.center[1].1),
+            )
+        })
+        .collect();
+    assert_eq!(
+        arcs,
+        vec![
+            (Kind::ArcCw, 50.0, 24.849, 46.641, -4.962),
+            (Kind::ArcCcw, 50.0, -24.849, 46.641, 4.962),
+            (Kind::ArcCw, 25.0, 12.425, 23.321, -2.481),
+            (Kind::ArcCw, 150.0, 24.849, 146.641, -4.962),
+        ]
+    );
+}

@@ -197,6 +197,11 @@ impl Exec<'_> {
         if let Some(a) = amp {
             self.modal.amp = a;
         }
+        if (amp.is_some() || d.is_some()) && !g92 {
+            let e = usize::try_from(self.modal.d).unwrap_or(0).min(99);
+            let entry = self.st.corrections[e];
+            self.geo.set_length(self.modal.amp, &entry);
+        }
         let mut mfuncs: Vec<MFunc> = Vec::with_capacity(ms.len());
         let mut end_program = false;
         for &m in &ms {
