@@ -501,3 +501,58 @@ fn g35_g36_g37_transformations() {
         ]
     );
 }
+
+#[test]
+fn lathe_g83_deep_hole_drilling_retracts_to_ra() {
+    let p = run(
+        &lathe(),
+        "%1\nN1 G0 X0 Z10\nN2 R26=100 R28=8. R30=5. R31=-20.\nN3 G83\nN4 G80\nN5 M30\n",
+        PlanOptions::default(),
+    );
+    assert_eq!(
+        drill_moves(&p, "L83"),
+        vec![
+            (Kind::Rapid, 5.0),
+            (Kind::Linear, -3.0),
+            (Kind::Rapid, 5.0),
+            (Kind::Rapid, -2.0),
+            (Kind::Linear, -11.0),
+            (Kind::Rapid, 5.0),
+            (Kind::Rapid, -10.0),
+            (Kind::Linear, -19.0),
+            (Kind::Rapid, 5.0),
+            (Kind::Rapid, -18.0),
+            (Kind::Linear, -20.0),
+            (Kind::Rapid, 5.0),
+        ]
+    );
+}
+
+#[test]
+fn lathe_g82_facing_roughing_first_cuts() {
+    let p = run(
+        &lathe(),
+        "%1\nN1 G0 X100 Z2\nN2 R24=-2. R25=-2. R26=150 R27=0 R28=2. R29=1. R30=-40. R31=-6.\nN3 G82\nN4 G80\nN5 M30\n",
+        PlanOptions::default(),
+    );
+    let cyc: Vec<(Kind, f64, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.unit.as_deref() == Some("L82"))
+        .map(|c| (c.kind, end(c, 'X'), end(c, 'Z')))
+        .collect();
+    // Zw = 0, first cut Z = -2, Xw = 98, X end = 58 shortened by 1 per cut.
+    assert_eq!(
+        &cyc[..4],
+        &[
+            (Kind::Linear, 100.0, -2.0),
+            (Kind::Linear, 59.0, -2.0),
+            (Kind::Linear, 59.0, 2.0),
+            (Kind::Rapid, 100.0, 2.0)
+        ]
+    );
+    assert_eq!(
+        &cyc[4..6],
+        &[(Kind::Linear, 100.0, -4.0), (Kind::Linear, 60.0, -4.0)]
+    );
+}
