@@ -257,6 +257,18 @@ impl Gen<'_, '_> {
         self.b.switch_to_block(cont);
     }
 
+    /// `x / 1000` truncated toward zero without a division instruction: the high half of
+    /// `x · ⌈2^71 / 1000⌉`, shifted right by 7, plus one for negative `x` (exact for every i64).
+    fn div1000(&mut self, x: Value) -> Value {
+        let m = self.c(0x20C4_9BA5_E353_F7CF);
+        let hi = self.b.ins().smulhi(x, m);
+        let seven = self.c(7);
+        let q = self.b.ins().sshr(hi, seven);
+        let sixty_three = self.c(63);
+        let sign = self.b.ins().ushr(x, sixty_three);
+        self.b.ins().iadd(q, sign)
+    }
+
     fn fits32(&mut self, v: Value) -> Value {
         let narrow = self.b.ins().ireduce(types::I32, v);
         let wide = self.b.ins().sextend(types::I64, narrow);
@@ -318,10 +330,7 @@ impl Gen<'_, '_> {
                         let k = self.c(1000);
                         self.b.ins().imul(x, k)
                     }
-                    24 => {
-                        let k = self.c(1000);
-                        self.b.ins().sdiv(x, k)
-                    }
+                    24 => self.div1000(x),
                     41 | 42 => {
                         let step = i64::from(if w.b == 0 { 1 } else { w.b });
                         let k = self.c(if w.raw { step } else { step * 1000 });
@@ -332,8 +341,9 @@ impl Gen<'_, '_> {
                         }
                     }
                     _ => {
-                        let two = self.c(2);
-                        let rem = self.b.ins().srem(x, two);
+                        // x % 2 != 0 ⟺ the lowest bit is set (two's complement).
+                        let one = self.c(1);
+                        let rem = self.b.ins().band(x, one);
                         let zero = self.c(0);
                         let cc = if w.op == 46 {
                             IntCC::NotEqual
@@ -372,12 +382,7 @@ impl Gen<'_, '_> {
                 self.b.ins().jump(join, &[]);
                 self.b.switch_to_block(fast);
                 let p = self.b.ins().imul(x, y);
-                let v = if w.raw {
-                    p
-                } else {
-                    let k = self.c(1000);
-                    self.b.ins().sdiv(p, k)
-                };
+                let v = if w.raw { p } else { self.div1000(p) };
                 self.store_fit(w.c, v);
                 self.b.ins().jump(join, &[]);
                 self.b.switch_to_block(join);
