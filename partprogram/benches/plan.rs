@@ -9,7 +9,9 @@ use partprogram::{Backend, Dialect, DoublePrecision, MachineSpec, PlanOptions, c
 
 fn cam_program(blocks: usize) -> String {
     let mut s = String::with_capacity(blocks * 40);
-    s.push_str("%1 \"generated CAM program\"\nN1 G54 G90 G17 G00 X0 Y0 Z5 M03 S2000\nN2 G01 Z-1 F800\n");
+    s.push_str(
+        "%1 \"generated CAM program\"\nN1 G54 G90 G17 G00 X0 Y0 Z5 M03 S2000\nN2 G01 Z-1 F800\n",
+    );
     let (mut px, mut py) = (0.0f64, 0.0f64);
     let r3 = |v: f64| (v * 1000.0).round() / 1000.0;
     let mut n = 3;
