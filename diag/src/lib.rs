@@ -74,16 +74,32 @@ pub struct Diagnostic {
 
 impl Diagnostic {
     /// An error with `code` at byte `span` of `file`; line and column are filled in by [`Diagnostic::locate`].
-    pub fn error(code: u32, file: impl Into<String>, span: Range<usize>, message: impl Into<String>) -> Self {
+    pub fn error(
+        code: u32,
+        file: impl Into<String>,
+        span: Range<usize>,
+        message: impl Into<String>,
+    ) -> Self {
         Self::new(Severity::Error, code, file, span, message)
     }
 
     /// A warning with `code` at byte `span` of `file`.
-    pub fn warning(code: u32, file: impl Into<String>, span: Range<usize>, message: impl Into<String>) -> Self {
+    pub fn warning(
+        code: u32,
+        file: impl Into<String>,
+        span: Range<usize>,
+        message: impl Into<String>,
+    ) -> Self {
         Self::new(Severity::Warning, code, file, span, message)
     }
 
-    fn new(severity: Severity, code: u32, file: impl Into<String>, span: Range<usize>, message: impl Into<String>) -> Self {
+    fn new(
+        severity: Severity,
+        code: u32,
+        file: impl Into<String>,
+        span: Range<usize>,
+        message: impl Into<String>,
+    ) -> Self {
         Diagnostic {
             code,
             severity,
@@ -150,7 +166,11 @@ impl Diagnostic {
 impl fmt::Display for Diagnostic {
     /// `file:line:column: error[E0012]: message`, the compact one-line form.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}:{}:{}: {}[E{:04}]: {}", self.file, self.line, self.column, self.severity, self.code, self.message)
+        write!(
+            f,
+            "{}:{}:{}: {}[E{:04}]: {}",
+            self.file, self.line, self.column, self.severity, self.code, self.message
+        )
     }
 }
 
@@ -165,7 +185,10 @@ pub fn line_column(source: &str, offset: usize) -> (u32, u32) {
     let line = before.matches('\n').count() + 1;
     let line_start = before.rfind('\n').map_or(0, |i| i + 1);
     let column = source[line_start..offset].chars().count() + 1;
-    (u32::try_from(line).unwrap_or(u32::MAX), u32::try_from(column).unwrap_or(u32::MAX))
+    (
+        u32::try_from(line).unwrap_or(u32::MAX),
+        u32::try_from(column).unwrap_or(u32::MAX),
+    )
 }
 
 /// True when any diagnostic is an error.
@@ -259,13 +282,21 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
     let warnings = diagnostics.len() - errors;
     let mut text = String::from_utf8_lossy(&out.into_inner()).into_owned();
     if !diagnostics.is_empty() {
-        text.push_str(&format!("{}, {}\n", plural(errors, "error"), plural(warnings, "warning")));
+        text.push_str(&format!(
+            "{}, {}\n",
+            plural(errors, "error"),
+            plural(warnings, "warning")
+        ));
     }
     text
 }
 
 fn plural(n: usize, word: &str) -> String {
-    if n == 1 { format!("1 {word}") } else { format!("{n} {word}s") }
+    if n == 1 {
+        format!("1 {word}")
+    } else {
+        format!("{n} {word}s")
+    }
 }
 
 #[cfg(test)]
@@ -310,7 +341,10 @@ mod tests {
             .with_hint("K connectors are 0..255")
             .locate(src);
         let text = render_human(&[d], &sources);
-        assert!(text.contains("error[E1003]: connector 999 is out of range"), "{text}");
+        assert!(
+            text.contains("error[E1003]: connector 999 is out of range"),
+            "{text}"
+        );
         assert!(text.contains("PLCPRG:2:2"), "{text}");
         assert!(text.contains("U999K0=I0K2"), "{text}");
         assert!(text.contains("^^^"), "{text}");

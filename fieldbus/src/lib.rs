@@ -1,1 +1,250 @@
 //! Packet-A I/O over Modbus TCP (client and HMI server) and CANopen (SocketCAN, virtual bus, cannelloni UDP).
+//!
+//! The runtime's scan loop talks to every driver through [`packets::PacketIo`]. This crate reads the
+//! machine's I/O map (`<machine>/io.toml`, [`map`] and [`validate`]), and [`open`] starts the driver the
+//! command line chose: the Modbus TCP remote-I/O client ([`modbus::client`]) or the CANopen master
+//! ([`canopen::master`]). [`start_hmi`] wraps any driver (the simulated one too) with the Modbus TCP
+//! server for an HMI or SCADA ([`modbus::server`]). Drivers never block the scan: their network tasks
+//! run on a private tokio runtime and exchange images through lock-free buffers ([`exchange`]).
+//!
+//! # Wiring it into `ncplc run`
+//! ```no_run
+//! use std::path::Path;
+//! use fieldbus::{DeclaredConnectors, IoKind};
+//!
+//! let machine = Path::new("plc-programs/lathe");
+//! // From IOCFIL: INx → inputs, OUx → outputs.
+//! let declared = DeclaredConnectors { inputs: vec![0, 1], outputs: vec![4, 5] };
+//! let kind: IoKind = "modbus".parse().expect("sim | modbus | canopen");
+//! let io = fieldbus::open(kind, machine, &declared).map_err(|diags| diags.len()).expect("valid map");
+//! // Optional HMI/SCADA server around any driver (returns `io` unchanged without `[hmi]`).
+//! let mut io = fieldbus::start_hmi(machine, &declared, io).map_err(|d| d.len()).expect("hmi");
+//! let mut image = vec![0u8; packets::PACKETS_LEN];
+//! for tick in 0..3 {
+//!     io.latch_inputs(tick, &mut image);
+//!     // … scan …
+//!     io.publish_outputs(tick, &image);
+//!     for alarm in io.take_alarms() {
+//!         eprintln!("{}: {}", alarm.device, alarm.message);
+//!     }
+//! }
+//! io.safe_state();
+//! ```
+
+pub mod canopen;
+pub mod exchange;
+pub mod health;
+pub mod map;
+pub mod modbus;
+pub mod validate;
+
+use std::fmt;
+use std::path::Path;
+use std::str::FromStr;
+
+use diag::Diagnostic;
+use packets::PacketIo;
+
+pub use map::{DeclaredConnectors, IoMap};
+pub use validate::{codes, load_map, parse_map};
+
+/// Which packet-A I/O `ncplc run --io` uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum IoKind {
+    /// The runtime's built-in simulated I/O (the default; needs no map).
+    #[default]
+    Sim,
+    /// Modbus TCP remote I/O as described by `[[modbus.device]]` in `io.toml`.
+    Modbus,
+    /// A CANopen master as described by `[canopen]` in `io.toml`.
+    Canopen,
+}
+
+impl IoKind {
+    /// The names `--io` accepts, in order.
+    pub const NAMES: [&'static str; 3] = ["sim", "modbus", "canopen"];
+}
+
+impl fmt::Display for IoKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            IoKind::Sim => "sim",
+            IoKind::Modbus => "modbus",
+            IoKind::Canopen => "canopen",
+        })
+    }
+}
+
+/// The text given to `--io` is not one of [`IoKind::NAMES`].
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("unknown I/O kind `{0}` (expected sim, modbus or canopen)")]
+pub struct IoKindError(pub String);
+
+impl FromStr for IoKind {
+    type Err = IoKindError;
+
+    /// Parses `sim`, `modbus` or `canopen` (case-insensitive); works as a clap value parser.
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "sim" => Ok(IoKind::Sim),
+            "modbus" => Ok(IoKind::Modbus),
+            "canopen" => Ok(IoKind::Canopen),
+            _ => Err(IoKindError(s.to_string())),
+        }
+    }
+}
+
+fn whole_file(code: u32, message: String, hint: &str) -> Vec<Diagnostic> {
+    vec![Diagnostic::error(code, "io.toml", 0..0, message).with_hint(hint)]
+}
+
+/// Reads and validates `<machine_dir>/io.toml` and starts the driver for `kind`.
+///
+/// `declared` are the packet-A connectors IOCFIL declares (`INx`, `OUx`); mappings onto other
+/// connectors are errors. Warnings of a valid map are dropped here (`load_map` returns them, for
+/// `ncplc check`). [`IoKind::Sim`] is an error (code 3099): the runtime owns the simulated I/O.
+pub fn open(
+    kind: IoKind,
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+    if kind == IoKind::Sim {
+        return Err(whole_file(
+            codes::SIM,
+            "the simulated I/O is built into the runtime, not the fieldbus crate".into(),
+            "call fieldbus::open only for --io modbus or --io canopen",
+        ));
+    }
+    let (map, diags) = load_map(machine_dir, declared);
+    let Some(map) = map else { return Err(diags) };
+    open_map(kind, &map)
+}
+
+/// Starts the driver for `kind` from an already validated map.
+pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+    let start_err = |e: std::io::Error| {
+        whole_file(
+            codes::START,
+            format!("the {kind} driver cannot start: {e}"),
+            "check the addresses and interfaces in io.toml",
+        )
+    };
+    match kind {
+        IoKind::Sim => Err(whole_file(
+            codes::SIM,
+            "the simulated I/O is built into the runtime".into(),
+            "",
+        )),
+        IoKind::Modbus => {
+            if map.modbus.is_empty() {
+                return Err(whole_file(
+                    codes::NO_DEVICES,
+                    "io.toml defines no Modbus device".into(),
+                    "add a [[modbus.device]] table",
+                ));
+            }
+            let io = modbus::client::ModbusIo::start(&map.modbus).map_err(start_err)?;
+            Ok(Box::new(io))
+        }
+        IoKind::Canopen => {
+            let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
+                return Err(whole_file(
+                    codes::NO_DEVICES,
+                    "io.toml defines no CANopen node".into(),
+                    "add a [canopen] table with [[canopen.node]] entries",
+                ));
+            };
+            let io = start_canopen(cfg).map_err(start_err)?;
+            Ok(Box::new(io))
+        }
+    }
+}
+
+/// Starts the CANopen master on the configured transport. The `virtual` transport also starts one
+/// simulated CiA 401 node per configured node on the same in-process bus (a demo without hardware).
+pub fn start_canopen(cfg: &map::CanopenConfig) -> std::io::Result<canopen::master::CanopenIo> {
+    use canopen::master::CanopenIo;
+    match &cfg.transport {
+        map::TransportConfig::Virtual => {
+            let ids: Vec<u8> = cfg.nodes.iter().map(|n| n.node_id).collect();
+            CanopenIo::start(cfg, move || async move {
+                let bus = canopen::virtual_bus::VirtualBus::new();
+                for id in ids {
+                    // The node lives as long as the master's runtime.
+                    std::mem::forget(canopen::node_sim::Cia401Node::spawn(bus.port(), id));
+                }
+                Ok(bus.port())
+            })
+        }
+        map::TransportConfig::SocketCan { interface } => {
+            let name = interface.clone();
+            CanopenIo::start(cfg, move || async move {
+                canopen::socketcan_bus::SocketCanBus::open(&name)
+            })
+        }
+        map::TransportConfig::Cannelloni { local, remote } => {
+            let (l, r) = (*local, *remote);
+            CanopenIo::start(cfg, move || canopen::cannelloni::UdpBus::bind(l, r))
+        }
+    }
+}
+
+/// Wraps `inner` with the HMI/SCADA Modbus TCP server when `<machine_dir>/io.toml` has an `[hmi]`
+/// table; returns `inner` unchanged when there is no `io.toml` or no `[hmi]`.
+pub fn start_hmi(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+    inner: Box<dyn PacketIo>,
+) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+    if !machine_dir.join("io.toml").is_file() {
+        return Ok(inner);
+    }
+    let (map, diags) = load_map(machine_dir, declared);
+    let Some(map) = map else { return Err(diags) };
+    let Some(cfg) = map.hmi else { return Ok(inner) };
+    match modbus::server::HmiIo::start(inner, &cfg) {
+        Ok(h) => Ok(Box::new(h)),
+        Err(e) => Err(whole_file(
+            codes::START,
+            format!("the HMI server cannot listen on {}: {e}", cfg.bind),
+            "choose a free address with [hmi] bind = \"127.0.0.1:1502\"",
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn io_kind_parses_and_prints_the_cli_names() {
+        for name in IoKind::NAMES {
+            assert_eq!(name.parse::<IoKind>().expect("known").to_string(), name);
+        }
+        assert_eq!("MODBUS".parse::<IoKind>(), Ok(IoKind::Modbus));
+        assert_eq!("can".parse::<IoKind>(), Err(IoKindError("can".into())));
+        assert_eq!(IoKind::default(), IoKind::Sim);
+    }
+
+    #[test]
+    fn open_sim_is_refused_with_its_code() {
+        let err = open(
+            IoKind::Sim,
+            Path::new("/nonexistent"),
+            &DeclaredConnectors::default(),
+        )
+        .err()
+        .expect("refused");
+        assert_eq!(err[0].code, codes::SIM);
+    }
+
+    #[test]
+    fn open_without_a_map_reports_the_missing_file() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let err = open(IoKind::Modbus, dir.path(), &DeclaredConnectors::default())
+            .err()
+            .expect("no map");
+        assert_eq!(err.len(), 1);
+        assert_eq!(err[0].code, codes::UNREADABLE);
+    }
+}

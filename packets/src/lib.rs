@@ -151,8 +151,12 @@ impl Signal {
     /// Byte offset inside the packet.
     pub fn packet_byte(&self) -> usize {
         match *self {
-            Signal::Bit { connector, contact, .. } => connector as usize * 4 + contact as usize / 8,
-            Signal::Byte { connector, index, .. } => connector as usize * 4 + index as usize,
+            Signal::Bit {
+                connector, contact, ..
+            } => connector as usize * 4 + contact as usize / 8,
+            Signal::Byte {
+                connector, index, ..
+            } => connector as usize * 4 + index as usize,
         }
     }
 
@@ -181,7 +185,9 @@ impl Signal {
     /// Writes `value` (a bit uses only `value != 0`) into a flat image; out-of-range is ignored.
     pub fn write(&self, image: &mut [u8], value: u8) {
         let at = self.image_byte();
-        let Some(byte) = image.get_mut(at) else { return };
+        let Some(byte) = image.get_mut(at) else {
+            return;
+        };
         match self.bit() {
             Some(bit) => {
                 if value != 0 {
@@ -199,11 +205,20 @@ impl fmt::Display for Signal {
     /// The canonical text form: `I0A5`, `U10K0`, `W3K0`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Signal::Bit { dir, packet, connector, contact } => {
+            Signal::Bit {
+                dir,
+                packet,
+                connector,
+                contact,
+            } => {
                 let d = if dir == Dir::In { 'I' } else { 'U' };
                 write!(f, "{d}{connector}{}{contact}", packet.letter())
             }
-            Signal::Byte { packet, connector, index } => write!(f, "W{connector}{}{index}", packet.letter()),
+            Signal::Byte {
+                packet,
+                connector,
+                index,
+            } => write!(f, "W{connector}{}{index}", packet.letter()),
         }
     }
 }
@@ -247,36 +262,57 @@ impl FromStr for Signal {
         let mut chars = up.chars();
         let kind = chars.next().ok_or_else(syntax)?;
         let rest: &str = chars.as_str();
-        let digits_end = rest.find(|c: char| !c.is_ascii_digit()).ok_or_else(syntax)?;
+        let digits_end = rest
+            .find(|c: char| !c.is_ascii_digit())
+            .ok_or_else(syntax)?;
         if kind == 'S' {
             if digits_end != 0 {
                 return Err(syntax());
             }
-            let packet = rest.chars().next().and_then(Packet::from_letter).ok_or_else(syntax)?;
+            let packet = rest
+                .chars()
+                .next()
+                .and_then(Packet::from_letter)
+                .ok_or_else(syntax)?;
             let num = &rest[1..];
             if num.is_empty() || !num.bytes().all(|b| b.is_ascii_digit()) {
                 return Err(syntax());
             }
             let b: u32 = num.parse().map_err(|_| syntax())?;
             if b as usize >= packet.len() {
-                return Err(SignalError::ByteIndex { index: b, max: packet.len() - 1 });
+                return Err(SignalError::ByteIndex {
+                    index: b,
+                    max: packet.len() - 1,
+                });
             }
             let b = b as usize;
-            return Ok(Signal::Byte { packet, connector: (b / 4) as u16, index: (b % 4) as u8 });
+            return Ok(Signal::Byte {
+                packet,
+                connector: (b / 4) as u16,
+                index: (b % 4) as u8,
+            });
         }
         if digits_end == 0 {
             return Err(syntax());
         }
         let connector: u32 = rest[..digits_end].parse().map_err(|_| syntax())?;
         let tail = &rest[digits_end..];
-        let packet = tail.chars().next().and_then(Packet::from_letter).ok_or_else(syntax)?;
+        let packet = tail
+            .chars()
+            .next()
+            .and_then(Packet::from_letter)
+            .ok_or_else(syntax)?;
         let num = &tail[1..];
         if num.is_empty() || !num.bytes().all(|b| b.is_ascii_digit()) {
             return Err(syntax());
         }
         let n: u32 = num.parse().map_err(|_| syntax())?;
         if connector >= u32::from(packet.connectors()) {
-            return Err(SignalError::Connector { packet, connector, max: packet.connectors() - 1 });
+            return Err(SignalError::Connector {
+                packet,
+                connector,
+                max: packet.connectors() - 1,
+            });
         }
         let connector = connector as u16;
         match kind {
@@ -285,13 +321,22 @@ impl FromStr for Signal {
                     return Err(SignalError::Contact(n));
                 }
                 let dir = if kind == 'I' { Dir::In } else { Dir::Out };
-                Ok(Signal::Bit { dir, packet, connector, contact: n as u8 })
+                Ok(Signal::Bit {
+                    dir,
+                    packet,
+                    connector,
+                    contact: n as u8,
+                })
             }
             'W' => {
                 if n > 3 {
                     return Err(SignalError::ByteIndex { index: n, max: 3 });
                 }
-                Ok(Signal::Byte { packet, connector, index: n as u8 })
+                Ok(Signal::Byte {
+                    packet,
+                    connector,
+                    index: n as u8,
+                })
             }
             _ => Err(syntax()),
         }
@@ -330,12 +375,31 @@ mod tests {
 
     #[test]
     fn out_of_range_names_are_rejected_with_the_reason() {
-        assert_eq!("U32A0".parse::<Signal>(), Err(SignalError::Connector { packet: Packet::A, connector: 32, max: 31 }));
+        assert_eq!(
+            "U32A0".parse::<Signal>(),
+            Err(SignalError::Connector {
+                packet: Packet::A,
+                connector: 32,
+                max: 31
+            })
+        );
         assert_eq!("I0K32".parse::<Signal>(), Err(SignalError::Contact(32)));
-        assert_eq!("W0T4".parse::<Signal>(), Err(SignalError::ByteIndex { index: 4, max: 3 }));
-        assert_eq!("ST64".parse::<Signal>(), Err(SignalError::ByteIndex { index: 64, max: 63 }));
-        assert!(matches!("X1K0".parse::<Signal>(), Err(SignalError::Syntax(_))));
-        assert!(matches!("U1K".parse::<Signal>(), Err(SignalError::Syntax(_))));
+        assert_eq!(
+            "W0T4".parse::<Signal>(),
+            Err(SignalError::ByteIndex { index: 4, max: 3 })
+        );
+        assert_eq!(
+            "ST64".parse::<Signal>(),
+            Err(SignalError::ByteIndex { index: 64, max: 63 })
+        );
+        assert!(matches!(
+            "X1K0".parse::<Signal>(),
+            Err(SignalError::Syntax(_))
+        ));
+        assert!(matches!(
+            "U1K".parse::<Signal>(),
+            Err(SignalError::Syntax(_))
+        ));
     }
 
     #[test]

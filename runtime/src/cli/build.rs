@@ -1,17 +1,154 @@
-//! `ncplc build`.
+//! `ncplc build <machine-dir> [--plc FILE]`: compiles the machine's PLC program.
+//!
+//! Prints every diagnostic rustc-style (default) or as one JSON object per line (`--format json`,
+//! the fields of `ncplc check`), then a one-line summary (statements, image size, compile time).
+//! With `--format json` the summary goes to stderr, so that stdout holds only JSON lines.
+//! `--emit ir` prints the lowered IR as JSON, `--emit clif` the cranelift IR of the JIT; the
+//! diagnostics and the summary then go to stderr. Exit code 0 when the program compiles, 1 on errors, 2 when the
+//! machine or the source cannot be read.
+//!
+//! The PLC source is `--plc FILE`, else the file FCRSYS section 2 binds to `PLCSRC`, else
+//! `MP0/PLCPRG`.
 
+use std::io::Write;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::time::Instant;
+
+use compiler::MachineContext;
+
+use crate::machine_facts::{Facts, MachineError};
+
+/// Output format of the diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// rustc-style with the source line and the span marked.
+    Human,
+    /// One JSON object per line per diagnostic.
+    Json,
+}
+
+/// What `--emit` prints.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Emit {
+    /// The lowered IR program as JSON.
+    Ir,
+    /// The cranelift IR of the JIT-compiled scan functions.
+    Clif,
+}
 
 /// Arguments of `ncplc build`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Arguments not yet defined.
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+    /// The machine directory (holding FCRSYS and MP0/).
+    pub machine_dir: PathBuf,
+    /// The PLC source (default: FCRSYS `PLCSRC`, else MP0/PLCPRG).
+    #[arg(long)]
+    pub plc: Option<PathBuf>,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+    /// Print the IR or the cranelift IR instead of only checking.
+    #[arg(long, value_enum)]
+    pub emit: Option<Emit>,
+}
+
+/// The compiler's view of the machine in `dir` and its default PLC source (FCRSYS `PLCSRC`, else
+/// `MP0/PLCPRG`), from the validated characterization.
+pub fn machine_context(dir: &Path) -> Result<(MachineContext, PathBuf), MachineError> {
+    let facts = Facts::load(dir)?;
+    Ok((facts.compiler_context()?, facts.plc_source().to_path_buf()))
 }
 
 /// Runs `ncplc build`.
-pub fn run(_args: Args) -> ExitCode {
-    eprintln!("ncplc build: not built yet");
-    ExitCode::from(2)
+pub fn run(args: Args) -> ExitCode {
+    let started = Instant::now();
+    let (ctx, default_source) = match machine_context(&args.machine_dir) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("ncplc build: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let path = args.plc.clone().unwrap_or(default_source);
+    let bytes = match std::fs::read(&path) {
+        Ok(b) => b,
+        Err(e) => {
+            eprintln!("ncplc build: cannot read {}: {e}", path.display());
+            return ExitCode::from(2);
+        }
+    };
+    let name = path
+        .strip_prefix(&args.machine_dir)
+        .unwrap_or(&path)
+        .display()
+        .to_string();
+    let c = compiler::compile(&name, &bytes, &ctx);
+    let mut emitted = None;
+    let mut diagnostics = c.diagnostics.clone();
+    if let (Some(emit), Some(p)) = (args.emit, &c.program) {
+        emitted = Some(match emit {
+            Emit::Ir => {
+                serde_json::to_string_pretty(p).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+            }
+            Emit::Clif => match compiler::jit::emit_clif(p) {
+                Ok(text) => text,
+                Err(e) => {
+                    diagnostics.push(diag::Diagnostic::error(
+                        compiler::sema::codes::LOWERING,
+                        &name,
+                        0..0,
+                        format!("JIT failed: {e}"),
+                    ));
+                    String::new()
+                }
+            },
+        });
+    }
+    let mut sources = diag::Sources::new();
+    sources.add(name.clone(), c.text.clone());
+    let report = match args.format {
+        Format::Human => diag::render_human(&diagnostics, &sources),
+        Format::Json => diagnostics
+            .iter()
+            .map(|d| d.to_json_line() + "\n")
+            .collect(),
+    };
+    let ok = c.program.is_some() && !diag::has_errors(&diagnostics);
+    let summary = if ok {
+        format!(
+            "{name}: {} statements, {} symbolic names, image {} bytes, {} SLOW slices, compiled in {:.1} ms",
+            c.stats.statements,
+            c.stats.symbolic_names,
+            c.stats.image_size,
+            c.stats.slow_slices,
+            started.elapsed().as_secs_f64() * 1000.0
+        )
+    } else {
+        format!(
+            "{name}: not compiled ({} errors)",
+            diagnostics.iter().filter(|d| d.is_error()).count()
+        )
+    };
+    let mut out = std::io::stdout().lock();
+    let written = match (&emitted, args.format) {
+        (Some(text), _) => {
+            eprint!("{report}");
+            eprintln!("{summary}");
+            writeln!(out, "{text}")
+        }
+        (None, Format::Human) => write!(out, "{report}").and_then(|_| writeln!(out, "{summary}")),
+        (None, Format::Json) => {
+            eprintln!("{summary}");
+            write!(out, "{report}")
+        }
+    };
+    if written.is_err() {
+        return ExitCode::from(2);
+    }
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(1)
+    }
 }

@@ -1,17 +1,66 @@
-//! `ncplc check`.
+//! `ncplc check <machine-dir>`: reads and validates a machine's characterization files.
+//!
+//! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
+//! (`--format json`), and exits 1 when there is any error, 0 otherwise. `--dump` prints the typed
+//! model as JSON on stdout instead (diagnostics then go to stderr).
 
+use std::io::Write;
+use std::path::PathBuf;
 use std::process::ExitCode;
+
+/// Output format of the diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// rustc-style with the source line and the span marked.
+    Human,
+    /// One JSON object per line per diagnostic.
+    Json,
+}
 
 /// Arguments of `ncplc check`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Arguments not yet defined.
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+    /// The machine directory (holding FCRSYS).
+    pub machine_dir: PathBuf,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+    /// Print the typed model as JSON (diagnostics go to stderr).
+    #[arg(long)]
+    pub dump: bool,
+}
+
+/// Renders the diagnostics of `load` in `format`.
+pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
+    match format {
+        Format::Human => diag::render_human(&load.diagnostics, &load.sources),
+        Format::Json => load
+            .diagnostics
+            .iter()
+            .map(|d| d.to_json_line() + "\n")
+            .collect(),
+    }
 }
 
 /// Runs `ncplc check`.
-pub fn run(_args: Args) -> ExitCode {
-    eprintln!("ncplc check: not built yet");
-    ExitCode::from(2)
+pub fn run(args: Args) -> ExitCode {
+    let load = characterization::load_machine(&args.machine_dir);
+    let report = render(&load, args.format);
+    let mut out = std::io::stdout().lock();
+    let written = if args.dump {
+        eprint!("{report}");
+        let model = serde_json::to_string_pretty(&load.machine)
+            .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"));
+        writeln!(out, "{model}")
+    } else {
+        write!(out, "{report}")
+    };
+    if written.is_err() {
+        return ExitCode::from(2);
+    }
+    if load.has_errors() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
 }

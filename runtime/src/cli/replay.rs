@@ -1,17 +1,110 @@
-//! `ncplc replay`.
+//! `ncplc replay`: re-apply a trace's inputs in virtual time and compare the outputs.
+//!
+//! Exit 0 when identical, 1 with a divergence report otherwise, 2 on errors. `--update`
+//! rewrites the trace's expectations with what the program produces now.
 
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::process::ExitCode;
+
+use crate::compiled::EngineKind;
+use crate::machine::Machine;
+use crate::replay::replay;
+use crate::trace::{Trace, binary};
 
 /// Arguments of `ncplc replay`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Arguments not yet defined.
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+    /// The machine directory.
+    pub machine: PathBuf,
+    /// The trace (text or binary).
+    pub trace: PathBuf,
+    /// The engine.
+    #[arg(long, value_enum, default_value = "jit")]
+    pub engine: EngineKind,
+    /// Use this PLC source instead of the machine's.
+    #[arg(long)]
+    pub plc: Option<PathBuf>,
+    /// Rewrite the trace's outputs with the replay's.
+    #[arg(long)]
+    pub update: bool,
+    /// Ticks of context shown around the first divergence.
+    #[arg(long, default_value_t = 3)]
+    pub context: u64,
 }
 
 /// Runs `ncplc replay`.
-pub fn run(_args: Args) -> ExitCode {
-    eprintln!("ncplc replay: not built yet");
-    ExitCode::from(2)
+pub fn run(args: Args) -> ExitCode {
+    match run_inner(&args) {
+        Ok(code) => code,
+        Err(msg) => {
+            eprintln!("{msg}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_inner(args: &Args) -> Result<ExitCode, String> {
+    let machine = Machine::open(&args.machine, args.plc.as_deref())?;
+    let bytes = std::fs::read(&args.trace).map_err(|e| format!("{}: {e}", args.trace.display()))?;
+    let trace = Trace::from_bytes(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?;
+    let compile = machine.compile_fn(args.engine, trace.tick_ms);
+    let loaded = match compile(&machine.read_source()?) {
+        Ok(l) => l,
+        Err(diags) => {
+            eprintln!("{diags}");
+            return Ok(ExitCode::from(2));
+        }
+    };
+    let total = trace.len_ticks();
+    let bar = (std::io::stderr().is_terminal() && total >= 1 << 20).then(|| {
+        let bar = indicatif::ProgressBar::new(total);
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(
+                "replay {bar:40} {pos}/{len} ticks ({per_sec}, eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
+    });
+    let start = std::time::Instant::now();
+    let result = replay(&trace, loaded, &machine.config.t_init, |done| {
+        if let Some(b) = &bar {
+            b.set_position(done);
+        }
+    });
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    let elapsed = start.elapsed();
+    if args.update {
+        let out = if bytes.first() == Some(&b'{') {
+            let mut v = Vec::new();
+            result
+                .actual
+                .write_text(&mut v)
+                .map_err(|e| e.to_string())?;
+            v
+        } else {
+            binary::encode(&result.actual).map_err(|e| e.to_string())?
+        };
+        std::fs::write(&args.trace, out).map_err(|e| format!("{}: {e}", args.trace.display()))?;
+        eprintln!(
+            "{}: expectations updated ({total} ticks)",
+            args.trace.display()
+        );
+        return Ok(ExitCode::SUCCESS);
+    }
+    if result.identical() {
+        eprintln!(
+            "{}: {total} ticks replayed, outputs identical ({:.1?}, {:.0}x real time)",
+            args.trace.display(),
+            elapsed,
+            (total as f64 * f64::from(trace.tick_ms) / 1e3) / elapsed.as_secs_f64().max(1e-9)
+        );
+        Ok(ExitCode::SUCCESS)
+    } else {
+        print!("{}", result.report(&trace, args.context));
+        Ok(ExitCode::from(1))
+    }
 }

@@ -1,17 +1,306 @@
-//! `ncplc run`.
+//! `ncplc run`: run a machine's logic in the cyclic runtime, with the simulated (or real) I/O,
+//! a live status line, optional trace recording, retain and online change.
 
+use std::io::IsTerminal;
+use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use crate::clock::{Clock, RealClock, VirtualClock, enable_realtime};
+use crate::compiled::EngineKind;
+use crate::image::Image;
+use crate::io::{IoKind, open_io};
+use crate::machine::Machine;
+use crate::online::{self, Note};
+use crate::retain::{self, Restored, RetainLayout, RetainRecord};
+use crate::scheduler::{Event, Scheduler, Settings};
 
 /// Arguments of `ncplc run`.
 #[derive(Debug, clap::Args)]
 pub struct Args {
-    /// Arguments not yet defined.
-    #[arg(trailing_var_arg = true, allow_hyphen_values = true)]
-    pub rest: Vec<String>,
+    /// The machine directory (e.g. plc-programs/lathe).
+    pub machine: PathBuf,
+    /// Use this PLC source instead of the machine's.
+    #[arg(long)]
+    pub plc: Option<PathBuf>,
+    /// Stop after N ticks.
+    #[arg(long)]
+    pub ticks: Option<u64>,
+    /// Run unthrottled in virtual time.
+    #[arg(long)]
+    pub virtual_time: bool,
+    /// Override the logic tick (ms).
+    #[arg(long)]
+    pub tick_ms: Option<u32>,
+    /// Record a trace (text; `.ptrace` or `.bin`: binary). Starts from a fresh image (no retain).
+    #[arg(long)]
+    pub record: Option<PathBuf>,
+    /// The I/O.
+    #[arg(long, value_enum, default_value = "sim")]
+    pub io: IoKind,
+    /// The engine.
+    #[arg(long, value_enum, default_value = "jit")]
+    pub engine: EngineKind,
+    /// Print scan-time and wake-latency statistics at the end.
+    #[arg(long)]
+    pub stats: bool,
+    /// Consecutive overruns that put the outputs in their safe state (0: never).
+    #[arg(long, default_value_t = 3)]
+    pub overrun_limit: u32,
+    /// Do not watch the PLC source for online change.
+    #[arg(long)]
+    pub no_watch: bool,
+    /// Busy-wait the last N µs before each tick (lower wake latency, costs CPU).
+    #[arg(long, default_value_t = 0)]
+    pub spin_us: u64,
+    /// Keep retained data in this file (default: `<machine>/retain.bin`).
+    #[arg(long)]
+    pub retain_file: Option<PathBuf>,
+}
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_signal(_: libc::c_int) {
+    STOP.store(true, Ordering::SeqCst);
+}
+
+fn install_stop_handler() {
+    let handler = on_signal as extern "C" fn(libc::c_int);
+    // SAFETY: the handler only stores to an atomic, which is async-signal-safe.
+    unsafe {
+        libc::signal(libc::SIGINT, handler as libc::sighandler_t);
+        libc::signal(libc::SIGTERM, handler as libc::sighandler_t);
+    }
 }
 
 /// Runs `ncplc run`.
-pub fn run(_args: Args) -> ExitCode {
-    eprintln!("ncplc run: not built yet");
-    ExitCode::from(2)
+pub fn run(args: Args) -> ExitCode {
+    match run_inner(args) {
+        Ok(code) => code,
+        Err(msg) => {
+            eprintln!("{msg}");
+            ExitCode::from(2)
+        }
+    }
+}
+
+fn run_inner(args: Args) -> Result<ExitCode, String> {
+    let machine = Machine::open(&args.machine, args.plc.as_deref())?;
+    let tick_ms = args.tick_ms.unwrap_or(machine.config.tick_ms).max(1);
+    let compile = machine.compile_fn(args.engine, tick_ms);
+    let source = machine.read_source()?;
+    let loaded = match compile(&source) {
+        Ok(l) => l,
+        Err(diags) => {
+            eprintln!("{diags}");
+            return Ok(ExitCode::from(1));
+        }
+    };
+    let meta = loaded.meta.clone();
+    let mut image = Image::new(meta.image_len(), &machine.config.t_init);
+    meta.init_image(image.bytes_mut());
+    let retain_path = args
+        .retain_file
+        .clone()
+        .or_else(|| machine.config.retain_file.clone());
+    // Retained data matters only with PGCFIL OLD; recordings and virtual runs start fresh.
+    let use_retain = machine.config.restore_old && args.record.is_none() && !args.virtual_time;
+    if use_retain && let Some(path) = &retain_path {
+        match retain::load(path) {
+            Ok(Some(rec)) => {
+                let layout = RetainLayout::new(
+                    &meta.written_signals(),
+                    meta.retain_range(),
+                    meta.retain_layout(),
+                );
+                match layout.restore(&rec, image.bytes_mut()) {
+                    Restored::All => {
+                        eprintln!("retain: restored T bytes and RETAIN variables (PGCFIL OLD)")
+                    }
+                    Restored::TOnly => eprintln!(
+                        "retain: restored T bytes; RETAIN layout changed, variables start at 0"
+                    ),
+                    Restored::NotAllowed => {
+                        eprintln!("retain: MUSPE was 0 at the last shutdown; nothing restored")
+                    }
+                }
+            }
+            Ok(None) => {}
+            Err(e) => eprintln!("warning: {e}; starting without retained data"),
+        }
+    }
+    let io = open_io(
+        args.io,
+        &machine.dir,
+        &machine.declared_connectors(),
+        machine.script.clone(),
+        machine.signals.clone(),
+        tick_ms,
+    )?;
+    let clock: Box<dyn Clock> = if args.virtual_time {
+        Box::new(VirtualClock::new())
+    } else {
+        Box::new(RealClock::with_spin(args.spin_us * 1_000))
+    };
+    let settings = Settings {
+        tick_ns: u64::from(tick_ms) * 1_000_000,
+        overrun_limit: args.overrun_limit,
+    };
+    let mut sched = Scheduler::new(image, loaded, io, clock, settings);
+    if let Some(path) = &args.record {
+        let sink = crate::trace::create_sink(path, tick_ms)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        sched.record_to(sink);
+    }
+    let retain_writer = match (&retain_path, use_retain) {
+        (Some(path), true) => Some(start_retain_writer(path.clone(), &mut sched)),
+        _ => None,
+    };
+    let (notes_tx, notes_rx) = mpsc::channel();
+    let _watch = if args.no_watch {
+        None
+    } else {
+        let (swap_tx, swap_rx) = mpsc::channel();
+        sched.accept_swaps(swap_rx);
+        match online::watch(
+            &machine.config.plc_source,
+            source,
+            compile,
+            swap_tx,
+            notes_tx,
+        ) {
+            Ok(w) => {
+                eprintln!(
+                    "online change: watching {}",
+                    machine.config.plc_source.display()
+                );
+                Some(w)
+            }
+            Err(e) => {
+                eprintln!("warning: online change disabled: {e}");
+                None
+            }
+        }
+    };
+    install_stop_handler();
+    // Only now: threads started before (watcher, compiler, retain writer) keep normal priority.
+    if !args.virtual_time
+        && let Some(w) = enable_realtime(80).warning()
+    {
+        eprintln!("warning: {w}");
+    }
+    let status = std::io::stderr().is_terminal();
+    // On a terminal, messages first erase the live status line; elsewhere they are plain lines.
+    let clear = if status { "\r\x1b[K" } else { "" };
+    let mut last_status = Instant::now();
+    let mut alarms = 0u64;
+    let mut last_alarm = String::new();
+    sched.run(args.ticks, |s| {
+        for ev in s.take_events() {
+            match ev {
+                Event::Alarm(a) => {
+                    alarms += 1;
+                    eprintln!("{clear}alarm: {a}");
+                    last_alarm = a;
+                }
+                Event::Cleared(a) => eprintln!("{clear}cleared: {a}"),
+                Event::Swapped { tick, latency } => {
+                    eprintln!("{clear}online change: new program runs from tick {tick}; edit-to-running {latency:.1?}")
+                }
+            }
+        }
+        for note in notes_rx.try_iter() {
+            match note {
+                Note::Compiled { compile } => eprintln!("{clear}online change: compiled in {compile:.1?}"),
+                Note::Rejected { diagnostics } => {
+                    eprintln!("{clear}online change rejected; the running program stays:\n{diagnostics}")
+                }
+                Note::Error(e) => eprintln!("{clear}online change: {e}"),
+            }
+        }
+        if status && last_status.elapsed() >= Duration::from_millis(200) {
+            last_status = Instant::now();
+            eprint!(
+                "\r\x1b[Ktick {}  scan {:.1} µs (max {:.1})  overruns {}  alarms {}{}{}",
+                s.tick_count(),
+                s.stats.scan.value_at_quantile(0.5) as f64 / 1e3,
+                s.stats.scan.max() as f64 / 1e3,
+                s.stats.overruns,
+                alarms,
+                if last_alarm.is_empty() { "" } else { " — " },
+                last_alarm
+            );
+        }
+        !STOP.load(Ordering::Relaxed)
+    });
+    if status {
+        eprintln!();
+    }
+    let image = sched_finish(&mut sched)?;
+    if let (Some(writer), Some(path)) = (retain_writer, &retain_path) {
+        sched.detach_retain();
+        let _ = writer.join();
+        let layout = RetainLayout::new(
+            &meta.written_signals(),
+            meta.retain_range(),
+            meta.retain_layout(),
+        );
+        let seq = retain::load(path).ok().flatten().map_or(0, |r| r.seq) + 1;
+        if let Err(e) = retain::save(path, &layout.snapshot(&image, seq)) {
+            eprintln!("warning: {e}");
+        }
+    }
+    eprintln!(
+        "{} ticks of {tick_ms} ms on {}; engine {}",
+        sched.tick_count(),
+        args.io_name(),
+        sched.engine_name()
+    );
+    if args.stats {
+        print!("{}", sched.stats.summary());
+    }
+    Ok(if sched.tripped() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn sched_finish(sched: &mut Scheduler) -> Result<Vec<u8>, String> {
+    sched.finish().map_err(|e| format!("trace: {e}"))?;
+    Ok(sched.image().bytes().to_vec())
+}
+
+/// Starts the thread that writes retain snapshots (coalescing bursts) and connects it.
+fn start_retain_writer(path: PathBuf, sched: &mut Scheduler) -> std::thread::JoinHandle<()> {
+    let (tx, rx) = mpsc::channel::<RetainRecord>();
+    let start_seq = retain::load(&path).ok().flatten().map_or(0, |r| r.seq);
+    let handle = std::thread::spawn(move || {
+        while let Ok(first) = rx.recv() {
+            let latest = rx.try_iter().last().unwrap_or(first);
+            let rec = RetainRecord {
+                seq: start_seq + latest.seq,
+                ..latest
+            };
+            if let Err(e) = retain::save(&path, &rec) {
+                eprintln!("warning: {e}");
+            }
+        }
+    });
+    sched.retain_to(Box::new(move |r| {
+        let _ = tx.send(r);
+    }));
+    handle
+}
+
+impl Args {
+    fn io_name(&self) -> &'static str {
+        match self.io {
+            IoKind::Sim => "sim",
+            IoKind::Modbus => "modbus",
+            IoKind::Canopen => "canopen",
+        }
+    }
 }

@@ -1,0 +1,257 @@
+//! Loading a machine directory: FCRSYS first, then the files its section 2 names.
+//!
+//! `<dir>/FCRSYS` decides where AXCFIL, PGCFIL and IOCFIL are (logical names AXCONF, PGCONF,
+//! IOCONF) and where the PLC program is (ncplc's logical name PLCSRC, default `MP0/PLCPRG`).
+//! Logical paths `MPx` map into the machine directory by their last component
+//! (`C:\CNC32\MP0` → `<dir>/MP0`). Diagnostics name files relative to the machine directory
+//! (`FCRSYS`, `MP0/AXCFIL`), and [`MachineLoad::sources`] holds their decoded text for rendering.
+//!
+//! All files are read and checked in one run: a broken FCRSYS still lets the other files be found
+//! when their bindings are readable, and errors of every file are reported together.
+
+use std::path::{Path, PathBuf};
+
+use diag::{Diagnostic, Sources};
+use serde::{Deserialize, Serialize};
+
+use crate::axcfil::{self, Axcfil, FileRef};
+use crate::codes;
+use crate::fcrsys::{self, Fcrsys};
+use crate::iocfil::{self, Iocfil};
+use crate::pgcfil::{self, Pgcfil};
+use crate::reader::{self, Grammar, ParsedFile};
+
+/// Where the files of a machine are.
+#[derive(Debug, Clone, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct MachinePaths {
+    /// `<dir>/FCRSYS`.
+    pub fcrsys: PathBuf,
+    /// The directory of logical path MP0.
+    pub mp0: PathBuf,
+    /// AXCFIL (logical name AXCONF), when FCRSYS names it.
+    pub axcfil: Option<PathBuf>,
+    /// PGCFIL (logical name PGCONF), when FCRSYS names it.
+    pub pgcfil: Option<PathBuf>,
+    /// IOCFIL (logical name IOCONF), when FCRSYS names it.
+    pub iocfil: Option<PathBuf>,
+    /// The PLC program (logical name PLCSRC, default `MP0/PLCPRG`).
+    pub plc_source: PathBuf,
+}
+
+/// A loaded machine: its paths and typed characterization.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Machine {
+    /// The machine directory.
+    pub dir: PathBuf,
+    /// Where its files are.
+    pub paths: MachinePaths,
+    /// FCRSYS.
+    pub fcrsys: Fcrsys,
+    /// AXCFIL.
+    pub axcfil: Axcfil,
+    /// PGCFIL, when FCRSYS names an existing file.
+    pub pgcfil: Option<Pgcfil>,
+    /// IOCFIL, when FCRSYS names an existing file.
+    pub iocfil: Option<Iocfil>,
+}
+
+/// The result of [`load_machine`]: the machine (when its FCRSYS and AXCFIL could be read),
+/// every diagnostic of every file, and the sources to render them with.
+#[derive(Debug, Clone)]
+pub struct MachineLoad {
+    /// The machine, `None` when FCRSYS or AXCFIL could not be read at all.
+    pub machine: Option<Machine>,
+    /// Diagnostics of all files, FCRSYS first, each file's in source order.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The decoded text of every file read, by diagnostic file name.
+    pub sources: Sources,
+    /// PGCFIL as read by the common grammar (for its validator).
+    pub pgcfil_file: Option<ParsedFile>,
+    /// IOCFIL as read by the common grammar (for its validator).
+    pub iocfil_file: Option<ParsedFile>,
+}
+
+impl MachineLoad {
+    /// True when any diagnostic is an error.
+    pub fn has_errors(&self) -> bool {
+        diag::has_errors(&self.diagnostics)
+    }
+}
+
+/// The name a file gets in diagnostics: its path relative to `dir`, with `/` separators.
+pub fn display_name(dir: &Path, path: &Path) -> String {
+    let rel = path.strip_prefix(dir).unwrap_or(path);
+    rel.components()
+        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+struct Loader<'a> {
+    dir: &'a Path,
+    diagnostics: Vec<Diagnostic>,
+    sources: Sources,
+}
+
+impl Loader<'_> {
+    /// Reads `path` with `grammar`; reports 902 (`missing_code` when given) if it cannot be read.
+    fn read(&mut self, path: &Path, grammar: Grammar) -> Option<(ParsedFile, Vec<Diagnostic>)> {
+        let name = display_name(self.dir, path);
+        match std::fs::read(path) {
+            Ok(bytes) => {
+                let (file, diags) = reader::read_with(&name, &bytes, grammar);
+                self.sources.add(name, file.text.clone());
+                Some((file, diags))
+            }
+            Err(e) => {
+                let d = Diagnostic::error(
+                    codes::FILE_UNREADABLE,
+                    name.clone(),
+                    0..0,
+                    format!("cannot read {name}: {e}"),
+                )
+                .with_hint(format!(
+                    "create {name} in the machine directory {}",
+                    self.dir.display()
+                ));
+                self.diagnostics.push(d);
+                None
+            }
+        }
+    }
+
+    fn add(&mut self, mut diags: Vec<Diagnostic>) {
+        diags.sort_by_key(|d| (d.span.start, d.code));
+        self.diagnostics.extend(diags);
+    }
+}
+
+/// Loads the machine in `dir`: FCRSYS, then AXCFIL, PGCFIL and IOCFIL; never panics.
+pub fn load_machine(dir: &Path) -> MachineLoad {
+    let mut l = Loader {
+        dir,
+        diagnostics: Vec::new(),
+        sources: Sources::new(),
+    };
+    let fcrsys_path = dir.join("FCRSYS");
+    let mut pgcfil_file = None;
+    let mut iocfil_file = None;
+    let Some((fc_file, mut fc_diags)) = l.read(&fcrsys_path, Grammar::FCRSYS) else {
+        return MachineLoad {
+            machine: None,
+            diagnostics: l.diagnostics,
+            sources: l.sources,
+            pgcfil_file,
+            iocfil_file,
+        };
+    };
+    let (fcrsys, d) = fcrsys::validate(&fc_file);
+    fc_diags.extend(d);
+    let mp0 = fcrsys.mp_dir(dir, 0).unwrap_or_else(|| dir.join("MP0"));
+    let ctx = crate::values::Ctx::new(&fc_file).in_section(2);
+    let resolve = |logical: &str, diags: &mut Vec<Diagnostic>| -> Option<PathBuf> {
+        let path = fcrsys.resolve(dir, logical)?;
+        if !path.is_file() {
+            let span = fcrsys.binding(logical).map_or(0..0, |b| b.span.clone());
+            let name = display_name(dir, &path);
+            diags.push(ctx.error(
+                codes::FILE_MISSING,
+                span,
+                format!("{logical} names {name}, which does not exist"),
+                format!("create {name} or bind {logical} to an existing file"),
+            ));
+            return None;
+        }
+        Some(path)
+    };
+    let axcfil_path = resolve("AXCONF", &mut fc_diags);
+    let pgcfil_path = resolve("PGCONF", &mut fc_diags);
+    let iocfil_path = resolve("IOCONF", &mut fc_diags);
+    let plc_source = match fcrsys.binding("PLCSRC") {
+        Some(_) => fcrsys
+            .resolve(dir, "PLCSRC")
+            .unwrap_or_else(|| mp0.join("PLCPRG")),
+        None => mp0.join("PLCPRG"),
+    };
+    if !plc_source.is_file() {
+        let span = fcrsys.binding("PLCSRC").map_or(0..0, |b| b.span.clone());
+        let name = display_name(dir, &plc_source);
+        let (message, hint) = (
+            format!("the PLC program {name} does not exist"),
+            "write the PLC program there, or bind PLCSRC in FCRSYS section 2, e.g. `PLCSRC, PLCPRG/MP0`",
+        );
+        fc_diags.push(match fcrsys.binding("PLCSRC") {
+            Some(_) => ctx.warning(codes::PLC_SOURCE_MISSING, span, message, hint),
+            // No binding: the default location is meant, a problem of the machine, not of a line.
+            None => Diagnostic::warning(
+                codes::PLC_SOURCE_MISSING,
+                fc_file.name.as_str(),
+                0..0,
+                message,
+            )
+            .with_hint(hint),
+        });
+    }
+    l.add(fc_diags);
+    let mut axcfil = None;
+    if let Some(path) = &axcfil_path
+        && let Some((file, mut diags)) = l.read(path, Grammar::FUNCTIONAL)
+    {
+        let side = |f: &FileRef| -> Option<Vec<u8>> {
+            std::fs::read(fcrsys.mp_dir(dir, f.mp)?.join(&f.file)).ok()
+        };
+        let (model, d) = axcfil::validate_with(&file, &side, true);
+        diags.extend(d);
+        l.add(diags);
+        axcfil = Some(model);
+    }
+    let mut pgcfil = None;
+    if let Some(path) = &pgcfil_path
+        && let Some((file, mut diags)) = l.read(path, Grammar::PGCFIL)
+    {
+        let (model, d) = pgcfil::parse(&file);
+        diags.extend(d);
+        if let Some(ax) = &axcfil {
+            diags.extend(pgcfil::check_against(&model, &file, ax));
+        }
+        l.add(diags);
+        pgcfil = Some(model);
+        pgcfil_file = Some(file);
+    }
+    let mut iocfil = None;
+    if let Some(path) = &iocfil_path
+        && let Some((file, mut diags)) = l.read(path, Grammar::FUNCTIONAL)
+    {
+        let (model, d) = iocfil::parse(&file);
+        diags.extend(d);
+        if let Some(ax) = &axcfil {
+            diags.extend(iocfil::check_against(&model, &file, ax));
+        }
+        l.add(diags);
+        iocfil = Some(model);
+        iocfil_file = Some(file);
+    }
+    let paths = MachinePaths {
+        fcrsys: fcrsys_path,
+        mp0,
+        axcfil: axcfil_path,
+        pgcfil: pgcfil_path,
+        iocfil: iocfil_path,
+        plc_source,
+    };
+    let machine = axcfil.map(|axcfil| Machine {
+        dir: dir.to_path_buf(),
+        paths,
+        fcrsys,
+        axcfil,
+        pgcfil,
+        iocfil,
+    });
+    MachineLoad {
+        machine,
+        diagnostics: l.diagnostics,
+        sources: l.sources,
+        pgcfil_file,
+        iocfil_file,
+    }
+}

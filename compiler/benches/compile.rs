@@ -1,0 +1,46 @@
+//! Compile-time benchmark: a generated 10,000-statement program through parse + check
+//! (`compile`) and through parse + check + cranelift JIT. Target: ≤ 100 ms in release.
+
+use std::hint::black_box;
+
+use compiler::{MachineContext, compile, synth::synthetic_program};
+use criterion::{Criterion, criterion_group, criterion_main};
+
+fn bench_compile(c: &mut Criterion) {
+    let src = synthetic_program(10_000);
+    let ctx = MachineContext {
+        spl: 5000,
+        ..MachineContext::lathe_like()
+    };
+    let mut group = c.benchmark_group("compile_10k");
+    group.sample_size(10);
+    group.bench_function("lex", |b| {
+        b.iter(|| compiler::lexer::tokenize(black_box(&src)).0.len())
+    });
+    group.bench_function("parse", |b| {
+        b.iter(|| {
+            compiler::parser::parse("bench", black_box(&src))
+                .0
+                .fast
+                .len()
+        })
+    });
+    group.bench_function("parse_check_lower", |b| {
+        b.iter(|| {
+            let c = compile("bench", black_box(src.as_bytes()), &ctx);
+            assert!(c.program.is_some());
+            c
+        })
+    });
+    group.bench_function("parse_check_lower_jit", |b| {
+        b.iter(|| {
+            let c = compile("bench", black_box(src.as_bytes()), &ctx);
+            let p = c.program.expect("the synthetic program compiles");
+            compiler::jit::compile(&p).expect("JIT compiles")
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_compile);
+criterion_main!(benches);

@@ -1,0 +1,151 @@
+//! Scan-time and compile-time benchmarks on a generated 10,000-statement program: the JIT's tick
+//! against the interpreter's, the front end, and JIT compile time under several cranelift settings.
+
+use std::hint::black_box;
+use std::sync::Arc;
+
+use compiler::jit::{self, JitOptions};
+use compiler::{Engine, Interpreter, MachineContext, compile};
+use criterion::{Criterion, criterion_group, criterion_main};
+
+/// A deterministic program of `n` statements: ladder rungs over K/N bits, byte comparisons,
+/// arithmetic on bytes, SET/RES, pulses and inline timers, with a FAST and a SLOW part.
+fn source(n: usize) -> String {
+    let mut s = String::with_capacity(n * 40);
+    let mut x: u32 = 12345;
+    let mut rnd = |m: u32| {
+        x ^= x << 13;
+        x ^= x >> 17;
+        x ^= x << 5;
+        x % m
+    };
+    for i in 0..n {
+        if i == n * 7 / 10 {
+            s.push_str("$\n");
+        }
+        let (c, b) = (100 + rnd(150), rnd(32));
+        let bit = |r: &mut dyn FnMut(u32) -> u32| format!("U{}K{}", 100 + r(150), r(32));
+        match i % 10 {
+            0..=4 => {
+                let (a, b2, d) = (bit(&mut rnd), bit(&mut rnd), bit(&mut rnd));
+                s.push_str(&format!("U{c}K{b}={a}*/{b2}+I0A{}*{d}\n", rnd(32)));
+            }
+            5 => s.push_str(&format!(
+                "U{c}N{b}=[W{}K0={}H]+U{c}N{b}*/I0K1\n",
+                rnd(10),
+                rnd(10) * 10 + 1
+            )),
+            6 => s.push_str(&format!(
+                "W{c}N{}=W{}N{}+W3K0\n",
+                rnd(4),
+                100 + rnd(150),
+                rnd(4)
+            )),
+            7 => s.push_str(&format!("SET U{c}K{b}={}\n", bit(&mut rnd))),
+            8 => s.push_str(&format!("P{}={}\n", (i / 10) % 1024, bit(&mut rnd))),
+            _ => s.push_str(&format!(
+                "U{c}K{b}=TON({}*I0A{}, {}ms)\n",
+                bit(&mut rnd),
+                rnd(32),
+                10 * rnd(50)
+            )),
+        }
+    }
+    s
+}
+
+fn program(n: usize) -> compiler::ir::Program {
+    let src = source(n);
+    let c = compile("bench", src.as_bytes(), &MachineContext::lathe_like());
+    match c.program {
+        Some(p) => p,
+        None => panic!(
+            "generated program does not compile: {:?}",
+            c.diagnostics.first()
+        ),
+    }
+}
+
+fn scan(c: &mut Criterion) {
+    let p = Arc::new(program(10_000));
+    let mut g = c.benchmark_group("scan_10k");
+    let mut interp = Interpreter::new(p.clone());
+    let mut jit = jit::compile(&p).expect("jit");
+    let speed = JitOptions {
+        opt_level: "speed",
+        ..JitOptions::default()
+    };
+    let mut jit_speed = jit::compile_with(&p, &speed).expect("jit");
+    let engines: [(&str, &mut dyn Engine); 3] = [
+        ("interp", &mut interp),
+        ("jit", &mut jit),
+        ("jit_opt_speed", &mut jit_speed),
+    ];
+    for (name, engine) in engines {
+        let mut image = p.new_image();
+        let mut t = 0u8;
+        g.bench_function(name, |b| {
+            b.iter(|| {
+                t = t.wrapping_add(1);
+                image[0] = t;
+                image[128 + 12] = t & 0x9F;
+                engine.tick(black_box(&mut image));
+            })
+        });
+    }
+    g.finish();
+}
+
+fn compile_time(c: &mut Criterion) {
+    let src = source(10_000);
+    let ctx = MachineContext::lathe_like();
+    let p = program(10_000);
+    let mut g = c.benchmark_group("compile_10k");
+    g.sample_size(10);
+    g.bench_function("front_end", |b| {
+        b.iter(|| compile("bench", black_box(src.as_bytes()), &ctx))
+    });
+    let opts = |opt_level, regalloc, chunk_cost, threads| JitOptions {
+        opt_level,
+        regalloc,
+        chunk_cost,
+        threads,
+    };
+    let variants = [
+        (
+            "jit_default_none_single_pass_2000_1_thread",
+            JitOptions::default(),
+        ),
+        (
+            "jit_none_single_pass_2000_auto_threads",
+            opts("none", "single_pass", 2000, 0),
+        ),
+        (
+            "jit_none_backtracking_2000",
+            opts("none", "backtracking", 2000, 0),
+        ),
+        (
+            "jit_speed_single_pass_2000",
+            opts("speed", "single_pass", 2000, 0),
+        ),
+        (
+            "jit_none_single_pass_250",
+            opts("none", "single_pass", 250, 0),
+        ),
+    ];
+    for (name, opts) in variants {
+        g.bench_function(name, |b| {
+            b.iter(|| jit::compile_with(black_box(&p), &opts).expect("jit"))
+        });
+    }
+    g.bench_function("front_end_plus_jit", |b| {
+        b.iter(|| {
+            let c = compile("bench", black_box(src.as_bytes()), &ctx);
+            c.program.map(|p| jit::compile(&p).expect("jit"))
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, scan, compile_time);
+criterion_main!(benches);

@@ -1,0 +1,344 @@
+//! The cranelift back end: the FAST part and each SLOW slice become `extern "C" fn(*mut u8)`
+//! functions over the image (long parts are split into several functions of bounded size to keep
+//! compile time linear). One [`JITModule`] per program version; dropping the [`JitProgram`] frees
+//! its code.
+
+mod stateful;
+mod translate;
+
+use cranelift_codegen::ir::{AbiParam, Function, InstBuilder, Signature, UserFuncName};
+use cranelift_codegen::isa::{CallConv, OwnedTargetIsa};
+use cranelift_codegen::settings::{self, Configurable};
+use cranelift_frontend::{FunctionBuilder, FunctionBuilderContext};
+use cranelift_jit::{JITBuilder, JITModule};
+use cranelift_module::{Linkage, Module};
+
+use crate::engine::Engine;
+use crate::ir::{self, Program, Stmt};
+use translate::Translator;
+
+/// Why JIT compilation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum JitError {
+    /// The program breaks an IR rule.
+    #[error(transparent)]
+    Ir(#[from] ir::IrError),
+    /// The host ISA or a setting is not available.
+    #[error("cranelift setup: {0}")]
+    Setup(String),
+    /// Cranelift rejected a function.
+    #[error("cranelift: {0}")]
+    Codegen(String),
+}
+
+/// Code generation options (the defaults are what [`compile`] uses: `none`, `single_pass`,
+/// chunks of 2000 cost units, one thread so that compiling never competes with the scan thread).
+#[derive(Debug, Clone)]
+pub struct JitOptions {
+    /// Cranelift `opt_level`: `none`, `speed` or `speed_and_size`.
+    pub opt_level: &'static str,
+    /// Cranelift `regalloc_algorithm`: `backtracking` or `single_pass`.
+    pub regalloc: &'static str,
+    /// Largest cost ([`ir::Stmt::cost`]) of top-level statements put into one function.
+    pub chunk_cost: u32,
+    /// Threads compiling functions in parallel (0: the available cores, at most 4).
+    pub threads: usize,
+}
+
+impl Default for JitOptions {
+    fn default() -> Self {
+        JitOptions {
+            opt_level: "none",
+            regalloc: "single_pass",
+            chunk_cost: 2000,
+            threads: 1,
+        }
+    }
+}
+
+type ScanFn = unsafe extern "C" fn(*mut u8);
+
+/// A compiled program: owns its executable memory.
+pub struct JitProgram {
+    module: Option<JITModule>,
+    fast: Vec<ScanFn>,
+    slow: Vec<Vec<ScanFn>>,
+    image_len: usize,
+}
+
+fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
+    let setup = |e: &dyn std::fmt::Display| JitError::Setup(e.to_string());
+    let mut fb = settings::builder();
+    fb.set("opt_level", opts.opt_level).map_err(|e| setup(&e))?;
+    fb.set("regalloc_algorithm", opts.regalloc)
+        .map_err(|e| setup(&e))?;
+    fb.set("is_pic", "false").map_err(|e| setup(&e))?;
+    // The IR verifier re-checks every function we emit. Debug builds (all tests) keep it on so an
+    // ill-formed function fails loudly; release builds skip it: it costs compile time on every
+    // online change, and the differential tests guard what it would catch.
+    let verify = if cfg!(debug_assertions) { "true" } else { "false" };
+    fb.set("enable_verifier", verify).map_err(|e| setup(&e))?;
+    fb.set("use_colocated_libcalls", "false")
+        .map_err(|e| setup(&e))?;
+    let builder = cranelift_native::builder().map_err(|e| setup(&e))?;
+    builder
+        .finish(settings::Flags::new(fb))
+        .map_err(|e| setup(&e))
+}
+
+/// Groups top-level statements into chunks of at most `budget` cost (at least one statement each).
+fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
+    let mut out = Vec::new();
+    let (mut start, mut cost) = (0, 0u32);
+    for (i, s) in stmts.iter().enumerate() {
+        let c = s.cost();
+        if i > start && cost.saturating_add(c) > budget {
+            out.push(&stmts[start..i]);
+            start = i;
+            cost = 0;
+        }
+        cost = cost.saturating_add(c);
+    }
+    if start < stmts.len() {
+        out.push(&stmts[start..]);
+    }
+    out
+}
+
+/// Fills `func` with the body for `stmts`.
+fn build(
+    func: &mut Function,
+    fctx: &mut FunctionBuilderContext,
+    p: &Program,
+    stmts: &[Stmt],
+    isa: &OwnedTargetIsa,
+) {
+    let mut b = FunctionBuilder::new(func, fctx);
+    let entry = b.create_block();
+    b.append_block_params_for_function_params(entry);
+    b.switch_to_block(entry);
+    let mem = b.block_params(entry)[0];
+    {
+        let mut t = Translator {
+            b: &mut b,
+            p,
+            mem,
+            consts: Default::default(),
+            mem_cache: Default::default(),
+        };
+        t.stmts(stmts);
+    }
+    b.ins().return_(&[]);
+    b.seal_all_blocks();
+    b.finalize(isa.frontend_config());
+}
+
+fn signature(isa: &OwnedTargetIsa, call_conv: CallConv) -> Signature {
+    let mut sig = Signature::new(call_conv);
+    sig.params.push(AbiParam::new(isa.pointer_type()));
+    sig
+}
+
+fn check_len(p: &Program) -> Result<(), JitError> {
+    p.validate()?;
+    if p.image_len > i32::MAX as usize {
+        return Err(JitError::Codegen("image longer than 2 GiB".into()));
+    }
+    Ok(())
+}
+
+/// Compiles a program with the default options.
+pub fn compile(p: &Program) -> Result<JitProgram, JitError> {
+    compile_with(p, &JitOptions::default())
+}
+
+/// Machine code of one function: bytes and required alignment.
+type Code = (Vec<u8>, u64);
+
+/// Builds and compiles one function for `stmts` (position-independent, no relocations).
+fn machine_code(
+    p: &Program,
+    stmts: &[Stmt],
+    isa: &OwnedTargetIsa,
+    sig: &Signature,
+    fctx: &mut FunctionBuilderContext,
+) -> Result<Code, JitError> {
+    let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
+    build(&mut func, fctx, p, stmts, isa);
+    let mut ctx = cranelift_codegen::Context::for_function(func);
+    let mut ctrl = cranelift_codegen::control::ControlPlane::default();
+    let code = ctx
+        .compile(&**isa, &mut ctrl)
+        .map_err(|e| JitError::Codegen(format!("{:?}", e.inner)))?;
+    if !code.buffer.relocs().is_empty() {
+        return Err(JitError::Codegen("scan code needs relocations".into()));
+    }
+    Ok((
+        code.code_buffer().to_vec(),
+        u64::from(code.buffer.alignment),
+    ))
+}
+
+/// Compiles every chunk, on several threads when there is more than one chunk; results keep
+/// the order of `chunks` (and the code does not depend on the thread that made it).
+fn compile_chunks(
+    p: &Program,
+    chunks: &[&[Stmt]],
+    isa: &OwnedTargetIsa,
+    sig: &Signature,
+    threads: usize,
+) -> Result<Vec<Code>, JitError> {
+    let auto = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(4);
+    let threads = if threads == 0 { auto } else { threads };
+    let threads = threads.min(chunks.len()).max(1);
+    let run = |part: &[&[Stmt]]| -> Result<Vec<Code>, JitError> {
+        let mut fctx = FunctionBuilderContext::new();
+        part.iter()
+            .map(|stmts| machine_code(p, stmts, isa, sig, &mut fctx))
+            .collect()
+    };
+    if threads == 1 {
+        return run(chunks);
+    }
+    let per = chunks.len().div_ceil(threads);
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = chunks
+            .chunks(per)
+            .map(|part| scope.spawn(move || run(part)))
+            .collect();
+        let mut out = Vec::with_capacity(chunks.len());
+        for h in handles {
+            let codes = h
+                .join()
+                .map_err(|_| JitError::Codegen("a compile thread panicked".into()))??;
+            out.extend(codes);
+        }
+        Ok(out)
+    })
+}
+
+/// Compiles a program with explicit options.
+pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitError> {
+    check_len(p)?;
+    let isa = isa(opts)?;
+    let sig = signature(&isa, isa.default_call_conv());
+    let parts: Vec<Vec<&[Stmt]>> = std::iter::once(&p.fast[..])
+        .chain(p.slow.iter().map(Vec::as_slice))
+        .map(|stmts| chunks(stmts, opts.chunk_cost))
+        .collect();
+    let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
+    let codes = compile_chunks(p, &flat, &isa, &sig, opts.threads)?;
+    let mut module = JITModule::new(JITBuilder::with_isa(
+        isa.clone(),
+        cranelift_module::default_libcall_names(),
+    ));
+    let codegen = |e: &dyn std::fmt::Display| JitError::Codegen(e.to_string());
+    let mut ids = Vec::with_capacity(codes.len());
+    for (n, (bytes, align)) in codes.iter().enumerate() {
+        let id = module
+            .declare_function(&format!("part{n}"), Linkage::Local, &sig)
+            .map_err(|e| codegen(&e))?;
+        module
+            .define_function_bytes(id, *align, bytes, &[])
+            .map_err(|e| codegen(&e))?;
+        ids.push(id);
+    }
+    module.finalize_definitions().map_err(|e| codegen(&e))?;
+    let mut fns = ids.iter().map(|&id| {
+        let ptr = module.get_finalized_function(id);
+        // SAFETY: the function was compiled with signature `fn(*mut u8)` and the system
+        // calling convention, and is finalized.
+        unsafe { std::mem::transmute::<*const u8, ScanFn>(ptr) }
+    });
+    let mut take = |n: usize| fns.by_ref().take(n).collect::<Vec<ScanFn>>();
+    let fast = take(parts[0].len());
+    let slow = parts[1..].iter().map(|c| take(c.len())).collect();
+    Ok(JitProgram {
+        module: Some(module),
+        fast,
+        slow,
+        image_len: p.image_len,
+    })
+}
+
+/// The cranelift IR of every function the program compiles to (for `ncplc build --emit clif`).
+pub fn emit_clif(p: &Program) -> Result<String, JitError> {
+    check_len(p)?;
+    let opts = JitOptions::default();
+    let isa = isa(&opts)?;
+    let sig = signature(&isa, isa.default_call_conv());
+    let mut fctx = FunctionBuilderContext::new();
+    let mut out = String::new();
+    let mut n = 0u32;
+    let lists = std::iter::once(("FAST", &p.fast[..]))
+        .chain(p.slow.iter().map(|s| ("SLOW slice", s.as_slice())));
+    for (i, (what, stmts)) in lists.enumerate() {
+        for chunk in chunks(stmts, opts.chunk_cost) {
+            let mut func = Function::with_name_signature(UserFuncName::user(0, n), sig.clone());
+            build(&mut func, &mut fctx, p, chunk, &isa);
+            let label = if i == 0 {
+                what.to_string()
+            } else {
+                format!("{what} {}", i - 1)
+            };
+            out.push_str(&format!(
+                "; {label}, function part{n}\n{}\n",
+                func.display()
+            ));
+            n += 1;
+        }
+    }
+    Ok(out)
+}
+
+impl JitProgram {
+    /// Number of machine-code functions (FAST chunks plus SLOW slice chunks).
+    pub fn function_count(&self) -> usize {
+        self.fast.len() + self.slow.iter().map(Vec::len).sum::<usize>()
+    }
+}
+
+impl Engine for JitProgram {
+    fn tick(&mut self, image: &mut [u8]) {
+        if image.len() < self.image_len {
+            return;
+        }
+        let mem = image.as_mut_ptr();
+        for f in &self.fast {
+            // SAFETY: every access the code makes lies below `image_len` (checked at compile
+            // time by `Program::validate`), and the image is at least that long.
+            unsafe { f(mem) };
+        }
+        if !self.slow.is_empty() {
+            let at = ir::HDR_NEXT_SLICE;
+            let next = u32::from_le_bytes([image[at], image[at + 1], image[at + 2], image[at + 3]])
+                as usize;
+            let i = if next < self.slow.len() { next } else { 0 };
+            let mem = image.as_mut_ptr();
+            for f in &self.slow[i] {
+                // SAFETY: as above.
+                unsafe { f(mem) };
+            }
+            let n = if i + 1 == self.slow.len() { 0 } else { i + 1 } as u32;
+            image[at..at + 4].copy_from_slice(&n.to_le_bytes());
+        }
+    }
+
+    fn name(&self) -> &'static str {
+        "jit"
+    }
+}
+
+impl Drop for JitProgram {
+    fn drop(&mut self) {
+        self.fast.clear();
+        self.slow.clear();
+        if let Some(module) = self.module.take() {
+            // SAFETY: the function pointers into this module were dropped above and no other
+            // copy of them escapes the JitProgram.
+            unsafe { module.free_memory() };
+        }
+    }
+}

@@ -1,0 +1,418 @@
+//! The parser driver: tokens → LALRPOP grammar → flat lines → [`ast::Program`] with nested `IF`
+//! blocks and the FAST/SLOW split, plus located syntax diagnostics.
+//!
+//! Recovery is per line: the grammar's `!` rule swallows a bad line up to its end, so one mistake
+//! costs one diagnostic and the rest of the file is still checked. A second `$` line ends the
+//! program text; whatever follows it is one error ([`codes::TEXT_AFTER_END`]).
+
+use diag::Diagnostic;
+use lalrpop_util::ParseError;
+
+use crate::ast::{Line, Program, Span, Stmt, StmtKind};
+use crate::lexer::{self, LexErrorKind, Spanned, Tok};
+use crate::sema::codes;
+
+lalrpop_util::lalrpop_mod!(
+    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
+    grammar
+);
+
+/// Parses decoded source `text` of `file`; diagnostics are located (line and column filled in).
+pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
+    let (mut tokens, lex_errors) = lexer::tokenize(text);
+    let mut diags: Vec<Diagnostic> = lex_errors
+        .iter()
+        .map(|e| match e.kind {
+            LexErrorKind::InvalidChar => Diagnostic::error(codes::INVALID_CHAR, file, e.span.clone(), format!("invalid character `{}`", text.get(e.span.clone()).unwrap_or("?")))
+                .with_hint("outside a `;` comment only ASCII letters, digits, operators and brackets are allowed"),
+            LexErrorKind::NumberTooLarge => Diagnostic::error(codes::NUMBER_TOO_LARGE, file, e.span.clone(), format!("number `{}` is too large", text.get(e.span.clone()).unwrap_or("?")))
+                .with_hint("numbers must fit 32 bits (at most 4294967295 or 0FFFFFFFFH)"),
+        })
+        .collect();
+    truncate_after_second_dollar(file, text, &mut tokens, &mut diags);
+
+    let mut recovered = Vec::new();
+    let lines = match grammar::LinesParser::new()
+        .parse(&mut recovered, tokens.into_iter().map(Ok::<_, ()>))
+    {
+        Ok(lines) => lines,
+        Err(e) => {
+            recovered.push(lalrpop_util::ErrorRecovery {
+                error: e,
+                dropped_tokens: Vec::new(),
+            });
+            Vec::new()
+        }
+    };
+    for r in recovered {
+        if let Some(d) = syntax_diagnostic(file, text, r.error) {
+            diags.push(d);
+        }
+    }
+    let program = nest(file, lines, &mut diags);
+    if diags.is_empty() {
+        return (program, diags);
+    }
+    let lines = lexer::LineIndex::new(text);
+    let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
+    (program, diags)
+}
+
+/// Finds the second `$` line; drops every token after it and reports them once.
+fn truncate_after_second_dollar(
+    file: &str,
+    text: &str,
+    tokens: &mut Vec<Spanned<'_>>,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let mut seen = 0;
+    let mut at_line_start = true;
+    for i in 0..tokens.len() {
+        let is_dollar_line = at_line_start
+            && tokens[i].1 == Tok::Dollar
+            && matches!(tokens.get(i + 1), Some((_, Tok::Newline, _)));
+        at_line_start = tokens[i].1 == Tok::Newline;
+        if is_dollar_line {
+            seen += 1;
+            if seen == 2 {
+                let rest = i + 2;
+                if rest < tokens.len() {
+                    let start = tokens[rest].0;
+                    diags.push(
+                        Diagnostic::error(codes::TEXT_AFTER_END, file, start..text.len(), "text after the second `$` line")
+                            .with_hint("a second `$` ends the program; delete what follows it or remove that `$`"),
+                    );
+                    tokens.truncate(rest);
+                }
+                return;
+            }
+        }
+    }
+}
+
+fn describe(text: &str, l: usize, t: &Tok<'_>, r: usize) -> String {
+    match t {
+        Tok::Newline => "end of line".to_string(),
+        _ => format!("`{}`", text.get(l..r).unwrap_or("?")),
+    }
+}
+
+fn friendly(expected: &[String]) -> String {
+    let names: Vec<&str> = expected
+        .iter()
+        .map(|e| match e.trim_matches('"') {
+            "\\n" => "end of line",
+            "signal" => "a signal",
+            "pulse" => "a one-shot P<n>",
+            "int" => "a number",
+            "real" => "a real number",
+            "duration" => "a duration",
+            "name" => "a name",
+            other => other,
+        })
+        .collect();
+    if names.len() > 10 {
+        return "an operand (signal, name, number, `(`, `[`) or an operator".to_string();
+    }
+    let quoted: Vec<String> = names
+        .iter()
+        .map(|n| {
+            if n.starts_with("a ") || n.starts_with("an ") || *n == "end of line" {
+                n.to_string()
+            } else {
+                format!("`{n}`")
+            }
+        })
+        .collect();
+    quoted.join(", ")
+}
+
+fn syntax_diagnostic(
+    file: &str,
+    text: &str,
+    e: ParseError<usize, Tok<'_>, ()>,
+) -> Option<Diagnostic> {
+    Some(match e {
+        // The lexer already reported the unreadable text.
+        ParseError::UnrecognizedToken {
+            token: (_, Tok::Error, _),
+            ..
+        } => return None,
+        ParseError::UnrecognizedToken {
+            token: (l, t, r),
+            expected,
+        } => {
+            let what = describe(text, l, &t, r);
+            let span = if r > l {
+                l..r
+            } else {
+                l..(l + 1).min(text.len())
+            };
+            let after_def = text
+                .get(..l)
+                .map(|b| b.trim_end().to_ascii_uppercase())
+                .is_some_and(|b| b.ends_with("DEF") && !b.ends_with("_DEF"));
+            if after_def && !matches!(t, Tok::Newline | Tok::Error) {
+                let kind = match t {
+                    Tok::Signal(_) => "a signal",
+                    Tok::Pulse(_) => "a one-shot",
+                    _ => "a keyword or symbol",
+                };
+                return Some(
+                    Diagnostic::error(codes::RESERVED_NAME, file, span, format!("{what} is {kind}, not a name"))
+                        .with_hint("a name is letters, digits and `_`, starts with a letter and must not look like a signal (U10K5), a one-shot (P2) or a keyword"),
+                );
+            }
+            Diagnostic::error(codes::SYNTAX, file, span, format!("unexpected {what}"))
+                .with_hint(format!("expected {}", friendly(&expected)))
+        }
+        ParseError::UnrecognizedEof { location, expected } => {
+            let start = location.min(text.len());
+            Diagnostic::error(
+                codes::UNEXPECTED_EOF,
+                file,
+                start..start,
+                "the file ends inside a statement",
+            )
+            .with_hint(format!("expected {}", friendly(&expected)))
+        }
+        ParseError::ExtraToken { token: (l, t, r) } => {
+            let what = describe(text, l, &t, r);
+            Diagnostic::error(codes::SYNTAX, file, l..r, format!("unexpected {what}"))
+                .with_hint("one statement per line")
+        }
+        ParseError::InvalidToken { location } => {
+            Diagnostic::error(codes::SYNTAX, file, location..location, "unreadable token")
+                .with_hint("check the spelling")
+        }
+        ParseError::User { .. } => return None,
+    })
+}
+
+/// An `IF` under construction.
+struct Frame {
+    cond: crate::ast::Expr,
+    span: Span,
+    then_body: Vec<Stmt>,
+    else_body: Option<Vec<Stmt>>,
+}
+
+fn push(stack: &mut [Frame], top: &mut Vec<Stmt>, stmt: Stmt) {
+    match stack.last_mut() {
+        Some(f) => match &mut f.else_body {
+            Some(e) => e.push(stmt),
+            None => f.then_body.push(stmt),
+        },
+        None => top.push(stmt),
+    }
+}
+
+/// Nests `IF` blocks and splits the program at the first `$` line.
+fn nest(file: &str, lines: Vec<Line>, diags: &mut Vec<Diagnostic>) -> Program {
+    let mut program = Program::default();
+    let mut stack: Vec<Frame> = Vec::new();
+    let mut in_slow = false;
+    for line in lines {
+        let top = if in_slow {
+            &mut program.slow
+        } else {
+            &mut program.fast
+        };
+        match line {
+            Line::Stmt(s) => push(&mut stack, top, *s),
+            Line::If(cond, span) => stack.push(Frame {
+                cond: *cond,
+                span,
+                then_body: Vec::new(),
+                else_body: None,
+            }),
+            Line::Else(span) => match stack.last_mut() {
+                Some(f) if f.else_body.is_none() => f.else_body = Some(Vec::new()),
+                Some(_) => diags.push(
+                    Diagnostic::error(
+                        codes::ELSE_WITHOUT_IF,
+                        file,
+                        span,
+                        "second `ELSE` in one `IF`",
+                    )
+                    .with_hint("an `IF` has at most one `ELSE`; close it with `END_IF` first"),
+                ),
+                None => diags.push(
+                    Diagnostic::error(codes::ELSE_WITHOUT_IF, file, span, "`ELSE` without `IF`")
+                        .with_hint("`ELSE` belongs between `IF … THEN` and `END_IF`"),
+                ),
+            },
+            Line::EndIf(span) => match stack.pop() {
+                Some(f) => {
+                    let stmt = Stmt {
+                        kind: StmtKind::If {
+                            cond: f.cond,
+                            then_body: f.then_body,
+                            else_body: f.else_body.unwrap_or_default(),
+                        },
+                        span: f.span,
+                    };
+                    push(&mut stack, top, stmt);
+                }
+                None => diags.push(
+                    Diagnostic::error(
+                        codes::END_IF_WITHOUT_IF,
+                        file,
+                        span,
+                        "`END_IF` without `IF`",
+                    )
+                    .with_hint("every `END_IF` closes an earlier `IF … THEN` line"),
+                ),
+            },
+            Line::Dollar(span) => {
+                if !stack.is_empty() {
+                    diags.push(
+                        Diagnostic::error(
+                            codes::DOLLAR_IN_IF,
+                            file,
+                            span,
+                            "`$` inside an `IF` block",
+                        )
+                        .with_hint("close the `IF` with `END_IF` before the `$` line"),
+                    );
+                } else if program.separator.is_none() {
+                    program.separator = Some(span);
+                    in_slow = true;
+                }
+            }
+        }
+    }
+    // Close what is still open so that sema checks the statements inside; report each IF.
+    while let Some(f) = stack.pop() {
+        diags.push(
+            Diagnostic::error(
+                codes::IF_WITHOUT_END_IF,
+                file,
+                f.span.clone(),
+                "`IF` without `END_IF`",
+            )
+            .with_hint("add an `END_IF` line after the block"),
+        );
+        let top = if in_slow {
+            &mut program.slow
+        } else {
+            &mut program.fast
+        };
+        let stmt = Stmt {
+            kind: StmtKind::If {
+                cond: f.cond,
+                then_body: f.then_body,
+                else_body: f.else_body.unwrap_or_default(),
+            },
+            span: f.span,
+        };
+        push(&mut stack, top, stmt);
+    }
+    program
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ast::*;
+
+    fn codes_of(src: &str) -> Vec<(u32, u32, u32)> {
+        parse("t.plc", src)
+            .1
+            .iter()
+            .map(|d| (d.code, d.line, d.column))
+            .collect()
+    }
+
+    #[test]
+    fn seed_fragments_parse_without_diagnostics() {
+        let src = ";comment line\nU180K0=I0K2\nU170K7=/I1A29\nU10K5=U150N0*/I150N1\nU150N2=/U250N0+U250N0\n\
+                   U150N0=[W3K0=91H]+U150N0*/[W3K0=90H]*/I0K1\nU10K10=I0K2*/U150N0\nP2=U100K0\nU100K0=P2\n$\n";
+        let (p, d) = parse("t.plc", src);
+        assert_eq!(d, vec![]);
+        assert_eq!(p.fast.len(), 8);
+        assert_eq!(p.slow.len(), 0);
+        assert!(p.separator.is_some());
+    }
+
+    #[test]
+    fn precedence_or_below_and_below_not() {
+        let (p, d) = parse("t", "U1K0=I0K0+I0K1*/I0K2");
+        assert_eq!(d, vec![]);
+        let StmtKind::Assign { value, .. } = &p.fast[0].kind else {
+            panic!("assignment expected")
+        };
+        let ExprKind::Binary(BinOp::Plus, _, rhs) = &value.kind else {
+            panic!("+ at the top: {value:?}")
+        };
+        let ExprKind::Binary(BinOp::Star, _, not) = &rhs.kind else {
+            panic!("* below +")
+        };
+        assert!(matches!(not.kind, ExprKind::Unary(UnOp::Slash, _)));
+    }
+
+    #[test]
+    fn if_blocks_nest_and_split_fast_slow() {
+        let src = "IF I0K0 THEN\nU1K0=1\nIF I0K1 THEN\nU1K1=1\nEND_IF\nELSE\nU1K2=1\nEND_IF\n$\nU1K3=I0K3\n";
+        let (p, d) = parse("t", src);
+        assert_eq!(d, vec![]);
+        assert_eq!(p.fast.len(), 1);
+        let StmtKind::If {
+            then_body,
+            else_body,
+            ..
+        } = &p.fast[0].kind
+        else {
+            panic!("IF expected")
+        };
+        assert_eq!(then_body.len(), 2);
+        assert_eq!(else_body.len(), 1);
+        assert_eq!(p.slow.len(), 1);
+    }
+
+    #[test]
+    fn every_bad_line_is_reported_and_the_rest_parses() {
+        let src = "U1K0=\nU1K1==I0K0\nU1K2=I0K0\nU1K3=I0K0 I0K1\nU1K4=§\n";
+        let (p, d) = parse("t", src);
+        // Line 1 continues onto line 2 (ends with `=`), so the first error is on line 2.
+        assert_eq!(
+            d.iter()
+                .map(|d| (d.code, d.line, d.column))
+                .collect::<Vec<_>>(),
+            vec![(1001, 5, 6), (1003, 2, 5), (1003, 4, 11)]
+        );
+        assert_eq!(
+            p.fast
+                .iter()
+                .filter(|s| matches!(s.kind, StmtKind::Assign { .. }))
+                .count(),
+            1
+        );
+    }
+
+    #[test]
+    fn block_structure_errors() {
+        assert_eq!(
+            codes_of("ELSE\nEND_IF\nIF I0K0 THEN\nU1K0=1\n"),
+            vec![(1006, 1, 1), (1007, 2, 1), (1008, 3, 1)]
+        );
+        assert_eq!(codes_of("IF I0K0 THEN\n$\nEND_IF\n"), vec![(1009, 2, 1)]);
+        assert_eq!(
+            codes_of("U1K0=1\n$\nU1K1=1\n$\nU1K2=1\ngarbage ]]\n"),
+            vec![(1005, 5, 1)]
+        );
+    }
+
+    #[test]
+    fn eof_inside_brackets() {
+        assert_eq!(codes_of("U1K0=(I0K0"), vec![(1003, 1, 11)]);
+    }
+
+    #[test]
+    fn names_that_look_like_signals_or_keywords() {
+        assert_eq!(
+            codes_of("DEF U10K5 = I0K0\nDEF P2 : BOOL\ndef THEN : BOOL\nDEF X = 5"),
+            vec![(1202, 1, 5), (1202, 2, 5), (1202, 3, 5), (1003, 4, 9)]
+        );
+    }
+}

@@ -1,0 +1,455 @@
+//! The CANopen master: packet-A bytes ↔ PDOs of CiA 401 digital I/O modules.
+//!
+//! At start the master task performs each node's SDO expedited writes from the map (a node whose
+//! configuration fails is not started and reports [`Fault::Sdo`]), then sends NMT *start remote
+//! node* to every configured node. Each tick, when the scan publishes its outputs, the task sends the
+//! RPDOs (only after the scan published at least once, so a node never gets a value the logic did
+//! not command) followed by one SYNC; the nodes answer with their TPDOs, whose mapped bytes go into
+//! the input frame. The heartbeat consumer declares a node lost when no heartbeat arrived within its
+//! heartbeat time (checked at least every quarter of it), or when it reports a state other than
+//! operational once it has had that time to start; a node that boots again is started again.
+//!
+//! The scan side ([`CanopenIo`]) only touches lock-free buffers, exactly like the Modbus driver.
+
+use std::future::Future;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::Duration;
+
+use packets::{IoAlarm, PacketIo};
+use tokio::sync::Notify;
+use tokio::time::Instant;
+
+use super::transport::CanBus;
+use super::{CanMsg, cob, nmt, sdo};
+use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
+use crate::health::{Fault, Health};
+use crate::map::{CanNode, CanopenConfig};
+
+const A_LEN: usize = 128;
+/// Device profile number of CiA 401 (low 16 bits of object `1000h`).
+const CIA_401: u32 = 401;
+/// Ticks without any sign of life from the master task before the scan declares a node lost (a
+/// backstop: the heartbeat consumer normally decides much earlier).
+const STALE_TICKS: u32 = 1000;
+
+/// Per-node status the master task reports.
+#[derive(Debug, Clone, Copy, Default)]
+struct NodeStatus {
+    seq: u64,
+    fault: Fault,
+}
+
+#[derive(Debug, Clone)]
+struct CanIn {
+    nodes: Vec<NodeStatus>,
+    data: [u8; A_LEN],
+}
+
+struct NodeSide {
+    cfg: CanNode,
+    health: Health,
+}
+
+/// The CANopen master driver (implements [`PacketIo`]).
+pub struct CanopenIo {
+    runtime: Option<tokio::runtime::Runtime>,
+    nodes: Vec<NodeSide>,
+    inputs: TripleReader<CanIn>,
+    outputs: TripleWriter<OutFrame>,
+    wake: Arc<Notify>,
+    acked: Arc<AtomicU64>,
+    out_seq: u64,
+    last_out: [u8; A_LEN],
+    alarms: Vec<IoAlarm>,
+}
+
+impl CanopenIo {
+    /// Starts a private runtime, connects the bus with `connect` (run inside that runtime, so it may
+    /// spawn tasks such as simulated nodes) and starts the master task. Callable from any thread,
+    /// inside another tokio runtime too.
+    pub fn start<B, F>(
+        cfg: &CanopenConfig,
+        connect: impl FnOnce() -> F + Send + 'static,
+    ) -> std::io::Result<CanopenIo>
+    where
+        B: CanBus,
+        F: Future<Output = std::io::Result<B>> + Send + 'static,
+    {
+        let runtime = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .thread_name("ncplc-canopen")
+            .enable_all()
+            .build()?;
+        // Not `block_on`: that panics when the caller is itself inside a tokio runtime.
+        let (tx, rx) = std::sync::mpsc::channel();
+        runtime.spawn(async move {
+            let _ = tx.send(connect().await);
+        });
+        let bus = rx
+            .recv()
+            .map_err(|_| std::io::Error::other("the CAN connect task ended"))??;
+        // Validation guarantees these; a hand-built config must not make the scan panic.
+        let mut cfg = cfg.clone();
+        for n in &mut cfg.nodes {
+            let fits = |m: &crate::map::PdoMapping| {
+                m.range.len > 0
+                    && m.range.end() <= A_LEN
+                    && usize::from(m.offset) + m.range.len <= 8
+            };
+            n.inputs.retain(fits);
+            n.outputs.retain(fits);
+        }
+        let cfg = &cfg;
+        let n = cfg.nodes.len();
+        let (in_tx, in_rx) = triple(CanIn {
+            nodes: vec![NodeStatus::default(); n],
+            data: [0; A_LEN],
+        });
+        let (out_tx, out_rx) = triple(OutFrame {
+            seq: 0,
+            data: [0; A_LEN],
+        });
+        let wake = Arc::new(Notify::new());
+        let acked = Arc::new(AtomicU64::new(0));
+        let master = Master {
+            cfg: cfg.clone(),
+            bus,
+            inputs: in_tx,
+            outputs: out_rx,
+            wake: wake.clone(),
+            acked: acked.clone(),
+            status: vec![NodeRt::default(); n],
+            data: [0; A_LEN],
+            pending: Vec::new(),
+            configured: false,
+        };
+        runtime.spawn(master.run());
+        let nodes = cfg
+            .nodes
+            .iter()
+            .map(|c| NodeSide {
+                cfg: c.clone(),
+                health: Health::new(&c.name, STALE_TICKS),
+            })
+            .collect();
+        Ok(CanopenIo {
+            runtime: Some(runtime),
+            nodes,
+            inputs: in_rx,
+            outputs: out_tx,
+            wake,
+            acked,
+            out_seq: 0,
+            last_out: [0; A_LEN],
+            alarms: Vec::new(),
+        })
+    }
+
+    /// True while node `name` is operational and its heartbeat arrives (as of the last latch).
+    pub fn is_healthy(&self, name: &str) -> bool {
+        self.nodes
+            .iter()
+            .any(|n| n.cfg.name == name && n.health.healthy())
+    }
+
+    fn hand_over(&mut self, packets: &[u8], force: bool) {
+        let mut changed = force || self.out_seq == 0;
+        for n in &self.nodes {
+            for m in &n.cfg.outputs {
+                let (s, e) = (m.range.start, m.range.end());
+                if let Some(src) = packets.get(s..e)
+                    && src != &self.last_out[s..e]
+                {
+                    self.last_out[s..e].copy_from_slice(src);
+                    changed = true;
+                }
+            }
+        }
+        if changed {
+            self.out_seq += 1;
+            let buf = self.outputs.buf();
+            buf.seq = self.out_seq;
+            buf.data = self.last_out;
+            self.outputs.publish();
+        }
+        // One SYNC per tick, whether or not the outputs changed.
+        self.wake.notify_one();
+    }
+}
+
+impl Drop for CanopenIo {
+    fn drop(&mut self) {
+        if let Some(rt) = self.runtime.take() {
+            rt.shutdown_background();
+        }
+    }
+}
+
+impl PacketIo for CanopenIo {
+    fn name(&self) -> &str {
+        "canopen"
+    }
+
+    fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
+        let (frame, _) = self.inputs.read();
+        for (i, n) in self.nodes.iter_mut().enumerate() {
+            let st = frame.nodes.get(i).copied().unwrap_or_default();
+            if let Some(a) = n.health.tick(st.seq, st.fault)
+                && self.alarms.len() < MAX_PENDING_ALARMS
+            {
+                self.alarms.push(a);
+            }
+            let healthy = n.health.healthy();
+            for m in &n.cfg.inputs {
+                let (s, e) = (m.range.start, m.range.end());
+                if let Some(dst) = packets.get_mut(s..e) {
+                    if healthy {
+                        dst.copy_from_slice(&frame.data[s..e])
+                    } else {
+                        dst.fill(m.fail)
+                    }
+                }
+            }
+            if let Some(bit) = n.cfg.healthy {
+                bit.write(packets, u8::from(healthy));
+            }
+        }
+    }
+
+    fn publish_outputs(&mut self, _tick: u64, packets: &[u8]) {
+        self.hand_over(packets, false);
+    }
+
+    fn take_alarms(&mut self) -> Vec<IoAlarm> {
+        std::mem::take(&mut self.alarms)
+    }
+
+    /// Commands every output mapping's `safe` value and waits (at most 100 ms) until the master
+    /// has sent it.
+    fn safe_state(&mut self) {
+        let mut image = [0u8; A_LEN];
+        for n in &self.nodes {
+            for m in &n.cfg.outputs {
+                image[m.range.start..m.range.end()].fill(m.fail);
+            }
+        }
+        self.hand_over(&image, true);
+        let deadline = std::time::Instant::now() + Duration::from_millis(100);
+        while std::time::Instant::now() < deadline
+            && self.acked.load(Ordering::Acquire) < self.out_seq
+        {
+            std::thread::sleep(Duration::from_micros(200));
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, Default)]
+struct NodeRt {
+    last_hb: Option<Instant>,
+    state: u8,
+    started: Option<Instant>,
+    sdo_failed: bool,
+    seq: u64,
+}
+
+struct Master<B> {
+    cfg: CanopenConfig,
+    bus: B,
+    inputs: TripleWriter<CanIn>,
+    outputs: TripleReader<OutFrame>,
+    wake: Arc<Notify>,
+    acked: Arc<AtomicU64>,
+    status: Vec<NodeRt>,
+    data: [u8; A_LEN],
+    /// Frames to send that frame handling decided on (NMT restarts).
+    pending: Vec<CanMsg>,
+    /// False while the SDO configuration runs (boot-ups then must not start a node).
+    configured: bool,
+}
+
+impl<B: CanBus> Master<B> {
+    async fn run(mut self) {
+        self.configure().await;
+        self.configured = true;
+        for i in 0..self.cfg.nodes.len() {
+            if !self.status[i].sdo_failed {
+                self.start_node(i).await;
+            }
+        }
+        self.publish();
+        let check = self
+            .cfg
+            .nodes
+            .iter()
+            .map(|n| n.heartbeat / 4)
+            .min()
+            .unwrap_or(Duration::from_millis(20))
+            .clamp(Duration::from_millis(1), Duration::from_millis(20));
+        loop {
+            tokio::select! {
+                r = self.bus.recv() => match r {
+                    Ok(m) => self.on_frame(&m),
+                    // A broken bus: the heartbeat check below turns silence into alarms.
+                    Err(_) => tokio::time::sleep(check).await,
+                },
+                () = self.wake.notified() => self.on_tick().await,
+                () = tokio::time::sleep(check) => {}
+            }
+            for m in std::mem::take(&mut self.pending) {
+                let _ = self.bus.send(&m).await;
+            }
+            self.publish();
+        }
+    }
+
+    /// Reads each node's device type (`1000h`, must be CiA 401) and performs its SDO writes; a
+    /// node where either fails is marked [`Fault::Sdo`] and is not started.
+    async fn configure(&mut self) {
+        let timeout = self.cfg.sdo_timeout;
+        for i in 0..self.cfg.nodes.len() {
+            let node = self.cfg.nodes[i].clone();
+            let mut seen = Vec::new();
+            let device_type = sdo::upload(
+                &mut self.bus,
+                node.node_id,
+                0x1000,
+                0,
+                timeout,
+                &mut |m: &CanMsg| seen.push(*m),
+            )
+            .await;
+            let mut ok = matches!(device_type, Ok((v, _)) if v & 0xFFFF == CIA_401);
+            for w in &node.sdo {
+                if !ok {
+                    break;
+                }
+                let r = sdo::download(
+                    &mut self.bus,
+                    node.node_id,
+                    w,
+                    timeout,
+                    &mut |m: &CanMsg| seen.push(*m),
+                )
+                .await;
+                ok = r.is_ok();
+            }
+            for m in &seen {
+                self.on_frame(m);
+            }
+            self.status[i].sdo_failed = !ok;
+        }
+    }
+
+    async fn start_node(&mut self, i: usize) {
+        let id = self.cfg.nodes[i].node_id;
+        let _ = self
+            .bus
+            .send(&CanMsg::new(cob::NMT, &[nmt::CMD_START, id]))
+            .await;
+        self.status[i].started = Some(Instant::now());
+    }
+
+    fn on_frame(&mut self, m: &CanMsg) {
+        if m.extended || m.rtr {
+            return;
+        }
+        let id = m.id as u16;
+        for (i, node) in self.cfg.nodes.iter().enumerate() {
+            let nid = node.node_id;
+            if id == cob::HEARTBEAT + u16::from(nid) {
+                let Some(&state) = m.payload().first() else {
+                    continue;
+                };
+                let st = &mut self.status[i];
+                st.last_hb = Some(Instant::now());
+                st.state = state;
+                if (state == nmt::BOOTUP || state == nmt::PRE_OPERATIONAL)
+                    && !st.sdo_failed
+                    && self.configured
+                {
+                    // The node (re)booted: start it again.
+                    self.pending
+                        .push(CanMsg::new(cob::NMT, &[nmt::CMD_START, nid]));
+                    st.started = Some(Instant::now());
+                }
+            }
+            for map in &node.inputs {
+                if id == cob::tpdo(map.pdo, nid) {
+                    let src = m.payload();
+                    let (o, n) = (usize::from(map.offset), map.range.len);
+                    if let Some(bytes) = src.get(o..o + n) {
+                        self.data[map.range.start..map.range.end()].copy_from_slice(bytes);
+                    }
+                }
+            }
+        }
+    }
+
+    async fn on_tick(&mut self) {
+        let (out, _) = self.outputs.read();
+        let (seq, data) = (out.seq, out.data);
+        if seq > 0 {
+            for node in &self.cfg.nodes {
+                for pdo in 1..=4u8 {
+                    let maps: Vec<_> = node.outputs.iter().filter(|m| m.pdo == pdo).collect();
+                    if maps.is_empty() {
+                        continue;
+                    }
+                    let mut payload = [0u8; 8];
+                    let mut len = 0;
+                    for m in maps {
+                        let o = usize::from(m.offset);
+                        payload[o..o + m.range.len]
+                            .copy_from_slice(&data[m.range.start..m.range.end()]);
+                        len = len.max(o + m.range.len);
+                    }
+                    let _ = self
+                        .bus
+                        .send(&CanMsg::new(cob::rpdo(pdo, node.node_id), &payload[..len]))
+                        .await;
+                }
+            }
+            self.acked.store(seq, Ordering::Release);
+        }
+        let _ = self.bus.send(&CanMsg::new(cob::SYNC, &[])).await;
+    }
+
+    fn fault(&self, i: usize, now: Instant) -> Fault {
+        let st = &self.status[i];
+        let hb = self.cfg.nodes[i].heartbeat;
+        if st.sdo_failed {
+            return Fault::Sdo;
+        }
+        let settled = st.started.is_some_and(|t| now.duration_since(t) > hb);
+        match st.last_hb {
+            Some(t) if now.duration_since(t) > hb => Fault::HeartbeatLost,
+            None if settled => Fault::HeartbeatLost,
+            Some(_) if st.state != nmt::OPERATIONAL && settled => Fault::NotOperational,
+            _ => Fault::None,
+        }
+    }
+
+    fn publish(&mut self) {
+        let now = Instant::now();
+        let faults: Vec<Fault> = (0..self.cfg.nodes.len())
+            .map(|i| self.fault(i, now))
+            .collect();
+        let buf = self.inputs.buf();
+        for (i, f) in faults.into_iter().enumerate() {
+            let st = &mut self.status[i];
+            let alive = f == Fault::None && st.last_hb.is_some() && st.state == nmt::OPERATIONAL;
+            if alive {
+                st.seq += 1;
+            }
+            if let Some(slot) = buf.nodes.get_mut(i) {
+                *slot = NodeStatus {
+                    seq: st.seq,
+                    fault: f,
+                };
+            }
+        }
+        buf.data = self.data;
+        self.inputs.publish();
+    }
+}

@@ -1,0 +1,205 @@
+//! A simulated CiA 401 digital I/O node on any [`CanBus`], for tests and the `virtual` transport.
+//!
+//! It boots (boot-up message), follows NMT commands, produces its heartbeat every `0x1017` ms, takes
+//! RPDO1/RPDO2 (output bytes 0..7 / 8..15, applied at the next SYNC: synchronous transmission) and
+//! answers each SYNC with TPDO1/TPDO2 (input bytes 0..7 / 8..15) while operational. Its object
+//! dictionary answers SDO expedited transfers: `1000h` device type (`000F0191h`: CiA 401 with
+//! digital inputs and outputs), `1017h` producer heartbeat time, `6000h` sub 1..16 the input bytes
+//! (read-only), `6200h` sub 1..16 the output bytes.
+
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+use super::transport::CanBus;
+use super::{CanMsg, cob, nmt, sdo};
+
+/// Input and output bytes of the simulated module.
+pub const IO_BYTES: usize = 16;
+
+/// The node's state, shared with the test that drives it.
+#[derive(Debug, Clone, Default)]
+pub struct NodeState {
+    /// NMT state (see [`nmt`]).
+    pub nmt: u8,
+    /// Physical inputs (what TPDOs carry).
+    pub inputs: [u8; IO_BYTES],
+    /// Physical outputs (what RPDOs set).
+    pub outputs: [u8; IO_BYTES],
+    pending: [u8; IO_BYTES],
+    /// Producer heartbeat time in ms (`1017h`); 0 = no heartbeat.
+    pub heartbeat_ms: u16,
+    /// When true the node neither answers nor produces its heartbeat (a lost node).
+    pub silent: bool,
+    /// RPDOs received while operational.
+    pub rpdos: u64,
+    /// SYNCs received.
+    pub syncs: u64,
+}
+
+/// A running simulated node.
+pub struct Cia401Node {
+    /// The node id.
+    pub node_id: u8,
+    state: Arc<Mutex<NodeState>>,
+    task: Option<tokio::task::JoinHandle<()>>,
+}
+
+fn lock(s: &Mutex<NodeState>) -> MutexGuard<'_, NodeState> {
+    s.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+impl Cia401Node {
+    /// Spawns the node on the current tokio runtime.
+    pub fn spawn<B: CanBus>(bus: B, node_id: u8) -> Cia401Node {
+        let state = Arc::new(Mutex::new(NodeState {
+            nmt: nmt::PRE_OPERATIONAL,
+            ..NodeState::default()
+        }));
+        let task = tokio::spawn(run(bus, node_id, state.clone()));
+        Cia401Node {
+            node_id,
+            state,
+            task: Some(task),
+        }
+    }
+
+    /// Locks the node's state.
+    pub fn state(&self) -> MutexGuard<'_, NodeState> {
+        lock(&self.state)
+    }
+
+    /// Kills the node: no more frames at all.
+    pub fn kill(&mut self) {
+        if let Some(t) = self.task.take() {
+            t.abort();
+        }
+    }
+}
+
+impl Drop for Cia401Node {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+async fn run<B: CanBus>(mut bus: B, id: u8, state: Arc<Mutex<NodeState>>) {
+    if bus
+        .send(&CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]))
+        .await
+        .is_err()
+    {
+        return;
+    }
+    let mut next_hb = tokio::time::Instant::now();
+    loop {
+        let hb_ms = lock(&state).heartbeat_ms;
+        let wait = if hb_ms == 0 {
+            Duration::from_secs(3600)
+        } else {
+            next_hb.saturating_duration_since(tokio::time::Instant::now())
+        };
+        let replies = tokio::select! {
+            m = bus.recv() => match m {
+                Ok(m) => handle(&state, id, &m),
+                Err(_) => return,
+            },
+            () = tokio::time::sleep(wait) => {
+                let s = lock(&state);
+                next_hb = tokio::time::Instant::now() + Duration::from_millis(u64::from(s.heartbeat_ms.max(1)));
+                if s.silent || s.heartbeat_ms == 0 { Vec::new() } else { vec![CanMsg::new(cob::HEARTBEAT + u16::from(id), &[s.nmt])] }
+            }
+        };
+        for r in replies {
+            if bus.send(&r).await.is_err() {
+                return;
+            }
+        }
+    }
+}
+
+fn handle(state: &Mutex<NodeState>, id: u8, m: &CanMsg) -> Vec<CanMsg> {
+    let mut s = lock(state);
+    if s.silent || m.extended || m.rtr {
+        return Vec::new();
+    }
+    let d = m.payload();
+    let cob_id = m.id as u16;
+    let mut out = Vec::new();
+    if cob_id == cob::NMT && d.len() >= 2 && (d[1] == id || d[1] == 0) {
+        match d[0] {
+            nmt::CMD_START => s.nmt = nmt::OPERATIONAL,
+            nmt::CMD_STOP => s.nmt = nmt::STOPPED,
+            nmt::CMD_PRE_OPERATIONAL => s.nmt = nmt::PRE_OPERATIONAL,
+            nmt::CMD_RESET_NODE | nmt::CMD_RESET_COMM => {
+                s.nmt = nmt::PRE_OPERATIONAL;
+                s.outputs = [0; IO_BYTES];
+                s.pending = [0; IO_BYTES];
+                out.push(CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]));
+            }
+            _ => {}
+        }
+    } else if cob_id == cob::SYNC {
+        s.syncs += 1;
+        if s.nmt == nmt::OPERATIONAL {
+            s.outputs = s.pending;
+            out.push(CanMsg::new(cob::tpdo(1, id), &s.inputs[..8]));
+            out.push(CanMsg::new(cob::tpdo(2, id), &s.inputs[8..]));
+        }
+    } else if (cob_id == cob::rpdo(1, id) || cob_id == cob::rpdo(2, id))
+        && s.nmt == nmt::OPERATIONAL
+    {
+        let base = if cob_id == cob::rpdo(1, id) { 0 } else { 8 };
+        s.pending[base..base + d.len().min(8)].copy_from_slice(&d[..d.len().min(8)]);
+        s.rpdos += 1;
+    } else if cob_id == cob::SDO_RX + u16::from(id) && s.nmt != nmt::STOPPED {
+        let snapshot = s.clone();
+        let mut write = None;
+        let answer = sdo::serve_request(
+            d,
+            |index, sub| od_read(&snapshot, index, sub),
+            |index, sub, v, size| {
+                let r = od_check_write(index, sub, size);
+                if r.is_ok() {
+                    write = Some((index, sub, v));
+                }
+                r
+            },
+        );
+        match write {
+            Some((0x1017, _, v)) => s.heartbeat_ms = v as u16,
+            Some((0x6200, sub, v)) => s.outputs[usize::from(sub) - 1] = v as u8,
+            _ => {}
+        }
+        if let Some(a) = answer {
+            out.push(CanMsg::new(cob::SDO_TX + u16::from(id), &a));
+        }
+    }
+    out
+}
+
+fn od_read(s: &NodeState, index: u16, sub: u8) -> Result<(u32, u8), u32> {
+    let io = |bytes: &[u8; IO_BYTES]| match sub {
+        0 => Ok((IO_BYTES as u32, 1)),
+        1..=16 => Ok((u32::from(bytes[usize::from(sub) - 1]), 1)),
+        _ => Err(sdo::ABORT_NO_SUBINDEX),
+    };
+    match (index, sub) {
+        (0x1000, 0) => Ok((0x000F_0191, 4)),
+        (0x1017, 0) => Ok((u32::from(s.heartbeat_ms), 2)),
+        (0x6000, _) => io(&s.inputs),
+        (0x6200, _) => io(&s.outputs),
+        (0x1000 | 0x1017, _) => Err(sdo::ABORT_NO_SUBINDEX),
+        _ => Err(sdo::ABORT_NO_OBJECT),
+    }
+}
+
+fn od_check_write(index: u16, sub: u8, size: u8) -> Result<(), u32> {
+    match (index, sub) {
+        (0x1017, 0) if size == 2 => Ok(()),
+        (0x6200, 1..=16) if size == 1 => Ok(()),
+        (0x1017, 0) | (0x6200, 1..=16) => Err(sdo::ABORT_LENGTH),
+        (0x1000 | 0x6000, _) => Err(sdo::ABORT_READ_ONLY),
+        (0x1017 | 0x6200, _) => Err(sdo::ABORT_NO_SUBINDEX),
+        _ => Err(sdo::ABORT_NO_OBJECT),
+    }
+}

@@ -1,0 +1,335 @@
+//! The I/O map file `<machine>/io.toml`: which packet-A bytes come from or go to which device.
+//!
+//! The file has up to five parts, all optional:
+//!
+//! ```toml
+//! [hmi]                                   # Modbus TCP server for an HMI or SCADA
+//! bind = "127.0.0.1:1502"
+//! holding = [{ byte = "W200K0", len = 4 }]   # the writable window (K/N bytes)
+//!
+//! [[modbus.device]]                       # remote I/O reached as a Modbus TCP client
+//! name = "rio1"
+//! address = "127.0.0.1:5020"
+//! unit = 1
+//! healthy = "I100K0"                      # bit the driver sets while the device answers
+//!
+//! [canopen]                               # CANopen master
+//! transport = "virtual"                   # virtual | socketcan | cannelloni
+//! [[canopen.node]]
+//! name = "dio1"
+//! node_id = 2
+//! heartbeat_ms = 100
+//!
+//! [[input]]                               # device → packet A input connector bytes
+//! device = "rio1"
+//! connector = 0                           # or byte = "W0A1" with len = n
+//! area = "discrete_inputs"                # Modbus: discrete_inputs | coils | input_registers | holding_registers
+//! address = 0
+//! fail = 0                                # value the bytes take while the device is lost
+//!
+//! [[output]]                              # packet A output connector bytes → device
+//! device = "dio1"
+//! connector = 4
+//! pdo = 1                                 # CANopen: RPDO number (TPDO for an input), byte offset in it
+//! offset = 0
+//! ```
+//!
+//! This module holds the raw serde form (with spans) and the validated model; [`crate::validate`]
+//! turns one into the other and reports located diagnostics (codes in `fieldbus/DIAGNOSTICS.md`).
+
+use std::net::SocketAddr;
+use std::time::Duration;
+
+use packets::Signal;
+use serde::Deserialize;
+use toml::Spanned;
+
+/// Packet-A connectors the machine's IOCFIL declares (`INx` inputs, `OUx` outputs).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct DeclaredConnectors {
+    /// Input connector numbers (IOCFIL `INx`).
+    pub inputs: Vec<u16>,
+    /// Output connector numbers (IOCFIL `OUx`).
+    pub outputs: Vec<u16>,
+}
+
+/// A run of consecutive bytes of packet A (offsets inside the packet, which is also the image offset).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct ByteRange {
+    /// First byte (0..127).
+    pub start: usize,
+    /// Number of bytes (≥ 1).
+    pub len: usize,
+}
+
+impl ByteRange {
+    /// One past the last byte.
+    pub fn end(&self) -> usize {
+        self.start + self.len
+    }
+}
+
+/// The four Modbus data tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModbusArea {
+    /// Read-only bits (function 2).
+    DiscreteInputs,
+    /// Read-write bits (functions 1, 15).
+    Coils,
+    /// Read-only 16-bit registers (function 4).
+    InputRegisters,
+    /// Read-write 16-bit registers (functions 3, 16).
+    HoldingRegisters,
+}
+
+impl ModbusArea {
+    /// True for the two bit tables (8 Modbus addresses per byte; else 2 bytes per register).
+    pub fn is_bits(self) -> bool {
+        matches!(self, ModbusArea::DiscreteInputs | ModbusArea::Coils)
+    }
+
+    /// Number of Modbus items (bits or registers) that `len` bytes occupy.
+    pub fn items(self, len: usize) -> usize {
+        if self.is_bits() {
+            len * 8
+        } else {
+            len.div_ceil(2)
+        }
+    }
+}
+
+/// One mapping of packet-A bytes onto a Modbus data table.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ModbusMapping {
+    /// The packet-A bytes.
+    pub range: ByteRange,
+    /// The table on the device.
+    pub area: ModbusArea,
+    /// First Modbus address (bit or register number, 0-based).
+    pub address: u16,
+    /// Fail state of an input / safe state of an output, applied to every byte.
+    pub fail: u8,
+}
+
+/// A Modbus TCP remote-I/O device.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ModbusDevice {
+    /// Name used in alarms.
+    pub name: String,
+    /// TCP address of the device.
+    pub address: SocketAddr,
+    /// Modbus unit id.
+    pub unit: u8,
+    /// Timeout of every request.
+    pub timeout: Duration,
+    /// Pause between two polls of the inputs (0 = back to back).
+    pub poll: Duration,
+    /// Ticks without a fresh answer after which the device is declared lost.
+    pub alarm_ticks: u32,
+    /// First reconnect delay; doubles after each failed attempt up to `reconnect_max`.
+    pub reconnect_min: Duration,
+    /// Longest reconnect delay.
+    pub reconnect_max: Duration,
+    /// Bit the driver keeps at 1 while the device answers.
+    pub healthy: Option<Signal>,
+    /// Device → packet A.
+    pub inputs: Vec<ModbusMapping>,
+    /// Packet A → device.
+    pub outputs: Vec<ModbusMapping>,
+}
+
+/// A packet-A byte run carried in a PDO.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PdoMapping {
+    /// The packet-A bytes.
+    pub range: ByteRange,
+    /// PDO number 1..4 (TPDO for inputs, RPDO for outputs).
+    pub pdo: u8,
+    /// Byte offset inside the PDO's 8 data bytes.
+    pub offset: u8,
+    /// Fail state of an input / safe state of an output, applied to every byte.
+    pub fail: u8,
+}
+
+/// An SDO expedited write the master performs at start.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SdoWrite {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    #[serde(default)]
+    pub subindex: u8,
+    /// Value (little-endian on the wire).
+    pub value: u32,
+    /// Size in bytes: 1, 2 or 4.
+    pub size: u8,
+}
+
+/// A CANopen node (CiA 401 digital I/O module).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CanNode {
+    /// Name used in alarms.
+    pub name: String,
+    /// Node id 1..127.
+    pub node_id: u8,
+    /// Heartbeat consumer time: the node is lost when no heartbeat arrives within it.
+    pub heartbeat: Duration,
+    /// Bit the driver keeps at 1 while the node is operational.
+    pub healthy: Option<Signal>,
+    /// SDO writes performed before NMT start.
+    pub sdo: Vec<SdoWrite>,
+    /// TPDO → packet A.
+    pub inputs: Vec<PdoMapping>,
+    /// Packet A → RPDO.
+    pub outputs: Vec<PdoMapping>,
+}
+
+/// How the CANopen master reaches the bus.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum TransportConfig {
+    /// An in-process virtual bus (tests, demos).
+    Virtual,
+    /// A Linux SocketCAN interface.
+    SocketCan {
+        /// Interface name, e.g. `can0`.
+        interface: String,
+    },
+    /// CAN frames over UDP in the cannelloni format.
+    Cannelloni {
+        /// Local UDP address to bind.
+        local: SocketAddr,
+        /// The peer's UDP address.
+        remote: SocketAddr,
+    },
+}
+
+/// The CANopen part of the map.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct CanopenConfig {
+    /// How to reach the bus.
+    pub transport: TransportConfig,
+    /// Timeout of one SDO transfer at start.
+    pub sdo_timeout: Duration,
+    /// The nodes.
+    pub nodes: Vec<CanNode>,
+}
+
+/// A K/N byte window the HMI may write (holding registers).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HmiWindow {
+    /// First byte as an offset in the flat image (K or N).
+    pub start: usize,
+    /// Number of bytes.
+    pub len: usize,
+}
+
+/// The HMI / SCADA Modbus TCP server.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HmiConfig {
+    /// Address to bind (127.0.0.1 unless the map names another).
+    pub bind: SocketAddr,
+    /// The writable windows.
+    pub holding: Vec<HmiWindow>,
+}
+
+/// A validated I/O map.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct IoMap {
+    /// The HMI server, when the map has `[hmi]`.
+    pub hmi: Option<HmiConfig>,
+    /// Modbus TCP devices.
+    pub modbus: Vec<ModbusDevice>,
+    /// The CANopen master, when the map has `[canopen]`.
+    pub canopen: Option<CanopenConfig>,
+}
+
+// ---- raw serde form -------------------------------------------------------------------------
+
+/// The file as written, with spans for the diagnostics.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMap {
+    pub hmi: Option<Spanned<RawHmi>>,
+    pub modbus: Option<RawModbus>,
+    pub canopen: Option<Spanned<RawCanopen>>,
+    #[serde(default)]
+    pub input: Vec<Spanned<RawMapping>>,
+    #[serde(default)]
+    pub output: Vec<Spanned<RawMapping>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawHmi {
+    pub bind: Option<Spanned<String>>,
+    #[serde(default)]
+    pub holding: Vec<Spanned<RawWindow>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawWindow {
+    pub byte: Spanned<String>,
+    pub len: Option<Spanned<u32>>,
+}
+
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawModbus {
+    #[serde(default)]
+    pub device: Vec<Spanned<RawModbusDevice>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawModbusDevice {
+    pub name: Spanned<String>,
+    pub address: Spanned<String>,
+    pub unit: Option<Spanned<u32>>,
+    pub timeout_ms: Option<Spanned<u64>>,
+    pub poll_us: Option<Spanned<u64>>,
+    pub alarm_ticks: Option<Spanned<u32>>,
+    pub reconnect_ms: Option<Spanned<u64>>,
+    pub reconnect_max_ms: Option<Spanned<u64>>,
+    pub healthy: Option<Spanned<String>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCanopen {
+    pub transport: Option<Spanned<String>>,
+    pub interface: Option<Spanned<String>>,
+    pub local: Option<Spanned<String>>,
+    pub remote: Option<Spanned<String>>,
+    pub sdo_timeout_ms: Option<Spanned<u64>>,
+    #[serde(default)]
+    pub node: Vec<Spanned<RawCanNode>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCanNode {
+    pub name: Spanned<String>,
+    pub node_id: Spanned<u32>,
+    pub heartbeat_ms: Option<Spanned<u64>>,
+    pub healthy: Option<Spanned<String>>,
+    #[serde(default)]
+    pub sdo: Vec<Spanned<SdoWrite>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawMapping {
+    pub device: Spanned<String>,
+    pub connector: Option<Spanned<u32>>,
+    pub byte: Option<Spanned<String>>,
+    pub len: Option<Spanned<u32>>,
+    pub area: Option<Spanned<ModbusArea>>,
+    pub address: Option<Spanned<u32>>,
+    pub pdo: Option<Spanned<u32>>,
+    pub offset: Option<Spanned<u32>>,
+    pub fail: Option<Spanned<u32>>,
+    pub safe: Option<Spanned<u32>>,
+}

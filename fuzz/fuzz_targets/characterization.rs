@@ -1,0 +1,14 @@
+#![no_main]
+//! Arbitrary bytes read as FCRSYS and as AXCFIL never panic the reader, the FCRSYS validator or
+//! the AXCFIL validator, and every diagnostic they report lies inside the decoded text.
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    use characterization::reader::{Grammar, read, read_with};
+    let (fc, mut d) = read_with("FCRSYS", data, Grammar::FCRSYS);
+    d.extend(characterization::fcrsys::validate(&fc).1);
+    let (ax, more) = read("AXCFIL", data);
+    d.extend(more);
+    d.extend(characterization::axcfil::validate(&ax).1);
+    for x in &d {
+        assert!(x.span.end <= fc.text.len().max(ax.text.len()));
+    }
+});

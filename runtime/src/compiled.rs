@@ -1,0 +1,242 @@
+//! Adapting the PLC compiler (front end, interpreter, JIT) to the runtime's program traits.
+//!
+//! [`compile`] runs `compiler::compile` against a [`MachineContext`] built from the
+//! [`RunConfig`], then wraps the program in the chosen engine. Online-change migration copies
+//! every state slot (variable, timer, counter, pulse) whose name, kind and type are unchanged.
+
+use std::any::Any;
+use std::collections::HashMap;
+use std::hash::{Hash, Hasher};
+use std::ops::Range;
+use std::sync::Arc;
+
+use compiler::context::MachineContext;
+use compiler::interface_map::InterfaceMap;
+use compiler::ir::Program;
+use compiler::{Engine, Interpreter};
+use packets::Signal;
+
+use crate::config::RunConfig;
+use crate::program::{Loaded, Logic, ProgramMeta};
+
+/// Which engine runs the program.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum EngineKind {
+    /// Native code (cranelift).
+    Jit,
+    /// The reference interpreter.
+    Interp,
+}
+
+/// A compiled program's facts.
+#[derive(Debug)]
+pub struct CompiledMeta {
+    /// The IR program.
+    pub program: Arc<Program>,
+    written: Vec<Signal>,
+    layout: u64,
+}
+
+impl CompiledMeta {
+    /// Facts of `program`.
+    pub fn new(program: Arc<Program>) -> CompiledMeta {
+        let written = program.written_signals();
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        for v in program.vars.iter().filter(|v| v.retain) {
+            (&v.name, format!("{:?}", v.ty), v.offset).hash(&mut h);
+        }
+        program.retain_range().hash(&mut h);
+        CompiledMeta {
+            program,
+            written,
+            layout: h.finish(),
+        }
+    }
+}
+
+impl ProgramMeta for CompiledMeta {
+    fn image_len(&self) -> usize {
+        self.program.image_len()
+    }
+    fn written_signals(&self) -> Vec<Signal> {
+        self.written.clone()
+    }
+    fn retain_range(&self) -> Range<usize> {
+        self.program.retain_range()
+    }
+    fn retain_layout(&self) -> u64 {
+        self.layout
+    }
+    fn init_image(&self, image: &mut [u8]) {
+        self.program.init_image(image);
+    }
+    fn migrate_from(&self, old: &dyn ProgramMeta, old_image: &[u8], new_image: &mut [u8]) {
+        // Fresh initial values first; then every unchanged slot keeps its state.
+        self.program.init_image(new_image);
+        let Some(old) = old.as_any().downcast_ref::<CompiledMeta>() else {
+            return;
+        };
+        let old_slots: HashMap<String, _> = old
+            .program
+            .state_slots()
+            .into_iter()
+            .map(|s| (s.name.to_ascii_uppercase(), s))
+            .collect();
+        for s in self.program.state_slots() {
+            let Some(o) = old_slots.get(&s.name.to_ascii_uppercase()) else {
+                continue;
+            };
+            if o.kind != s.kind || o.ty != s.ty || o.len != s.len {
+                continue;
+            }
+            if let (Some(src), Some(dst)) = (
+                old_image.get(o.offset..o.offset + o.len),
+                new_image.get_mut(s.offset..s.offset + s.len),
+            ) {
+                dst.copy_from_slice(src);
+            }
+        }
+    }
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+/// A compiler engine as the runtime's [`Logic`].
+pub struct EngineLogic(pub Box<dyn Engine>);
+
+impl Logic for EngineLogic {
+    fn tick(&mut self, image: &mut [u8]) {
+        self.0.tick(image);
+    }
+    fn name(&self) -> &str {
+        self.0.name()
+    }
+}
+
+/// The compiler's view of the machine.
+pub fn machine_context(cfg: &RunConfig, tick_ms: u32, interface: InterfaceMap) -> MachineContext {
+    MachineContext {
+        a_inputs: cfg.a_inputs.clone(),
+        a_outputs: cfg.a_outputs.clone(),
+        spl: cfg.spl,
+        tick_ms,
+        time_slow_ms: cfg.time_slow_ms,
+        interface,
+    }
+}
+
+/// Wraps an IR program in an engine.
+pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, String> {
+    let program = Arc::new(program);
+    let logic: Box<dyn Engine> = match engine {
+        EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
+        EngineKind::Jit => {
+            Box::new(compiler::jit::compile(&program).map_err(|e| format!("error: JIT: {e}"))?)
+        }
+    };
+    Ok(Loaded {
+        logic: Box::new(EngineLogic(logic)),
+        meta: Arc::new(CompiledMeta::new(program)),
+    })
+}
+
+/// Compiles `source` (named `file_name` in diagnostics) for the machine `cfg` with tick `tick_ms`.
+/// `Err` holds the rendered diagnostics. Warnings of a successful compile are printed to stderr.
+pub fn compile(
+    file_name: &str,
+    source: &[u8],
+    cfg: &RunConfig,
+    interface: &InterfaceMap,
+    tick_ms: u32,
+    engine: EngineKind,
+) -> Result<Loaded, String> {
+    let ctx = machine_context(cfg, tick_ms, interface.clone());
+    let c = compiler::compile(file_name, source, &ctx);
+    let mut sources = diag::Sources::new();
+    sources.add(file_name, c.text.clone());
+    match c.program {
+        Some(p) if !diag::has_errors(&c.diagnostics) => {
+            if !c.diagnostics.is_empty() {
+                eprint!("{}", diag::render_human(&c.diagnostics, &sources));
+            }
+            load(p, engine)
+        }
+        _ => Err(diag::render_human(&c.diagnostics, &sources)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::testkit::sig;
+
+    fn build(src: &str, engine: EngineKind) -> Loaded {
+        let cfg = RunConfig {
+            a_inputs: vec![0, 1],
+            a_outputs: vec![4, 5],
+            spl: 64,
+            ..RunConfig::default()
+        };
+        compile(
+            "PLCPRG",
+            src.as_bytes(),
+            &cfg,
+            &InterfaceMap::builtin(),
+            10,
+            engine,
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    const OLD: &str = "DEF T1 : TON(100ms)\nDEF N : DINT := 5\nT1 = I0A0\nU4A0 = T1\nP3 = I0A1\nIF P3 THEN\nN = N + 1\nEND_IF\n";
+    /// Same names and types, one statement more, one variable removed and one added.
+    const NEW: &str = "DEF T1 : TON(100ms)\nDEF M : DINT := 9\nDEF N : DINT := 5\nT1 = I0A0\nU4A0 = T1\nU4A1 = [M > 3]\nP3 = I0A1\nIF P3 THEN\nN = N + 1\nEND_IF\n";
+
+    #[test]
+    fn migration_keeps_unchanged_state_and_initialises_the_rest() {
+        for engine in [EngineKind::Interp, EngineKind::Jit] {
+            let mut old = build(OLD, engine);
+            let mut image = vec![0u8; old.meta.image_len()];
+            old.meta.init_image(&mut image);
+            sig("I0A0").write(&mut image, 1);
+            sig("I0A1").write(&mut image, 1);
+            for _ in 0..10 {
+                old.logic.tick(&mut image);
+            }
+            assert_eq!(
+                sig("U4A0").read(&image),
+                0,
+                "{engine:?}: ET is 90 ms after 9 executions past the rise"
+            );
+            let mut new = build(NEW, engine);
+            let mut new_image = vec![0u8; new.meta.image_len()];
+            new_image[..packets::PACKETS_LEN].copy_from_slice(&image[..packets::PACKETS_LEN]);
+            new.meta
+                .migrate_from(old.meta.as_ref(), &image, &mut new_image);
+            new.logic.tick(&mut new_image);
+            // The timer kept its elapsed time: the next execution reaches 100 ms.
+            assert_eq!(sig("U4A0").read(&new_image), 1, "{engine:?}");
+            // P3 kept its previous input (no new edge), so N stayed 6; M took its initial value.
+            let meta = new
+                .meta
+                .as_any()
+                .downcast_ref::<CompiledMeta>()
+                .expect("compiled");
+            let var = |name: &str| {
+                let v = meta
+                    .program
+                    .vars
+                    .iter()
+                    .find(|v| v.name.eq_ignore_ascii_case(name))
+                    .expect("var");
+                i32::from_le_bytes(
+                    new_image[v.offset..v.offset + 4]
+                        .try_into()
+                        .expect("4 bytes"),
+                )
+            };
+            assert_eq!((var("N"), var("M")), (6, 9), "{engine:?}");
+        }
+    }
+}

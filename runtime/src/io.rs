@@ -1,0 +1,57 @@
+//! Choosing the I/O behind packet A: the built-in simulation, Modbus TCP or CANopen.
+//!
+//! [`open_io`] is the one dispatch point. `sim` is the built-in simulated CNC and machine
+//! (`<machine>/sim.toml`); `modbus` and `canopen` are the fieldbus crate's drivers, configured by
+//! `<machine>/io.toml` and checked against the connectors IOCFIL declares. With real I/O, the map's
+//! `[hmi]` table also starts the Modbus TCP server for HMI and SCADA. The simulation never opens a
+//! socket, so simulated runs stay deterministic and can run side by side.
+
+use std::path::Path;
+
+use packets::PacketIo;
+
+use crate::sim::{CncSignals, Script, Sim};
+
+/// Which I/O to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum IoKind {
+    /// The built-in simulated CNC and machine (`<machine>/sim.toml`).
+    Sim,
+    /// Modbus TCP remote I/O (`<machine>/io.toml`).
+    Modbus,
+    /// CANopen remote I/O (`<machine>/io.toml`).
+    Canopen,
+}
+
+/// Opens the I/O of `kind` for the machine in `machine_dir`; `declared` are the packet-A
+/// connectors of IOCFIL, which the I/O map must respect. Errors come back rendered.
+pub fn open_io(
+    kind: IoKind,
+    machine_dir: &Path,
+    declared: &fieldbus::DeclaredConnectors,
+    script: Script,
+    signals: CncSignals,
+    tick_ms: u32,
+) -> Result<Box<dyn PacketIo>, String> {
+    let bus = match kind {
+        IoKind::Sim => {
+            return Ok(Box::new(
+                Sim::new(script, signals, tick_ms).map_err(|e| e.to_string())?,
+            ));
+        }
+        IoKind::Modbus => fieldbus::IoKind::Modbus,
+        IoKind::Canopen => fieldbus::IoKind::Canopen,
+    };
+    let render = |diagnostics: Vec<diag::Diagnostic>| {
+        let map = machine_dir.join("io.toml");
+        let mut sources = diag::Sources::new();
+        if let Ok(text) = std::fs::read_to_string(&map) {
+            for d in &diagnostics {
+                sources.add(d.file.clone(), text.clone());
+            }
+        }
+        diag::render_human(&diagnostics, &sources)
+    };
+    let io = fieldbus::open(bus, machine_dir, declared).map_err(render)?;
+    fieldbus::start_hmi(machine_dir, declared, io).map_err(render)
+}

@@ -1,0 +1,86 @@
+//! Opening an example machine directory for `run` and `replay`: configuration, PLC source, sim script.
+//!
+//! The characterization is loaded and validated by `machine_facts::Facts` (a machine with errors is
+//! refused); [`RunConfig::from_facts`] takes what the runtime needs from it.
+
+use std::path::{Path, PathBuf};
+
+use compiler::InterfaceMap;
+
+use crate::compiled::{EngineKind, compile};
+use crate::config::RunConfig;
+use crate::machine_facts::Facts;
+use crate::online::CompileFn;
+use crate::sim::{CncSignals, Script, Sim};
+
+/// A machine ready to run.
+#[derive(Debug, Clone)]
+pub struct Machine {
+    /// The machine directory.
+    pub dir: PathBuf,
+    /// Runtime settings.
+    pub config: RunConfig,
+    /// The simulated machine's script (empty when there is no `sim.toml`).
+    pub script: Script,
+    /// The handshake signals.
+    pub signals: CncSignals,
+    /// The interface map (builtin plus `<machine>/interface.toml`).
+    pub interface: InterfaceMap,
+}
+
+impl Machine {
+    /// Opens `dir`; `plc` overrides the PLC source (as `ncplc build --plc`).
+    pub fn open(dir: &Path, plc: Option<&Path>) -> Result<Machine, String> {
+        let facts = Facts::load(dir).map_err(|e| e.to_string())?;
+        let mut config = RunConfig::from_facts(&facts);
+        if let Some(p) = plc {
+            config.plc_source = p.to_path_buf();
+        }
+        let sim_path = dir.join("sim.toml");
+        let script = match std::fs::read_to_string(&sim_path) {
+            Ok(text) => {
+                Sim::parse_script(&text).map_err(|e| format!("{}: {e}", sim_path.display()))?
+            }
+            Err(_) => Script {
+                strobe_timeout_ms: 10_000,
+                ..Script::default()
+            },
+        };
+        let interface = InterfaceMap::load_for_machine(dir).map_err(|e| e.to_string())?;
+        let signals = CncSignals::from_lookup(|name| interface.signal(name));
+        Ok(Machine {
+            dir: dir.to_path_buf(),
+            config,
+            script,
+            signals,
+            interface,
+        })
+    }
+
+    /// The packet-A connectors IOCFIL declares (the fieldbus I/O map must respect them).
+    pub fn declared_connectors(&self) -> fieldbus::DeclaredConnectors {
+        fieldbus::DeclaredConnectors {
+            inputs: self.config.a_inputs.clone(),
+            outputs: self.config.a_outputs.clone(),
+        }
+    }
+
+    /// Reads the PLC source.
+    pub fn read_source(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.config.plc_source)
+            .map_err(|e| format!("{}: {e}", self.config.plc_source.display()))
+    }
+
+    /// The source's name for diagnostics.
+    pub fn source_name(&self) -> String {
+        self.config.plc_source.display().to_string()
+    }
+
+    /// A compile function for this machine, `engine` and tick.
+    pub fn compile_fn(&self, engine: EngineKind, tick_ms: u32) -> CompileFn {
+        let cfg = self.config.clone();
+        let name = self.source_name();
+        let map = self.interface.clone();
+        std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, &map, tick_ms, engine))
+    }
+}

@@ -1,0 +1,337 @@
+//! The cyclic scheduler: per tick latch inputs, run the logic, publish outputs (plc-language.md §6).
+//!
+//! Tick `t` starts at `t × tick` after the start on the [`Clock`]. A tick that ends after the next
+//! tick's start is an overrun; `overrun_limit` consecutive overruns trip the safe state (physical
+//! outputs to 0, logic halted, alarm). Online change swaps the program at a tick boundary.
+
+use std::sync::mpsc::Receiver;
+use std::time::{Duration, Instant};
+
+use packets::PacketIo;
+
+use crate::clock::Clock;
+use crate::image::Image;
+use crate::program::Loaded;
+use crate::retain::{RetainLayout, RetainRecord};
+use crate::stats::Stats;
+use crate::trace::recorder::{InputDiff, OutputTracker};
+use crate::trace::{TickRecord, TraceError, TraceSink};
+
+/// A new program for the running scheduler, compiled in the background.
+pub struct Swap {
+    /// The program.
+    pub loaded: Loaded,
+    /// When the edit was noticed (for the edit-to-running latency).
+    pub noticed: Instant,
+    /// The source file's modification time, when known.
+    pub modified: Option<std::time::SystemTime>,
+}
+
+/// Something the operator should hear about.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// An alarm (overrun trip, I/O alarm, handshake timeout, …).
+    Alarm(String),
+    /// An alarm cleared.
+    Cleared(String),
+    /// A new program runs since tick `tick`; `latency` from the edit to its first scan.
+    Swapped {
+        /// First tick of the new program.
+        tick: u64,
+        /// Edit (file modification, or notice when unknown) to first scan.
+        latency: Duration,
+    },
+}
+
+/// Retain bookkeeping inside the loop.
+struct RetainState {
+    layout: RetainLayout,
+    last: RetainRecord,
+    sink: Box<dyn FnMut(RetainRecord) + Send>,
+}
+
+/// Scheduler settings.
+#[derive(Debug, Clone)]
+pub struct Settings {
+    /// Tick length.
+    pub tick_ns: u64,
+    /// Consecutive overruns that trip the safe state (0: never).
+    pub overrun_limit: u32,
+}
+
+/// The scan loop and everything it owns.
+pub struct Scheduler {
+    image: Image,
+    loaded: Loaded,
+    io: Box<dyn PacketIo>,
+    clock: Box<dyn Clock>,
+    settings: Settings,
+    /// Timing statistics.
+    pub stats: Stats,
+    tick: u64,
+    start_ns: u64,
+    started: bool,
+    tripped: bool,
+    events: Vec<Event>,
+    recording: Option<(InputDiff, Box<dyn TraceSink>, TickRecord)>,
+    tracker: OutputTracker,
+    swaps: Option<Receiver<Swap>>,
+    retain: Option<RetainState>,
+    last_io_error: Option<TraceError>,
+}
+
+impl Scheduler {
+    /// A scheduler around `loaded`, starting from `image` (T set, retain restored by the caller).
+    pub fn new(
+        image: Image,
+        loaded: Loaded,
+        io: Box<dyn PacketIo>,
+        clock: Box<dyn Clock>,
+        settings: Settings,
+    ) -> Self {
+        let tracker = OutputTracker::new(&loaded.meta.written_signals());
+        let mut image = image;
+        if image.bytes().len() < loaded.meta.image_len() {
+            image = image.resized_for(loaded.meta.image_len());
+        }
+        Scheduler {
+            image,
+            loaded,
+            io,
+            clock,
+            settings,
+            stats: Stats::new(),
+            tick: 0,
+            start_ns: 0,
+            started: false,
+            tripped: false,
+            events: Vec::new(),
+            recording: None,
+            tracker,
+            swaps: None,
+            retain: None,
+            last_io_error: None,
+        }
+    }
+
+    /// Records every tick's inputs and changed outputs into `sink`.
+    pub fn record_to(&mut self, sink: Box<dyn TraceSink>) {
+        self.recording = Some((InputDiff::default(), sink, TickRecord::default()));
+    }
+
+    /// Takes new programs from `rx` at tick boundaries.
+    pub fn accept_swaps(&mut self, rx: Receiver<Swap>) {
+        self.swaps = Some(rx);
+    }
+
+    /// Hands a retain snapshot to `sink` whenever the retained data changed (at most once a tick).
+    pub fn retain_to(&mut self, sink: Box<dyn FnMut(RetainRecord) + Send>) {
+        let meta = &self.loaded.meta;
+        let layout = RetainLayout::new(
+            &meta.written_signals(),
+            meta.retain_range(),
+            meta.retain_layout(),
+        );
+        let last = layout.snapshot(self.image.bytes(), 0);
+        self.retain = Some(RetainState { layout, last, sink });
+    }
+
+    /// Restarts the timeline after a deliberate pause: the next tick is due now (tick numbers go on).
+    pub fn resync(&mut self) {
+        let now = self.clock.now_ns();
+        self.start_ns = now.saturating_sub(self.tick * self.settings.tick_ns);
+        self.started = true;
+    }
+
+    /// Stops handing out retain snapshots (drops the sink).
+    pub fn detach_retain(&mut self) {
+        self.retain = None;
+    }
+
+    /// The image.
+    pub fn image(&self) -> &Image {
+        &self.image
+    }
+
+    /// The next tick number (= ticks run).
+    pub fn tick_count(&self) -> u64 {
+        self.tick
+    }
+
+    /// True after the overrun limit tripped the safe state.
+    pub fn tripped(&self) -> bool {
+        self.tripped
+    }
+
+    /// The running engine's name.
+    pub fn engine_name(&self) -> &str {
+        self.loaded.logic.name()
+    }
+
+    /// Events since the last call.
+    pub fn take_events(&mut self) -> Vec<Event> {
+        std::mem::take(&mut self.events)
+    }
+
+    /// Runs one tick (waiting for its start time on the clock).
+    pub fn step(&mut self) {
+        if !self.started {
+            self.start_ns = self.clock.now_ns();
+            self.started = true;
+        }
+        let t = self.tick;
+        let due = self.start_ns + t * self.settings.tick_ns;
+        let woke = self.clock.sleep_until(due);
+        let work = Instant::now();
+        self.take_swap(t);
+        if let Some((diff, _, rec)) = &mut self.recording {
+            diff.before_latch(self.image.bytes());
+            rec.t = t;
+            rec.inputs.clear();
+            rec.outputs.clear();
+        }
+        self.io.latch_inputs(t, self.image.packets_mut());
+        if let Some((diff, _, rec)) = &mut self.recording {
+            diff.after_latch(self.image.bytes(), &mut rec.inputs);
+        }
+        if !self.tripped {
+            self.loaded.logic.tick(self.image.bytes_mut());
+        } else {
+            self.image.clear_physical_outputs();
+        }
+        if let Some((_, sink, rec)) = &mut self.recording {
+            self.tracker.diff(self.image.bytes(), &mut rec.outputs);
+            if !(rec.inputs.is_empty() && rec.outputs.is_empty())
+                && let Err(e) = sink.record(rec)
+            {
+                self.last_io_error = Some(e);
+            }
+        }
+        self.io.publish_outputs(t, self.image.packets());
+        for a in self.io.take_alarms() {
+            let text = format!("{}: {}", a.device, a.message);
+            self.events.push(if a.cleared {
+                Event::Cleared(text)
+            } else {
+                Event::Alarm(text)
+            });
+        }
+        self.save_retain_if_changed();
+        let end = if self.clock.is_virtual() {
+            woke
+        } else {
+            self.clock.now_ns()
+        };
+        let overrun = !self.clock.is_virtual() && end > due + self.settings.tick_ns;
+        // Virtual time does not move during the work: measure the scan on the wall clock then.
+        let scan_ns = if self.clock.is_virtual() {
+            u64::try_from(work.elapsed().as_nanos()).unwrap_or(u64::MAX)
+        } else {
+            end.saturating_sub(woke)
+        };
+        let run = self.stats.tick(woke.saturating_sub(due), scan_ns, overrun);
+        if overrun
+            && !self.tripped
+            && self.settings.overrun_limit > 0
+            && run >= self.settings.overrun_limit
+        {
+            self.trip(run);
+        }
+        self.tick += 1;
+    }
+
+    fn trip(&mut self, run: u32) {
+        self.tripped = true;
+        self.image.clear_physical_outputs();
+        self.io.safe_state();
+        self.events.push(Event::Alarm(format!(
+            "{run} consecutive overruns at tick {}: outputs in safe state, logic halted",
+            self.tick
+        )));
+    }
+
+    fn take_swap(&mut self, t: u64) {
+        let Some(rx) = &self.swaps else { return };
+        // Only the newest pending program matters.
+        let Some(swap) = rx.try_iter().last() else {
+            return;
+        };
+        let new_meta = swap.loaded.meta.clone();
+        let mut image = self.image.resized_for(new_meta.image_len());
+        new_meta.migrate_from(
+            self.loaded.meta.as_ref(),
+            self.image.bytes(),
+            image.bytes_mut(),
+        );
+        let written = new_meta.written_signals();
+        self.tracker = self.tracker.continue_from(&written, image.bytes());
+        if let Some(r) = &mut self.retain {
+            r.layout =
+                RetainLayout::new(&written, new_meta.retain_range(), new_meta.retain_layout());
+        }
+        self.image = image;
+        self.loaded = swap.loaded;
+        let since_edit = swap
+            .modified
+            .and_then(|m| std::time::SystemTime::now().duration_since(m).ok())
+            .unwrap_or_else(|| swap.noticed.elapsed());
+        self.events.push(Event::Swapped {
+            tick: t,
+            latency: since_edit,
+        });
+    }
+
+    fn save_retain_if_changed(&mut self) {
+        let Some(r) = &mut self.retain else { return };
+        if r.layout.differs(self.image.bytes(), &r.last) {
+            let rec = r.layout.snapshot(self.image.bytes(), r.last.seq + 1);
+            r.last = rec.clone();
+            (r.sink)(rec);
+        }
+    }
+
+    /// Runs `n` ticks, calling `each` after every tick (return `false` from it to stop early).
+    pub fn run(&mut self, n: Option<u64>, mut each: impl FnMut(&mut Scheduler) -> bool) {
+        let mut left = n;
+        while left != Some(0) {
+            self.step();
+            if let Some(l) = &mut left {
+                *l -= 1;
+            }
+            if !each(self) {
+                break;
+            }
+        }
+    }
+
+    /// Finishes: flushes the trace, marks its end, puts the I/O in its safe state.
+    pub fn finish(&mut self) -> Result<(), TraceError> {
+        self.io.safe_state();
+        if let Some((_, sink, rec)) = &mut self.recording {
+            // A record with no changes marks how many ticks ran, unless the last tick had changes.
+            if self.tick > 0 && rec.inputs.is_empty() && rec.outputs.is_empty() {
+                let end = TickRecord {
+                    t: self.tick - 1,
+                    ..TickRecord::default()
+                };
+                sink.record(&end)?;
+            }
+            sink.flush()?;
+        }
+        match self.last_io_error.take() {
+            Some(e) => Err(e),
+            None => Ok(()),
+        }
+    }
+
+    /// Ends the run: [`Scheduler::finish`], then hands back the image (for retain and tests).
+    pub fn into_image(mut self) -> Result<Image, TraceError> {
+        self.finish()?;
+        Ok(self.image)
+    }
+
+    /// Wall-clock helper for status lines: the tick length.
+    pub fn tick_duration(&self) -> Duration {
+        Duration::from_nanos(self.settings.tick_ns)
+    }
+}

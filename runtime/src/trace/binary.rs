@@ -1,0 +1,306 @@
+//! The compact trace form: postcard records, each COBS-framed and ended by a 0x00 byte.
+//!
+//! The first frame is [`Frame::Header`] (format name, version, tick); every later frame is a
+//! [`Frame::Tick`]: the tick as a difference from the previous record's, and each signal as one
+//! varint `image byte × 9 + bit` (bit 8 = the whole byte) with its value. Input bits read back as
+//! `I…`, output bits as `U…` (the same address). COBS lets a reader resynchronise after a damaged frame; this reader reports
+//! the damaged frame instead, since a trace used for comparison must be complete.
+
+use std::io::Write;
+
+use serde::{Deserialize, Serialize};
+
+use packets::{Dir, Packet, Signal};
+
+use super::{TickRecord, Trace, TraceError, TraceSink, VERSION};
+
+/// The name in the header frame.
+pub const FORMAT: &str = "ncplc-trace";
+
+/// One frame of a binary trace.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Frame {
+    /// The first frame.
+    Header {
+        /// Always [`FORMAT`].
+        format: String,
+        /// The format version.
+        version: u32,
+        /// The logic tick in ms.
+        tick_ms: u32,
+    },
+    /// One tick's changes.
+    Tick(CompactTick),
+}
+
+/// A [`TickRecord`] in compact form.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CompactTick {
+    /// Ticks since the previous record (the first: since tick 0).
+    pub dt: u64,
+    /// Inputs as (key, value).
+    pub inputs: Vec<(u32, u8)>,
+    /// Outputs as (key, value).
+    pub outputs: Vec<(u32, u8)>,
+}
+
+fn key(s: &Signal) -> u32 {
+    s.image_byte() as u32 * 9 + u32::from(s.bit().unwrap_or(8))
+}
+
+fn from_key(k: u32, dir: Dir) -> Option<Signal> {
+    let at = (k / 9) as usize;
+    let bit = (k % 9) as u8;
+    let packet = Packet::ALL
+        .into_iter()
+        .find(|p| at >= p.offset() && at < p.offset() + p.len())?;
+    let rel = at - packet.offset();
+    let connector = (rel / 4) as u16;
+    Some(if bit == 8 {
+        Signal::Byte {
+            packet,
+            connector,
+            index: (rel % 4) as u8,
+        }
+    } else {
+        Signal::Bit {
+            dir,
+            packet,
+            connector,
+            contact: (rel % 4) as u8 * 8 + bit,
+        }
+    })
+}
+
+impl CompactTick {
+    fn new(r: &TickRecord, prev_t: u64) -> CompactTick {
+        let pack = |l: &[(Signal, u8)]| l.iter().map(|(s, v)| (key(s), *v)).collect();
+        CompactTick {
+            dt: r.t - prev_t,
+            inputs: pack(&r.inputs),
+            outputs: pack(&r.outputs),
+        }
+    }
+
+    fn expand(&self, prev_t: u64) -> Option<TickRecord> {
+        let unpack = |l: &[(u32, u8)], dir| -> Option<Vec<(Signal, u8)>> {
+            l.iter()
+                .map(|&(k, v)| from_key(k, dir).map(|s| (s, v)))
+                .collect()
+        };
+        Some(TickRecord {
+            t: prev_t.checked_add(self.dt)?,
+            inputs: unpack(&self.inputs, Dir::In)?,
+            outputs: unpack(&self.outputs, Dir::Out)?,
+        })
+    }
+}
+
+/// Streams records as COBS frames.
+pub struct BinaryWriter<W: Write> {
+    out: W,
+    prev_t: u64,
+}
+
+impl<W: Write> BinaryWriter<W> {
+    /// Writes the header frame.
+    pub fn new(mut out: W, tick_ms: u32) -> Result<Self, TraceError> {
+        let header = Frame::Header {
+            format: FORMAT.into(),
+            version: VERSION,
+            tick_ms,
+        };
+        write_frame(&mut out, &header)?;
+        Ok(BinaryWriter { out, prev_t: 0 })
+    }
+}
+
+fn write_frame(out: &mut dyn Write, frame: &Frame) -> Result<(), TraceError> {
+    let bytes = postcard::to_stdvec_cobs(frame).map_err(|e| TraceError::Binary {
+        frame: 0,
+        message: format!("cannot encode: {e}"),
+    })?;
+    out.write_all(&bytes)?;
+    Ok(())
+}
+
+impl<W: Write> TraceSink for BinaryWriter<W> {
+    fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
+        let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
+        self.prev_t = rec.t;
+        write_frame(&mut self.out, &frame)
+    }
+
+    fn flush(&mut self) -> Result<(), TraceError> {
+        self.out.flush()?;
+        Ok(())
+    }
+}
+
+/// Encodes a whole trace.
+pub fn encode(trace: &Trace) -> Result<Vec<u8>, TraceError> {
+    let mut out = Vec::new();
+    let mut w = BinaryWriter::new(&mut out, trace.tick_ms)?;
+    for r in &trace.ticks {
+        TraceSink::record(&mut w, r)?;
+    }
+    Ok(out)
+}
+
+/// Decodes a whole binary trace.
+pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
+    let mut frames = bytes.split_inclusive(|&b| b == 0).enumerate();
+    let bad = |frame: usize, message: String| TraceError::Binary { frame, message };
+    let decode_one = |i: usize, raw: &[u8]| -> Result<Frame, TraceError> {
+        if raw.last() != Some(&0) {
+            return Err(bad(
+                i,
+                "truncated: the last frame has no 0x00 terminator".into(),
+            ));
+        }
+        let mut buf = raw.to_vec();
+        postcard::from_bytes_cobs::<Frame>(&mut buf)
+            .map_err(|e| bad(i, format!("undecodable frame: {e}")))
+    };
+    let (i, first) = frames.next().ok_or_else(|| bad(0, "empty file".into()))?;
+    let tick_ms = match decode_one(i, first)? {
+        Frame::Header {
+            format,
+            version,
+            tick_ms,
+        } if format == FORMAT && version == VERSION && tick_ms > 0 => tick_ms,
+        Frame::Header { version, .. } => {
+            return Err(bad(
+                i,
+                format!("not a version-{VERSION} ncplc trace header (version {version})"),
+            ));
+        }
+        Frame::Tick(_) => return Err(bad(i, "the first frame must be the header".into())),
+    };
+    let mut ticks: Vec<TickRecord> = Vec::new();
+    for (i, raw) in frames {
+        match decode_one(i, raw)? {
+            Frame::Tick(c) => {
+                let prev_t = ticks.last().map_or(0, |r| r.t);
+                let r = c
+                    .expand(prev_t)
+                    .ok_or_else(|| bad(i, "a signal outside the packets".into()))?;
+                if let Some(prev) = ticks.last()
+                    && c.dt == 0
+                {
+                    return Err(bad(
+                        i,
+                        format!("tick {} does not follow tick {}", r.t, prev.t),
+                    ));
+                }
+                ticks.push(r);
+            }
+            Frame::Header { .. } => return Err(bad(i, "a second header".into())),
+        }
+    }
+    Ok(Trace { tick_ms, ticks })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sig(s: &str) -> Signal {
+        s.parse().expect("signal")
+    }
+
+    #[test]
+    fn round_trip_and_no_zero_inside_frames() {
+        let trace = Trace {
+            tick_ms: 1,
+            ticks: vec![
+                TickRecord {
+                    t: 0,
+                    inputs: vec![(sig("W3K0"), 0)],
+                    outputs: vec![(sig("U4A0"), 1)],
+                },
+                TickRecord {
+                    t: 300,
+                    inputs: vec![(sig("I0A0"), 1)],
+                    outputs: vec![],
+                },
+            ],
+        };
+        let bytes = encode(&trace).expect("encode");
+        assert_eq!(bytes.iter().filter(|&&b| b == 0).count(), 3);
+        assert_eq!(decode(&bytes).expect("decode"), trace);
+        assert_eq!(Trace::from_bytes(&bytes).expect("detect"), trace);
+    }
+
+    #[test]
+    fn truncation_is_reported() {
+        let trace = Trace {
+            tick_ms: 1,
+            ticks: vec![TickRecord {
+                t: 4,
+                inputs: vec![],
+                outputs: vec![],
+            }],
+        };
+        let bytes = encode(&trace).expect("encode");
+        let e = decode(&bytes[..bytes.len() - 1])
+            .map_err(|e| e.to_string())
+            .err();
+        assert_eq!(
+            e.as_deref(),
+            Some("frame 1: truncated: the last frame has no 0x00 terminator")
+        );
+    }
+
+    fn arb_signal(dir: Dir) -> impl proptest::strategy::Strategy<Value = Signal> {
+        use proptest::prelude::*;
+        (0usize..4, 0u16..256, 0u8..32, any::<bool>()).prop_map(move |(p, c, n, byte)| {
+            let packet = Packet::ALL[p];
+            let connector = c % packet.connectors();
+            if byte {
+                Signal::Byte {
+                    packet,
+                    connector,
+                    index: n % 4,
+                }
+            } else {
+                Signal::Bit {
+                    dir,
+                    packet,
+                    connector,
+                    contact: n,
+                }
+            }
+        })
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::test_runner::Config::with_cases(128))]
+        #[test]
+        fn binary_and_text_round_trip_any_trace(
+            gaps in proptest::collection::vec(1u64..100_000, 0..20),
+            ins in proptest::collection::vec((arb_signal(Dir::In), proptest::prelude::any::<u8>()), 0..40),
+            outs in proptest::collection::vec((arb_signal(Dir::Out), proptest::prelude::any::<u8>()), 0..40),
+        ) {
+            let mut t = 0;
+            let mut ticks = Vec::new();
+            for (i, g) in gaps.iter().enumerate() {
+                let fix = |(s, v): &(Signal, u8)| (*s, if s.bit().is_some() { v & 1 } else { *v });
+                let mut inputs: Vec<_> = ins.iter().skip(i).step_by(3).map(fix).collect();
+                let mut outputs: Vec<_> = outs.iter().skip(i).step_by(3).map(fix).collect();
+                inputs.sort_by_key(|(s, _)| crate::trace::text::canonical_key(s));
+                inputs.dedup_by_key(|(s, _)| *s);
+                outputs.sort_by_key(|(s, _)| crate::trace::text::canonical_key(s));
+                outputs.dedup_by_key(|(s, _)| *s);
+                ticks.push(TickRecord { t, inputs, outputs });
+                t += g;
+            }
+            let trace = Trace { tick_ms: 3, ticks };
+            let bytes = encode(&trace).expect("encode");
+            proptest::prop_assert_eq!(&decode(&bytes).expect("decode"), &trace);
+            let mut text = Vec::new();
+            trace.write_text(&mut text).expect("text");
+            proptest::prop_assert_eq!(&crate::trace::text::parse(&text).expect("parse"), &trace);
+        }
+    }
+}

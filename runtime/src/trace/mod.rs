@@ -1,0 +1,137 @@
+//! I/O traces: per tick, the inputs applied and the outputs that changed.
+//!
+//! One record schema ([`TickRecord`]) with two encodings: JSON Lines for CI and hand-written tests
+//! ([`text`]) and postcard + COBS for long captures ([`binary`]). [`Trace::load`] reads either
+//! (a text trace starts with `{`). [`recorder`] turns a running image into records and [`compare`]
+//! finds where a replay departs from a trace.
+
+pub mod binary;
+pub mod compare;
+pub mod recorder;
+pub mod text;
+
+use std::io::Write;
+use std::path::Path;
+
+use packets::Signal;
+use serde::{Deserialize, Serialize};
+
+/// The trace format version written and understood.
+pub const VERSION: u32 = 1;
+
+/// A signal and its value (0/1 for a bit, 0..255 for a byte).
+pub type SignalValue = (Signal, u8);
+
+/// The changes of one tick.
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct TickRecord {
+    /// Tick number, from 0.
+    pub t: u64,
+    /// Values written into the image at the start of the tick, before the scan.
+    pub inputs: Vec<SignalValue>,
+    /// Written signals whose value at the end of the tick differs from the end of the previous one.
+    pub outputs: Vec<SignalValue>,
+}
+
+/// A whole trace in memory.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Trace {
+    /// The logic tick the trace was recorded with, in ms.
+    pub tick_ms: u32,
+    /// Records in increasing tick order.
+    pub ticks: Vec<TickRecord>,
+}
+
+/// Why a trace could not be read or written.
+#[derive(Debug, thiserror::Error)]
+pub enum TraceError {
+    /// The file could not be read or written.
+    #[error("{0}")]
+    Io(#[from] std::io::Error),
+    /// A text line is malformed.
+    #[error("line {line}: {message}")]
+    Text {
+        /// 1-based line number.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// A binary frame is malformed.
+    #[error("frame {frame}: {message}")]
+    Binary {
+        /// 0-based frame number.
+        frame: usize,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl Trace {
+    /// Number of ticks the trace covers (last record's tick + 1; 0 when empty).
+    pub fn len_ticks(&self) -> u64 {
+        self.ticks.last().map_or(0, |r| r.t + 1)
+    }
+
+    /// Reads a trace file in either form.
+    pub fn load(path: &Path) -> Result<Trace, TraceError> {
+        let bytes = std::fs::read(path)?;
+        Trace::from_bytes(&bytes)
+    }
+
+    /// Parses a trace in either form (text when it starts with `{` after blanks).
+    pub fn from_bytes(bytes: &[u8]) -> Result<Trace, TraceError> {
+        if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') {
+            text::parse(bytes)
+        } else {
+            binary::decode(bytes)
+        }
+    }
+
+    /// Writes the trace in text form.
+    pub fn write_text(&self, out: &mut dyn Write) -> Result<(), TraceError> {
+        let mut w = text::TextWriter::new(out, self.tick_ms)?;
+        for r in &self.ticks {
+            w.record(r)?;
+        }
+        Ok(())
+    }
+}
+
+/// A streaming trace sink (used by `ncplc run --record`).
+pub trait TraceSink {
+    /// Writes one tick's record (only called when something changed, or to mark the end).
+    fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError>;
+    /// Flushes buffered data.
+    fn flush(&mut self) -> Result<(), TraceError>;
+}
+
+/// Opens a file sink: binary when the path ends in `.ptrace` or `.bin`, text otherwise.
+pub fn create_sink(path: &Path, tick_ms: u32) -> Result<Box<dyn TraceSink>, TraceError> {
+    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let binary = matches!(
+        path.extension().and_then(|e| e.to_str()),
+        Some("ptrace" | "bin")
+    );
+    if binary {
+        Ok(Box::new(binary::BinaryWriter::new(file, tick_ms)?))
+    } else {
+        Ok(Box::new(text::TextWriter::new(file, tick_ms)?))
+    }
+}
+
+/// A sink that keeps records in memory (tests, benchmarks, `--update`).
+#[derive(Debug, Clone, Default)]
+pub struct MemorySink(pub std::sync::Arc<std::sync::Mutex<Vec<TickRecord>>>);
+
+impl TraceSink for MemorySink {
+    fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
+        if let Ok(mut v) = self.0.lock() {
+            v.push(rec.clone());
+        }
+        Ok(())
+    }
+
+    fn flush(&mut self) -> Result<(), TraceError> {
+        Ok(())
+    }
+}
