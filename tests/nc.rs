@@ -149,7 +149,32 @@ fn plan_reports_run_time_errors_with_exit_code_1() {
 
 #[test]
 fn fanuc_programs_are_detected_and_planned() {
-    let out = ncplc(&["nc", "plan", "plc-programs/lathe", "O1000.nc"]);
+    // The NC-110 lathe's IOCFIL does not declare M21 (C axis on), so O1000 fails the check there...
+    let out = ncplc(&[
+        "nc",
+        "check",
+        "plc-programs/lathe",
+        "O1000.nc",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let diags = json_lines(&out.stderr);
+    assert_eq!(diags[0]["code"], 2016);
+    assert_eq!(
+        (diags[0]["line"].as_u64(), diags[0]["column"].as_u64()),
+        (Some(3), Some(5))
+    );
+    // ... and plans on a lathe without M declarations.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("fanuclathe");
+    std::fs::create_dir_all(m.join("nc")).expect("nc");
+    std::fs::copy(
+        repo().join("plc-programs/lathe/nc/O1000.nc"),
+        m.join("nc/O1000.nc"),
+    )
+    .expect("copy");
+    let out = ncplc(&["nc", "plan", m.to_str().unwrap_or_default(), "O1000.nc"]);
     assert!(
         out.status.success(),
         "{}",
