@@ -23,6 +23,20 @@ pub const R_MAX: i64 = 69_999_999;
 
 /// Parses `src` (the text of `file`) in `dialect`.
 pub fn parse(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagnostic>) {
+    parse_with(dialect, file, src, true)
+}
+
+/// Parses a macro file: like [`parse`], but a MEFI file without `%` header starts at its first byte.
+pub fn parse_library(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagnostic>) {
+    parse_with(dialect, file, src, false)
+}
+
+fn parse_with(
+    dialect: Dialect,
+    file: &str,
+    src: &str,
+    require_header: bool,
+) -> (ParsedFile, Vec<Diagnostic>) {
     let mut diags = Vec::new();
     let mut out = ParsedFile::default();
     let start = match dialect {
@@ -33,6 +47,7 @@ pub fn parse(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagno
                 (Some(p), Some(c)) => p.min(c),
                 (Some(p), None) => p,
                 (None, Some(c)) => c,
+                (None, None) if !require_header => 0,
                 (None, None) => {
                     diags.push(
                         Diagnostic::error(
@@ -95,7 +110,7 @@ pub fn parse(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagno
         }
     };
     match dialect {
-        Dialect::Mefi => group_mefi(file, src, &items, &mut out, &mut diags),
+        Dialect::Mefi => group_mefi(file, src, &items, &mut out, &mut diags, require_header),
         Dialect::Fanuc => group_fanuc(file, src, &items, &mut out, &mut diags),
     }
     (out, diags)
@@ -190,6 +205,7 @@ fn group_mefi(
     items: &[Item],
     out: &mut ParsedFile,
     diags: &mut Vec<Diagnostic>,
+    require_header: bool,
 ) {
     let mut cur: Option<Block> = None;
     let mut header_seen = false;
@@ -330,7 +346,7 @@ fn group_mefi(
     if let Some(b) = cur.take() {
         out.blocks.push(b);
     }
-    if !header_seen {
+    if !header_seen && require_header {
         diags.push(
             Diagnostic::error(
                 codes::HEADER,

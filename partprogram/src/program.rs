@@ -450,12 +450,8 @@ fn load_library(prog: &mut Program, dir: &Path, diags: &mut Vec<Diagnostic>) {
             continue;
         }
         let name = format!("macros/{fname}");
-        let src = if text.contains('%') || is_cycle {
-            text.clone()
-        } else {
-            format!("%1\n{text}")
-        };
-        let (parsed, d) = parse(Dialect::Mefi, &name, &src);
+        let (parsed, d) = crate::parse::parse_library(Dialect::Mefi, &name, &text);
+        let src = text;
         diags.extend(d);
         prog.files.push(SourceFile { name, text: src });
         let file = prog.files.len() - 1;

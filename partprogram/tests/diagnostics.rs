@@ -178,3 +178,28 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn undeclared_m_in_a_macro_the_program_calls_is_reported_in_the_macro_file() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    std::fs::write(dir.path().join("L5"), "N1 G79 L5\nN2 M19\nN3 G70\n").expect("L5");
+    std::fs::write(dir.path().join("L6"), "N1 G79 L6\nN2 M44\nN3 G70\n").expect("L6");
+    let mut m = mill();
+    m.macro_dir = dir.path().to_path_buf();
+    m.check_m_declared = true;
+    m.processes[0].declared_m.insert(
+        30,
+        MTiming {
+            m_type: 0x02,
+            m_request: 0x24,
+            class: 0,
+        },
+    );
+    let (_, d) = compile(&m, "t", "%1\nN1 G72 L5\nN2 M30\n");
+    let got: Vec<(String, u32, u32)> = d.iter().map(|d| (d.file.clone(), d.code, d.line)).collect();
+    assert_eq!(
+        got,
+        vec![("macros/L5".to_string(), 2016, 2)],
+        "L6 is not called, so its M44 is not checked"
+    );
+}
