@@ -1,1 +1,39 @@
-//! Partprograms: MEFI CNC8x6 and Fanuc/HAAS dialects, parameter macros compiled with cranelift, canonical block plans.
+//! Partprograms: MEFI CNC8x6 and Fanuc/HAAS dialects, parameter macros compiled with cranelift, canonical
+//! block plans.
+//!
+//! [`compile`] parses and checks a partprogram together with the machine's macro folder and returns a
+//! [`Program`]; [`plan`] runs it and returns the canonical blocks ([`Canon`]). Parameter arithmetic
+//! (G26–G29) runs as cranelift-compiled native code ([`jit`]) beside the reference interpreter
+//! ([`arith`]); [`PlanOptions::backend`] selects which one.
+
+pub mod arith;
+pub mod ast;
+pub mod canon;
+mod check;
+pub mod codes;
+pub mod exec;
+pub mod fanuc;
+pub mod fanuc_exec;
+pub mod geom;
+pub mod groups;
+pub mod jit;
+pub mod lexer;
+mod link;
+pub mod machine;
+pub mod parse;
+pub mod program;
+pub mod run;
+
+pub use canon::{Canon, Kind, Plane};
+pub use exec::{Backend, Plan, PlanOptions, RunError};
+pub use machine::{Dialect, DoublePrecision, MTiming, MachineSpec, ProcessSpec};
+pub use program::{Program, compile};
+
+/// Plans a compiled program: runs it and returns its canonical blocks, or the blocks emitted before a
+/// run-time error together with the located error.
+pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, diag::Diagnostic)> {
+    match prog.dialect {
+        Dialect::Mefi => exec::plan(prog, opts).map_err(|(b, e)| (b, e.to_diagnostic(prog))),
+        Dialect::Fanuc => fanuc::plan(prog, opts).map_err(|(b, e)| (b, e.to_diagnostic(prog))),
+    }
+}

@@ -1,0 +1,146 @@
+//! Benchmarks: a generated 100,000-block CAM program checked and planned (target ≤ 1 s), and parameter
+//! arithmetic in native code against the reference interpreter (target ≥ 10× faster).
+
+use std::hint::black_box;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use partprogram::arith::ArithState;
+use partprogram::{Backend, Dialect, DoublePrecision, MachineSpec, PlanOptions, compile, plan};
+
+fn cam_program(blocks: usize) -> String {
+    let mut s = String::with_capacity(blocks * 40);
+    s.push_str(
+        "%1 \"generated CAM program\"\nN1 G54 G90 G17 G00 X0 Y0 Z5 M03 S2000\nN2 G01 Z-1 F800\n",
+    );
+    let (mut px, mut py) = (0.0f64, 0.0f64);
+    let r3 = |v: f64| (v * 1000.0).round() / 1000.0;
+    let mut n = 3;
+    while n < blocks {
+        if n % 10 == 0 {
+            // A half circle of radius 1 from the current point, centre 1 mm along +X.
+            px = r3(px + 2.0);
+            s.push_str(&format!("N{n} G02 X{px:.3} Y{py:.3} I1 J0\n"));
+        } else {
+            let t = n as f64 * 0.01;
+            px = r3(t.cos() * 50.0);
+            py = r3(t.sin() * 50.0);
+            let z = -1.0 - (n % 7) as f64 * 0.1;
+            s.push_str(&format!("N{n} G01 X{px:.3} Y{py:.3} Z{z:.3}\n"));
+        }
+        n += 1;
+    }
+    s.push_str(&format!("N{n} G00 Z50 M05\nN{} M30\n", n + 1));
+    s
+}
+
+fn bench_cam(c: &mut Criterion) {
+    let src = cam_program(100_000);
+    let machine = MachineSpec::new(Dialect::Mefi, &['X', 'Y', 'Z']);
+    let mut g = c.benchmark_group("cam_100k");
+    g.sample_size(10);
+    g.bench_function("check_and_plan", |b| {
+        b.iter(|| {
+            let (prog, diags) = compile(&machine, "cam", black_box(&src));
+            let prog = prog.unwrap_or_else(|| panic!("{diags:?}"));
+            let p = plan(&prog, PlanOptions::default()).unwrap_or_else(|e| panic!("{}", e.1));
+            assert_eq!(p.blocks.len(), 100_001);
+            black_box(p.blocks.len())
+        })
+    });
+    g.bench_function("check_plan_and_json", |b| {
+        b.iter(|| {
+            let (prog, _) = compile(&machine, "cam", black_box(&src));
+            let prog = prog.unwrap_or_else(|| panic!("compile"));
+            let p = plan(&prog, PlanOptions::default()).unwrap_or_else(|e| panic!("{}", e.1));
+            let mut out = String::with_capacity(p.blocks.len() * 150);
+            for c in &p.blocks {
+                out.push_str(&c.to_json_line());
+                out.push('\n');
+            }
+            black_box(out.len())
+        })
+    });
+    g.finish();
+}
+
+/// Four sequences of four operations each (sum, difference, product, quotient, comparison, abs,
+/// negation, increment, decrement, int→real, odd test, square, real→int): they read R10..R33 and write
+/// R40..R49 only, so repeated runs give the same values and no run-time errors.
+fn words() -> Vec<Vec<i64>> {
+    let w = |raw: bool, op: i64, a: i64, b: i64, c: i64| {
+        (if raw { -1 } else { 1 }) * (op * 1_000_000 + a * 10_000 + b * 100 + c)
+    };
+    vec![
+        vec![
+            w(false, 1, 10, 11, 40),
+            w(false, 2, 12, 13, 41),
+            w(false, 3, 14, 15, 42),
+            w(false, 3, 16, 17, 43),
+        ],
+        vec![
+            w(false, 15, 18, 19, 44),
+            w(false, 4, 20, 21, 45),
+            w(false, 7, 22, 0, 46),
+            w(false, 8, 23, 0, 47),
+        ],
+        vec![
+            w(true, 41, 24, 2, 48),
+            w(false, 42, 25, 3, 49),
+            w(false, 23, 26, 0, 40),
+            w(false, 19, 27, 28, 41),
+        ],
+        vec![
+            w(false, 46, 29, 0, 42),
+            w(false, 5, 30, 0, 43),
+            w(false, 24, 31, 0, 44),
+            w(true, 17, 32, 33, 45),
+        ],
+    ]
+}
+
+fn seeded() -> ArithState {
+    let mut st = ArithState::default();
+    for (i, r) in st.r.iter_mut().enumerate() {
+        *r = 1000 + (i as i64 * 7919) % 50_000;
+    }
+    st
+}
+
+fn bench_arith(c: &mut Criterion) {
+    let words = words();
+    let todo: Vec<(usize, Vec<i64>)> = words.iter().cloned().enumerate().collect();
+    let native = partprogram::jit::compile_words(&todo, DoublePrecision::Enabled)
+        .unwrap_or_else(|e| panic!("{e}"));
+    // Same results from both engines.
+    let mut a = seeded();
+    let mut b = seeded();
+    for (i, w) in words.iter().enumerate() {
+        assert_eq!(native.call(i, &mut a), 0);
+        assert!(b.exec_seq(w).is_ok());
+    }
+    assert_eq!(a.r, b.r);
+    let mut g = c.benchmark_group("arith");
+    g.bench_function("native_16_ops", |bch| {
+        let mut st = seeded();
+        bch.iter(|| {
+            for i in 0..4 {
+                black_box(native.call(black_box(i), &mut st));
+            }
+            black_box(st.r[45])
+        })
+    });
+    g.bench_function("interpreter_16_ops", |bch| {
+        let mut st = seeded();
+        bch.iter(|| {
+            for w in &words {
+                black_box(st.exec_seq(black_box(w)).is_ok());
+            }
+            black_box(st.r[45])
+        })
+    });
+    g.finish();
+    let _ = Backend::Native;
+}
+
+criterion_group!(benches, bench_cam, bench_arith);
+criterion_main!(benches);

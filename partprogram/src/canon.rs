@@ -1,0 +1,187 @@
+//! Canonical blocks: what the planner emits for every executed block — motion with its resolved end
+//! point, arc centre and plane in the machine frame, feed, spindle, tool, dwell and M functions.
+
+use std::fmt::Write as _;
+
+/// Kind of canonical block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    /// G00 positioning at rapid traverse.
+    Rapid,
+    /// G01 linear interpolation (also G33 threads, with `thread` set).
+    Linear,
+    /// Clockwise arc.
+    ArcCw,
+    /// Counter-clockwise arc.
+    ArcCcw,
+    /// Dwell.
+    Dwell,
+    /// Auxiliary functions only (M, S, T) without motion.
+    Aux,
+}
+
+impl Kind {
+    /// The JSON name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kind::Rapid => "rapid",
+            Kind::Linear => "linear",
+            Kind::ArcCw => "arc_cw",
+            Kind::ArcCcw => "arc_ccw",
+            Kind::Dwell => "dwell",
+            Kind::Aux => "aux",
+        }
+    }
+}
+
+/// Interpolation plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub enum Plane {
+    /// G17.
+    XY,
+    /// G18.
+    ZX,
+    /// G19.
+    YZ,
+}
+
+impl Plane {
+    /// The JSON name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Plane::XY => "XY",
+            Plane::ZX => "ZX",
+            Plane::YZ => "YZ",
+        }
+    }
+
+    /// The (first, second) axis letters of the plane; I runs along the first, J along the second.
+    pub fn axes(self) -> (char, char) {
+        match self {
+            Plane::XY => ('X', 'Y'),
+            Plane::ZX => ('Z', 'X'),
+            Plane::YZ => ('Y', 'Z'),
+        }
+    }
+}
+
+/// An M function with its timing relative to the block's motion.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+pub struct MFunc {
+    /// M number.
+    pub m: u16,
+    /// True when executed before the motion (IOCFIL m_type bit 0).
+    pub before: bool,
+}
+
+/// One canonical block.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Canon {
+    /// Block number of the source block (None for Fanuc blocks without N).
+    pub n: Option<u32>,
+    /// The unit the block belongs to when not the main program (`"L81"`, `"sub100"`).
+    pub unit: Option<String>,
+    /// What the block does.
+    pub kind: Kind,
+    /// End position per machine axis (axis letter, mm), machine frame, all axes.
+    pub end: Vec<(char, f64)>,
+    /// Arc centre (two plane axes), machine frame.
+    pub center: Vec<(char, f64)>,
+    /// Interpolation plane.
+    pub plane: Plane,
+    /// Feed in mm/min (None for rapid and non-motion blocks, or per-revolution feed without S).
+    pub feed: Option<f64>,
+    /// M functions of the block, before-motion ones first.
+    pub m: Vec<MFunc>,
+    /// Spindle speed (modal).
+    pub s: Option<f64>,
+    /// Tool (modal).
+    pub t: Option<i64>,
+    /// Dwell in seconds (kind dwell).
+    pub dwell: Option<f64>,
+    /// True for a G33 thread block.
+    pub thread: bool,
+}
+
+/// Formats a coordinate: rounded to 1 nm, shortest decimal form, no `-0`.
+pub fn num(v: f64) -> String {
+    let r = (v * 1_000_000.0).round() / 1_000_000.0;
+    let r = if r == 0.0 { 0.0 } else { r };
+    format!("{r}")
+}
+
+impl Canon {
+    /// The one-line JSON form written by `ncplc nc plan --format json`.
+    pub fn to_json_line(&self) -> String {
+        let mut s = String::with_capacity(160);
+        s.push_str("{\"n\":");
+        match self.n {
+            Some(n) => {
+                let _ = write!(s, "{n}");
+            }
+            None => s.push_str("null"),
+        }
+        if let Some(u) = &self.unit {
+            let _ = write!(s, ",\"unit\":\"{u}\"");
+        }
+        let _ = write!(s, ",\"kind\":\"{}\",\"end\":{{", self.kind.name());
+        for (i, (a, v)) in self.end.iter().enumerate() {
+            let _ = write!(s, "{}\"{a}\":{}", if i > 0 { "," } else { "" }, num(*v));
+        }
+        s.push('}');
+        if !self.center.is_empty() {
+            s.push_str(",\"center\":{");
+            for (i, (a, v)) in self.center.iter().enumerate() {
+                let _ = write!(s, "{}\"{a}\":{}", if i > 0 { "," } else { "" }, num(*v));
+            }
+            s.push('}');
+        }
+        let _ = write!(s, ",\"plane\":\"{}\"", self.plane.name());
+        match self.feed {
+            Some(f) => {
+                let _ = write!(s, ",\"feed\":{}", num(f));
+            }
+            None => s.push_str(",\"feed\":null"),
+        }
+        s.push_str(",\"m\":[");
+        for (i, m) in self.m.iter().enumerate() {
+            let _ = write!(s, "{}{}", if i > 0 { "," } else { "" }, m.m);
+        }
+        s.push_str("],\"m_timing\":[");
+        for (i, m) in self.m.iter().enumerate() {
+            let _ = write!(
+                s,
+                "{}\"{}\"",
+                if i > 0 { "," } else { "" },
+                if m.before { "before" } else { "after" }
+            );
+        }
+        s.push(']');
+        match self.s {
+            Some(v) => {
+                let _ = write!(s, ",\"s\":{}", num(v));
+            }
+            None => s.push_str(",\"s\":null"),
+        }
+        match self.t {
+            Some(v) => {
+                let _ = write!(s, ",\"t\":{v}");
+            }
+            None => s.push_str(",\"t\":null"),
+        }
+        if let Some(d) = self.dwell {
+            let _ = write!(s, ",\"dwell\":{}", num(d));
+        }
+        if self.thread {
+            s.push_str(",\"thread\":true");
+        }
+        s.push('}');
+        s
+    }
+
+    /// The end coordinate of axis `a`.
+    pub fn end_of(&self, a: char) -> Option<f64> {
+        self.end.iter().find(|(c, _)| *c == a).map(|(_, v)| *v)
+    }
+}

@@ -1,0 +1,79 @@
+//! Diagnostic codes of the partprogram compiler (2000–2999); `partprogram/DIAGNOSTICS.md` lists them.
+
+/// A character that is not part of the language outside a comment.
+pub const BAD_CHAR: u32 = 2001;
+/// Tokens that do not form a word.
+pub const SYNTAX: u32 = 2002;
+/// The program does not start with `%n` (MEFI) or the header number is invalid.
+pub const HEADER: u32 = 2003;
+/// Words before the first `N` (MEFI) .
+pub const NO_BLOCK_NUMBER: u32 = 2004;
+/// Two blocks of one program unit carry the same number.
+pub const DUPLICATE_N: u32 = 2005;
+/// An address appears twice in a block.
+pub const DUPLICATE_ADDRESS: u32 = 2006;
+/// Two G (or M) functions of the same group in one block.
+pub const GROUP_CONFLICT: u32 = 2007;
+/// An address letter the dialect or machine does not have.
+pub const UNKNOWN_ADDRESS: u32 = 2008;
+/// A literal value outside the address's range or format.
+pub const OUT_OF_RANGE: u32 = 2009;
+/// An address that cannot take a parameter (`N`, `R`, `G79`).
+pub const NOT_PARAMETRISABLE: u32 = 2010;
+/// A parameter number outside 0..=95.
+pub const BAD_PARAMETER: u32 = 2011;
+/// A line longer than 80 characters (warning).
+pub const LONG_LINE: u32 = 2012;
+/// A number that belongs to no address (space inside a value, after a sign, …).
+pub const ORPHAN_NUMBER: u32 = 2013;
+/// A G function the dialect does not have.
+pub const UNKNOWN_G: u32 = 2015;
+/// An M function IOCFIL section 2 does not declare for the process.
+pub const UNDECLARED_M: u32 = 2016;
+/// G71/G72/G73/G79 (M97/M98) without the address L (P) in the block.
+pub const MISSING_L: u32 = 2017;
+/// A jump to a block that does not exist in the program unit.
+pub const MISSING_BLOCK: u32 = 2018;
+/// A call of a subprogram the file does not contain.
+pub const MISSING_SUBPROGRAM: u32 = 2019;
+/// A call of a macro file (or fixed cycle) the macro folder does not contain.
+pub const MISSING_MACRO: u32 = 2020;
+/// A call chain that calls itself: unbounded recursion.
+pub const RECURSION: u32 = 2021;
+/// A `G79` block with words other than N, G79 and L.
+pub const G79_BLOCK: u32 = 2022;
+/// More than 6 axis words in a block.
+pub const TOO_MANY_AXES: u32 = 2023;
+/// An integer address written with a decimal fraction.
+pub const NOT_INTEGER: u32 = 2024;
+/// A subprogram or macro without its closing `G70` (M99).
+pub const UNIT_NOT_CLOSED: u32 = 2025;
+/// Blocks after M02/M30 that do not belong to a subprogram.
+pub const AFTER_END: u32 = 2026;
+/// More than 99 subprograms.
+pub const TOO_MANY_SUBPROGRAMS: u32 = 2027;
+/// A thread run-in `E` without a decimal point.
+pub const E_WITHOUT_POINT: u32 = 2030;
+/// A macro or cycle file that cannot be read.
+pub const MACRO_IO: u32 = 2031;
+/// The main program has no M02/M30 (warning).
+pub const NO_END: u32 = 2032;
+/// G73 in a Fanuc file is peck drilling; R in MEFI must be a declaration.
+pub const R_WORD: u32 = 2033;
+
+/// Run time: arithmetic failure (division by zero, invalid argument, overflow).
+pub const RUN_ARITH: u32 = 2500;
+/// Run time: undefined or unsupported operation code.
+pub const RUN_BAD_OP: u32 = 2501;
+/// Run time: a substituted parameter does not fit the address.
+pub const RUN_RANGE: u32 = 2502;
+/// Run time: the end point is not on the circle (error 7.56).
+pub const RUN_CIRCLE: u32 = 2503;
+/// Run time: too many executed blocks or nested calls.
+pub const RUN_LIMIT: u32 = 2504;
+/// Run time: a computed jump or call target that does not exist.
+pub const RUN_TARGET: u32 = 2505;
+/// Run time: double-precision parameter numbers used while double precision is disabled.
+pub const RUN_DOUBLE: u32 = 2506;
+/// Run time: a G function computed through a parameter that is not allowed there.
+pub const RUN_BAD_G: u32 = 2507;

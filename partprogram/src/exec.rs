@@ -1,0 +1,317 @@
+//! The MEFI executor: runs a compiled [`Program`] block by block and emits canonical blocks.
+//!
+//! Order inside one block (parameters-cycles spec §10): substitute `<addr>R<n>` with the parameter
+//! values from before the block; apply the block's declarations; run G26–G29 (native code or the
+//! reference interpreter); update modal state; move; run the active fixed cycle; transfer control
+//! (G71/G72 calls, G73/`GR<n>` jumps, G70 return, M02/M30 end).
+
+use std::collections::HashMap;
+
+mod block;
+mod flow;
+
+use crate::arith::{ArithError, ArithState, NPARAM};
+use crate::canon::{Canon, Kind, MFunc, Plane};
+use crate::codes;
+use crate::geom::Geometry;
+use crate::lexer::Lit;
+use crate::program::{CBlock, Program, UnitKind};
+pub use crate::run::{Backend, Plan, PlanOptions, RunError};
+
+/// Modal state that fixed cycles save and restore.
+#[derive(Debug, Clone)]
+pub(crate) struct Modal {
+    pub motion: u16,
+    pub plane: Plane,
+    pub abs: bool,
+    pub offset: usize,
+    pub feed_mode: u16,
+    pub comp: u16,
+    pub cycle: Option<u16>,
+    pub feed: Option<f64>,
+    pub per_rev: bool,
+    pub s: Option<f64>,
+    pub t: Option<i64>,
+    pub d: i64,
+    pub amp: i64,
+    /// Helix on (G09) until G98.
+    pub helix: bool,
+    /// Helix lift (G10): towed axis index and travel per full circle.
+    pub lift: Option<(usize, f64)>,
+    /// Thread lead (G33), mm per revolution.
+    pub lead: Option<f64>,
+}
+
+#[derive(Debug)]
+struct Snapshot {
+    r: [i64; NPARAM],
+    modal: Modal,
+    m_groups: [u16; 15],
+    g_groups: [u16; 12],
+    s_t_d: [i64; 3],
+}
+
+#[derive(Debug)]
+struct Frame {
+    unit: usize,
+    pc: usize,
+    counters: HashMap<usize, i64>,
+    repeat: i64,
+    cycle: Option<Box<Snapshot>>,
+}
+
+/// Raw substituted value of a word.
+#[derive(Debug, Clone, Copy)]
+enum V {
+    Lit(Lit),
+    R(i64),
+}
+
+impl V {
+    /// Dimension in mm (literal as written, parameter r µm).
+    fn mm(self) -> f64 {
+        match self {
+            V::Lit(l) => l.value(),
+            V::R(r) => r as f64 / 1000.0,
+        }
+    }
+    /// Count (literal integer part, parameter r).
+    fn count(self) -> i64 {
+        match self {
+            V::Lit(l) => l.milli / 1000,
+            V::R(r) => r,
+        }
+    }
+}
+
+/// The executor.
+pub struct Exec<'p> {
+    prog: &'p Program,
+    opts: PlanOptions,
+    pub(crate) st: Box<ArithState>,
+    pub(crate) modal: Modal,
+    pub(crate) geo: Geometry,
+    frames: Vec<Frame>,
+    out: Vec<Canon>,
+    executed: u64,
+    ended: bool,
+}
+
+fn run_err(b: &CBlock, code: u32, message: impl Into<String>) -> RunError {
+    RunError {
+        code,
+        message: message.into(),
+        file: b.file,
+        span: b.span,
+    }
+}
+
+fn arith_err(b: &CBlock, e: ArithError) -> RunError {
+    let code = match e {
+        ArithError::BadOp(_) => codes::RUN_BAD_OP,
+        _ => codes::RUN_ARITH,
+    };
+    run_err(b, code, format!("parameter arithmetic: {e}"))
+}
+
+/// Plans `prog`: runs it and returns its canonical blocks.
+pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
+    let mut ex = Exec::new(prog, opts);
+    match ex.run() {
+        Ok(()) => Ok(Plan {
+            blocks: ex.out,
+            params: ex.st.r,
+            executed: ex.executed,
+            messages: std::mem::take(&mut ex.st.messages),
+        }),
+        Err(e) => Err((ex.out, e)),
+    }
+}
+
+impl<'p> Exec<'p> {
+    /// A fresh executor at program start (priority block state).
+    pub fn new(prog: &'p Program, opts: PlanOptions) -> Self {
+        let m = &prog.machine;
+        let plane = match m.default_plane {
+            18 => Plane::ZX,
+            19 => Plane::YZ,
+            _ => Plane::XY,
+        };
+        let mut st = Box::<ArithState>::default();
+        st.double = m.double_precision;
+        st.g_groups[1] = match plane {
+            Plane::XY => 17,
+            Plane::ZX => 18,
+            Plane::YZ => 19,
+        };
+        Exec {
+            prog,
+            opts,
+            st,
+            modal: Modal {
+                motion: 1,
+                plane,
+                abs: true,
+                offset: 0,
+                feed_mode: 94,
+                comp: 40,
+                cycle: None,
+                feed: None,
+                per_rev: false,
+                s: None,
+                t: None,
+                d: 0,
+                amp: 0,
+                helix: false,
+                lift: None,
+                lead: None,
+            },
+            geo: Geometry::new(&m.axes(), m.diameter_x),
+            frames: vec![Frame {
+                unit: 0,
+                pc: prog.units.first().map_or(0, |u| u.start),
+                counters: HashMap::new(),
+                repeat: 1,
+                cycle: None,
+            }],
+            out: Vec::new(),
+            executed: 0,
+            ended: false,
+        }
+    }
+
+    /// The parameter table.
+    pub fn params(&self) -> &[i64; NPARAM] {
+        &self.st.r
+    }
+
+    fn run(&mut self) -> Result<(), RunError> {
+        if self.prog.units.is_empty() {
+            return Ok(());
+        }
+        while !self.ended {
+            let Some(fr) = self.frames.last_mut() else {
+                break;
+            };
+            let unit = &self.prog.units[fr.unit];
+            if fr.pc >= unit.end {
+                if unit.kind == UnitKind::Main {
+                    break;
+                }
+                let bi = unit.end.saturating_sub(1);
+                self.ret(bi)?;
+                continue;
+            }
+            let bi = fr.pc;
+            fr.pc += 1;
+            self.executed += 1;
+            if self.executed > self.opts.max_blocks {
+                return Err(run_err(
+                    &self.prog.blocks[bi],
+                    codes::RUN_LIMIT,
+                    format!(
+                        "more than {} blocks executed: endless loop?",
+                        self.opts.max_blocks
+                    ),
+                ));
+            }
+            self.block(bi)?;
+        }
+        Ok(())
+    }
+
+    fn unit_label(&self) -> Option<String> {
+        let fr = self.frames.last()?;
+        let u = &self.prog.units[fr.unit];
+        match u.kind {
+            UnitKind::Main => None,
+            UnitKind::Sub => Some(format!("sub{}", u.l)),
+            UnitKind::Library => Some(format!("L{}", u.l)),
+        }
+    }
+
+    fn run_arith(&mut self, b: &CBlock, ops: u8, literal: bool) -> Result<(), RunError> {
+        if literal
+            && self.opts.backend == Backend::Native
+            && let (Some(fi), Some(native)) = (b.native, self.prog.native.as_ref())
+        {
+            let rc = native.call(fi, &mut self.st);
+            return if rc == 0 {
+                Ok(())
+            } else {
+                Err(arith_err(b, ArithError::from_code(rc)))
+            };
+        }
+        let words: Vec<i64> = self.st.r[5..5 + usize::from(ops)].to_vec();
+        self.st.exec_seq(&words).map_err(|e| arith_err(b, e))
+    }
+
+    fn sync_groups(&mut self, gs: &[(u16, bool)]) {
+        for &(g, _) in gs {
+            if let Some(grp) = crate::groups::mefi_g_group(g)
+                && let Some(slot) = self.st.g_groups.get_mut(usize::from(grp))
+            {
+                *slot = g;
+            }
+        }
+    }
+
+    fn feed(&self) -> Option<f64> {
+        let f = self.modal.feed?;
+        if self.modal.per_rev {
+            self.modal.s.map(|s| f * s)
+        } else {
+            Some(f)
+        }
+    }
+
+    fn emit(
+        &mut self,
+        b: &CBlock,
+        kind: Kind,
+        center: Vec<(char, f64)>,
+        feed: Option<f64>,
+        m: &[MFunc],
+        thread: bool,
+    ) {
+        if !self.opts.record {
+            return;
+        }
+        let c = Canon {
+            n: b.n,
+            unit: self.unit_label(),
+            kind,
+            end: self.geo.end_list(),
+            center,
+            plane: self.modal.plane,
+            feed,
+            m: m.to_vec(),
+            s: self.modal.s,
+            t: self.modal.t,
+            dwell: None,
+            thread,
+        };
+        self.out.push(c);
+    }
+
+    fn emit_dwell(&mut self, b: &CBlock, secs: f64, m: &[MFunc]) {
+        if !self.opts.record {
+            return;
+        }
+        let c = Canon {
+            n: b.n,
+            unit: self.unit_label(),
+            kind: Kind::Dwell,
+            end: self.geo.end_list(),
+            center: Vec::new(),
+            plane: self.modal.plane,
+            feed: None,
+            m: m.to_vec(),
+            s: self.modal.s,
+            t: self.modal.t,
+            dwell: Some(secs),
+            thread: false,
+        };
+        self.out.push(c);
+    }
+}

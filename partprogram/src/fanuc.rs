@@ -1,0 +1,314 @@
+//! The Fanuc/HAAS dialect: units, static checks and the executor.
+//!
+//! Blocks end at the line end or `;`; `( … )` are comments; `O<n>` names the program. Supported: G00–G03
+//! (I/J/K or R arcs), G04 P (seconds), G17–G19, G20/G21, G28 (via the intermediate point), G40–G42 D,
+//! G43/G44/G49 H, G52, G53, G54–G59, G90/G91, G92, G94, G98/G99 with the canned cycles G73, G74, G76,
+//! G81–G89 (G80, G00/G01 cancel), G12/G13 circular pockets, G7.1 cylinder interpolation, M97/M98 P L,
+//! M99. The manual gives no peck retract amount for G73: 0.5 mm is used (documented in DIAGNOSTICS.md).
+
+use std::collections::HashMap;
+
+use diag::Diagnostic;
+
+use crate::ast::{ParsedFile, Val};
+use crate::codes;
+use crate::groups::fanuc_g_group;
+use crate::machine::Dialect;
+use crate::parse::parse;
+use crate::program::{CBlock, Program, SourceFile, Unit, UnitKind};
+
+fn err(
+    code: u32,
+    f: &SourceFile,
+    span: (usize, usize),
+    msg: impl Into<String>,
+    hint: &str,
+) -> Diagnostic {
+    Diagnostic::error(code, f.name.clone(), span.0..span.1, msg)
+        .with_hint(hint)
+        .locate(&f.text)
+}
+
+fn push_file(
+    prog: &mut Program,
+    file: usize,
+    parsed: ParsedFile,
+    kind: UnitKind,
+    number: u32,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let start = prog.blocks.len();
+    let unit = prog.units.len();
+    let mut index = HashMap::new();
+    for b in parsed.blocks {
+        if let Some(n) = b.n
+            && index.insert(n, prog.blocks.len()).is_some()
+        {
+            let f = &prog.files[file];
+            diags.push(
+                Diagnostic::warning(
+                    codes::DUPLICATE_N,
+                    f.name.clone(),
+                    b.span.0..b.span.1,
+                    format!("block number N{n} is used twice"),
+                )
+                .locate(&f.text),
+            );
+        }
+        prog.blocks.push(CBlock {
+            n: b.n,
+            file,
+            unit,
+            span: b.span,
+            skip: b.skip,
+            words: b.words,
+            decls: b.decls,
+            arith_ops: 0,
+            native: None,
+        });
+    }
+    prog.units.push(Unit {
+        kind,
+        l: number,
+        file,
+        start,
+        end: prog.blocks.len(),
+        index,
+    });
+}
+
+/// Builds the units of a Fanuc main file and loads `O<n>` programs of the macro folder for M98.
+pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagnostic>) {
+    let number = parsed.number.unwrap_or(0);
+    push_file(prog, 0, parsed, UnitKind::Main, number, diags);
+    let dir = prog.machine.macro_dir.clone();
+    if dir.as_os_str().is_empty() {
+        return;
+    }
+    let Ok(rd) = std::fs::read_dir(&dir) else {
+        return;
+    };
+    let mut paths: Vec<_> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.is_file())
+        .collect();
+    paths.sort();
+    for path in paths {
+        let fname = path
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
+        let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else {
+            continue;
+        };
+        let Ok(bytes) = std::fs::read(&path) else {
+            continue;
+        };
+        let text = String::from_utf8_lossy(&bytes).into_owned();
+        let name = format!("macros/{fname}");
+        let (parsed, d) = parse(Dialect::Fanuc, &name, &text);
+        diags.extend(d);
+        prog.files.push(SourceFile { name, text });
+        let file = prog.files.len() - 1;
+        prog.library.insert(num, prog.units.len());
+        push_file(prog, file, parsed, UnitKind::Library, num, diags);
+    }
+}
+
+fn lit(v: &Val) -> Option<f64> {
+    match v {
+        Val::Lit(l) => Some(l.value()),
+        Val::Param(_) => None,
+    }
+}
+
+/// Static checks of a Fanuc program.
+pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
+    let axes = prog.machine.axes();
+    let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
+    for (bi, b) in prog.blocks.iter().enumerate() {
+        let f = &prog.files[b.file];
+        let mut seen: HashMap<char, ()> = HashMap::new();
+        let mut groups: HashMap<u8, ()> = HashMap::new();
+        let mut m_calls = Vec::new();
+        for w in &b.words {
+            if let Val::Param(_) = w.val {
+                diags.push(err(
+                    codes::UNKNOWN_ADDRESS,
+                    f,
+                    w.span,
+                    "`R<n>` parameters are MEFI syntax",
+                    "write literal values in the Fanuc/HAAS dialect",
+                ));
+                continue;
+            }
+            let v = lit(&w.val).unwrap_or(0.0);
+            let known = matches!(
+                w.addr,
+                'G' | 'M'
+                    | 'I'
+                    | 'J'
+                    | 'K'
+                    | 'R'
+                    | 'F'
+                    | 'S'
+                    | 'T'
+                    | 'D'
+                    | 'H'
+                    | 'P'
+                    | 'Q'
+                    | 'L'
+                    | 'E'
+                    | 'U'
+                    | 'W'
+            ) || axes.contains(&w.addr);
+            if !known {
+                diags.push(err(
+                    codes::UNKNOWN_ADDRESS,
+                    f,
+                    w.span,
+                    format!("unknown address `{}`", w.addr),
+                    "Fanuc/HAAS addresses: O N G M X Y Z A B C I J K R F S T D H P Q L E",
+                ));
+                continue;
+            }
+            match w.addr {
+                'G' => {
+                    let key = (v * 10.0).round() as i64;
+                    match u16::try_from(key).ok().and_then(fanuc_g_group) {
+                        Some(gr) => {
+                            if gr != 0 && groups.insert(gr, ()).is_some() {
+                                diags.push(err(
+                                    codes::GROUP_CONFLICT,
+                                    f,
+                                    w.span,
+                                    "two G codes of the same group",
+                                    "one G code per modal group per block",
+                                ));
+                            }
+                        }
+                        None => diags.push(err(
+                            codes::UNKNOWN_G,
+                            f,
+                            w.span,
+                            format!("G{v} is not supported by the Fanuc/HAAS dialect"),
+                            "see gcode-haas-fanuc.md §4",
+                        )),
+                    }
+                }
+                'M' => {
+                    let m = v as i64;
+                    if !(0..=199).contains(&m) || v.fract() != 0.0 {
+                        diags.push(err(
+                            codes::OUT_OF_RANGE,
+                            f,
+                            w.span,
+                            "M code out of range",
+                            "M0..M199",
+                        ));
+                    } else {
+                        if prog.machine.check_m_declared
+                            && m < 97
+                            && prog.machine.m_timing(m as u16).is_none()
+                        {
+                            diags.push(err(
+                                codes::UNDECLARED_M,
+                                f,
+                                w.span,
+                                format!(
+                                    "M{m:02} is not declared for process 1 in IOCFIL section 2"
+                                ),
+                                "declare it in IOCFIL section 2",
+                            ));
+                        }
+                        m_calls.push(m);
+                    }
+                }
+                'N' | 'D' | 'H' | 'T' | 'L' if v < 0.0 => diags.push(err(
+                    codes::OUT_OF_RANGE,
+                    f,
+                    w.span,
+                    format!("{} must not be negative", w.addr),
+                    "",
+                )),
+                _ => {}
+            }
+            if w.addr != 'G' && w.addr != 'M' && seen.insert(w.addr, ()).is_some() {
+                diags.push(err(
+                    codes::DUPLICATE_ADDRESS,
+                    f,
+                    w.span,
+                    format!("address {} appears twice in the block", w.addr),
+                    "each address once per block",
+                ));
+            }
+        }
+        let p = b.word('P').and_then(|w| lit(&w.val)).map(|v| v as u32);
+        for m in m_calls {
+            match (m, p) {
+                (97 | 98, None) => diags.push(err(
+                    codes::MISSING_L,
+                    f,
+                    b.span,
+                    format!("M{m} needs P"),
+                    "M97 P<line number>, M98 P<program number>",
+                )),
+                (97, Some(n)) if !prog.units[b.unit].index.contains_key(&n) => {
+                    diags.push(err(
+                        codes::MISSING_BLOCK,
+                        f,
+                        b.span,
+                        format!("M97 P{n}: no block N{n} in this program"),
+                        "M97 calls a line number of the same program",
+                    ));
+                }
+                (98, Some(n)) => match prog.library.get(&n) {
+                    Some(&u) => edges[b.unit].push((u, bi)),
+                    None if prog.units[0].l == n && n != 0 => edges[b.unit].push((0, bi)),
+                    None => diags.push(err(
+                        codes::MISSING_SUBPROGRAM,
+                        f,
+                        b.span,
+                        format!("M98 P{n}: program O{n} not found"),
+                        "store subprograms as files O<n> in the machine's macro folder",
+                    )),
+                },
+                _ => {}
+            }
+        }
+    }
+    // Recursion through M98.
+    let n = prog.units.len();
+    let mut state = vec![0u8; n];
+    let mut hits = Vec::new();
+    fn dfs(u: usize, e: &[Vec<(usize, usize)>], s: &mut [u8], hits: &mut Vec<usize>) {
+        s[u] = 1;
+        for &(v, bi) in &e[u] {
+            if s[v] == 1 {
+                hits.push(bi);
+            } else if s[v] == 0 {
+                dfs(v, e, s, hits);
+            }
+        }
+        s[u] = 2;
+    }
+    for u in 0..n {
+        if state[u] == 0 {
+            dfs(u, &edges, &mut state, &mut hits);
+        }
+    }
+    for bi in hits {
+        let b = &prog.blocks[bi];
+        diags.push(err(
+            codes::RECURSION,
+            &prog.files[b.file],
+            b.span,
+            "M98 call leads back to its own program: unbounded recursion",
+            "a subprogram must not call itself",
+        ));
+    }
+}
+
+pub use crate::fanuc_exec::plan;

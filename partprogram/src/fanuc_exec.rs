@@ -1,0 +1,563 @@
+//! Executor of the Fanuc/HAAS dialect: modal state, work offsets, canned cycles, circular pockets,
+//! cylinder interpolation G7.1 and M97/M98/M99 calls, emitting the same canonical blocks as MEFI.
+
+mod cycles;
+
+use crate::ast::Val;
+use crate::canon::{Canon, Kind, MFunc, Plane};
+use crate::codes;
+use crate::exec::{Plan, PlanOptions, RunError};
+use crate::program::{CBlock, Program, UnitKind};
+
+/// Peck retract of G73 and clearance of G83 re-entry (mm); the HAAS text gives no value.
+pub const PECK_CLEARANCE: f64 = 0.5;
+
+struct Frame {
+    unit: usize,
+    pc: usize,
+    target: usize,
+    repeat: i64,
+}
+
+struct Ex<'p> {
+    prog: &'p Program,
+    opts: PlanOptions,
+    axes: Vec<char>,
+    machine: [f64; 6],
+    work: [[f64; 6]; 6],
+    wsel: usize,
+    local: [f64; 6],
+    g92: [f64; 6],
+    motion: u16,
+    plane: Plane,
+    abs: bool,
+    inch: bool,
+    feed: Option<f64>,
+    s: Option<f64>,
+    t: Option<i64>,
+    cycle: Option<u16>,
+    g99: bool,
+    init_z: f64,
+    cyc: (f64, f64, f64, f64),
+    cyl: Option<f64>,
+    diameter: bool,
+    frames: Vec<Frame>,
+    out: Vec<Canon>,
+    executed: u64,
+    ended: bool,
+}
+
+fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
+    RunError {
+        code,
+        message: msg.into(),
+        file: b.file,
+        span: b.span,
+    }
+}
+
+/// Plans a Fanuc/HAAS program.
+pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
+    let axes = prog.machine.axes();
+    let lathe = !axes.contains(&'Y');
+    let mut ex = Ex {
+        prog,
+        opts,
+        axes: axes.iter().copied().take(6).collect(),
+        machine: [0.0; 6],
+        work: [[0.0; 6]; 6],
+        wsel: 0,
+        local: [0.0; 6],
+        g92: [0.0; 6],
+        motion: 0,
+        plane: if lathe { Plane::ZX } else { Plane::XY },
+        abs: true,
+        inch: false,
+        feed: None,
+        s: None,
+        t: None,
+        cycle: None,
+        g99: false,
+        init_z: 0.0,
+        cyc: (0.0, 0.0, 0.0, 0.0),
+        cyl: None,
+        diameter: prog.machine.diameter_x,
+        frames: Vec::new(),
+        out: Vec::new(),
+        executed: 0,
+        ended: false,
+    };
+    match ex.run() {
+        Ok(()) => Ok(Plan {
+            blocks: ex.out,
+            params: [0; 96],
+            executed: ex.executed,
+            messages: Vec::new(),
+        }),
+        Err(e) => Err((ex.out, e)),
+    }
+}
+
+impl Ex<'_> {
+    fn idx(&self, a: char) -> Option<usize> {
+        self.axes.iter().position(|c| *c == a)
+    }
+
+    fn origin(&self, i: usize) -> f64 {
+        self.work[self.wsel][i] + self.local[i] + self.g92[i]
+    }
+
+    fn run(&mut self) -> Result<(), RunError> {
+        let Some(main) = self.prog.units.first() else {
+            return Ok(());
+        };
+        self.frames.push(Frame {
+            unit: 0,
+            pc: main.start,
+            target: main.start,
+            repeat: 1,
+        });
+        while !self.ended {
+            let Some(fr) = self.frames.last_mut() else {
+                break;
+            };
+            let unit = &self.prog.units[fr.unit];
+            if fr.pc >= unit.end {
+                if self.frames.len() == 1 {
+                    break;
+                }
+                self.frames.pop();
+                continue;
+            }
+            let bi = fr.pc;
+            fr.pc += 1;
+            self.executed += 1;
+            if self.executed > self.opts.max_blocks {
+                return Err(run_err(
+                    &self.prog.blocks[bi],
+                    codes::RUN_LIMIT,
+                    "too many blocks executed: endless loop?",
+                ));
+            }
+            self.block(bi)?;
+        }
+        Ok(())
+    }
+
+    fn label(&self) -> Option<String> {
+        let fr = self.frames.last()?;
+        let u = &self.prog.units[fr.unit];
+        match u.kind {
+            UnitKind::Library => Some(format!("O{}", u.l)),
+            _ if self.frames.len() > 1 => Some("M97".to_string()),
+            _ => None,
+        }
+    }
+
+    fn emit(
+        &mut self,
+        b: &CBlock,
+        kind: Kind,
+        center: Vec<(char, f64)>,
+        m: &[MFunc],
+        dwell: Option<f64>,
+    ) {
+        if !self.opts.record {
+            return;
+        }
+        let feed = if matches!(kind, Kind::Linear | Kind::ArcCw | Kind::ArcCcw) {
+            self.feed
+        } else {
+            None
+        };
+        let plane = if self.cyl.is_some() {
+            Plane::YZ
+        } else {
+            self.plane
+        };
+        self.out.push(Canon {
+            n: b.n,
+            unit: self.label(),
+            kind,
+            end: self
+                .axes
+                .iter()
+                .enumerate()
+                .map(|(i, a)| (*a, self.machine[i]))
+                .collect(),
+            center,
+            plane,
+            feed,
+            m: m.to_vec(),
+            s: self.s,
+            t: self.t,
+            dwell,
+            thread: false,
+        });
+    }
+
+    fn move_to(&mut self, b: &CBlock, kind: Kind, target: [Option<f64>; 6], m: &[MFunc]) {
+        for (i, v) in target.iter().enumerate() {
+            if let Some(v) = v {
+                self.machine[i] = *v;
+            }
+        }
+        self.emit(b, kind, Vec::new(), m, None);
+    }
+
+    #[allow(clippy::too_many_lines)]
+    fn block(&mut self, bi: usize) -> Result<(), RunError> {
+        let prog = self.prog;
+        let b = &prog.blocks[bi];
+        if b.skip && self.opts.block_skip {
+            return Ok(());
+        }
+        let val = |a: char| {
+            b.word(a).and_then(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l)
+                } else {
+                    None
+                }
+            })
+        };
+        let num = |a: char| val(a).map(|l| l.value());
+        let mut gs = Vec::new();
+        for w in b.words.iter().filter(|w| w.addr == 'G') {
+            if let Val::Lit(l) = w.val {
+                gs.push((l.value() * 10.0).round() as u16);
+            }
+        }
+        let ms: Vec<u16> = b
+            .words
+            .iter()
+            .filter(|w| w.addr == 'M')
+            .filter_map(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l.value() as u16)
+                } else {
+                    None
+                }
+            })
+            .collect();
+        let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
+            (false, false, false, false, false, None, false);
+        let mut new_cycle = false;
+        for &g in &gs {
+            match g {
+                0 | 10 | 20 | 30 => {
+                    self.motion = g;
+                    self.cycle = None;
+                }
+                170 => self.plane = Plane::XY,
+                180 => self.plane = Plane::ZX,
+                190 => self.plane = Plane::YZ,
+                200 => self.inch = true,
+                210 => self.inch = false,
+                900 => self.abs = true,
+                910 => self.abs = false,
+                940 | 960 | 970 | 610 | 640 | 400 | 410 | 420 | 430 | 440 | 490 | 100 => {}
+                540..=590 => self.wsel = usize::from((g - 540) / 10),
+                980 => self.g99 = false,
+                990 => self.g99 = true,
+                800 => self.cycle = None,
+                730 | 740 | 760 | 810..=890 => {
+                    self.cycle = Some(g);
+                    new_cycle = true;
+                }
+                40 => dwell = true,
+                280 => g28 = true,
+                530 => g53 = true,
+                920 => g92 = true,
+                520 => g52 = true,
+                120 | 130 => pocket = Some(g),
+                71 => cyl_cmd = true,
+                g => {
+                    return Err(run_err(
+                        b,
+                        codes::RUN_BAD_G,
+                        format!("G{} is not supported by the planner", f64::from(g) / 10.0),
+                    ));
+                }
+            }
+        }
+        if let Some(s) = num('S') {
+            self.s = Some(s);
+        }
+        if let Some(t) = num('T') {
+            self.t = Some(t as i64);
+        }
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        if let Some(f) = num('F') {
+            self.feed = Some(f * unit);
+        }
+        let mut mf: Vec<MFunc> = Vec::new();
+        for &m in &ms {
+            if matches!(m, 97..=99) {
+                continue;
+            }
+            let before = match prog.machine.m_timing(m) {
+                Some(t) => t.before_motion(),
+                None => matches!(m, 3 | 4 | 7 | 8 | 21),
+            };
+            mf.push(MFunc { m, before });
+        }
+        mf.sort_by_key(|m| !m.before);
+        // Axis words (lathe U/W/H are incremental X/Z/C).
+        let lathe = !self.axes.contains(&'Y');
+        let mut vals: [Option<f64>; 6] = [None; 6];
+        let mut incr: [bool; 6] = [false; 6];
+        for (i, a) in self.axes.clone().iter().enumerate() {
+            if *a == 'C' && cyl_cmd {
+                continue;
+            }
+            if let Some(v) = num(*a) {
+                vals[i] = Some(if *a == 'C' { v } else { v * unit });
+            }
+            let inc_letter = match a {
+                'X' if lathe => Some('U'),
+                'Z' if lathe => Some('W'),
+                'C' if lathe => Some('H'),
+                _ => None,
+            };
+            if let Some(v) = inc_letter.and_then(num) {
+                vals[i] = Some(v * unit);
+                incr[i] = true;
+            }
+        }
+        let any = vals.iter().any(Option::is_some);
+        let target = |ex: &Self, vals: &[Option<f64>; 6]| -> [Option<f64>; 6] {
+            let mut t = [None; 6];
+            for i in 0..ex.axes.len() {
+                if let Some(v) = vals[i] {
+                    t[i] = Some(if incr[i] || !ex.abs {
+                        ex.machine[i] + v
+                    } else {
+                        v + ex.origin(i)
+                    });
+                }
+            }
+            t
+        };
+        if cyl_cmd {
+            let c = num('C').unwrap_or(0.0);
+            self.cyl = if c > 0.0 { Some(c) } else { None };
+        }
+        let mut moved = false;
+        if g92 {
+            for i in 0..self.axes.len() {
+                if let Some(v) = vals[i] {
+                    self.g92[i] = self.machine[i] - self.work[self.wsel][i] - self.local[i] - v;
+                }
+            }
+        } else if g52 {
+            for i in 0..self.axes.len() {
+                self.local[i] = vals[i].unwrap_or(0.0);
+            }
+        } else if g28 {
+            let mid = target(self, &vals);
+            self.move_to(b, Kind::Rapid, mid, &mf);
+            let mut zero = [None; 6];
+            for i in 0..self.axes.len() {
+                if vals[i].is_some() {
+                    zero[i] = Some(0.0);
+                }
+            }
+            self.move_to(b, Kind::Rapid, zero, &[]);
+            moved = true;
+        } else if g53 {
+            let kind = if self.motion == 10 {
+                Kind::Linear
+            } else {
+                Kind::Rapid
+            };
+            self.move_to(b, kind, vals, &mf);
+            moved = true;
+        } else if let Some(g) = pocket {
+            self.pocket(b, g, &vals, &mf)?;
+            moved = true;
+        } else if let Some(cyc) = self.cycle {
+            if new_cycle || any {
+                self.canned(b, cyc, new_cycle, &vals, &mf)?;
+                moved = true;
+            }
+        } else if any {
+            let t = target(self, &vals);
+            match self.motion {
+                20 | 30 => {
+                    let center = self.arc(b, &t)?;
+                    let kind = if self.motion == 20 {
+                        Kind::ArcCw
+                    } else {
+                        Kind::ArcCcw
+                    };
+                    for (i, v) in t.iter().enumerate() {
+                        if let Some(v) = v {
+                            self.machine[i] = *v;
+                        }
+                    }
+                    self.emit(b, kind, center, &mf, None);
+                }
+                0 => self.move_to(b, Kind::Rapid, t, &mf),
+                _ => self.move_to(b, Kind::Linear, t, &mf),
+            }
+            moved = true;
+        }
+        if dwell {
+            let secs = match val('P').or_else(|| val('X')) {
+                Some(l) if l.point || b.word('X').is_some() => l.value(),
+                Some(l) => l.value() / 1000.0,
+                None => 0.0,
+            };
+            let m = if moved {
+                Vec::new()
+            } else {
+                std::mem::take(&mut mf)
+            };
+            self.emit(b, Kind::Dwell, Vec::new(), &m, Some(secs));
+            moved = true;
+        }
+        if !moved && (!mf.is_empty() || num('S').is_some() || num('T').is_some()) {
+            self.emit(b, Kind::Aux, Vec::new(), &mf, None);
+        }
+        // Program flow.
+        let p = num('P').map(|v| v as u32);
+        let l = num('L').map_or(1, |v| v as i64);
+        if ms.contains(&97) || ms.contains(&98) {
+            let p = p.ok_or_else(|| run_err(b, codes::RUN_TARGET, "M97/M98 without P"))?;
+            let (unit, target) = if ms.contains(&97) {
+                let t = *prog.units[b.unit]
+                    .index
+                    .get(&p)
+                    .ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no block N{p}")))?;
+                (b.unit, t)
+            } else {
+                let u = *prog
+                    .library
+                    .get(&p)
+                    .ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no program O{p}")))?;
+                (u, prog.units[u].start)
+            };
+            if self.frames.len() >= 64 {
+                return Err(run_err(
+                    b,
+                    codes::RUN_LIMIT,
+                    "calls nested deeper than 64 levels",
+                ));
+            }
+            if l > 0 {
+                self.frames.push(Frame {
+                    unit,
+                    pc: target,
+                    target,
+                    repeat: l,
+                });
+            }
+        } else if ms.contains(&99) {
+            if self.frames.len() > 1 {
+                if let Some(fr) = self.frames.last_mut()
+                    && fr.repeat > 1
+                {
+                    fr.repeat -= 1;
+                    fr.pc = fr.target;
+                    return Ok(());
+                }
+                self.frames.pop();
+            } else {
+                // M99 in the main program loops forever on a control; a plan stops here.
+                self.ended = true;
+            }
+        }
+        if (ms.contains(&30) || ms.contains(&2)) && self.frames.len() == 1 {
+            self.ended = true;
+        }
+        Ok(())
+    }
+
+    fn plane_axes(&self) -> (char, char, char, char) {
+        // (first axis, second axis, centre word along first, along second)
+        match self.plane {
+            Plane::XY => ('X', 'Y', 'I', 'J'),
+            Plane::ZX => ('Z', 'X', 'K', 'I'),
+            Plane::YZ => ('Y', 'Z', 'J', 'K'),
+        }
+    }
+
+    fn arc(&self, b: &CBlock, t: &[Option<f64>; 6]) -> Result<Vec<(char, f64)>, RunError> {
+        let num = |a: char| {
+            b.word(a).and_then(|w| {
+                if let Val::Lit(l) = w.val {
+                    Some(l.value())
+                } else {
+                    None
+                }
+            })
+        };
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        let (a1, a2, w1, w2) = if self.cyl.is_some() {
+            ('C', 'Z', 'J', 'K')
+        } else {
+            self.plane_axes()
+        };
+        let (Some(i1), Some(i2)) = (self.idx(a1), self.idx(a2)) else {
+            return Err(run_err(
+                b,
+                codes::RUN_CIRCLE,
+                format!("the machine has no {a1}{a2} plane"),
+            ));
+        };
+        // Scale to a Cartesian frame: C degrees → development mm, X diameter → radius.
+        let k = |i: usize| -> f64 {
+            match (self.axes[i], self.cyl) {
+                ('C', Some(r)) => r * std::f64::consts::PI / 180.0,
+                ('X', _) if self.diameter => 0.5,
+                _ => 1.0,
+            }
+        };
+        let (k1, k2) = (k(i1), k(i2));
+        let s = (self.machine[i1] * k1, self.machine[i2] * k2);
+        let e = (
+            t[i1].unwrap_or(self.machine[i1]) * k1,
+            t[i2].unwrap_or(self.machine[i2]) * k2,
+        );
+        let cw = self.motion == 20;
+        let c = if let Some(r) = num('R') {
+            let r = r * unit;
+            let (dx, dy) = (e.0 - s.0, e.1 - s.1);
+            let d = dx.hypot(dy);
+            if d == 0.0 || d > 2.0 * r.abs() + 1e-6 {
+                return Err(run_err(
+                    b,
+                    codes::RUN_CIRCLE,
+                    format!("R{r} cannot join the start and end point"),
+                ));
+            }
+            let h = (r * r - d * d / 4.0).max(0.0).sqrt();
+            let (ux, uy) = (dx / d, dy / d);
+            let right = (uy, -ux);
+            let side = if cw == (r > 0.0) { 1.0 } else { -1.0 };
+            (
+                (s.0 + e.0) / 2.0 + side * h * right.0,
+                (s.1 + e.1) / 2.0 + side * h * right.1,
+            )
+        } else {
+            let c = (
+                s.0 + num(w1).unwrap_or(0.0) * unit,
+                s.1 + num(w2).unwrap_or(0.0) * unit,
+            );
+            let r0 = (s.0 - c.0).hypot(s.1 - c.1);
+            let r1 = (e.0 - c.0).hypot(e.1 - c.1);
+            if (r0 - r1).abs() > self.prog.machine.circle_tolerance.max(0.002) {
+                return Err(run_err(
+                    b,
+                    codes::RUN_CIRCLE,
+                    format!(
+                        "end point is not on the circle: radius {r0:.4} at the start, {r1:.4} at the end"
+                    ),
+                ));
+            }
+            c
+        };
+        Ok(vec![(a1, c.0 / k1), (a2, c.1 / k2)])
+    }
+}

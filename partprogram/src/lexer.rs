@@ -1,0 +1,277 @@
+//! The logos lexer shared by both dialects.
+//!
+//! MEFI (CNC8x6) text and Fanuc/HAAS text use the same token set: address letters, signed numbers that
+//! keep their digits and decimal point, `"…"` comments (MEFI) or `( … )` comments (Fanuc), `%`, `*`, `/`,
+//! `=`, `&` and, for Fanuc, the end of block (a line end or `;`). Lexer errors never abort: the adapter
+//! [`Lexer`] turns them into [`Tok::LexError`] tokens and records a located message so that the parser
+//! can resynchronise.
+
+use std::ops::Range;
+
+use logos::Logos;
+
+use crate::machine::Dialect;
+
+/// A number as written: sign, digits and whether it had a decimal point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Lit {
+    /// The value times 1000, fraction truncated to three digits (`36.12` → 36120, `100` → 100000).
+    pub milli: i64,
+    /// The integer as written without a point (`100` → 100); for a number with a point, the digits
+    /// before the point.
+    pub int: i64,
+    /// True when the number had a decimal point.
+    pub point: bool,
+    /// True when a sign was written.
+    pub signed: bool,
+    /// True when the number was negative.
+    pub negative: bool,
+    /// Number of digits before the point.
+    pub int_digits: u8,
+    /// Number of digits after the point.
+    pub frac_digits: u8,
+    /// The first fraction digit (for G7.1-style sub-codes), 0 when none.
+    pub first_frac: u8,
+}
+
+impl Lit {
+    /// The value as a thousandths count under the R-parameter rule: without a point the written integer,
+    /// with a point the value times 1000.
+    pub fn r_count(&self) -> i64 {
+        if self.point { self.milli } else { self.int }
+    }
+
+    /// The value as a float in the written unit.
+    pub fn value(&self) -> f64 {
+        self.milli as f64 / 1000.0
+    }
+}
+
+fn parse_number(s: &str) -> Option<Lit> {
+    let (negative, signed, body) = match s.as_bytes().first()? {
+        b'-' => (true, true, &s[1..]),
+        b'+' => (false, true, &s[1..]),
+        _ => (false, false, s),
+    };
+    let (ip, fp, point) = match body.find('.') {
+        Some(i) => (&body[..i], &body[i + 1..], true),
+        None => (body, "", false),
+    };
+    let ip_trim = ip.trim_start_matches('0');
+    if ip_trim.len() > 12 {
+        return None;
+    }
+    let int: i64 = if ip_trim.is_empty() {
+        0
+    } else {
+        ip_trim.parse().ok()?
+    };
+    let mut frac: i64 = 0;
+    for i in 0..3 {
+        let d = fp.as_bytes().get(i).map_or(0, |c| i64::from(c - b'0'));
+        frac = frac * 10 + d;
+    }
+    let milli = int.checked_mul(1000)?.checked_add(frac)?;
+    let sign = if negative { -1 } else { 1 };
+    Some(Lit {
+        milli: sign * milli,
+        int: sign * int,
+        point,
+        signed,
+        negative,
+        int_digits: u8::try_from(ip_trim.len()).unwrap_or(u8::MAX),
+        frac_digits: u8::try_from(fp.len()).unwrap_or(u8::MAX),
+        first_frac: fp.as_bytes().first().map_or(0, |c| c - b'0'),
+    })
+}
+
+/// Why a piece of text is not a token.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub enum LexErrorKind {
+    /// A character that is not part of the language (outside comments).
+    #[default]
+    BadChar,
+    /// A number too long to represent.
+    BadNumber,
+}
+
+/// Raw MEFI tokens produced by logos.
+#[derive(Logos, Debug, Clone, PartialEq)]
+#[logos(error = LexErrorKind)]
+#[logos(skip r"[ \t\r\n]+")]
+enum MefiTok {
+    #[token("%")]
+    Percent,
+    #[token("*")]
+    Star,
+    #[token("/")]
+    Slash,
+    #[token("=")]
+    Eq,
+    #[token("&")]
+    Amp,
+    #[regex(r"[A-Z]", |lex| lex.slice().as_bytes()[0] as char)]
+    Letter(char),
+    #[regex(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)", |lex| parse_number(lex.slice()).ok_or(LexErrorKind::BadNumber))]
+    Number(Lit),
+    #[regex(r#""[^"\r\n]*"?"#, allow_greedy = true)]
+    Comment,
+    #[regex(r"\$PC[^\r\n]*", allow_greedy = true)]
+    CycleHeader,
+}
+
+/// Raw Fanuc/HAAS tokens produced by logos.
+#[derive(Logos, Debug, Clone, PartialEq)]
+#[logos(error = LexErrorKind)]
+#[logos(skip r"[ \t]+")]
+enum FanucTok {
+    #[token("%")]
+    Percent,
+    #[token("/")]
+    Slash,
+    #[token("=")]
+    Eq,
+    #[regex(r"(\r\n|\r|\n|;)")]
+    Eob,
+    #[regex(r"[A-Za-z]", |lex| (lex.slice().as_bytes()[0] as char).to_ascii_uppercase())]
+    Letter(char),
+    #[regex(r"[+-]?([0-9]+(\.[0-9]*)?|\.[0-9]+)", |lex| parse_number(lex.slice()).ok_or(LexErrorKind::BadNumber))]
+    Number(Lit),
+    #[regex(r"\([^)\r\n]*\)?", allow_greedy = true)]
+    Comment,
+}
+
+/// Parser tokens (both dialects).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Tok {
+    /// `%`.
+    Percent,
+    /// `*` (MEFI physical end).
+    Star,
+    /// `/` block skip.
+    Slash,
+    /// `=`.
+    Eq,
+    /// The block-number address `N`.
+    N,
+    /// The parameter address `R`.
+    R,
+    /// The program-number address `O` (Fanuc).
+    O,
+    /// Any other address letter, or `&`.
+    Addr(char),
+    /// A number.
+    Num(Lit),
+    /// A comment.
+    Comment,
+    /// End of block (Fanuc line end or `;`).
+    Eob,
+    /// The `$PC` header of a fixed-cycle file.
+    CycleHeader,
+    /// A lexer error (recorded separately).
+    LexError,
+}
+
+/// A lexer error with its byte range.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LexError {
+    /// What went wrong.
+    pub kind: LexErrorKind,
+    /// Where.
+    pub span: Range<usize>,
+}
+
+/// Token stream adapter for the lalrpop parser; stops at a MEFI `*` (everything after it is ignored).
+pub struct Lexer<'a> {
+    inner: Inner<'a>,
+    offset: usize,
+    done: bool,
+    /// Lexer errors seen so far.
+    pub errors: Vec<LexError>,
+}
+
+enum Inner<'a> {
+    Mefi(logos::SpannedIter<'a, MefiTok>),
+    Fanuc(logos::SpannedIter<'a, FanucTok>),
+}
+
+impl<'a> Lexer<'a> {
+    /// Lexes `src` starting at byte `offset` (the preamble before `%` is skipped by the caller).
+    pub fn new(dialect: Dialect, src: &'a str, offset: usize) -> Self {
+        let text = &src[offset..];
+        let inner = match dialect {
+            Dialect::Mefi => Inner::Mefi(MefiTok::lexer(text).spanned()),
+            Dialect::Fanuc => Inner::Fanuc(FanucTok::lexer(text).spanned()),
+        };
+        Lexer {
+            inner,
+            offset,
+            done: false,
+            errors: Vec::new(),
+        }
+    }
+}
+
+fn letter(c: char) -> Tok {
+    match c {
+        'N' => Tok::N,
+        'R' => Tok::R,
+        'O' => Tok::O,
+        c => Tok::Addr(c),
+    }
+}
+
+impl Iterator for Lexer<'_> {
+    type Item = Result<(usize, Tok, usize), LexError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let (res, span) = match &mut self.inner {
+            Inner::Mefi(it) => {
+                let (r, s) = it.next()?;
+                let t = r.map(|t| match t {
+                    MefiTok::Percent => Tok::Percent,
+                    MefiTok::Star => Tok::Star,
+                    MefiTok::Slash => Tok::Slash,
+                    MefiTok::Eq => Tok::Eq,
+                    MefiTok::Amp => Tok::Addr('&'),
+                    MefiTok::Letter(c) => letter(c),
+                    MefiTok::Number(l) => Tok::Num(l),
+                    MefiTok::Comment => Tok::Comment,
+                    MefiTok::CycleHeader => Tok::CycleHeader,
+                });
+                (t, s)
+            }
+            Inner::Fanuc(it) => {
+                let (r, s) = it.next()?;
+                let t = r.map(|t| match t {
+                    FanucTok::Percent => Tok::Percent,
+                    FanucTok::Slash => Tok::Slash,
+                    FanucTok::Eq => Tok::Eq,
+                    FanucTok::Eob => Tok::Eob,
+                    FanucTok::Letter(c) => letter(c),
+                    FanucTok::Number(l) => Tok::Num(l),
+                    FanucTok::Comment => Tok::Comment,
+                });
+                (t, s)
+            }
+        };
+        let span = span.start + self.offset..span.end + self.offset;
+        Some(Ok(match res {
+            Ok(Tok::Star) => {
+                self.done = true;
+                (span.start, Tok::Star, span.end)
+            }
+            Ok(t) => (span.start, t, span.end),
+            Err(kind) => {
+                self.errors.push(LexError {
+                    kind,
+                    span: span.clone(),
+                });
+                (span.start, Tok::LexError, span.end)
+            }
+        }))
+    }
+}

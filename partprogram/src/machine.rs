@@ -1,0 +1,125 @@
+//! What the partprogram compiler needs to know about a machine.
+//!
+//! [`MachineSpec`] is deliberately decoupled from the characterization crate: the runtime builds it from
+//! IOCFIL section 2 (`Mxx=m_type,m_request,class` per process) and the AXCFIL axis names, plus the
+//! documented machine options (dialect, macro folder, diameter programming, double precision).
+
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Partprogram dialect.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dialect {
+    /// MEFI CNC8x6 (NC-110/NC-2xx): `%n` header, `"…"` comments, R parameters, G26–G29 arithmetic.
+    Mefi,
+    /// Fanuc/HAAS ISO dialect: `O` numbers, `( )` comments, M97/M98/M99.
+    Fanuc,
+}
+
+impl std::str::FromStr for Dialect {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "mefi" | "cnc8x6" => Ok(Dialect::Mefi),
+            "fanuc" | "haas" | "iso" => Ok(Dialect::Fanuc),
+            other => Err(format!("unknown dialect `{other}` (use mefi or fanuc)")),
+        }
+    }
+}
+
+/// Timing of one declared M function (IOCFIL section 2 `Mxx=m_type,m_request,class`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub struct MTiming {
+    /// Bit sum: 01 before motion, 02 after motion, 04 in STOP, 10 immediate, 40 modal.
+    pub m_type: u8,
+    /// Bit sum: 02 optional stop, 04 blocks calculation, 08 stop at end of block, 20 reset request.
+    pub m_request: u8,
+    /// Visualization class (low nibble) and memorized-search class (high nibble).
+    pub class: u8,
+}
+
+impl MTiming {
+    /// True when the function is executed before the motion of its block.
+    pub fn before_motion(&self) -> bool {
+        self.m_type & 0x01 != 0
+    }
+}
+
+/// One process (channel) of the machine.
+#[derive(Debug, Clone, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct ProcessSpec {
+    /// M functions declared for this process, by number.
+    pub declared_m: BTreeMap<u16, MTiming>,
+    /// Axis address letters in axis order (lathe `['X','Z']`, mill `['X','Y','Z']`).
+    pub axes: Vec<char>,
+}
+
+/// How arithmetic parameter numbers ≥ 50 are read (machine constant 283, decade 4).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum DoublePrecision {
+    /// Decade 4 = 0: numbers 50..99 mean the pair (n−50, n−49).
+    #[default]
+    Enabled,
+    /// Decade 4 = 1: numbers 0..95 are single parameters, no double precision.
+    Disabled,
+    /// Decade 4 = 2: decade 1 of R95 selects (0 = enabled, 1 = disabled).
+    ByR95,
+}
+
+/// Everything the partprogram compiler and planner need from a machine.
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MachineSpec {
+    /// Dialect of the machine's partprograms.
+    pub dialect: Dialect,
+    /// Folder of macro files `L<n>` and fixed-cycle files.
+    pub macro_dir: PathBuf,
+    /// Processes; partprograms are compiled for process 1 unless told otherwise.
+    pub processes: Vec<ProcessSpec>,
+    /// Lathe diameter programming of X (G74 state at start).
+    pub diameter_x: bool,
+    /// Interpolation plane at program start: 17 (XY), 18 (ZX) or 19 (YZ).
+    pub default_plane: u8,
+    /// Double-precision arithmetic setting.
+    pub double_precision: DoublePrecision,
+    /// Tolerance (mm) for "end point is on the circle" (machine constant 55).
+    pub circle_tolerance: f64,
+    /// When true, M functions not declared in IOCFIL section 2 are errors (false: not checked).
+    pub check_m_declared: bool,
+}
+
+impl MachineSpec {
+    /// A machine with sensible defaults for `dialect` and the given axes (one process, no M declarations
+    /// checked).
+    pub fn new(dialect: Dialect, axes: &[char]) -> Self {
+        let lathe = !axes.contains(&'Y');
+        MachineSpec {
+            dialect,
+            macro_dir: PathBuf::new(),
+            processes: vec![ProcessSpec {
+                declared_m: BTreeMap::new(),
+                axes: axes.to_vec(),
+            }],
+            diameter_x: false,
+            default_plane: if lathe { 18 } else { 17 },
+            double_precision: DoublePrecision::Enabled,
+            circle_tolerance: 0.002,
+            check_m_declared: false,
+        }
+    }
+
+    /// The axes of process 1 (X, Y, Z when none are configured).
+    pub fn axes(&self) -> Vec<char> {
+        match self.processes.first() {
+            Some(p) if !p.axes.is_empty() => p.axes.clone(),
+            _ => vec!['X', 'Y', 'Z'],
+        }
+    }
+
+    /// The timing of M `m` in process 1, if declared.
+    pub fn m_timing(&self, m: u16) -> Option<MTiming> {
+        self.processes
+            .first()
+            .and_then(|p| p.declared_m.get(&m).copied())
+    }
+}

@@ -1,0 +1,455 @@
+//! Front end: lexes and parses one file and groups the flat items into blocks.
+//!
+//! MEFI blocks run from one `N` to the next (a block may span several lines); Fanuc blocks end at the
+//! end of the line or at `;`. Everything before the first `%` (MEFI) is a preamble and is ignored; a
+//! MEFI file that starts with `$PC` is a fixed-cycle file. Problems become located diagnostics; the
+//! parser never panics and always returns what it could read.
+
+use diag::Diagnostic;
+use lalrpop_util::ParseError;
+
+use crate::ast::{Block, Decl, Item, ParsedFile, Val, Word};
+use crate::codes;
+use crate::lexer::{LexErrorKind, Lexer, Lit, Tok};
+use crate::machine::Dialect;
+
+lalrpop_util::lalrpop_mod!(
+    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
+    grammar
+);
+
+/// Largest magnitude of a stored parameter count (±69999.999).
+pub const R_MAX: i64 = 69_999_999;
+
+/// Parses `src` (the text of `file`) in `dialect`.
+pub fn parse(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagnostic>) {
+    parse_with(dialect, file, src, true)
+}
+
+/// Parses a macro file: like [`parse`], but a MEFI file without `%` header starts at its first byte.
+pub fn parse_library(dialect: Dialect, file: &str, src: &str) -> (ParsedFile, Vec<Diagnostic>) {
+    parse_with(dialect, file, src, false)
+}
+
+fn parse_with(
+    dialect: Dialect,
+    file: &str,
+    src: &str,
+    require_header: bool,
+) -> (ParsedFile, Vec<Diagnostic>) {
+    let mut diags = Vec::new();
+    let mut out = ParsedFile::default();
+    let start = match dialect {
+        Dialect::Mefi => {
+            let p = src.find('%');
+            let c = src.find("$PC");
+            match (p, c) {
+                (Some(p), Some(c)) => p.min(c),
+                (Some(p), None) => p,
+                (None, Some(c)) => c,
+                (None, None) if !require_header => 0,
+                (None, None) => {
+                    diags.push(
+                        Diagnostic::error(
+                            codes::HEADER,
+                            file,
+                            0..0,
+                            "the partprogram has no `%` header",
+                        )
+                        .with_hint("start the program with `%<number>` (1..999999)")
+                        .locate(src),
+                    );
+                    return (out, diags);
+                }
+            }
+        }
+        Dialect::Fanuc => 0,
+    };
+    for (i, line) in src.split('\n').enumerate() {
+        if line.trim_end_matches('\r').chars().count() > 80 && dialect == Dialect::Mefi {
+            let off: usize = src.split('\n').take(i).map(|l| l.len() + 1).sum();
+            diags.push(
+                Diagnostic::warning(codes::LONG_LINE, file, off..off + line.len(), "line longer than 80 characters")
+                    .with_hint("the control reads at most 80 characters per line; continue the block on the next line")
+                    .locate(src),
+            );
+        }
+    }
+    let mut lexer = Lexer::new(dialect, src, start);
+    let mut recovered = Vec::new();
+    let result = grammar::ItemsParser::new().parse(&mut recovered, &mut lexer);
+    for e in &lexer.errors {
+        let msg = match e.kind {
+            LexErrorKind::BadChar => {
+                let text = src.get(e.span.clone()).unwrap_or("?");
+                format!("`{text}` is not allowed here")
+            }
+            LexErrorKind::BadNumber => "number too long".to_string(),
+        };
+        diags.push(
+            Diagnostic::error(codes::BAD_CHAR, file, e.span.clone(), msg)
+                .with_hint(match dialect {
+                    Dialect::Mefi => "outside `\"…\"` comments only upper-case addresses, digits, signs, `.`, `%`, `/`, `=`, `&` and `*` are allowed; a sign must touch its digits",
+                    Dialect::Fanuc => "outside `( … )` comments only addresses, digits, signs and `.` are allowed",
+                })
+                .locate(src),
+        );
+    }
+    for r in recovered {
+        if let Some(d) = parse_error(file, src, r.error) {
+            diags.push(d);
+        }
+    }
+    let items = match result {
+        Ok(items) => items,
+        Err(e) => {
+            if let Some(d) = parse_error(file, src, e) {
+                diags.push(d);
+            }
+            Vec::new()
+        }
+    };
+    match dialect {
+        Dialect::Mefi => group_mefi(file, src, &items, &mut out, &mut diags, require_header),
+        Dialect::Fanuc => group_fanuc(file, src, &items, &mut out, &mut diags),
+    }
+    (out, diags)
+}
+
+fn parse_error(
+    file: &str,
+    src: &str,
+    e: ParseError<usize, Tok, crate::lexer::LexError>,
+) -> Option<Diagnostic> {
+    let (span, msg) = match e {
+        ParseError::InvalidToken { location } => {
+            (location..location + 1, "invalid token".to_string())
+        }
+        ParseError::UnrecognizedEof { location, .. } => {
+            (location..location, "unexpected end of file".to_string())
+        }
+        ParseError::UnrecognizedToken {
+            token: (l, t, r), ..
+        } => {
+            if t == Tok::LexError {
+                return None;
+            }
+            (
+                l..r,
+                format!("unexpected `{}`", src.get(l..r).unwrap_or("?")),
+            )
+        }
+        ParseError::ExtraToken { token: (l, _, r) } => (l..r, "unexpected token".to_string()),
+        ParseError::User { .. } => return None,
+    };
+    Some(
+        Diagnostic::error(codes::SYNTAX, file, span, msg)
+            .with_hint("a word is an address letter followed by a number or by R<n>; a declaration is R<n>=<number>")
+            .locate(src),
+    )
+}
+
+fn uint_of(src: &str, span: &std::ops::Range<usize>) -> Option<u64> {
+    let t = src.get(span.clone())?.trim();
+    if t.is_empty() || !t.bytes().all(|b| b.is_ascii_digit()) || t.len() > 12 {
+        return None;
+    }
+    t.parse().ok()
+}
+
+fn decl(
+    file: &str,
+    src: &str,
+    p: Lit,
+    v: Lit,
+    span: std::ops::Range<usize>,
+    diags: &mut Vec<Diagnostic>,
+) -> Option<Decl> {
+    if p.point || p.signed || !(0..=95).contains(&p.int) {
+        diags.push(
+            Diagnostic::error(
+                codes::BAD_PARAMETER,
+                file,
+                span,
+                "parameter number must be 0..95",
+            )
+            .with_hint("parameters are R0 … R95, written without sign or point")
+            .locate(src),
+        );
+        return None;
+    }
+    let r = v.r_count();
+    if r.abs() > R_MAX || (!v.point && v.int_digits > 8) || (v.point && v.int_digits > 5) {
+        diags.push(
+            Diagnostic::error(
+                codes::OUT_OF_RANGE,
+                file,
+                span,
+                "parameter value out of range",
+            )
+            .with_hint("a parameter holds ±69999.999 (format +5.3 with a point, +8 digits without)")
+            .locate(src),
+        );
+        return None;
+    }
+    Some(Decl {
+        param: p.int as u8,
+        r,
+        span: (span.start, span.end),
+    })
+}
+
+fn group_mefi(
+    file: &str,
+    src: &str,
+    items: &[Item],
+    out: &mut ParsedFile,
+    diags: &mut Vec<Diagnostic>,
+    require_header: bool,
+) {
+    let mut cur: Option<Block> = None;
+    let mut header_seen = false;
+    let mut i = 0;
+    let mut after_slash = false;
+    while i < items.len() {
+        let item = &items[i];
+        i += 1;
+        let was_slash = std::mem::replace(&mut after_slash, false);
+        match item {
+            Item::Percent(sp) => {
+                if header_seen || cur.is_some() {
+                    diags.push(
+                        Diagnostic::error(codes::HEADER, file, sp.clone(), "a second `%` header")
+                            .locate(src),
+                    );
+                    continue;
+                }
+                header_seen = true;
+                match items.get(i) {
+                    Some(Item::Orphan(nsp)) => {
+                        i += 1;
+                        match uint_of(src, nsp) {
+                            Some(n) if (1..=999_999).contains(&n) => out.number = Some(n as u32),
+                            _ => diags.push(
+                                Diagnostic::error(
+                                    codes::HEADER,
+                                    file,
+                                    nsp.clone(),
+                                    "invalid program number",
+                                )
+                                .with_hint("the program number is 1..999999, without sign or point")
+                                .locate(src),
+                            ),
+                        }
+                    }
+                    _ => diags.push(
+                        Diagnostic::error(
+                            codes::HEADER,
+                            file,
+                            sp.clone(),
+                            "`%` without a program number",
+                        )
+                        .with_hint("write `%<number>`, e.g. `%35`")
+                        .locate(src),
+                    ),
+                }
+            }
+            Item::CycleHeader(_) => {
+                header_seen = true;
+                out.cycle_file = true;
+            }
+            Item::Star(_) => break,
+            Item::Comment(_) | Item::Eob(_) => {}
+            Item::Slash(_) => match cur.as_mut() {
+                Some(b) => {
+                    b.skip = true;
+                    after_slash = true;
+                }
+                None => {
+                    after_slash = true;
+                }
+            },
+            Item::Orphan(sp) => {
+                if was_slash {
+                    continue;
+                }
+                diags.push(
+                    Diagnostic::error(codes::ORPHAN_NUMBER, file, sp.clone(), "number without an address")
+                        .with_hint("a value must not contain spaces (`X36. 12`) and a sign must touch its digits (`X- 36.12`)")
+                        .locate(src),
+                );
+            }
+            Item::Error(_) => {}
+            Item::Word('N', val, sp) => {
+                if let Some(b) = cur.take() {
+                    out.blocks.push(b);
+                }
+                let n = match val {
+                    Val::Lit(l) if !l.point && !l.signed && (1..=99_999_999).contains(&l.int) => {
+                        Some(l.int as u32)
+                    }
+                    Val::Param(_) => {
+                        diags.push(
+                            Diagnostic::error(
+                                codes::NOT_PARAMETRISABLE,
+                                file,
+                                sp.clone(),
+                                "the block number cannot be a parameter",
+                            )
+                            .with_hint("write the block number literally, e.g. `N10`")
+                            .locate(src),
+                        );
+                        None
+                    }
+                    Val::Lit(_) => {
+                        diags.push(
+                            Diagnostic::error(
+                                codes::OUT_OF_RANGE,
+                                file,
+                                sp.clone(),
+                                "invalid block number",
+                            )
+                            .with_hint("block numbers are 1..99999999 without sign or point")
+                            .locate(src),
+                        );
+                        None
+                    }
+                };
+                cur = Some(Block {
+                    n,
+                    span: (sp.start, sp.end),
+                    ..Block::default()
+                });
+            }
+            Item::Word(a, val, sp) => match cur.as_mut() {
+                Some(b) => {
+                    b.words.push(Word {
+                        addr: *a,
+                        val: *val,
+                        span: (sp.start, sp.end),
+                    });
+                    b.span.1 = sp.end;
+                }
+                None => no_block(file, src, sp.clone(), diags),
+            },
+            Item::Decl(p, v, sp) => match cur.as_mut() {
+                Some(b) => {
+                    if let Some(d) = decl(file, src, *p, *v, sp.clone(), diags) {
+                        b.decls.push(d);
+                    }
+                    b.span.1 = sp.end;
+                }
+                None => no_block(file, src, sp.clone(), diags),
+            },
+        }
+    }
+    if let Some(b) = cur.take() {
+        out.blocks.push(b);
+    }
+    if !header_seen && require_header {
+        diags.push(
+            Diagnostic::error(
+                codes::HEADER,
+                file,
+                0..0,
+                "the partprogram has no `%` header",
+            )
+            .with_hint("start the program with `%<number>`")
+            .locate(src),
+        );
+    }
+}
+
+fn no_block(file: &str, src: &str, sp: std::ops::Range<usize>, diags: &mut Vec<Diagnostic>) {
+    diags.push(
+        Diagnostic::error(codes::NO_BLOCK_NUMBER, file, sp, "word outside a block")
+            .with_hint("every block starts with its number `N<n>`")
+            .locate(src),
+    );
+}
+
+fn group_fanuc(
+    file: &str,
+    src: &str,
+    items: &[Item],
+    out: &mut ParsedFile,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let mut cur = Block::default();
+    let mut started = false;
+    let mut after_slash = false;
+    let flush = |cur: &mut Block, started: &mut bool, out: &mut ParsedFile| {
+        if *started && (cur.n.is_some() || !cur.words.is_empty() || !cur.decls.is_empty()) {
+            out.blocks.push(std::mem::take(cur));
+        } else {
+            *cur = Block::default();
+        }
+        *started = false;
+    };
+    for item in items {
+        let was_slash = std::mem::replace(&mut after_slash, false);
+        match item {
+            Item::Eob(_) => flush(&mut cur, &mut started, out),
+            Item::Percent(_) | Item::Comment(_) | Item::Error(_) | Item::Star(_) | Item::CycleHeader(_) => {}
+            Item::Slash(sp) => {
+                cur.skip = true;
+                after_slash = true;
+                if !started {
+                    started = true;
+                    cur.span = (sp.start, sp.end);
+                }
+            }
+            Item::Orphan(sp) => {
+                if !was_slash {
+                    diags.push(
+                        Diagnostic::error(codes::ORPHAN_NUMBER, file, sp.clone(), "number without an address")
+                            .with_hint("a value must not contain spaces and a sign must touch its digits")
+                            .locate(src),
+                    );
+                }
+            }
+            Item::Word('O', val, sp) => {
+                match val {
+                    Val::Lit(l) if !l.point && !l.signed && (0..=99_999).contains(&l.int) => {
+                        if out.number.is_none() {
+                            out.number = Some(l.int as u32);
+                        }
+                    }
+                    _ => diags.push(
+                        Diagnostic::error(codes::HEADER, file, sp.clone(), "invalid program number")
+                            .with_hint("write `O<number>`, e.g. `O00023`")
+                            .locate(src),
+                    ),
+                }
+            }
+            Item::Word('N', val, sp) => {
+                if !started {
+                    started = true;
+                    cur.span = (sp.start, sp.end);
+                }
+                match val {
+                    Val::Lit(l) if !l.point && !l.signed && (0..=99_999_999).contains(&l.int) => cur.n = Some(l.int as u32),
+                    _ => diags.push(
+                        Diagnostic::error(codes::OUT_OF_RANGE, file, sp.clone(), "invalid block number")
+                            .with_hint("block numbers are N1..N99999")
+                            .locate(src),
+                    ),
+                }
+            }
+            Item::Word(a, val, sp) => {
+                if !started {
+                    started = true;
+                    cur.span = (sp.start, sp.end);
+                }
+                cur.words.push(Word { addr: *a, val: *val, span: (sp.start, sp.end) });
+                cur.span.1 = sp.end;
+            }
+            Item::Decl(_, _, sp) => diags.push(
+                Diagnostic::error(codes::R_WORD, file, sp.clone(), "`R<n>=` declarations are MEFI syntax")
+                    .with_hint("the Fanuc/HAAS dialect has no R parameters; R is the arc radius or the canned-cycle R plane")
+                    .locate(src),
+            ),
+        }
+    }
+    flush(&mut cur, &mut started, out);
+}

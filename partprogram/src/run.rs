@@ -1,0 +1,82 @@
+//! Options, results and errors of a planning run (shared by both dialects).
+
+use diag::Diagnostic;
+
+use crate::arith::NPARAM;
+use crate::canon::Canon;
+use crate::program::Program;
+
+/// Which engine runs parameter arithmetic.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Backend {
+    /// Cranelift-compiled native code where available (the interpreter for computed control words).
+    #[default]
+    Native,
+    /// The reference interpreter only.
+    Interpreter,
+}
+
+/// Options of a planning run.
+#[derive(Debug, Clone, Copy)]
+pub struct PlanOptions {
+    /// Arithmetic engine.
+    pub backend: Backend,
+    /// Block-skip mode `/` selected (skip blocks marked with `/`).
+    pub block_skip: bool,
+    /// Stop with an error after this many executed blocks (endless loops).
+    pub max_blocks: u64,
+    /// Record canonical blocks (false: only run, for benchmarks of arithmetic).
+    pub record: bool,
+}
+
+impl Default for PlanOptions {
+    fn default() -> Self {
+        PlanOptions {
+            backend: Backend::Native,
+            block_skip: false,
+            max_blocks: 20_000_000,
+            record: true,
+        }
+    }
+}
+
+/// A run-time error with the block it happened in.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{message}")]
+pub struct RunError {
+    /// Diagnostic code (2500…).
+    pub code: u32,
+    /// What went wrong.
+    pub message: String,
+    /// File index.
+    pub file: usize,
+    /// Byte range of the block.
+    pub span: (usize, usize),
+}
+
+impl RunError {
+    /// The located diagnostic for this error.
+    pub fn to_diagnostic(&self, prog: &Program) -> Diagnostic {
+        let f = &prog.files[self.file.min(prog.files.len().saturating_sub(1))];
+        Diagnostic::error(
+            self.code,
+            f.name.clone(),
+            self.span.0..self.span.1,
+            self.message.clone(),
+        )
+        .locate(&f.text)
+    }
+}
+
+/// The result of a planning run.
+#[derive(Debug, Clone)]
+pub struct Plan {
+    /// Canonical blocks in execution order.
+    pub blocks: Vec<Canon>,
+    /// The parameters at the end.
+    pub params: [i64; NPARAM],
+    /// Number of executed blocks.
+    pub executed: u64,
+    /// Messages of arithmetic operation 51.
+    pub messages: Vec<crate::arith::Message>,
+}

@@ -1,0 +1,210 @@
+//! End-to-end tests of `ncplc nc check` and `ncplc nc plan` on the bundled machines.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn ncplc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(repo())
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
+fn json_lines(out: &[u8]) -> Vec<serde_json::Value> {
+    String::from_utf8_lossy(out)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+        .collect()
+}
+
+#[test]
+fn plan_grid_macro_writes_twelve_drilling_feeds_in_json() {
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        "GRID",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let holes: Vec<(f64, f64)> = lines
+        .iter()
+        .filter(|v| v["unit"] == "L81" && v["kind"] == "linear")
+        .map(|v| {
+            (
+                v["end"]["X"].as_f64().unwrap_or(f64::NAN),
+                v["end"]["Y"].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    assert_eq!(holes.len(), 12);
+    assert_eq!(holes[4], (300.0, 75.0));
+    assert_eq!(holes[11], (300.0, 150.0));
+    let first = &lines[0];
+    assert_eq!(first["n"], 10);
+    assert_eq!(first["kind"], "rapid");
+    assert_eq!(first["plane"], "XY");
+    assert_eq!(first["m"], serde_json::json!([3]));
+    assert_eq!(first["s"], 800.0);
+    let drill = lines
+        .iter()
+        .find(|v| v["kind"] == "linear")
+        .expect("a feed move");
+    assert_eq!(drill["feed"], 150.0);
+    assert_eq!(drill["end"]["Z"], -10.0);
+}
+
+#[test]
+fn native_and_interpreter_plans_are_identical() {
+    let a = ncplc(&["nc", "plan", "plc-programs/lathe", "G81ROUGH"]);
+    let b = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/lathe",
+        "G81ROUGH",
+        "--interpreter",
+    ]);
+    assert!(a.status.success() && b.status.success());
+    assert_eq!(a.stdout, b.stdout);
+    let lines = json_lines(&a.stdout);
+    assert_eq!(lines.iter().filter(|v| v["unit"] == "L81").count(), 78);
+    assert!(lines.iter().all(|v| v["plane"] == "ZX"));
+}
+
+#[test]
+fn check_reports_located_json_diagnostics_and_fails() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("testmill");
+    std::fs::create_dir_all(m.join("MP0")).expect("MP0");
+    std::fs::create_dir_all(m.join("nc")).expect("nc");
+    std::fs::write(
+        m.join("MP0/IOCFIL"),
+        "*1\nCLO=10,2\n*2\nPRO=1\nM03=45,00,21\nM30=02,24,00\n*3\n",
+    )
+    .expect("IOCFIL");
+    std::fs::write(
+        m.join("nc/P1"),
+        "%1\nN10 G0 X10 M03\nN20 M08\nN30 G73 L99\nN40 M30\n",
+    )
+    .expect("program");
+    let out = ncplc(&[
+        "nc",
+        "check",
+        m.to_str().unwrap_or_default(),
+        "P1",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let diags = json_lines(&out.stderr);
+    let got: Vec<(u64, u64, u64)> = diags
+        .iter()
+        .map(|d| {
+            (
+                d["code"].as_u64().unwrap_or(0),
+                d["line"].as_u64().unwrap_or(0),
+                d["column"].as_u64().unwrap_or(0),
+            )
+        })
+        .collect();
+    assert_eq!(got, vec![(2016, 3, 5), (2018, 4, 1)]);
+    let ok = ncplc(&["nc", "check", "plc-programs/mill", "GRID"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+}
+
+#[test]
+fn plan_reports_run_time_errors_with_exit_code_1() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = dir.path().join("bad");
+    std::fs::write(&p, "%1\nN10 G0 X1\nN20 R10=123 N30 GR10\nN40 M30\n").expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        p.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        json_lines(&out.stdout).len(),
+        1,
+        "the block before the error is planned"
+    );
+    assert!(String::from_utf8_lossy(&out.stderr).contains("\"code\":2502"));
+}
+
+#[test]
+fn fanuc_programs_are_detected_and_planned() {
+    // The NC-110 lathe's IOCFIL does not declare M21 (C axis on), so O1000 fails the check there...
+    let out = ncplc(&[
+        "nc",
+        "check",
+        "plc-programs/lathe",
+        "O1000.nc",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let diags = json_lines(&out.stderr);
+    assert_eq!(diags[0]["code"], 2016);
+    assert_eq!(
+        (diags[0]["line"].as_u64(), diags[0]["column"].as_u64()),
+        (Some(3), Some(5))
+    );
+    // ... and plans on a lathe without M declarations.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("fanuclathe");
+    std::fs::create_dir_all(m.join("nc")).expect("nc");
+    std::fs::copy(
+        repo().join("plc-programs/lathe/nc/O1000.nc"),
+        m.join("nc/O1000.nc"),
+    )
+    .expect("copy");
+    let out = ncplc(&["nc", "plan", m.to_str().unwrap_or_default(), "O1000.nc"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let n120 = lines.iter().find(|v| v["n"] == 120).expect("N120");
+    assert_eq!(n120["kind"], "arc_cw");
+    assert_eq!(n120["plane"], "YZ");
+    assert_eq!(n120["center"]["Z"], -25.0);
+    let out = ncplc(&[
+        "nc",
+        "check",
+        "plc-programs/mill",
+        "O00023.nc",
+        "--dialect",
+        "fanuc",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = ncplc(&[
+        "nc",
+        "check",
+        "plc-programs/mill",
+        "O00023.nc",
+        "--dialect",
+        "mefi",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+}
