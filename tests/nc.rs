@@ -15,6 +15,23 @@ fn ncplc(args: &[&str]) -> std::process::Output {
         .expect("ncplc runs")
 }
 
+/// Copies the bundled machine `name` into `to` (characterization files, macros, partprograms).
+fn copy_machine(name: &str, to: &std::path::Path) {
+    fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+        std::fs::create_dir_all(to).expect("mkdir");
+        for entry in std::fs::read_dir(from).expect("read dir") {
+            let entry = entry.expect("entry");
+            let target = to.join(entry.file_name());
+            if entry.file_type().expect("type").is_dir() {
+                copy_dir(&entry.path(), &target);
+            } else {
+                std::fs::copy(entry.path(), &target).expect("copy");
+            }
+        }
+    }
+    copy_dir(&repo().join("plc-programs").join(name), to);
+}
+
 fn json_lines(out: &[u8]) -> Vec<serde_json::Value> {
     String::from_utf8_lossy(out)
         .lines()
@@ -86,16 +103,11 @@ fn native_and_interpreter_plans_are_identical() {
 fn check_reports_located_json_diagnostics_and_fails() {
     let dir = tempfile::tempdir().expect("tempdir");
     let m = dir.path().join("testmill");
-    std::fs::create_dir_all(m.join("MP0")).expect("MP0");
-    std::fs::create_dir_all(m.join("nc")).expect("nc");
-    std::fs::write(
-        m.join("MP0/IOCFIL"),
-        "*1\nCLO=10,2\n*2\nPRO=1\nM03=45,00,21\nM30=02,24,00\n*3\n",
-    )
-    .expect("IOCFIL");
+    copy_machine("mill", &m);
+    // The mill's IOCFIL declares M03 and M30 but not M07.
     std::fs::write(
         m.join("nc/P1"),
-        "%1\nN10 G0 X10 M03\nN20 M08\nN30 G73 L99\nN40 M30\n",
+        "%1\nN10 G0 X10 M03\nN20 M07\nN30 G73 L99\nN40 M30\n",
     )
     .expect("program");
     let out = ncplc(&[
@@ -165,15 +177,14 @@ fn fanuc_programs_are_detected_and_planned() {
         (diags[0]["line"].as_u64(), diags[0]["column"].as_u64()),
         (Some(3), Some(5))
     );
-    // ... and plans on a lathe without M declarations.
+    // ... and plans on a lathe whose IOCFIL declares M21.
     let dir = tempfile::tempdir().expect("tempdir");
     let m = dir.path().join("fanuclathe");
-    std::fs::create_dir_all(m.join("nc")).expect("nc");
-    std::fs::copy(
-        repo().join("plc-programs/lathe/nc/O1000.nc"),
-        m.join("nc/O1000.nc"),
-    )
-    .expect("copy");
+    copy_machine("lathe", &m);
+    let iocfil = std::fs::read_to_string(m.join("MP0/IOCFIL")).expect("IOCFIL");
+    let iocfil = iocfil.replacen("M30=", "M21=45,00,44\nM30=", 1);
+    assert!(iocfil.contains("M21="), "the lathe's IOCFIL declares M30");
+    std::fs::write(m.join("MP0/IOCFIL"), iocfil).expect("IOCFIL");
     let out = ncplc(&["nc", "plan", m.to_str().unwrap_or_default(), "O1000.nc"]);
     assert!(
         out.status.success(),

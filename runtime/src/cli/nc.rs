@@ -4,7 +4,7 @@
 //! prints diagnostics; `ncplc nc plan <machine> <program> --format json` runs it and writes one JSON
 //! object per canonical block. A program path that does not exist is looked up in `<machine>/nc/`.
 
-use std::collections::BTreeMap;
+use crate::machine_facts::Facts;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -62,20 +62,20 @@ pub enum NcCommand {
 /// Errors building the machine description.
 #[derive(Debug, thiserror::Error)]
 pub enum MachineError {
-    /// The machine directory does not exist.
-    #[error("machine directory {0} does not exist")]
-    NoMachine(PathBuf),
+    /// The machine directory cannot be used (missing, or its characterization has errors).
+    #[error(transparent)]
+    Machine(#[from] crate::machine_facts::MachineError),
     /// A dialect name that is not known.
     #[error("{0}")]
     Dialect(String),
 }
 
-/// Builds the partprogram view of the machine in `dir`.
+/// Builds the partprogram view of the machine in `dir` from its validated characterization.
 ///
-/// TEMPORARY (to be replaced by the lead with `characterization::Machine`): reads only the `Mxx=` lines
-/// of `<dir>/MP0/IOCFIL` section 2 for process 1, and takes the axes from a default per dialect: a
-/// machine whose directory name contains "lathe" has X, Z (MEFI) or X, Z, C (Fanuc, for G7.1) with
-/// diameter programming, any other X, Y, Z. Macros live in `<dir>/macros`.
+/// Each AXCFIL process gives its axes (spindles excluded) and the M functions IOCFIL section 2
+/// declares for it, with their timing. The machine is a lathe when PGCFIL `TOF` says so for process
+/// 1 (else when process 1 has no Y axis): X is then programmed in diameter, and in the Fanuc dialect
+/// the spindle is addressed as C (cylinder interpolation G7.1). Macros live in `<dir>/macros`.
 ///
 /// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
 /// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
@@ -84,82 +84,66 @@ pub fn machine_spec(
     dialect: Option<&str>,
     program_text: &str,
 ) -> Result<MachineSpec, MachineError> {
-    if !dir.is_dir() {
-        return Err(MachineError::NoMachine(dir.to_path_buf()));
-    }
+    let facts = Facts::load(dir)?;
     let option = std::fs::read_to_string(dir.join("nc").join("DIALECT")).ok();
     let dialect: Dialect = match dialect.or(option.as_deref().map(str::trim)) {
         Some(d) => d.parse().map_err(MachineError::Dialect)?,
         None => detect_dialect(program_text),
     };
-    let name = dir.canonicalize().unwrap_or_else(|_| dir.to_path_buf());
-    let lathe = name
-        .file_name()
-        .is_some_and(|n| n.to_string_lossy().to_ascii_lowercase().contains("lathe"));
-    let axes: &[char] = match (lathe, dialect) {
-        (true, Dialect::Mefi) => &['X', 'Z'],
-        (true, Dialect::Fanuc) => &['X', 'Z', 'C'],
-        (false, _) => &['X', 'Y', 'Z'],
-    };
-    let mut spec = MachineSpec::new(dialect, axes);
+    let machine = &facts.machine;
+    let mut processes: Vec<ProcessSpec> = machine
+        .axcfil
+        .processes
+        .iter()
+        .map(|p| ProcessSpec {
+            axes: p
+                .axes
+                .iter()
+                .filter(|a| !a.axis_type().spindle())
+                .map(|a| a.name)
+                .collect(),
+            declared_m: facts
+                .iocfil()
+                .process(p.number)
+                .map(|io| {
+                    io.m_functions
+                        .iter()
+                        .map(|f| {
+                            let timing = MTiming {
+                                m_type: f.m_type,
+                                m_request: f.m_request,
+                                class: f.class,
+                            };
+                            (u16::from(f.number), timing)
+                        })
+                        .collect()
+                })
+                .unwrap_or_default(),
+        })
+        .collect();
+    let first_axes: Vec<char> = processes
+        .first()
+        .map(|p| p.axes.clone())
+        .unwrap_or_default();
+    let tof = machine
+        .pgcfil
+        .as_ref()
+        .and_then(|p| p.process(1))
+        .and_then(|p| p.tof.as_ref());
+    let lathe = tof.map_or(!first_axes.contains(&'Y'), |t| t.is_lathe());
+    let mut axes = first_axes;
+    if lathe && dialect == Dialect::Fanuc && !axes.contains(&'C') {
+        axes.push('C');
+    }
+    let mut spec = MachineSpec::new(dialect, &axes);
+    if let Some(first) = processes.first_mut() {
+        first.axes = axes;
+        spec.processes = processes;
+    }
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
-    if let Some(declared) = read_iocfil_m(&dir.join("MP0").join("IOCFIL")) {
-        spec.processes = vec![ProcessSpec {
-            declared_m: declared,
-            axes: axes.to_vec(),
-        }];
-        spec.check_m_declared = true;
-    }
+    spec.check_m_declared = true;
     Ok(spec)
-}
-
-/// TEMPORARY minimal reader of IOCFIL section 2: `PRO=n` selects the process, `Mxx=t,r,c` (hex) declares
-/// an M function. Returns the declarations of process 1, or None when the file cannot be read.
-fn read_iocfil_m(path: &Path) -> Option<BTreeMap<u16, MTiming>> {
-    let text = String::from_utf8_lossy(&std::fs::read(path).ok()?).into_owned();
-    let mut section = 0;
-    let mut process = 1;
-    let mut out = BTreeMap::new();
-    for line in text.lines() {
-        let line = line
-            .split(';')
-            .next()
-            .unwrap_or("")
-            .trim()
-            .trim_start_matches('\\');
-        if let Some(s) = line.strip_prefix('*') {
-            section = s.trim().parse().unwrap_or(0);
-            continue;
-        }
-        if section != 2 {
-            continue;
-        }
-        let Some((key, value)) = line.split_once('=') else {
-            continue;
-        };
-        let key = key.trim().to_ascii_uppercase();
-        if key == "PRO" {
-            process = value.trim().parse().unwrap_or(1);
-        } else if let Some(num) = key.strip_prefix('M') {
-            let (Ok(m), true) = (num.parse::<u16>(), process == 1) else {
-                continue;
-            };
-            let f: Vec<u8> = value
-                .split(',')
-                .map(|x| u8::from_str_radix(x.trim(), 16).unwrap_or(0))
-                .collect();
-            out.insert(
-                m,
-                MTiming {
-                    m_type: f.first().copied().unwrap_or(0),
-                    m_request: f.get(1).copied().unwrap_or(0),
-                    class: f.get(2).copied().unwrap_or(0),
-                },
-            );
-        }
-    }
-    Some(out)
 }
 
 /// Fanuc when the first word of the program (after `%` lines and comments) is an `O<number>`.
