@@ -13,7 +13,7 @@ pub mod trace;
 
 /// ncplc: a soft CNC logic controller for NC-xxx style machines.
 #[derive(Debug, Parser)]
-#[command(name = "ncplc", version, about)]
+#[command(name = "ncplc", version, about = "ncplc: a soft CNC logic controller for NC-xxx style machines", long_about = None)]
 pub struct Cli {
     /// What to do.
     #[command(subcommand)]
