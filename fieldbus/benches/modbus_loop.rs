@@ -35,6 +35,7 @@ fn device(addr: std::net::SocketAddr, poll: Duration) -> ModbusDevice {
         unit: 1,
         timeout: Duration::from_millis(50),
         poll,
+        write_connection: true,
         alarm_ticks: 50,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(100),
