@@ -85,6 +85,15 @@ fn sim_runtime() -> tokio::runtime::Runtime {
 
 #[test]
 fn inputs_are_latched_and_changed_outputs_written() {
+    latch_and_write(true);
+}
+
+#[test]
+fn inputs_are_latched_and_changed_outputs_written_on_one_connection() {
+    latch_and_write(false);
+}
+
+fn latch_and_write(write_connection: bool) {
     let rt = sim_runtime();
     let sim = rt
         .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
@@ -96,7 +105,9 @@ fn inputs_are_latched_and_changed_outputs_written() {
         s.discrete[31] = true;
         s.input_regs[10] = 0x1234;
     }
-    let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
+    let mut cfg = device(sim.addr());
+    cfg.write_connection = write_connection;
+    let mut io = ModbusIo::start(&[cfg]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     let healthy: Signal = "I100K0".parse().expect("signal");
     tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
@@ -252,11 +263,22 @@ fn garbage_frames_never_panic_and_raise_the_alarm() {
 
 #[test]
 fn disconnect_during_a_write_rewrites_only_commanded_values() {
+    disconnect_during_a_write(true);
+}
+
+#[test]
+fn disconnect_during_a_write_on_one_connection_rewrites_only_commanded_values() {
+    disconnect_during_a_write(false);
+}
+
+fn disconnect_during_a_write(write_connection: bool) {
     let rt = sim_runtime();
     let mut sim = rt
         .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
         .expect("sim");
-    let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
+    let mut cfg = device(sim.addr());
+    cfg.write_connection = write_connection;
+    let mut io = ModbusIo::start(&[cfg]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
         io.is_healthy("rio1")
