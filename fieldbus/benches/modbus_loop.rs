@@ -15,6 +15,8 @@
 //! thread woke for its ticks (the loop's pure scheduling jitter) and how many of the events over
 //! the target saw a scan tick wake later than the 2 round trips the target leaves.
 //!
+//! First it prints the cost of one thread hand-off (a plain thread waking a parked tokio task).
+//!
 //! `FIELDBUS_BENCH_EVENTS` overrides the number of latency events (default 10,000);
 //! `FIELDBUS_BENCH_FIFO=1` runs the scan thread as SCHED_FIFO 80 (as `ncplc run` does when it may;
 //! the driver's I/O thread, started from the scan thread, inherits it) and the simulated device's
@@ -336,6 +338,51 @@ fn latency_report(write_connection: bool) {
     );
 }
 
+/// The cost of one thread hand-off: a plain thread wakes a task parked on a one-worker tokio
+/// runtime through `Notify` (what `publish_outputs` does to the write task), at random phases.
+fn wake_report() {
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(1)
+        .enable_all()
+        .build()
+        .expect("runtime");
+    let notify = Arc::new(tokio::sync::Notify::new());
+    let (tx, rx) = std::sync::mpsc::channel::<Instant>();
+    let n = notify.clone();
+    rt.spawn(async move {
+        loop {
+            n.notified().await;
+            if tx.send(Instant::now()).is_err() {
+                break;
+            }
+        }
+    });
+    let mut seed = 0x1234_5678u32;
+    let mut v = Vec::new();
+    for _ in 0..5000 {
+        seed ^= seed << 13;
+        seed ^= seed >> 17;
+        seed ^= seed << 5;
+        std::thread::sleep(Duration::from_micros(u64::from(seed % 1000)));
+        let t0 = Instant::now();
+        notify.notify_one();
+        if let Ok(t1) = rx.recv_timeout(Duration::from_secs(1)) {
+            v.push(t1.saturating_duration_since(t0));
+        }
+    }
+    v.sort();
+    if !v.is_empty() {
+        println!(
+            "thread → parked tokio task wake-up (Notify) over {} samples: p50 {:.1?}  p90 {:.1?}  p99 {:.1?}  max {:.1?}",
+            v.len(),
+            percentile(&v, 0.5),
+            percentile(&v, 0.9),
+            percentile(&v, 0.99),
+            v[v.len() - 1]
+        );
+    }
+}
+
 /// The simulated-I/O stand-in: copies 8 input bytes in and nothing out, like the runtime's sim.
 struct SimIo {
     inputs: [u8; 8],
@@ -443,6 +490,7 @@ fn scan_overhead(c: &mut Criterion) {
 criterion_group!(benches, scan_overhead);
 
 fn main() {
+    wake_report();
     latency_report(false);
     latency_report(true);
     benches();
