@@ -32,6 +32,32 @@ pub enum Fault {
 }
 
 impl Fault {
+    /// Every fault, in the order of [`Fault::code`].
+    const ALL: [Fault; 9] = [
+        Fault::None,
+        Fault::Connect,
+        Fault::Timeout,
+        Fault::Io,
+        Fault::Exception,
+        Fault::Protocol,
+        Fault::HeartbeatLost,
+        Fault::NotOperational,
+        Fault::Sdo,
+    ];
+
+    /// A small number that carries the fault through an atomic (inverse of [`Fault::from_code`]).
+    pub fn code(self) -> u8 {
+        self as u8
+    }
+
+    /// The fault numbered `code`; an unknown number reads as [`Fault::Io`].
+    pub fn from_code(code: u8) -> Fault {
+        Fault::ALL
+            .get(usize::from(code))
+            .copied()
+            .unwrap_or(Fault::Io)
+    }
+
     /// English text for alarms.
     pub fn text(self) -> &'static str {
         match self {
@@ -157,6 +183,15 @@ mod tests {
         let c = h.tick(2, Fault::None).expect("clears");
         assert!(c.cleared);
         assert!(h.healthy());
+    }
+
+    #[test]
+    fn fault_codes_round_trip() {
+        for f in Fault::ALL {
+            assert_eq!(Fault::from_code(f.code()), f);
+        }
+        assert_eq!(Fault::Timeout.code(), 2);
+        assert_eq!(Fault::from_code(200), Fault::Io);
     }
 
     #[test]

@@ -6,6 +6,9 @@
 //! ([`canopen::master`]). [`start_hmi`] wraps any driver (the simulated one too) with the Modbus TCP
 //! server for an HMI or SCADA ([`modbus::server`]). Drivers never block the scan: their network tasks
 //! run on a private tokio runtime and exchange images through lock-free buffers ([`exchange`]).
+//! That runtime's threads inherit the scheduling policy of the thread that starts the driver: start
+//! it after the scan thread took `SCHED_FIFO` when the I/O should run real-time too (measured in
+//! `BENCHMARKS.md`).
 //!
 //! # Wiring it into `ncplc run`
 //! ```no_run

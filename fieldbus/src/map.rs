@@ -125,6 +125,9 @@ pub struct ModbusDevice {
     pub timeout: Duration,
     /// Pause between two polls of the inputs (0 = back to back).
     pub poll: Duration,
+    /// Writes go over a second connection of their own, so a write never waits behind a read
+    /// already on the wire (`write_connection = false` for devices that accept one connection).
+    pub write_connection: bool,
     /// Ticks without a fresh answer after which the device is declared lost.
     pub alarm_ticks: u32,
     /// First reconnect delay; doubles after each failed attempt up to `reconnect_max`.
@@ -290,6 +293,7 @@ pub(crate) struct RawModbusDevice {
     pub unit: Option<Spanned<u32>>,
     pub timeout_ms: Option<Spanned<u64>>,
     pub poll_us: Option<Spanned<u64>>,
+    pub write_connection: Option<Spanned<bool>>,
     pub alarm_ticks: Option<Spanned<u32>>,
     pub reconnect_ms: Option<Spanned<u64>>,
     pub reconnect_max_ms: Option<Spanned<u64>>,

@@ -48,6 +48,7 @@ fn lathe_map_is_valid_and_parsed_as_written() {
         ("rio1", 1, Duration::from_millis(20), 5)
     );
     assert_eq!(rio.healthy.map(|s| s.to_string()), Some("I100K0".into()));
+    assert!(rio.write_connection, "a write connection by default");
     assert_eq!(
         rio.inputs
             .iter()
@@ -85,6 +86,22 @@ fn lathe_map_is_valid_and_parsed_as_written() {
         [(0, 1, 0), (4, 1, 4)]
     );
     assert_eq!(can.nodes[0].sdo[0].index, 0x1017);
+}
+
+#[test]
+fn write_connection_can_be_turned_off_and_must_be_a_boolean() {
+    let none = DeclaredConnectors::default();
+    let (map, diags) = parse_map(
+        &format!("{DEVICE}write_connection = false\n"),
+        "io.toml",
+        &none,
+    );
+    assert!(diags.is_empty(), "{diags:?}");
+    assert!(!map.expect("valid").modbus[0].write_connection);
+    assert_eq!(
+        located(&format!("{DEVICE}write_connection = 1\n"), &none),
+        [(codes::SYNTAX, 4, 20)]
+    );
 }
 
 #[test]

@@ -17,6 +17,7 @@ fn device(addr: SocketAddr) -> ModbusDevice {
         unit: 1,
         timeout: Duration::from_millis(80),
         poll: Duration::from_micros(500),
+        write_connection: true,
         alarm_ticks: 50,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(40),
@@ -84,6 +85,15 @@ fn sim_runtime() -> tokio::runtime::Runtime {
 
 #[test]
 fn inputs_are_latched_and_changed_outputs_written() {
+    latch_and_write(true);
+}
+
+#[test]
+fn inputs_are_latched_and_changed_outputs_written_on_one_connection() {
+    latch_and_write(false);
+}
+
+fn latch_and_write(write_connection: bool) {
     let rt = sim_runtime();
     let sim = rt
         .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
@@ -95,7 +105,9 @@ fn inputs_are_latched_and_changed_outputs_written() {
         s.discrete[31] = true;
         s.input_regs[10] = 0x1234;
     }
-    let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
+    let mut cfg = device(sim.addr());
+    cfg.write_connection = write_connection;
+    let mut io = ModbusIo::start(&[cfg]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     let healthy: Signal = "I100K0".parse().expect("signal");
     tick_until(&mut io, &mut image, Duration::from_secs(5), |img, _| {
@@ -251,11 +263,22 @@ fn garbage_frames_never_panic_and_raise_the_alarm() {
 
 #[test]
 fn disconnect_during_a_write_rewrites_only_commanded_values() {
+    disconnect_during_a_write(true);
+}
+
+#[test]
+fn disconnect_during_a_write_on_one_connection_rewrites_only_commanded_values() {
+    disconnect_during_a_write(false);
+}
+
+fn disconnect_during_a_write(write_connection: bool) {
     let rt = sim_runtime();
     let mut sim = rt
         .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
         .expect("sim");
-    let mut io = ModbusIo::start(&[device(sim.addr())]).expect("driver");
+    let mut cfg = device(sim.addr());
+    cfg.write_connection = write_connection;
+    let mut io = ModbusIo::start(&[cfg]).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
         io.is_healthy("rio1")
@@ -296,6 +319,50 @@ fn disconnect_during_a_write_rewrites_only_commanded_values() {
         "{:?}",
         s.writes
     );
+}
+
+#[test]
+fn a_write_does_not_wait_behind_a_read_on_the_wire() {
+    assert_eq!(reads_pending_when_written(true), 1);
+}
+
+#[test]
+fn on_one_connection_a_write_waits_for_the_read_on_the_wire() {
+    assert_eq!(reads_pending_when_written(false), 0);
+}
+
+/// Publishes an output change while a slow read is on the wire; returns how many reads the device
+/// still had pending when it applied the write.
+fn reads_pending_when_written(write_connection: bool) -> usize {
+    let rt = sim_runtime();
+    let sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
+    let mut cfg = device(sim.addr());
+    cfg.write_connection = write_connection;
+    cfg.timeout = Duration::from_millis(2000);
+    let mut io = ModbusIo::start(&[cfg]).expect("driver");
+    let mut image = vec![0u8; PACKETS_LEN];
+    tick_until(&mut io, &mut image, Duration::from_secs(5), |_, io| {
+        io.is_healthy("rio1")
+    })
+    .expect("healthy");
+    // Every read now takes 300 ms; wait until one is on the wire, then command an output.
+    sim.set_read_delay(Duration::from_millis(300));
+    let start = Instant::now();
+    while sim.state().reads_pending == 0 && start.elapsed() < Duration::from_secs(2) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    assert_eq!(sim.state().reads_pending, 1, "a read is on the wire");
+    image[16] = 0b0100;
+    io.publish_outputs(1, &image);
+    let start = Instant::now();
+    while !sim.state().coils[102] && start.elapsed() < Duration::from_secs(3) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let s = sim.state();
+    assert!(s.coils[102], "written");
+    s.reads_pending_at_last_write
 }
 
 #[test]

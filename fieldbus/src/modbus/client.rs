@@ -1,22 +1,25 @@
 //! The Modbus TCP remote-I/O client driver: one task per device, images exchanged lock-free.
 //!
-//! Each device gets its own task on the driver's private tokio runtime. The task connects (with
-//! `TCP_NODELAY`), then loops: write the output mappings whose bytes changed since the device last
-//! acknowledged them, read every input mapping, publish the input frame, and wait for the next
-//! output change or the poll interval. Every request runs under `tokio::time::timeout`; any failure
-//! drops the connection (a late answer would desynchronise the transaction ids) and reconnects with
-//! exponential backoff. Outputs are written only from frames the scan published, so the device never
-//! receives a value the logic did not command; after a reconnect the last commanded values are
-//! written again.
+//! Each device gets its own tasks on the driver's private tokio runtime, each with its own connection
+//! (`TCP_NODELAY`). The read task loops: read every input mapping, publish the input frame, wait
+//! for the poll interval. The write task ([`ModbusDevice::write_connection`], the default) sleeps on
+//! a [`Notify`] until the scan publishes changed outputs, then at once writes the output mappings
+//! whose bytes changed since the device last acknowledged them, so a write never waits behind a read
+//! already on the wire. With `write_connection = false` one task does both on one connection,
+//! writing changed outputs before each read. Every request runs under `tokio::time::timeout`; any
+//! failure drops that connection (a late answer would desynchronise the transaction ids) and
+//! reconnects with exponential backoff. Outputs are written only from frames the scan published, so
+//! the device never receives a value the logic did not command; after a reconnect the last commanded
+//! values are written again.
 //!
-//! The scan side ([`ModbusIo`]) only touches triple buffers: [`PacketIo::latch_inputs`] copies each
-//! device's newest consistent input frame (or its fail state while the device is lost, see
-//! [`crate::health`]) and sets its healthy bit; [`PacketIo::publish_outputs`] hands over changed
-//! outputs and wakes the device task.
+//! The scan side ([`ModbusIo`]) only touches triple buffers and atomics: [`PacketIo::latch_inputs`]
+//! copies each device's newest consistent input frame (or its fail state while the device is lost,
+//! see [`crate::health`]; a fault of either connection counts) and sets its healthy bit;
+//! [`PacketIo::publish_outputs`] hands over changed outputs and wakes the task that writes them.
 
 use std::net::SocketAddr;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU8, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
 use packets::{IoAlarm, PacketIo};
@@ -50,6 +53,8 @@ struct DeviceSide {
     outputs: TripleWriter<OutFrame>,
     wake: Arc<Notify>,
     acked: Arc<AtomicU64>,
+    /// The write connection's fault ([`Fault::code`]); `Fault::None` in single-connection mode.
+    write_fault: Arc<AtomicU8>,
     out_seq: u64,
     last_out: [u8; A_LEN],
 }
@@ -89,10 +94,24 @@ impl ModbusIo {
             });
             let wake = Arc::new(Notify::new());
             let acked = Arc::new(AtomicU64::new(0));
+            let write_fault = Arc::new(AtomicU8::new(Fault::None.code()));
+            let outputs = if cfg.write_connection && !cfg.outputs.is_empty() {
+                let writer = WriteTask {
+                    cfg: cfg.clone(),
+                    outputs: out_rx,
+                    wake: wake.clone(),
+                    acked: acked.clone(),
+                    fault: write_fault.clone(),
+                };
+                runtime.spawn(writer.run());
+                None
+            } else {
+                Some(out_rx)
+            };
             let task = DeviceTask {
                 cfg: cfg.clone(),
                 inputs: in_tx,
-                outputs: out_rx,
+                outputs,
                 wake: wake.clone(),
                 acked: acked.clone(),
                 seq: 0,
@@ -105,6 +124,7 @@ impl ModbusIo {
                 outputs: out_tx,
                 wake,
                 acked,
+                write_fault,
                 out_seq: 0,
                 last_out: [0; A_LEN],
             });
@@ -163,7 +183,11 @@ impl PacketIo for ModbusIo {
     fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
         for d in &mut self.devices {
             let (frame, _) = d.inputs.read();
-            if let Some(alarm) = d.health.tick(frame.seq, frame.fault)
+            let fault = match frame.fault {
+                Fault::None => Fault::from_code(d.write_fault.load(Ordering::Acquire)),
+                f => f,
+            };
+            if let Some(alarm) = d.health.tick(frame.seq, fault)
                 && self.alarms.len() < MAX_PENDING_ALARMS
             {
                 self.alarms.push(alarm);
@@ -223,11 +247,12 @@ impl PacketIo for ModbusIo {
     }
 }
 
-/// The network side of one device.
+/// The network side of one device: its reads, and its writes too without a write connection.
 struct DeviceTask {
     cfg: ModbusDevice,
     inputs: TripleWriter<InFrame>,
-    outputs: TripleReader<OutFrame>,
+    /// The commanded outputs when this task also writes them (single-connection mode).
+    outputs: Option<TripleReader<OutFrame>>,
     wake: Arc<Notify>,
     acked: Arc<AtomicU64>,
     seq: u64,
@@ -277,6 +302,8 @@ impl DeviceTask {
                 // Back-to-back polling: tokio timers round up to whole milliseconds, so a zero
                 // sleep would cost up to 1 ms; yield instead (outputs are checked every cycle).
                 tokio::task::yield_now().await;
+            } else if self.outputs.is_none() {
+                tokio::time::sleep(self.cfg.poll).await;
             } else {
                 tokio::select! {
                     () = self.wake.notified() => {}
@@ -293,20 +320,13 @@ impl DeviceTask {
         written: &mut [Option<Vec<u8>>],
         data: &mut [u8; A_LEN],
     ) -> Result<(), Fault> {
-        let (out, _) = self.outputs.read();
-        let (out_seq, out_data) = (out.seq, out.data);
-        if out_seq > 0 {
-            for (i, m) in self.cfg.outputs.iter().enumerate() {
-                let want = &out_data[m.range.start..m.range.end()];
-                if written[i].as_deref() == Some(want) {
-                    continue;
-                }
-                // Unknown until the device acknowledges: a failure here means "rewrite after reconnect".
-                written[i] = None;
-                write_mapping(ctx, m, want, self.cfg.timeout).await?;
-                written[i] = Some(want.to_vec());
+        if let Some(outputs) = self.outputs.as_mut() {
+            let (out, _) = outputs.read();
+            let (out_seq, out_data) = (out.seq, out.data);
+            if out_seq > 0 {
+                write_changed(ctx, &self.cfg, &out_data, written).await?;
+                self.acked.store(out_seq, Ordering::Release);
             }
-            self.acked.store(out_seq, Ordering::Release);
         }
         for m in &self.cfg.inputs {
             read_mapping(
@@ -325,6 +345,90 @@ impl DeviceTask {
         self.inputs.publish();
         Ok(())
     }
+}
+
+/// The write side of one device, on a connection of its own.
+struct WriteTask {
+    cfg: ModbusDevice,
+    outputs: TripleReader<OutFrame>,
+    wake: Arc<Notify>,
+    acked: Arc<AtomicU64>,
+    fault: Arc<AtomicU8>,
+}
+
+impl WriteTask {
+    async fn run(mut self) {
+        let mut backoff = self.cfg.reconnect_min;
+        let mut retry_now = false;
+        loop {
+            let fault = match connect(self.cfg.address, self.cfg.unit, self.cfg.timeout).await {
+                Ok(mut ctx) => {
+                    let fault = self.serve(&mut ctx, &mut backoff, &mut retry_now).await;
+                    let _ = tokio::time::timeout(
+                        self.cfg.timeout,
+                        tokio_modbus::client::Client::disconnect(&mut ctx),
+                    )
+                    .await;
+                    fault
+                }
+                Err(f) => f,
+            };
+            // An idle connection may have been closed by a device that restarted meanwhile: the
+            // first write on it fails at once. Reconnect at once (once) before calling it a fault.
+            if fault == Fault::Io && std::mem::take(&mut retry_now) {
+                continue;
+            }
+            retry_now = false;
+            self.fault.store(fault.code(), Ordering::Release);
+            tokio::time::sleep(backoff).await;
+            backoff = (backoff * 2).min(self.cfg.reconnect_max);
+        }
+    }
+
+    /// Writes every change the scan publishes until a request fails; returns the fault.
+    async fn serve(
+        &mut self,
+        ctx: &mut Context,
+        backoff: &mut Duration,
+        retry_now: &mut bool,
+    ) -> Fault {
+        let mut written: Vec<Option<Vec<u8>>> = vec![None; self.cfg.outputs.len()];
+        loop {
+            let (out, _) = self.outputs.read();
+            let (out_seq, out_data) = (out.seq, out.data);
+            if out_seq > 0 {
+                if let Err(fault) = write_changed(ctx, &self.cfg, &out_data, &mut written).await {
+                    return fault;
+                }
+                self.acked.store(out_seq, Ordering::Release);
+            }
+            self.fault.store(Fault::None.code(), Ordering::Release);
+            *backoff = self.cfg.reconnect_min;
+            *retry_now = true;
+            // A publish while writing left a permit: the loop goes round again at once.
+            self.wake.notified().await;
+        }
+    }
+}
+
+/// Writes the output mappings whose bytes differ from what the device is known to hold.
+async fn write_changed(
+    ctx: &mut Context,
+    cfg: &ModbusDevice,
+    out: &[u8; A_LEN],
+    written: &mut [Option<Vec<u8>>],
+) -> Result<(), Fault> {
+    for (i, m) in cfg.outputs.iter().enumerate() {
+        let want = &out[m.range.start..m.range.end()];
+        if written[i].as_deref() == Some(want) {
+            continue;
+        }
+        // Unknown until the device acknowledges: a failure here means "rewrite after reconnect".
+        written[i] = None;
+        write_mapping(ctx, m, want, cfg.timeout).await?;
+        written[i] = Some(want.to_vec());
+    }
+    Ok(())
 }
 
 async fn connect(addr: SocketAddr, unit: u8, timeout: Duration) -> Result<Context, Fault> {

@@ -32,6 +32,12 @@ pub struct SimState {
     pub writes: Vec<(u8, u16, u16)>,
     /// Delay before each answer.
     pub delay: Duration,
+    /// Extra delay before the answer to a read request only.
+    pub read_delay: Duration,
+    /// Read requests received and not answered yet (a muted request stays counted).
+    pub reads_pending: usize,
+    /// [`SimState::reads_pending`] when the last write was applied.
+    pub reads_pending_at_last_write: usize,
     /// When true the device swallows requests and never answers.
     pub mute: bool,
     /// When the device applied the last write.
@@ -47,6 +53,9 @@ impl Default for SimState {
             holding: vec![0; TABLE],
             writes: Vec::new(),
             delay: Duration::ZERO,
+            read_delay: Duration::ZERO,
+            reads_pending: 0,
+            reads_pending_at_last_write: 0,
             mute: false,
             last_write: None,
         }
@@ -126,6 +135,11 @@ impl RemoteIoSim {
         self.state().delay = d;
     }
 
+    /// Delays the answers to read requests (only) by `d`.
+    pub fn set_read_delay(&self, d: Duration) {
+        self.state().read_delay = d;
+    }
+
     /// Stops (or resumes) answering without closing connections.
     pub fn set_mute(&self, mute: bool) {
         self.state().mute = mute;
@@ -176,6 +190,7 @@ fn apply(state: &Mutex<SimState>, req: Request<'static>) -> Result<Response, Exc
             | Request::WriteSingleRegister(..)
     ) {
         s.last_write = Some(std::time::Instant::now());
+        s.reads_pending_at_last_write = s.reads_pending;
     }
     match req {
         Request::ReadDiscreteInputs(a, n) => Ok(Response::ReadDiscreteInputs(
@@ -226,16 +241,6 @@ impl tokio_modbus::server::Service for SimService {
         let state = self.state.clone();
         let written = self.written.clone();
         Box::pin(async move {
-            let (delay, mute) = {
-                let s = lock(&state);
-                (s.delay, s.mute)
-            };
-            if mute {
-                std::future::pending::<()>().await;
-            }
-            if !delay.is_zero() {
-                tokio::time::sleep(delay).await;
-            }
             let is_write = matches!(
                 req,
                 Request::WriteMultipleCoils(..)
@@ -243,6 +248,25 @@ impl tokio_modbus::server::Service for SimService {
                     | Request::WriteMultipleRegisters(..)
                     | Request::WriteSingleRegister(..)
             );
+            let (delay, mute) = {
+                let mut s = lock(&state);
+                if is_write {
+                    (s.delay, s.mute)
+                } else {
+                    s.reads_pending += 1;
+                    (s.delay + s.read_delay, s.mute)
+                }
+            };
+            if mute {
+                std::future::pending::<()>().await;
+            }
+            if !delay.is_zero() {
+                tokio::time::sleep(delay).await;
+            }
+            if !is_write {
+                let mut s = lock(&state);
+                s.reads_pending = s.reads_pending.saturating_sub(1);
+            }
             let r = apply(&state, req);
             if is_write {
                 written.notify_waiters();
