@@ -23,7 +23,7 @@ use tokio::time::Instant;
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
 use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
-use crate::health::{Fault, Health};
+use crate::health::{Fault, Health, latch_device};
 use crate::map::{CanNode, CanopenConfig};
 
 const A_LEN: usize = 128;
@@ -195,24 +195,20 @@ impl PacketIo for CanopenIo {
         let (frame, _) = self.inputs.read();
         for (i, n) in self.nodes.iter_mut().enumerate() {
             let st = frame.nodes.get(i).copied().unwrap_or_default();
-            if let Some(a) = n.health.tick(st.seq, st.fault)
+            let inputs = n.cfg.inputs.iter().map(|m| (m.range, m.fail));
+            let alarm = latch_device(
+                &mut n.health,
+                st.seq,
+                st.fault,
+                &frame.data,
+                inputs,
+                n.cfg.healthy,
+                packets,
+            );
+            if let Some(a) = alarm
                 && self.alarms.len() < MAX_PENDING_ALARMS
             {
                 self.alarms.push(a);
-            }
-            let healthy = n.health.healthy();
-            for m in &n.cfg.inputs {
-                let (s, e) = (m.range.start, m.range.end());
-                if let Some(dst) = packets.get_mut(s..e) {
-                    if healthy {
-                        dst.copy_from_slice(&frame.data[s..e])
-                    } else {
-                        dst.fill(m.fail)
-                    }
-                }
-            }
-            if let Some(bit) = n.cfg.healthy {
-                bit.write(packets, u8::from(healthy));
             }
         }
     }

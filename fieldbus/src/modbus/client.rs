@@ -28,7 +28,7 @@ use tokio_modbus::Slave;
 use tokio_modbus::client::{Context, Reader, Writer};
 
 use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
-use crate::health::{Fault, Health};
+use crate::health::{Fault, Health, latch_device};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
 
@@ -187,24 +187,20 @@ impl PacketIo for ModbusIo {
                 Fault::None => Fault::from_code(d.write_fault.load(Ordering::Acquire)),
                 f => f,
             };
-            if let Some(alarm) = d.health.tick(frame.seq, fault)
+            let inputs = d.cfg.inputs.iter().map(|m| (m.range, m.fail));
+            let alarm = latch_device(
+                &mut d.health,
+                frame.seq,
+                fault,
+                &frame.data,
+                inputs,
+                d.cfg.healthy,
+                packets,
+            );
+            if let Some(alarm) = alarm
                 && self.alarms.len() < MAX_PENDING_ALARMS
             {
                 self.alarms.push(alarm);
-            }
-            let healthy = d.health.healthy();
-            for m in &d.cfg.inputs {
-                let (s, e) = (m.range.start, m.range.end());
-                if let Some(dst) = packets.get_mut(s..e) {
-                    if healthy {
-                        dst.copy_from_slice(&frame.data[s..e])
-                    } else {
-                        dst.fill(m.fail)
-                    }
-                }
-            }
-            if let Some(bit) = d.cfg.healthy {
-                bit.write(packets, u8::from(healthy));
             }
         }
     }
