@@ -125,6 +125,9 @@ fn retained_data_survives_a_restart_with_pgcfil_old() {
             "--tick-ms".as_ref(),
             "1".as_ref(),
             "--no-watch".as_ref(),
+            // Real time while other tests run: overruns must not trip the safe state here.
+            "--overrun-limit".as_ref(),
+            "0".as_ref(),
             "--retain-file".as_ref(),
             retain.as_os_str(),
         ])
@@ -169,6 +172,9 @@ fn online_change_swaps_a_good_edit_and_rejects_a_bad_one() {
             "6000".as_ref(),
             "--tick-ms".as_ref(),
             "10".as_ref(),
+            // Real time while other tests run: overruns must not trip the safe state here.
+            "--overrun-limit".as_ref(),
+            "0".as_ref(),
         ])
         .arg("--retain-file")
         .arg(dir.path().join("r.bin"))
