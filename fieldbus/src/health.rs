@@ -161,37 +161,6 @@ impl Health {
     }
 }
 
-/// Latches one device's inputs into the packets at the start of a tick: advances its health with
-/// the newest frame (`seq`, `fault`), copies each mapped input range from `data` while the device is
-/// healthy or fills it with its fail value otherwise, and writes the device's healthy bit. Returns
-/// the alarm to raise or clear, if the device's state changed. Shared by every driver so that all
-/// buses treat a lost device the same way.
-pub fn latch_device(
-    health: &mut Health,
-    seq: u64,
-    fault: Fault,
-    data: &[u8],
-    inputs: impl Iterator<Item = (crate::map::ByteRange, u8)>,
-    healthy_bit: Option<packets::Signal>,
-    packets: &mut [u8],
-) -> Option<IoAlarm> {
-    let alarm = health.tick(seq, fault);
-    let healthy = health.healthy();
-    for (range, fail) in inputs {
-        let (s, e) = (range.start, range.end());
-        if let Some(dst) = packets.get_mut(s..e) {
-            match data.get(s..e) {
-                Some(src) if healthy => dst.copy_from_slice(src),
-                _ => dst.fill(fail),
-            }
-        }
-    }
-    if let Some(bit) = healthy_bit {
-        bit.write(packets, u8::from(healthy));
-    }
-    alarm
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -39,6 +39,7 @@ pub mod exchange;
 pub mod health;
 pub mod map;
 pub mod modbus;
+pub mod tick_io;
 pub mod validate;
 
 use std::fmt;

@@ -23,8 +23,9 @@ use tokio::time::Instant;
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
 use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
-use crate::health::{Fault, Health, latch_device};
+use crate::health::{Fault, Health};
 use crate::map::{CanNode, CanopenConfig};
+use crate::tick_io::{latch_device, take_changed_outputs};
 
 const A_LEN: usize = 128;
 /// Device profile number of CiA 401 (low 16 bits of object `1000h`).
@@ -156,15 +157,8 @@ impl CanopenIo {
     fn hand_over(&mut self, packets: &[u8], force: bool) {
         let mut changed = force || self.out_seq == 0;
         for n in &self.nodes {
-            for m in &n.cfg.outputs {
-                let (s, e) = (m.range.start, m.range.end());
-                if let Some(src) = packets.get(s..e)
-                    && src != &self.last_out[s..e]
-                {
-                    self.last_out[s..e].copy_from_slice(src);
-                    changed = true;
-                }
-            }
+            let ranges = n.cfg.outputs.iter().map(|m| m.range);
+            changed |= take_changed_outputs(ranges, packets, &mut self.last_out);
         }
         if changed {
             self.out_seq += 1;

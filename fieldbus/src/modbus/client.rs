@@ -28,9 +28,10 @@ use tokio_modbus::Slave;
 use tokio_modbus::client::{Context, Reader, Writer};
 
 use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
-use crate::health::{Fault, Health, latch_device};
+use crate::health::{Fault, Health};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
+use crate::tick_io::{latch_device, take_changed_outputs};
 
 /// Bytes of packet A.
 const A_LEN: usize = 128;
@@ -145,16 +146,9 @@ impl ModbusIo {
 
     fn hand_over(&mut self, packets: &[u8], force: bool) {
         for d in &mut self.devices {
-            let mut changed = force || d.out_seq == 0;
-            for m in &d.cfg.outputs {
-                let (s, e) = (m.range.start, m.range.end());
-                if let Some(src) = packets.get(s..e)
-                    && src != &d.last_out[s..e]
-                {
-                    d.last_out[s..e].copy_from_slice(src);
-                    changed = true;
-                }
-            }
+            let ranges = d.cfg.outputs.iter().map(|m| m.range);
+            let changed =
+                take_changed_outputs(ranges, packets, &mut d.last_out) || force || d.out_seq == 0;
             if changed {
                 d.out_seq += 1;
                 let buf = d.outputs.buf();
