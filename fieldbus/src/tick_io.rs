@@ -7,6 +7,9 @@ use packets::IoAlarm;
 use crate::health::{Fault, Health};
 use crate::map::ByteRange;
 
+/// Bytes in packet A, the part of the image the drivers exchange.
+pub const A_LEN: usize = packets::Packet::A.len();
+
 /// Latches one device's inputs into the packets at the start of a tick: advances its health with
 /// the newest frame (`seq`, `fault`), copies each mapped input range from `data` while the device is
 /// healthy or fills it with its fail value otherwise, and writes the device's healthy bit. Returns
@@ -36,6 +39,17 @@ pub fn latch_device(
         bit.write(packets, u8::from(healthy));
     }
     alarm
+}
+
+/// The packet-A image that commands each output range's safe value (zero elsewhere).
+pub fn safe_image(outputs: impl Iterator<Item = (ByteRange, u8)>) -> [u8; A_LEN] {
+    let mut image = [0u8; A_LEN];
+    for (range, safe) in outputs {
+        if let Some(dst) = image.get_mut(range.start..range.end()) {
+            dst.fill(safe);
+        }
+    }
+    image
 }
 
 /// Copies the output ranges of `packets` that differ from `last` into `last`; true when any did.
@@ -87,5 +101,16 @@ mod tests {
             &packets,
             &mut last
         ));
+    }
+
+    #[test]
+    fn the_safe_image_fills_only_the_output_ranges() {
+        let outputs = [
+            (ByteRange { start: 16, len: 2 }, 0xAA),
+            (ByteRange { start: 20, len: 1 }, 1),
+        ];
+        let image = safe_image(outputs.into_iter());
+        assert_eq!(&image[15..22], &[0, 0xAA, 0xAA, 0, 0, 1, 0]);
+        assert_eq!(image.iter().filter(|&&b| b != 0).count(), 3);
     }
 }

@@ -25,9 +25,8 @@ use super::{CanMsg, cob, nmt, sdo};
 use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{CanNode, CanopenConfig};
-use crate::tick_io::{latch_device, take_changed_outputs};
+use crate::tick_io::{A_LEN, latch_device, safe_image, take_changed_outputs};
 
-const A_LEN: usize = 128;
 /// Device profile number of CiA 401 (low 16 bits of object `1000h`).
 const CIA_401: u32 = 401;
 /// Ticks without any sign of life from the master task before the scan declares a node lost (a
@@ -218,12 +217,11 @@ impl PacketIo for CanopenIo {
     /// Commands every output mapping's `safe` value and waits (at most 100 ms) until the master
     /// has sent it.
     fn safe_state(&mut self) {
-        let mut image = [0u8; A_LEN];
-        for n in &self.nodes {
-            for m in &n.cfg.outputs {
-                image[m.range.start..m.range.end()].fill(m.fail);
-            }
-        }
+        let outputs = self
+            .nodes
+            .iter()
+            .flat_map(|n| n.cfg.outputs.iter().map(|m| (m.range, m.fail)));
+        let image = safe_image(outputs);
         self.hand_over(&image, true);
         let deadline = std::time::Instant::now() + Duration::from_millis(100);
         while std::time::Instant::now() < deadline

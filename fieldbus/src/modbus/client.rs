@@ -31,10 +31,7 @@ use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, 
 use crate::health::{Fault, Health};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
-use crate::tick_io::{latch_device, take_changed_outputs};
-
-/// Bytes of packet A.
-const A_LEN: usize = 128;
+use crate::tick_io::{A_LEN, latch_device, safe_image, take_changed_outputs};
 
 /// One device's newest input image as the task read it.
 #[derive(Debug, Clone)]
@@ -210,12 +207,11 @@ impl PacketIo for ModbusIo {
     /// Commands every output mapping's `safe` value and waits (at most 4 request timeouts) until the
     /// devices not declared lost have acknowledged it.
     fn safe_state(&mut self) {
-        let mut image = [0u8; A_LEN];
-        for d in &self.devices {
-            for m in &d.cfg.outputs {
-                image[m.range.start..m.range.end()].fill(m.fail);
-            }
-        }
+        let outputs = self
+            .devices
+            .iter()
+            .flat_map(|d| d.cfg.outputs.iter().map(|m| (m.range, m.fail)));
+        let image = safe_image(outputs);
         self.hand_over(&image, true);
         let wait = self
             .devices
