@@ -77,3 +77,8 @@ pub const RUN_TARGET: u32 = 2505;
 pub const RUN_DOUBLE: u32 = 2506;
 /// Run time: a G function computed through a parameter that is not allowed there.
 pub const RUN_BAD_G: u32 = 2507;
+/// Run time: radius compensation cannot join two elements (intersection of equidistants not found, or
+/// an arc radius smaller than the tool radius on its inside).
+pub const RUN_EQUIDISTANT: u32 = 2510;
+/// Run time: a radius-compensation rule broken (G41/G42/G40 on an arc, plane changed while active).
+pub const RUN_COMP_RULE: u32 = 2511;

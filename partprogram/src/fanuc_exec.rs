@@ -1,6 +1,7 @@
 //! Executor of the Fanuc/HAAS dialect: modal state, work offsets, canned cycles, circular pockets,
 //! cylinder interpolation G7.1 and M97/M98/M99 calls, emitting the same canonical blocks as MEFI.
 
+mod comp;
 mod cycles;
 
 use crate::ast::Val;
@@ -8,6 +9,7 @@ use crate::canon::{Canon, Kind, MFunc, Plane};
 use crate::codes;
 use crate::exec::{Plan, PlanOptions, RunError};
 use crate::program::{CBlock, Program, UnitKind};
+use crate::radius::Compensator;
 
 /// Peck retract of G73 and clearance of G83 re-entry (mm); the HAAS text gives no value.
 pub const PECK_CLEARANCE: f64 = 0.5;
@@ -43,6 +45,11 @@ struct Ex<'p> {
     diameter: bool,
     frames: Vec<Frame>,
     out: Vec<Canon>,
+    /// Cutter compensation: modal G40/G41/G42, D register, offset table, the compensator.
+    comp: u16,
+    d: i64,
+    corrections: Vec<[f64; 5]>,
+    rc: Compensator,
     executed: u64,
     ended: bool,
 }
@@ -84,10 +91,15 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         diameter: prog.machine.diameter_x,
         frames: Vec::new(),
         out: Vec::new(),
+        comp: 40,
+        d: 0,
+        corrections: vec![[0.0; 5]; comp::REGISTERS],
+        rc: Compensator::new(opts.radius),
         executed: 0,
         ended: false,
     };
-    match ex.run() {
+    let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
+    match done {
         Ok(()) => Ok(Plan {
             blocks: ex.out,
             params: [0; 96],
@@ -175,7 +187,7 @@ impl Ex<'_> {
         } else {
             self.plane
         };
-        self.out.push(Canon {
+        let c = Canon {
             n: b.n,
             unit: self.label(),
             kind,
@@ -193,7 +205,9 @@ impl Ex<'_> {
             t: self.t,
             dwell,
             thread: false,
-        });
+        };
+        let ctx = self.comp_ctx(b);
+        self.rc.push(c, &ctx, &mut self.out);
     }
 
     fn move_to(&mut self, b: &CBlock, kind: Kind, target: [Option<f64>; 6], m: &[MFunc]) {
@@ -209,6 +223,7 @@ impl Ex<'_> {
     fn block(&mut self, bi: usize) -> Result<(), RunError> {
         let prog = self.prog;
         let b = &prog.blocks[bi];
+        self.rc.check()?;
         if b.skip && self.opts.block_skip {
             return Ok(());
         }
@@ -243,6 +258,7 @@ impl Ex<'_> {
         let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
             (false, false, false, false, false, None, false);
         let mut new_cycle = false;
+        let mut g10 = false;
         for &g in &gs {
             match g {
                 0 | 10 | 20 | 30 => {
@@ -256,7 +272,9 @@ impl Ex<'_> {
                 210 => self.inch = false,
                 900 => self.abs = true,
                 910 => self.abs = false,
-                940 | 960 | 970 | 610 | 640 | 400 | 410 | 420 | 430 | 440 | 490 | 100 => {}
+                940 | 960 | 970 | 610 | 640 | 430 | 440 | 490 => {}
+                400 | 410 | 420 => self.comp = g / 10,
+                100 => g10 = true,
                 540..=590 => self.wsel = usize::from((g - 540) / 10),
                 980 => self.g99 = false,
                 990 => self.g99 = true,
@@ -286,6 +304,9 @@ impl Ex<'_> {
         }
         if let Some(t) = num('T') {
             self.t = Some(t as i64);
+        }
+        if let Some(d) = num('D') {
+            self.d = d as i64;
         }
         let unit = if self.inch { 25.4 } else { 1.0 };
         if let Some(f) = num('F') {
@@ -344,7 +365,9 @@ impl Ex<'_> {
             self.cyl = if c > 0.0 { Some(c) } else { None };
         }
         let mut moved = false;
-        if g92 {
+        if g10 {
+            self.g10(b);
+        } else if g92 {
             for i in 0..self.axes.len() {
                 if let Some(v) = vals[i] {
                     self.g92[i] = self.machine[i] - self.work[self.wsel][i] - self.local[i] - v;

@@ -22,6 +22,7 @@ mod link;
 pub mod machine;
 pub mod parse;
 pub mod program;
+pub mod radius;
 pub mod run;
 
 pub use canon::{Canon, Kind, Plane};
