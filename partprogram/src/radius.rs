@@ -34,6 +34,19 @@ pub enum Corners {
     Intersection,
 }
 
+impl std::str::FromStr for Corners {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "arc" => Ok(Corners::Arc),
+            "intersection" => Ok(Corners::Intersection),
+            other => Err(format!(
+                "unknown corner mode `{other}` (use arc or intersection)"
+            )),
+        }
+    }
+}
+
 /// Settings of radius compensation (machine constants 339 and R168).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RadiusOptions {
@@ -301,6 +314,7 @@ impl Compensator {
             return;
         }
         if let Some((r, rd)) = geo.offset_radius(a.d)
+            && a.d != 0.0
             && rd <= 1e-9
         {
             let msg = format!(
@@ -334,7 +348,7 @@ impl Compensator {
             && let Some((r, rd)) = p.geo.offset_radius(p.active.d)
             && r > 1e-9
         {
-            c.feed = c.feed.map(|f| f * rd / r);
+            c.feed = c.feed.map(|f| f * (rd / r));
         }
         out.push(c);
         for mut q in self.queue.drain(..) {

@@ -10,8 +10,7 @@ use partprogram::{Dialect, Kind, MachineSpec, Plan, PlanOptions, compile, plan};
 
 use Kind::{ArcCcw as Ccw, ArcCw as Cw, Linear as Lin, Rapid};
 
-/// (N, kind, X, Y, centre X, centre Y) of every block that moves in XY or is an arc; NaN centres for
-/// lines.
+/// (N, kind, X, Y, arc centre (X, Y)) of every motion block, coordinates rounded to µm.
 type Step = (Option<u32>, Kind, f64, f64, Option<(f64, f64)>);
 
 fn steps(p: &Plan) -> Vec<Step> {
@@ -109,7 +108,7 @@ fn square_g41_outside_corners_at_the_intersection_of_equidistants() {
     );
 }
 
-const SQUARE_INSIDE: [(Option<u32>, Kind, f64, f64, Option<(f64, f64)>); 8] = [
+const SQUARE_INSIDE: [Step; 8] = [
     (Some(20), Rapid, -20.0, 0.0, None),
     (Some(30), Lin, 5.0, 0.0, None),
     (Some(40), Lin, 5.0, 15.0, None),
@@ -390,4 +389,129 @@ fn haas_g12_g13_pockets_subtract_the_tool_radius() {
     assert_eq!(end(last_arc, 'X'), 20.0);
     let wide = src.replace("R4.", "R25.");
     assert_eq!(fails(&haas(), &wide, PlanOptions::default()), (2510, 5));
+}
+
+#[test]
+fn haas_fx06_contour_with_a_slanted_side() {
+    // FX-06 (002:1305–1314) verbatim after a start position and D01 = 5 mm. Every corner of the
+    // clockwise contour is outside for G41: each line ends on its perpendicular, an arc about the
+    // corner leads to the next. The slanted side has the unit left normal (−40, 14.559)/L,
+    // L = √(14.559² + 40²) = 42.567176…, so its offset ends are P + 5·(−0.939691, 0.342024).
+    let src = "%\nO6\nG10 L12 P1 R5. ;\nG00 X-8. Y-6. ;\n(ABSOLUTE)\nG01 G41 X0 Y-6. D01 F300.\n\
+               G90 Y45 (absolute)\nY45.\nX14.559 Y85.\nX50.\nY0\nX0\nG40 X-8. Y-6.\nM30 ;\n%\n";
+    let p = run(&haas(), src, PlanOptions::default());
+    let path: Vec<(Kind, f64, f64, Option<(f64, f64)>)> = steps(&p)
+        .into_iter()
+        .map(|s| (s.1, s.2, s.3, s.4))
+        .collect();
+    assert_eq!(
+        path,
+        vec![
+            (Rapid, -8.0, -6.0, None),
+            (Lin, -5.0, -6.0, None),
+            (Lin, -5.0, 45.0, None),
+            (Lin, -5.0, 45.0, None),
+            (Cw, -4.698, 46.71, Some((0.0, 45.0))),
+            (Lin, 9.861, 86.71, None),
+            (Cw, 14.559, 90.0, Some((14.559, 85.0))),
+            (Lin, 50.0, 90.0, None),
+            (Cw, 55.0, 85.0, Some((50.0, 85.0))),
+            (Lin, 55.0, 0.0, None),
+            (Cw, 50.0, -5.0, Some((50.0, 0.0))),
+            (Lin, 0.0, -5.0, None),
+            (Lin, -8.0, -6.0, None),
+        ]
+    );
+}
+
+/// One random contour element: a line to (x, y), or an arc about the start + (i, j) sweeping `turn`
+/// radians (positive counter-clockwise), or a Z move.
+#[derive(Debug, Clone)]
+enum Seg {
+    Line(f64, f64),
+    Arc(f64, f64, f64),
+    Z(f64),
+}
+
+fn seg() -> impl proptest::strategy::Strategy<Value = Seg> {
+    use proptest::prelude::*;
+    prop_oneof![
+        4 => (-50.0..50.0f64, -50.0..50.0f64).prop_map(|(x, y)| Seg::Line(x, y)),
+        3 => (-20.0..20.0f64, -20.0..20.0f64, -6.0..6.0f64).prop_map(|(i, j, t)| Seg::Arc(i, j, t)),
+        1 => (-10.0..0.0f64).prop_map(Seg::Z),
+    ]
+}
+
+/// The program text of a random contour with G41/G42 of radius `r`, starting and cancelling with lines.
+fn contour(segs: &[Seg], left: bool, r: f64) -> String {
+    let mut s = format!(
+        "%1\nN1 G92 D1 R0={r:.3}\nN2 G0 X-60. Y-60.\nN3 G1 G4{} D1 X0 Y0 F100\n",
+        if left { 1 } else { 2 }
+    );
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    for (k, g) in segs.iter().enumerate() {
+        let n = k + 4;
+        match *g {
+            Seg::Line(tx, ty) => {
+                s += &format!("N{n} G1 X{tx:.3} Y{ty:.3}\n");
+                (x, y) = (
+                    (tx * 1000.0).round() / 1000.0,
+                    (ty * 1000.0).round() / 1000.0,
+                );
+            }
+            Seg::Arc(i, j, t) => {
+                let (i, j) = ((i * 1000.0).round() / 1000.0, (j * 1000.0).round() / 1000.0);
+                let (cx, cy) = (x + i, y + j);
+                let a = (y - cy).atan2(x - cx) + t;
+                let rr = i.hypot(j);
+                let (ex, ey) = (cx + rr * a.cos(), cy + rr * a.sin());
+                let g = if t >= 0.0 { 3 } else { 2 };
+                s += &format!("N{n} G{g} X{ex:.3} Y{ey:.3} I{i:.3} J{j:.3}\n");
+                (x, y) = (
+                    (ex * 1000.0).round() / 1000.0,
+                    (ey * 1000.0).round() / 1000.0,
+                );
+            }
+            Seg::Z(z) => s += &format!("N{n} Z{z:.3}\n"),
+        }
+    }
+    let n = segs.len() + 4;
+    s += &format!("N{n} G1 G40 X-60. Y60.\nN{} M30\n", n + 1);
+    s
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    #[test]
+    fn random_contours_never_panic_and_radius_zero_is_the_programmed_path(
+        segs in proptest::collection::vec(seg(), 1..10),
+        left in proptest::bool::ANY,
+        r in -15.0..15.0f64,
+        arcs in proptest::bool::ANY,
+    ) {
+        let o = opts(if arcs { Corners::Arc } else { Corners::Intersection });
+        let (prog, _) = compile(&mill(), "p", &contour(&segs, left, r));
+        let prog = prog.expect("generated programs compile");
+        match plan(&prog, o) {
+            Ok(p) => {
+                for c in &p.blocks {
+                    proptest::prop_assert!(c.end.iter().all(|(_, v)| v.is_finite()), "{c:?}");
+                    proptest::prop_assert!(c.center.iter().all(|(_, v)| v.is_finite()), "{c:?}");
+                }
+            }
+            Err((_, d)) => proptest::prop_assert!(
+                matches!(d.code, 2503 | 2510 | 2511), "unexpected {d}"
+            ),
+        }
+        // With radius 0 the compensated plan is the programmed one.
+        let (zero, _) = compile(&mill(), "p", &contour(&segs, left, 0.0));
+        let (off, _) = compile(&mill(), "p", &contour(&segs, left, 0.0).replace("G41 D1", "G40 D1").replace("G42 D1", "G40 D1"));
+        let (zero, off) = (zero.expect("compiles"), off.expect("compiles"));
+        match (plan(&zero, o), plan(&off, o)) {
+            (Ok(a), Ok(b)) => proptest::prop_assert_eq!(a.blocks, b.blocks),
+            (Err((_, a)), Err((_, b))) => proptest::prop_assert_eq!(a.code, b.code),
+            (a, b) => proptest::prop_assert!(false, "differ: {:?} / {:?}", a.err().map(|e| e.1), b.err().map(|e| e.1)),
+        }
+    }
 }
