@@ -515,3 +515,25 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn fanuc_g71_cylinder_compensation_offsets_c_on_the_development() {
+    // FX-17 (004:22–54) made concrete: G7.1 C40 (development 40·π/180 mm per degree), G41 with a 5 mm
+    // cutter radius from C0 Z50 onto the contour at C0 Z15, one cut to Z−60, G40 back to Z50. The
+    // left of −Z is +C: 5 mm = 5·180/(40·π) = 7.161972° of C.
+    let mut m = MachineSpec::new(Dialect::Fanuc, &['X', 'Z', 'C']);
+    m.diameter_x = true;
+    let src = "O2\nG10 L12 P7 R5.\nG0 X80 Z50\nG19 W0 H0\nG1 G7.1 C40\n\
+               G94 G41 C0 Z15 D07 F2000\nZ-60\nG40 Z50\nG7.1 C0\nG18\nM30\n";
+    let p = run(&m, src, PlanOptions::default());
+    let path: Vec<(f64, f64, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.kind == Kind::Linear)
+        .map(|c| (end(c, 'X'), end(c, 'Z'), end(c, 'C')))
+        .collect();
+    assert_eq!(
+        path,
+        vec![(80.0, 15.0, 7.162), (80.0, -60.0, 7.162), (80.0, 50.0, 0.0)]
+    );
+}
