@@ -279,6 +279,9 @@ fn plane_change_while_active_is_an_error() {
     let src = "%1\nN10 G92 D1 R0=1.\nN20 G0 X0 Y-10\nN30 G1 G41 D1 X0 Y0 F100\nN40 X10\n\
                N50 G18 X20 Z5\nN60 M30\n";
     assert_eq!(fails(&mill(), src, PlanOptions::default()), (2511, 6));
+    // Also when the block with the new plane moves only out of the old plane.
+    let z_only = src.replace("N50 G18 X20 Z5", "N50 G18 Z5");
+    assert_eq!(fails(&mill(), &z_only, PlanOptions::default()), (2511, 6));
 }
 
 #[test]
