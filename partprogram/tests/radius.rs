@@ -450,26 +450,26 @@ fn haas_fx06_contour_with_a_slanted_side() {
     let src = "%\nO6\nG10 L12 P1 R5. ;\nG00 X-8. Y-6. ;\n(ABSOLUTE)\nG01 G41 X0 Y-6. D01 F300.\n\
                G90 Y45 (absolute)\nY45.\nX14.559 Y85.\nX50.\nY0\nX0\nG40 X-8. Y-6.\nM30 ;\n%\n";
     let p = run(&haas(), src, PlanOptions::default());
-    let path: Vec<(Kind, f64, f64, Option<(f64, f64)>)> = steps(&p)
+    let path: Vec<Step> = steps(&p)
         .into_iter()
-        .map(|s| (s.1, s.2, s.3, s.4))
+        .map(|s| (None, s.1, s.2, s.3, s.4))
         .collect();
     assert_eq!(
         path,
         vec![
-            (Rapid, -8.0, -6.0, None),
-            (Lin, -5.0, -6.0, None),
-            (Lin, -5.0, 45.0, None),
-            (Lin, -5.0, 45.0, None),
-            (Cw, -4.698, 46.71, Some((0.0, 45.0))),
-            (Lin, 9.861, 86.71, None),
-            (Cw, 14.559, 90.0, Some((14.559, 85.0))),
-            (Lin, 50.0, 90.0, None),
-            (Cw, 55.0, 85.0, Some((50.0, 85.0))),
-            (Lin, 55.0, 0.0, None),
-            (Cw, 50.0, -5.0, Some((50.0, 0.0))),
-            (Lin, 0.0, -5.0, None),
-            (Lin, -8.0, -6.0, None),
+            (None, Rapid, -8.0, -6.0, None),
+            (None, Lin, -5.0, -6.0, None),
+            (None, Lin, -5.0, 45.0, None),
+            (None, Lin, -5.0, 45.0, None),
+            (None, Cw, -4.698, 46.71, Some((0.0, 45.0))),
+            (None, Lin, 9.861, 86.71, None),
+            (None, Cw, 14.559, 90.0, Some((14.559, 85.0))),
+            (None, Lin, 50.0, 90.0, None),
+            (None, Cw, 55.0, 85.0, Some((50.0, 85.0))),
+            (None, Lin, 55.0, 0.0, None),
+            (None, Cw, 50.0, -5.0, Some((50.0, 0.0))),
+            (None, Lin, 0.0, -5.0, None),
+            (None, Lin, -8.0, -6.0, None),
         ]
     );
 }
