@@ -54,15 +54,20 @@ impl IoThreads {
         }
     }
 
-    /// Called on the scan thread at every latch; the first time (with the thread list free) it
-    /// moves the I/O threads below the scan's real-time priority. Never blocks.
+    /// Called on the scan thread at every latch; the first time the runtime's threads are recorded
+    /// (and their list is not being changed) it moves them below the scan's real-time priority.
+    /// Never blocks.
     pub fn follow_scan(&mut self) {
         if self.checked {
             return;
         }
+        // The runtime's worker may not have recorded itself yet: look again at the next latch.
         let Ok(tids) = self.tids.try_lock() else {
             return;
         };
+        if tids.is_empty() {
+            return;
+        }
         self.checked = true;
         // SAFETY: plain queries about the calling thread.
         let policy = unsafe { libc::sched_getscheduler(0) };
@@ -142,6 +147,9 @@ mod tests {
             .build()
             .expect("runtime");
         let tid = recorded(&threads)[0];
+        let mut early = IoThreads::new();
+        early.follow_scan();
+        assert!(!early.checked, "no thread recorded yet: look again later");
         // A scan thread of its own (SCHED_FIFO 30) so that the test thread keeps its policy.
         let scan = std::thread::spawn(move || {
             let p = libc::sched_param { sched_priority: 30 };
