@@ -21,6 +21,7 @@
 //! `FIELDBUS_BENCH_FIFO=1` runs the scan thread as SCHED_FIFO 80 (as `ncplc run` does when it may;
 //! the driver moves its I/O thread to SCHED_FIFO 70 at the first latch, `fieldbus::rt`) and the
 //! simulated device's thread as SCHED_FIFO 70;
+//! `FIELDBUS_BENCH_DIRECT=0` leaves every write to the I/O task (`direct_write = false`);
 //! `FIELDBUS_BENCH_IO_OTHER=1` puts the driver's I/O thread back to SCHED_OTHER after the first
 //! latch (for comparison);
 //! `FIELDBUS_BENCH_SLACK=1` sets the scan thread's timer slack to 1 ns (Linux default 50 µs).
@@ -49,6 +50,7 @@ fn device(addr: std::net::SocketAddr, poll: Duration) -> ModbusDevice {
         timeout: Duration::from_millis(50),
         poll,
         write_connection: true,
+        direct_write: std::env::var("FIELDBUS_BENCH_DIRECT").map_or(true, |v| v != "0"),
         alarm_ticks: 50,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(100),

@@ -22,6 +22,7 @@ fn device(addr: SocketAddr) -> ModbusDevice {
         timeout: Duration::from_millis(500),
         poll: Duration::from_micros(500),
         write_connection: true,
+        direct_write: true,
         alarm_ticks: 200,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(40),
@@ -127,6 +128,29 @@ fn an_idle_link_sends_from_the_scan_and_a_busy_one_leaves_the_write_to_the_task(
     let on: Vec<usize> = (100..132).filter(|&i| s.coils[i]).collect();
     assert_eq!(on, [102], "the newest commanded value, applied last");
     assert!(io.take_alarms().is_empty());
+}
+
+#[test]
+fn with_direct_write_off_every_write_goes_from_the_task() {
+    let rt = runtime();
+    let sim = rt
+        .block_on(RemoteIoSim::start("127.0.0.1:0".parse().expect("addr")))
+        .expect("sim");
+    let mut cfg = device(sim.addr());
+    cfg.direct_write = false;
+    let mut io = ModbusIo::start(&[cfg]).expect("driver");
+    let mut image = vec![0u8; PACKETS_LEN];
+    for k in 1..=3u8 {
+        image[16] = k;
+        assert!(tick_until(
+            &mut io,
+            &mut image,
+            Duration::from_secs(5),
+            |io| { io.outputs_acknowledged() }
+        ));
+        assert_eq!(sim.state().coils[100..102], [k & 1 == 1, k & 2 == 2]);
+    }
+    assert_eq!(io.direct_writes("rio1"), 0);
 }
 
 /// One write request as a fake device saw it: (transaction id, function, address, data bytes).

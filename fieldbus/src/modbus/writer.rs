@@ -200,6 +200,10 @@ impl WriteLink {
         wake: &Notify,
         acked: &AtomicU64,
     ) {
+        if !cfg.direct_write {
+            wake.notify_one();
+            return;
+        }
         let step = match self.state.try_lock() {
             Ok(mut st) => st.send_next(cfg, data),
             Err(TryLockError::Poisoned(p)) => p.into_inner().send_next(cfg, data),
