@@ -2,10 +2,10 @@
 //!
 //! Handing a write to the I/O task costs a thread wake-up before the request reaches the wire, and
 //! on a loaded machine that wake-up is most of the input → output latency (`BENCHMARKS.md`). So the
-//! scan thread sends the request itself: when [`WriteLink::push`] finds the connection up and idle,
+//! scan thread sends the request itself: when `WriteLink::push` finds the connection up and idle,
 //! it frames the first output mapping whose commanded bytes the device does not hold yet
 //! ([`super::frame`]) and issues **one non-blocking `send`** on the connection's socket. Everything
-//! else stays with the write task ([`WriteTask`]): it connects and reconnects, reads and checks
+//! else stays with the write task (`WriteTask`): it connects and reconnects, reads and checks
 //! every answer (transaction id, echo, exception), times requests out, sends whatever the scan could
 //! not (a busy or contended link, the rest of a multi-mapping change, a socket that would block),
 //! and reports faults as before.
