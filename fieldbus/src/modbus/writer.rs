@@ -400,3 +400,108 @@ impl WriteTask {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use std::io::Read;
+    use std::net::TcpListener;
+
+    use super::*;
+    use crate::map::{ByteRange, ModbusArea, ModbusMapping};
+
+    fn cfg() -> ModbusDevice {
+        ModbusDevice {
+            name: "rio1".into(),
+            address: "127.0.0.1:502".parse().expect("addr"),
+            unit: 1,
+            timeout: Duration::from_millis(50),
+            poll: Duration::ZERO,
+            write_connection: true,
+            direct_write: true,
+            alarm_ticks: 5,
+            reconnect_min: Duration::from_millis(10),
+            reconnect_max: Duration::from_millis(100),
+            healthy: None,
+            inputs: Vec::new(),
+            outputs: vec![ModbusMapping {
+                range: ByteRange { start: 16, len: 1 },
+                area: ModbusArea::Coils,
+                address: 100,
+                fail: 0,
+            }],
+        }
+    }
+
+    /// A connected pair: the link's non-blocking sending side and the peer's receiving side.
+    fn pair() -> (StdStream, StdStream) {
+        let l = TcpListener::bind("127.0.0.1:0").expect("bind");
+        let tx = StdStream::connect(l.local_addr().expect("addr")).expect("connect");
+        let (rx, _) = l.accept().expect("accept");
+        tx.set_nonblocking(true).expect("nonblocking");
+        (tx, rx)
+    }
+
+    #[test]
+    fn a_full_socket_queues_the_request_instead_of_blocking_and_flush_completes_it() {
+        let (tx, mut rx) = pair();
+        // Fill the socket until it would block (the peer reads nothing yet).
+        let mut junk_len = 0usize;
+        let chunk = [0xEEu8; 65536];
+        loop {
+            match (&tx).write(&chunk) {
+                Ok(n) => junk_len += n,
+                Err(e) if e.kind() == ErrorKind::WouldBlock => break,
+                Err(e) => panic!("fill: {e}"),
+            }
+        }
+        let link = WriteLink::new(1);
+        let cfg = cfg();
+        let mut data = [0u8; A_LEN];
+        data[16] = 0b101;
+        let mut st = lock(&link.state);
+        st.sock = Some(tx);
+        let started = Instant::now();
+        assert_eq!(st.send_next(&cfg, &data), Step::Queued);
+        assert!(
+            started.elapsed() < Duration::from_millis(50),
+            "did not block"
+        );
+        assert_eq!(
+            st.send_next(&cfg, &data),
+            Step::Busy,
+            "one request in flight"
+        );
+        // The peer drains everything; the queued request then goes out whole.
+        let want = [0, 0, 0, 0, 0, 8, 1, 15, 0, 100, 0, 8, 1, 0b101];
+        let mut got = Vec::new();
+        let mut buf = vec![0u8; 1 << 16];
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while got.len() < junk_len + want.len() && Instant::now() < deadline {
+            let n = rx.read(&mut buf).expect("read");
+            got.extend_from_slice(&buf[..n]);
+            if st.unsent_at < st.unsent_len {
+                let _ = st.flush().expect("flush");
+            }
+        }
+        assert_eq!(st.flush(), Ok(true));
+        assert_eq!(got.len(), junk_len + want.len());
+        assert_eq!(&got[junk_len..], &want);
+        assert_eq!(st.in_flight.as_ref().map(|f| f.req.tid), Some(0));
+        assert_eq!(st.next_tid, 1);
+    }
+
+    #[test]
+    fn nothing_is_sent_while_down_and_an_acknowledged_image_is_idle() {
+        let link = WriteLink::new(1);
+        let cfg = cfg();
+        let data = [0u8; A_LEN];
+        let mut st = lock(&link.state);
+        assert_eq!(st.send_next(&cfg, &data), Step::Down);
+        assert_eq!(st.next_tid, 0, "no id used");
+        let (tx, _rx) = pair();
+        st.sock = Some(tx);
+        st.known[0] = true; // the device holds 0 already
+        assert_eq!(st.send_next(&cfg, &data), Step::Idle);
+        assert!(st.in_flight.is_none());
+    }
+}
