@@ -139,6 +139,7 @@ impl<'p> Exec<'p> {
         };
         let mut st = Box::<ArithState>::default();
         st.double = m.double_precision;
+        st.corrections = m.corrections.rows();
         st.g_groups[1] = match plane {
             Plane::XY => 17,
             Plane::ZX => 18,

@@ -17,6 +17,8 @@ pub mod fanuc_exec;
 pub mod geom;
 pub mod groups;
 pub mod jit;
+pub mod kor;
+pub mod length;
 pub mod lexer;
 mod link;
 pub mod machine;
@@ -26,7 +28,8 @@ pub mod run;
 
 pub use canon::{Canon, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};
-pub use machine::{Dialect, DoublePrecision, MTiming, MachineSpec, ProcessSpec};
+pub use kor::{CorrectionTable, KorEntry, parse_kor};
+pub use machine::{Dialect, DoublePrecision, LengthMethod, MTiming, MachineSpec, ProcessSpec};
 pub use program::{Program, compile};
 
 /// Plans a compiled program: runs it and returns its canonical blocks, or the blocks emitted before a

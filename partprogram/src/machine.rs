@@ -2,10 +2,14 @@
 //!
 //! [`MachineSpec`] is deliberately decoupled from the characterization crate: the runtime builds it from
 //! IOCFIL section 2 (`Mxx=m_type,m_request,class` per process) and the AXCFIL axis names, plus the
-//! documented machine options (dialect, macro folder, diameter programming, double precision).
+//! documented machine options (dialect, macro folder, diameter programming, double precision), and the
+//! correction table at power-up (`TAB0.KOR`, read by [`crate::kor::parse_kor`]) with the MEFI length
+//! correction method (machine constant 329).
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+
+use crate::kor::CorrectionTable;
 
 /// Partprogram dialect.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -67,6 +71,32 @@ pub enum DoublePrecision {
     ByR95,
 }
 
+/// MEFI length correction method: machine constant 329, decade 7 (structure-motion spec §13.8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum LengthMethod {
+    /// Decade 7 = 0: `&k1k2k3k4` selects per axis (0 none, 1 add, 2 subtract) the data of entry D.
+    #[default]
+    A,
+    /// Decade 7 = 1: `D<n>` adds every length of entry n (axes 1..4); `D0` cancels; `&` has no effect.
+    B,
+    /// Decade 7 = 2 (printed "0", reading uncertain): `&1` adds every length of entry D, `&0` cancels.
+    C,
+}
+
+impl std::str::FromStr for LengthMethod {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_uppercase().as_str() {
+            "A" | "0" => Ok(LengthMethod::A),
+            "B" | "1" => Ok(LengthMethod::B),
+            "C" | "2" => Ok(LengthMethod::C),
+            other => Err(format!(
+                "unknown length correction method `{other}` (use A, B or C: machine constant 329 decade 7 = 0, 1, 2)"
+            )),
+        }
+    }
+}
+
 /// Everything the partprogram compiler and planner need from a machine.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MachineSpec {
@@ -86,6 +116,12 @@ pub struct MachineSpec {
     pub circle_tolerance: f64,
     /// When true, M functions not declared in IOCFIL section 2 are errors (false: not checked).
     pub check_m_declared: bool,
+    /// The correction table at power-up (the machine's `TAB0.KOR`); empty: all zero.
+    #[serde(default)]
+    pub corrections: CorrectionTable,
+    /// MEFI length correction method (machine constant 329, decade 7).
+    #[serde(default)]
+    pub length_method: LengthMethod,
 }
 
 impl MachineSpec {
@@ -105,6 +141,8 @@ impl MachineSpec {
             double_precision: DoublePrecision::Enabled,
             circle_tolerance: 0.002,
             check_m_declared: false,
+            corrections: CorrectionTable::default(),
+            length_method: LengthMethod::A,
         }
     }
 

@@ -200,7 +200,10 @@ impl Exec<'_> {
         if (amp.is_some() || d.is_some()) && !g92 {
             let e = usize::try_from(self.modal.d).unwrap_or(0).min(99);
             let entry = self.st.corrections[e];
-            self.geo.set_length(self.modal.amp, &entry);
+            let lengths =
+                crate::length::mefi_lengths(prog.machine.length_method, self.modal.amp, &entry)
+                    .map_err(|m| run_err(b, codes::RUN_RANGE, m))?;
+            self.geo.set_lengths(&lengths);
         }
         let mut mfuncs: Vec<MFunc> = Vec::with_capacity(ms.len());
         let mut end_program = false;
