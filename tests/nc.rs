@@ -219,3 +219,102 @@ fn fanuc_programs_are_detected_and_planned() {
     ]);
     assert_eq!(out.status.code(), Some(1));
 }
+
+#[test]
+fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
+    // The mill's MP0/TAB0.KOR: H01 has Z length -150, so `G43 H01 Z2.` is machine Z -148.
+    let out = ncplc(&["nc", "plan", "plc-programs/mill", "O00050.nc"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let z = |n: u64| {
+        lines
+            .iter()
+            .filter(|v| v["n"] == n)
+            .map(|v| v["end"]["Z"].as_f64().unwrap_or(f64::NAN))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(z(15), vec![-148.0]);
+    assert_eq!(z(17), vec![-125.0], "G00 Z25. keeps the length");
+    assert_eq!(z(18), vec![0.0], "G53 G49 Z0. is machine zero");
+    // MEFI on a copy of the mill: method A by default, method B from nc/LENGTH.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("mill");
+    copy_machine("mill", &m);
+    std::fs::write(m.join("nc/LEN"), "%1\nN10 G0 X0 Y0 Z0 &1120 D10\nN20 M30\n").expect("program");
+    let xyz = |out: &std::process::Output| {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v = &json_lines(&out.stdout)[0];
+        ["X", "Y", "Z"].map(|a| v["end"][a].as_f64().unwrap_or(f64::NAN))
+    };
+    let machine = m.to_str().unwrap_or_default();
+    let a = ncplc(&["nc", "plan", machine, "LEN"]);
+    assert_eq!(xyz(&a), [1.5, -2.0, -40.0]);
+    std::fs::write(m.join("nc/LENGTH"), "B\n").expect("option");
+    let b = ncplc(&["nc", "plan", machine, "LEN"]);
+    assert_eq!(xyz(&b), [1.5, -2.0, 40.0]);
+    // --kor replaces the machine's table.
+    let kor = dir.path().join("other.KOR");
+    std::fs::write(&kor, "$KOR\n10: Z=7.5\n").expect("kor");
+    let k = ncplc(&[
+        "nc",
+        "plan",
+        machine,
+        "LEN",
+        "--kor",
+        kor.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(xyz(&k), [0.0, 0.0, 7.5]);
+}
+
+#[test]
+fn errors_in_the_correction_table_fail_check_and_plan() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("lathe");
+    copy_machine("lathe", &m);
+    // The lathe's axis 2 is Z: its length must be written `2=`.
+    std::fs::write(
+        m.join("MP0/TAB0.KOR"),
+        "comment\n$KOR\n01: R=0.8 X=0.0 2=0.0\n02: X=1.0 Z=2.0\n",
+    )
+    .expect("kor");
+    let machine = m.to_str().unwrap_or_default();
+    for cmd in ["check", "plan"] {
+        let out = ncplc(&["nc", cmd, machine, "G81ROUGH", "--format", "json"]);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert!(
+            out.stdout.is_empty() || cmd == "check",
+            "nothing is planned"
+        );
+        let diags = json_lines(&out.stderr);
+        assert_eq!(diags.len(), 1, "{cmd}");
+        assert_eq!(
+            (
+                &diags[0]["code"],
+                &diags[0]["file"],
+                &diags[0]["line"],
+                &diags[0]["column"]
+            ),
+            (
+                &serde_json::json!(2044),
+                &serde_json::json!("MP0/TAB0.KOR"),
+                &serde_json::json!(4),
+                &serde_json::json!(11)
+            )
+        );
+    }
+    // The shipped lathe table is valid and keeps the roughing example's entry 01 without lengths.
+    let ok = ncplc(&["nc", "check", "plc-programs/lathe", "G81ROUGH"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+}
