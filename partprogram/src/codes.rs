@@ -102,3 +102,5 @@ pub const KOR_IO: u32 = 2049;
 pub const G43_WITHOUT_H: u32 = 2034;
 /// Run time: tool length compensation impossible (no tool axis for the plane, axis beyond the table).
 pub const RUN_TOOL_LENGTH: u32 = 2508;
+/// Run time: thread run-in/run-out without a valid slope (machine constant 8) or longer than the thread.
+pub const RUN_THREAD: u32 = 2509;

@@ -6,10 +6,9 @@
 //! that name; a lathe writes its Z length as `2=`) or by ordinal (`1=`..`4=`), and on lathes the
 //! tool-tip type `P=1`..`P=9`. Blanks around `=` are allowed; missing entries and values are zero.
 //! [`parse_kor`] returns the table it could read and located diagnostics (codes 2040–2049); it never
-//! panics. Choices where the manual is silent: values must carry a decimal point (the manual writes
-//! them all with one, and in partprograms a value without a point is in µm), at most three decimals
-//! and at most ±999.999 mm (the length limit of §13.8); blank lines are allowed; a second `$KOR`
-//! ends the table with an error (one table per file).
+//! panics. Choices where the manual is silent: a value without a decimal point is in mm (as a
+//! coordinate word, §3.3), at most three decimals and at most ±999.999 mm (the length limit of §13.8);
+//! blank lines are allowed; a second `$KOR` ends the table with an error (one table per file).
 
 use std::collections::BTreeMap;
 
@@ -195,12 +194,12 @@ impl Reader<'_> {
                     }
                 }
             } else {
-                if !num.point || num.decimals > 3 || num.milli.abs() > 999_999 {
+                if num.decimals > 3 || num.milli.abs() > 999_999 {
                     self.error(
                         codes::KOR_VALUE,
                         span,
                         format!("correction value `{text}` out of format"),
-                        "write mm with a decimal point, at most 3 decimals, within ±999.999",
+                        "mm with at most 3 decimals, within ±999.999",
                     );
                     return None;
                 }

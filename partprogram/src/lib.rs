@@ -25,6 +25,7 @@ pub mod machine;
 pub mod parse;
 pub mod program;
 pub mod run;
+pub mod thread;
 
 pub use canon::{Canon, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};

@@ -122,6 +122,10 @@ pub struct MachineSpec {
     /// MEFI length correction method (machine constant 329, decade 7).
     #[serde(default)]
     pub length_method: LengthMethod,
+    /// Machine constant 8: the thread run-in/run-out slope, or the parameters holding it
+    /// ([`crate::thread`]); 0: not set.
+    #[serde(default)]
+    pub thread_constant: i64,
 }
 
 impl MachineSpec {
@@ -143,6 +147,7 @@ impl MachineSpec {
             check_m_declared: false,
             corrections: CorrectionTable::default(),
             length_method: LengthMethod::A,
+            thread_constant: 0,
         }
     }
 

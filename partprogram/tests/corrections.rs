@@ -56,6 +56,10 @@ fn f25_lathe_entries_with_ordinal_z_and_tool_tip() {
     );
     assert_eq!(t.tip(2), None);
     assert_eq!(t.data(2), [0.0; 5]);
+    // A value without a decimal point is in mm, as a coordinate word.
+    let (t, d) = parse_kor("TAB0.KOR", "$KOR\n07: X=20 2=-3\n", &LATHE);
+    assert!(d.is_empty(), "{d:?}");
+    assert_eq!(t.data(7), [0.0, 20.0, -3.0, 0.0, 0.0]);
 }
 
 #[test]
@@ -106,7 +110,7 @@ fn every_kor_error_is_located() {
     assert_eq!(errors("$KOR\n01: R 1.0\n", &MILL), vec![(2045, 2, 5)]);
     assert_eq!(errors("$KOR\n01: R=\n", &MILL), vec![(2045, 2, 7)]);
     assert_eq!(errors("$KOR\n01: R=1.0X=2.0\n", &MILL), vec![(2045, 2, 7)]);
-    assert_eq!(errors("$KOR\n01: X=20\n", &MILL), vec![(2046, 2, 7)]);
+    assert_eq!(errors("$KOR\n01: X=1.2.3\n", &MILL), vec![(2045, 2, 7)]);
     assert_eq!(errors("$KOR\n01: X=1.2345\n", &MILL), vec![(2046, 2, 7)]);
     assert_eq!(errors("$KOR\n01: X=1000.0\n", &MILL), vec![(2046, 2, 7)]);
     assert_eq!(errors("$KOR\n01: P=0\n", &LATHE), vec![(2046, 2, 7)]);

@@ -27,6 +27,7 @@ impl Exec<'_> {
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut f, mut s, mut t, mut d, mut l, mut q, mut amp) =
             (None, None, None, None, None, None, None);
+        let mut run_in = None;
         for w in &b.words {
             let v = match w.val {
                 Val::Lit(l) => V::Lit(l),
@@ -69,7 +70,8 @@ impl Exec<'_> {
                 'L' => l = Some(v.count()),
                 'Q' => q = Some(v.count()),
                 '&' => amp = Some(v.count()),
-                'H' | 'P' | 'E' => {}
+                'E' => run_in = Some(v.mm()),
+                'H' | 'P' => {}
                 a => {
                     if let Some(i) = self.geo.axes.iter().position(|c| *c == a)
                         && i < naxes
@@ -314,13 +316,39 @@ impl Exec<'_> {
                     self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, false);
                 }
                 _ => {
+                    let start = self.geo.machine;
                     self.geo.linear(&tgt, &self.st);
                     let feed = if motion == 33 {
                         self.modal.lead.zip(self.modal.s).map(|(l, s)| l * s)
                     } else {
                         self.feed()
                     };
-                    self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
+                    if motion == 33 && (run_in.is_some() || ijk[1].is_some()) {
+                        // Run-in E / run-out J: the thread in up to three segments.
+                        let dia = std::array::from_fn(|i| {
+                            self.geo.diameter && self.geo.axes.get(i) == Some(&'X')
+                        });
+                        let need = (ijk[1].is_some(), run_in.is_some());
+                        let mc8 = prog.machine.thread_constant;
+                        let pts = crate::thread::slopes(mc8, &self.st.r, need)
+                            .and_then(|sl| {
+                                let (end, ej) = (self.geo.machine, (run_in, ijk[1]));
+                                crate::thread::split(start, end, dia, ej, sl)
+                            })
+                            .map_err(|m| run_err(b, codes::RUN_THREAD, m))?;
+                        let (first, last) = (0, pts.len() - 1);
+                        for (k, p) in pts.into_iter().enumerate() {
+                            self.geo.move_machine(p, &self.st, self.modal.offset);
+                            let m: Vec<MFunc> = mfuncs
+                                .iter()
+                                .filter(|m| if m.before { k == first } else { k == last })
+                                .cloned()
+                                .collect();
+                            self.emit(b, Kind::Linear, Vec::new(), feed, &m, true);
+                        }
+                    } else {
+                        self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
+                    }
                 }
             }
             moved = true;
