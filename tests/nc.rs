@@ -240,7 +240,7 @@ fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
     assert_eq!(z(15), vec![-148.0]);
     assert_eq!(z(17), vec![-125.0], "G00 Z25. keeps the length");
     assert_eq!(z(18), vec![0.0], "G53 G49 Z0. is machine zero");
-    // MEFI on a copy of the mill: method A by default, method B from nc/LENGTH.
+    // MEFI on a copy of the mill: method A by default, method B from nc/CONSTANTS.
     let dir = tempfile::tempdir().expect("tempdir");
     let m = dir.path().join("mill");
     copy_machine("mill", &m);
@@ -257,7 +257,8 @@ fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
     let machine = m.to_str().unwrap_or_default();
     let a = ncplc(&["nc", "plan", machine, "LEN"]);
     assert_eq!(xyz(&a), [1.5, -2.0, -40.0]);
-    std::fs::write(m.join("nc/LENGTH"), "B\n").expect("option");
+    // Machine constant 329 decade 7 = 1: method B.
+    std::fs::write(m.join("nc/CONSTANTS"), "R329: 01000.000\n").expect("option");
     let b = ncplc(&["nc", "plan", machine, "LEN"]);
     assert_eq!(xyz(&b), [1.5, -2.0, 40.0]);
     // --kor replaces the machine's table.
@@ -317,4 +318,31 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
         "{}",
         String::from_utf8_lossy(&ok.stderr)
     );
+}
+
+#[test]
+fn plan_cuts_the_lathe_thread_with_the_run_out_of_machine_constant_8() {
+    // plc-programs/lathe/nc/CONSTANTS: R8 = 04000.000, the run-out slope is in R04 (= 120.0: X, +20°).
+    let out = ncplc(&["nc", "plan", "plc-programs/lathe", "THREAD"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let threads: Vec<(f64, f64)> = json_lines(&out.stdout)
+        .iter()
+        .filter(|v| v["thread"] == true)
+        .map(|v| {
+            let x = v["end"]["X"].as_f64().unwrap_or(f64::NAN);
+            let z = v["end"]["Z"].as_f64().unwrap_or(f64::NAN);
+            ((x * 1000.0).round() / 1000.0, z)
+        })
+        .collect();
+    // 64 + 2·12·tan 20° = 72.735 at the end of the 12 mm run-out.
+    assert_eq!(threads, vec![(64.0, -88.0), (72.735, -100.0)]);
 }

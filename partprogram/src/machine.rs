@@ -166,3 +166,56 @@ impl MachineSpec {
             .and_then(|p| p.declared_m.get(&m).copied())
     }
 }
+
+/// Reads machine constants written as in `TAB0.REK` listings: one `R<n>: <value>` per line, the
+/// value's decimal point insignificant (`R340: 00233.112` = 233112), `"` starts a comment; returns
+/// (constant number, value) pairs in file order, or the first bad line's message.
+pub fn parse_constants(text: &str) -> Result<Vec<(u32, i64)>, String> {
+    let mut out = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        let line = line.split('"').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let bad = || format!("line {}: expected `R<n>: <value>`, found `{line}`", k + 1);
+        let (name, value) = line.split_once(':').ok_or_else(bad)?;
+        let n: u32 = name
+            .trim()
+            .strip_prefix('R')
+            .and_then(|d| d.parse().ok())
+            .ok_or_else(bad)?;
+        let value = value.trim();
+        let (neg, digits) = match value.strip_prefix('-') {
+            Some(d) => (true, d),
+            None => (false, value.strip_prefix('+').unwrap_or(value)),
+        };
+        let digits: String = digits.chars().filter(|c| *c != '.').collect();
+        if digits.is_empty()
+            || digits.len() > 9
+            || !digits.bytes().all(|c| c.is_ascii_digit())
+            || value.matches('.').count() > 1
+        {
+            return Err(bad());
+        }
+        let v: i64 = digits.parse().map_err(|_| bad())?;
+        out.push((n, if neg { -v } else { v }));
+    }
+    Ok(out)
+}
+
+impl MachineSpec {
+    /// Applies machine constant `n` with value `v`: 8 (thread run-in/run-out slope) and 329 (decade 7:
+    /// length correction method 0 A, 1 B, 2 C); other constants do not concern the planner and are
+    /// ignored.
+    pub fn set_constant(&mut self, n: u32, v: i64) -> Result<(), String> {
+        match n {
+            8 => self.thread_constant = v,
+            329 => {
+                let d7 = (v.unsigned_abs() / 1_000_000) % 10;
+                self.length_method = d7.to_string().parse()?;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}

@@ -121,3 +121,30 @@ fn invalid_run_in_and_run_out_are_located_run_time_errors() {
         "signs differ"
     );
 }
+
+#[test]
+fn machine_constants_in_tab0_rek_notation_set_the_slope_and_the_length_method() {
+    use partprogram::LengthMethod;
+    use partprogram::machine::parse_constants;
+    let text =
+        "\" planner constants\nR8: -00112.500\nR329: 02000.000 \" method C\nR340: 00233.112\n\n";
+    let c = parse_constants(text).expect("valid");
+    assert_eq!(c, vec![(8, -112_500), (329, 2_000_000), (340, 233_112)]);
+    let mut m = lathe();
+    for (n, v) in c {
+        m.set_constant(n, v).expect("known values");
+    }
+    assert_eq!(
+        (m.thread_constant, m.length_method),
+        (-112_500, LengthMethod::C)
+    );
+    assert!(
+        m.set_constant(329, 3_000_000).is_err(),
+        "decade 7 = 3 is no method"
+    );
+    assert_eq!(
+        parse_constants("R8: 1.2.3\n"),
+        Err("line 1: expected `R<n>: <value>`, found `R8: 1.2.3`".to_string())
+    );
+    assert!(parse_constants("X8: 1\n").is_err());
+}

@@ -6,8 +6,9 @@
 //!
 //! The correction table at power-up is the machine's `MP0/TAB0.KOR` (else `MP0/TAB2.KOR`, the lathe
 //! name of the manual), or the file given with `--kor`; errors in it are reported like program
-//! diagnostics and fail both subcommands. The MEFI length correction method (machine constant 329,
-//! decade 7) is read from the option file `<machine>/nc/LENGTH` (`A`, `B` or `C`; default A).
+//! diagnostics and fail both subcommands. The machine constants the planner uses (8: thread
+//! run-in/run-out slope; 329 decade 7: MEFI length correction method) are read from the option file
+//! `<machine>/nc/CONSTANTS`, written as in a `TAB0.REK` listing (`R329: 01000.000`).
 
 use crate::machine_facts::Facts;
 use std::path::{Path, PathBuf};
@@ -76,9 +77,9 @@ pub enum MachineError {
     /// A dialect name that is not known.
     #[error("{0}")]
     Dialect(String),
-    /// The option file `nc/LENGTH` names no length correction method.
-    #[error("nc/LENGTH: {0}")]
-    LengthMethod(String),
+    /// The option file `nc/CONSTANTS` is not valid.
+    #[error("nc/CONSTANTS: {0}")]
+    Constants(String),
 }
 
 /// Builds the partprogram view of the machine in `dir` from its validated characterization.
@@ -90,6 +91,7 @@ pub enum MachineError {
 ///
 /// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
 /// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
+/// Machine constants 8 and 329 come from `<dir>/nc/CONSTANTS` when it exists.
 pub fn machine_spec(
     dir: &Path,
     dialect: Option<&str>,
@@ -154,8 +156,13 @@ pub fn machine_spec(
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
     spec.check_m_declared = true;
-    if let Ok(method) = std::fs::read_to_string(dir.join("nc").join("LENGTH")) {
-        spec.length_method = method.parse().map_err(MachineError::LengthMethod)?;
+    if let Ok(text) = std::fs::read_to_string(dir.join("nc").join("CONSTANTS")) {
+        let constants =
+            partprogram::machine::parse_constants(&text).map_err(MachineError::Constants)?;
+        for (n, v) in constants {
+            spec.set_constant(n, v)
+                .map_err(|e| MachineError::Constants(format!("R{n}: {e}")))?;
+        }
     }
     Ok(spec)
 }
