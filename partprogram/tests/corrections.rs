@@ -145,7 +145,10 @@ fn with_table(mut m: MachineSpec, kor: &str, method: LengthMethod) -> MachineSpe
     m
 }
 
-fn rapids(m: &MachineSpec, src: &str) -> Vec<(Option<u32>, Vec<(char, f64)>)> {
+/// Block number and machine end position (µm-rounded) of a motion block.
+type Move = (Option<u32>, Vec<(char, f64)>);
+
+fn rapids(m: &MachineSpec, src: &str) -> Vec<Move> {
     let p = run(m, src, PlanOptions::default());
     p.blocks
         .iter()
@@ -367,5 +370,40 @@ proptest! {
             prop_assert!(diag.line >= 1 && diag.span.end <= text.len());
         }
         prop_assert!(t.entries.keys().all(|n| (1..=99).contains(n)));
+    }
+}
+
+/// Writes thousandths as a table value (`-12.345`).
+fn value(milli: i32) -> String {
+    let sign = if milli < 0 { "-" } else { "" };
+    let a = milli.unsigned_abs();
+    format!("{sign}{}.{:03}", a / 1000, a % 1000)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(128))]
+    #[test]
+    fn any_written_table_reads_back_exactly(
+        entries in proptest::collection::btree_map(1u8..=99, (proptest::array::uniform5(-999_999i32..=999_999), any::<[bool; 4]>(), any::<bool>()), 0..12)
+    ) {
+        let mut text = String::from("table written by the test\n$KOR\n");
+        for (n, (data, by_name, spaced)) in &entries {
+            let eq = if *spaced { " = " } else { "=" };
+            text.push_str(&format!("{n:02}:\tR{eq}{}", value(data[0])));
+            for k in 0..3 {
+                let key = if by_name[k] { MILL[k].to_string() } else { (k + 1).to_string() };
+                text.push_str(&format!("\t{key}{eq}{}", value(data[k + 1])));
+            }
+            text.push_str(&format!(" 4{eq}{}\n", value(data[4])));
+        }
+        let (t, d) = parse_kor("TAB0.KOR", &text, &MILL);
+        prop_assert!(d.is_empty(), "{:?}", d);
+        let rows = t.rows();
+        for n in 0..100u8 {
+            let want = entries
+                .get(&n)
+                .map_or([0.0; 5], |(data, _, _)| data.map(|m| f64::from(m) / 1000.0));
+            prop_assert_eq!(rows[usize::from(n)], want);
+        }
     }
 }
