@@ -323,30 +323,8 @@ impl Exec<'_> {
                     } else {
                         self.feed()
                     };
-                    if motion == 33 && (run_in.is_some() || ijk[1].is_some()) {
-                        // Run-in E / run-out J: the thread in up to three segments.
-                        let dia = std::array::from_fn(|i| {
-                            self.geo.diameter && self.geo.axes.get(i) == Some(&'X')
-                        });
-                        let need = (ijk[1].is_some(), run_in.is_some());
-                        let mc8 = prog.machine.thread_constant;
-                        let pts = crate::thread::slopes(mc8, &self.st.r, need)
-                            .and_then(|sl| {
-                                let (end, ej) = (self.geo.machine, (run_in, ijk[1]));
-                                crate::thread::split(start, end, dia, ej, sl)
-                            })
-                            .map_err(|m| run_err(b, codes::RUN_THREAD, m))?;
-                        let (first, last) = (0, pts.len() - 1);
-                        for (k, p) in pts.into_iter().enumerate() {
-                            self.geo.move_machine(p, &self.st, self.modal.offset);
-                            let m: Vec<MFunc> = mfuncs
-                                .iter()
-                                .filter(|m| if m.before { k == first } else { k == last })
-                                .cloned()
-                                .collect();
-                            self.emit(b, Kind::Linear, Vec::new(), feed, &m, true);
-                        }
-                    } else {
+                    let ej = (run_in, ijk[1]);
+                    if !(motion == 33 && self.thread_run(b, start, ej, feed, &mfuncs)?) {
                         self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
                     }
                 }
@@ -432,5 +410,39 @@ impl Exec<'_> {
             }
         }
         Ok(())
+    }
+}
+
+impl Exec<'_> {
+    /// A G33 block with run-in `E` / run-out `J` (`ej`): emits the thread from `start` to the current
+    /// (programmed) end in up to three segments ([`crate::thread`]); false when the block has neither.
+    fn thread_run(
+        &mut self,
+        b: &crate::program::CBlock,
+        start: [f64; 6],
+        ej: (Option<f64>, Option<f64>),
+        feed: Option<f64>,
+        mfuncs: &[MFunc],
+    ) -> Result<bool, RunError> {
+        if ej == (None, None) {
+            return Ok(false);
+        }
+        let dia = std::array::from_fn(|i| self.geo.diameter && self.geo.axes.get(i) == Some(&'X'));
+        let need = (ej.1.is_some(), ej.0.is_some());
+        let mc8 = self.prog.machine.thread_constant;
+        let pts = crate::thread::slopes(mc8, &self.st.r, need)
+            .and_then(|sl| crate::thread::split(start, self.geo.machine, dia, ej, sl))
+            .map_err(|m| run_err(b, codes::RUN_THREAD, m))?;
+        let last = pts.len().saturating_sub(1);
+        for (k, p) in pts.into_iter().enumerate() {
+            self.geo.move_machine(p, &self.st, self.modal.offset);
+            let m: Vec<MFunc> = mfuncs
+                .iter()
+                .filter(|m| if m.before { k == 0 } else { k == last })
+                .cloned()
+                .collect();
+            self.emit(b, Kind::Linear, Vec::new(), feed, &m, true);
+        }
+        Ok(true)
     }
 }
