@@ -346,3 +346,106 @@ fn plan_cuts_the_lathe_thread_with_the_run_out_of_machine_constant_8() {
     // 64 + 2·12·tan 20° = 72.735 at the end of the 12 mm run-out.
     assert_eq!(threads, vec![(64.0, -88.0), (72.735, -100.0)]);
 }
+
+/// (N, kind, X, Y, feed) of the motion blocks of a JSON plan.
+fn xy_path(lines: &[serde_json::Value]) -> Vec<(u64, String, f64, f64, f64)> {
+    lines
+        .iter()
+        .filter(|v| v["kind"] != "aux" && v["kind"] != "dwell")
+        .map(|v| {
+            (
+                v["n"].as_u64().unwrap_or(0),
+                v["kind"].as_str().unwrap_or("").to_string(),
+                v["end"]["X"].as_f64().unwrap_or(f64::NAN),
+                v["end"]["Y"].as_f64().unwrap_or(f64::NAN),
+                v["feed"].as_f64().unwrap_or(0.0),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn plan_applies_radius_compensation_in_both_corner_modes() {
+    // nc/CONTOUR: a 40 × 40 square with the corner (40, 40) rounded R10, G41 with D1 = 5 mm.
+    let out = ncplc(&["nc", "plan", "plc-programs/mill", "CONTOUR"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let s = |n: u64, k: &str, x: f64, y: f64, f: f64| (n, k.to_string(), x, y, f);
+    let head = vec![
+        s(20, "rapid", -20.0, -20.0, 0.0),
+        s(30, "rapid", -20.0, -20.0, 0.0),
+        s(40, "linear", -5.0, 0.0, 200.0),
+    ];
+    let mut arcs = head.clone();
+    arcs.extend([
+        s(50, "linear", -5.0, 40.0, 200.0),
+        s(60, "arc_cw", 0.0, 45.0, 200.0),
+        s(60, "linear", 30.0, 45.0, 200.0),
+        // G2 with G41: the tool centre runs on R 15 at F·15/10.
+        s(70, "arc_cw", 45.0, 30.0, 300.0),
+        s(80, "linear", 45.0, 0.0, 200.0),
+        s(90, "arc_cw", 40.0, -5.0, 200.0),
+        s(90, "linear", 0.0, -5.0, 200.0),
+        s(100, "linear", -20.0, -20.0, 200.0),
+        s(110, "rapid", -20.0, -20.0, 0.0),
+    ]);
+    assert_eq!(xy_path(&lines), arcs);
+    let centre = &lines[4]["center"];
+    assert_eq!(
+        (centre["X"].as_f64(), centre["Y"].as_f64()),
+        (Some(0.0), Some(40.0))
+    );
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        "CONTOUR",
+        "--corners",
+        "intersection",
+    ]);
+    assert!(out.status.success());
+    let mut meet = head;
+    meet.extend([
+        s(50, "linear", -5.0, 45.0, 200.0),
+        s(60, "linear", 30.0, 45.0, 200.0),
+        s(70, "arc_cw", 45.0, 30.0, 300.0),
+        s(80, "linear", 45.0, -5.0, 200.0),
+        s(90, "linear", 0.0, -5.0, 200.0),
+        s(100, "linear", -20.0, -20.0, 200.0),
+        s(110, "rapid", -20.0, -20.0, 0.0),
+    ]);
+    assert_eq!(xy_path(&json_lines(&out.stdout)), meet);
+}
+
+#[test]
+fn plan_reports_equidistants_not_found_with_code_2510() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = dir.path().join("inside");
+    std::fs::write(
+        &p,
+        "%1\nN10 G92 D1 R0=5.\nN20 G0 X-10 Y0\nN30 G1 G41 D1 X0 Y0 F100\nN40 X10\n\
+         N50 G3 X2 Y8 I-8 J0\nN60 G1 G40 X-10 Y8\nN70 M30\n",
+    )
+    .expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        p.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let diags = json_lines(&out.stderr);
+    assert_eq!(diags.len(), 1);
+    assert_eq!(
+        (diags[0]["code"].as_u64(), diags[0]["line"].as_u64()),
+        (Some(2510), Some(5))
+    );
+    assert_eq!(
+        diags[0]["message"],
+        "radius compensation: intersection of equidistants not found between N40 and N50"
+    );
+}

@@ -104,3 +104,8 @@ pub const G43_WITHOUT_H: u32 = 2034;
 pub const RUN_TOOL_LENGTH: u32 = 2508;
 /// Run time: thread run-in/run-out without a valid slope (machine constant 8) or longer than the thread.
 pub const RUN_THREAD: u32 = 2509;
+/// Run time: radius compensation cannot join two elements (intersection of equidistants not found, or
+/// an arc radius smaller than the tool radius on its inside).
+pub const RUN_EQUIDISTANT: u32 = 2510;
+/// Run time: a radius-compensation rule broken (G41/G42/G40 on an arc, plane changed while active).
+pub const RUN_COMP_RULE: u32 = 2511;

@@ -235,15 +235,19 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                     format!("{} must not be negative", w.addr),
                     "",
                 )),
-                'H' | 'D' if v > 99.0 && (w.addr == 'D' || !lathe) => diags.push(err(
+                'H' if v > 99.0 && !lathe => diags.push(err(
                     codes::OUT_OF_RANGE,
                     f,
                     w.span,
-                    format!(
-                        "{}{v}: the correction table has entries 0..99",
-                        w.addr
-                    ),
+                    format!("H{v}: tool lengths come from the correction table, entries 0..99"),
                     "HAAS allows registers up to 200; this controller's table (TAB0.KOR) ends at 99",
+                )),
+                'D' if v > 200.0 => diags.push(err(
+                    codes::OUT_OF_RANGE,
+                    f,
+                    w.span,
+                    format!("D{v}: offset registers are D0..D200"),
+                    "D0..D200",
                 )),
                 _ => {}
             }

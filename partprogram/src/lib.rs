@@ -24,6 +24,7 @@ mod link;
 pub mod machine;
 pub mod parse;
 pub mod program;
+pub mod radius;
 pub mod run;
 pub mod thread;
 

@@ -328,7 +328,7 @@ fn fanuc_g43_on_the_haas_example_and_the_h_range() {
         codes(&m, "O1\nN1 G43 H99 Z2. D99\nN2 M30\n"),
         Vec::<u32>::new()
     );
-    assert_eq!(codes(&m, "O1\nN1 G41 X1. D100\nN2 M30\n"), vec![2009]);
+    assert_eq!(codes(&m, "O1\nN1 G41 X1. D201\nN2 M30\n"), vec![2009]);
 }
 
 #[test]

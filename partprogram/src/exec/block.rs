@@ -16,6 +16,7 @@ impl Exec<'_> {
     pub(super) fn block(&mut self, bi: usize) -> Result<(), RunError> {
         let prog = self.prog;
         let b = &prog.blocks[bi];
+        self.rc.check()?;
         if b.skip && self.opts.block_skip {
             return Ok(());
         }

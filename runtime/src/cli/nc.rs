@@ -65,6 +65,10 @@ pub enum NcCommand {
         /// Block-skip mode: skip blocks marked with `/`.
         #[arg(long)]
         block_skip: bool,
+        /// Outside corners under radius compensation G41/G42: `arc` (insert an arc, MC 339 decade 8
+        /// = 1) or `intersection` (intersection of the equidistants, decade 8 = 0).
+        #[arg(long, default_value = "arc")]
+        corners: partprogram::radius::Corners,
     },
 }
 
@@ -240,6 +244,7 @@ pub fn run(args: Args) -> ExitCode {
             format,
             interpreter,
             block_skip,
+            corners,
         } => (
             common,
             Some(PlanOptions {
@@ -249,6 +254,10 @@ pub fn run(args: Args) -> ExitCode {
                     Backend::Native
                 },
                 block_skip: *block_skip,
+                radius: partprogram::radius::RadiusOptions {
+                    corners: *corners,
+                    ..partprogram::radius::RadiusOptions::default()
+                },
                 ..PlanOptions::default()
             }),
             format.clone(),
