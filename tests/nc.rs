@@ -311,6 +311,11 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
             )
         );
     }
+    // Without TAB0.KOR the lathe name TAB2.KOR of the manual is read.
+    std::fs::rename(m.join("MP0/TAB0.KOR"), m.join("MP0/TAB2.KOR")).expect("rename");
+    let out = ncplc(&["nc", "check", machine, "G81ROUGH", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(json_lines(&out.stderr)[0]["file"], "MP0/TAB2.KOR");
     // The shipped lathe table is valid and keeps the roughing example's entry 01 without lengths.
     let ok = ncplc(&["nc", "check", "plc-programs/lathe", "G81ROUGH"]);
     assert!(
