@@ -454,3 +454,38 @@ fn plan_reports_equidistants_not_found_with_code_2510() {
         "radius compensation: intersection of equidistants not found between N40 and N50"
     );
 }
+
+#[test]
+fn o00023_takes_h03_length_and_d03_radius_from_the_mills_table() {
+    // TAB0.KOR entry 03: R=6.0 (the program's "DIA. OFFSET D03 AN 12."), Z=-135.5.
+    let out = ncplc(&["nc", "plan", "plc-programs/mill", "O00023.nc"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let end = |v: &serde_json::Value| {
+        let e = |a: &str| v["end"][a].as_f64().unwrap_or(f64::NAN);
+        (e("X"), e("Y"), e("Z"))
+    };
+    // G01 Z-16. F500. after G43 H03: Z -16 - 135.5.
+    let plunge = lines
+        .iter()
+        .position(|v| v["kind"] == "linear" && v["feed"] == 500.0)
+        .expect("the end mill plunge");
+    assert_eq!(end(&lines[plunge]), (-58.0, 58.0, -151.5));
+    // The contour Y50 → X50 → Y-50 … with the tool 6 mm to its left (an arc at the outside corner).
+    let contour: Vec<(String, (f64, f64, f64))> = lines[plunge + 1..plunge + 4]
+        .iter()
+        .map(|v| (v["kind"].as_str().unwrap_or("").to_string(), end(v)))
+        .collect();
+    assert_eq!(
+        contour,
+        vec![
+            ("linear".to_string(), (-58.0, 56.0, -151.5)),
+            ("linear".to_string(), (50.0, 56.0, -151.5)),
+            ("arc_cw".to_string(), (56.0, 50.0, -151.5)),
+        ]
+    );
+}

@@ -35,7 +35,7 @@ pub struct Common {
     #[arg(long)]
     pub dialect: Option<String>,
     /// Correction table file, instead of the machine's MP0/TAB0.KOR (or MP0/TAB2.KOR).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub kor: Option<PathBuf>,
 }
 
