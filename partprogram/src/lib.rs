@@ -4,7 +4,9 @@
 //! [`compile`] parses and checks a partprogram together with the machine's macro folder and returns a
 //! [`Program`]; [`plan`] runs it and returns the canonical blocks ([`Canon`]). Parameter arithmetic
 //! (G26–G29) runs as cranelift-compiled native code ([`jit`]) beside the reference interpreter
-//! ([`arith`]); [`PlanOptions::backend`] selects which one.
+//! ([`arith`]); [`PlanOptions::backend`] selects which one. The machine's correction table
+//! (`TAB0.KOR`, read by [`parse_kor`]) is [`MachineSpec::corrections`]; tool length correction
+//! ([`length`]) and thread run-in/run-out ([`thread`]) use it and the machine constants of the spec.
 
 pub mod arith;
 pub mod ast;

@@ -1,4 +1,4 @@
-//! Fanuc/HAAS tool length compensation: G43 H<n> adds, G44 H<n> subtracts the length of correction
+//! Fanuc/HAAS tool length compensation: `G43 H<n>` adds, `G44 H<n>` subtracts the length of correction
 //! entry n on the tool axis; G49, H00, G28 and M02/M30 cancel (HAAS spec §10.1).
 //!
 //! The active length is part of the axis origin ([`Ex::origin`]): an absolute target includes it, and
