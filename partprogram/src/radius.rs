@@ -149,6 +149,7 @@ struct Pending {
 pub struct Compensator {
     opts: RadiusOptions,
     prev: Vec<(char, f64)>,
+    start: Vec<(char, f64)>,
     pending: Option<Pending>,
     queue: Vec<Canon>,
     error: Option<RunError>,
@@ -186,11 +187,6 @@ impl Compensator {
             opts,
             ..Compensator::default()
         }
-    }
-
-    /// True while a motion is held back waiting for the next one.
-    pub fn holding(&self) -> bool {
-        self.pending.is_some()
     }
 
     /// Returns the first error found so far (the blocks after it are dropped).
@@ -243,20 +239,14 @@ impl Compensator {
         if self.error.is_some() {
             return;
         }
-        let start = std::mem::replace(&mut self.prev, c.end.clone());
-        let want = ctx.active();
-        let geo = match (&self.pending, want) {
-            (Some(p), _) => Self::element(&start, &c, p.active.axes, p.active.scale),
-            (None, _) => Self::element(&start, &c, ctx.axes, ctx.scale),
-        };
-        let Some(geo) = geo else {
-            if self.pending.is_some() {
-                self.queue.push(c);
-            } else {
-                out.push(c);
-            }
+        // The programmed start is the previous block's programmed end (buffers reused, no allocation).
+        std::mem::swap(&mut self.start, &mut self.prev);
+        self.prev.clone_from(&c.end);
+        if self.pending.is_none() && ctx.side == Side::Off {
+            out.push(c);
             return;
-        };
+        }
+        let want = ctx.active();
         if let (Some(p), Some(w)) = (&self.pending, want)
             && p.active.axes != w.axes
         {
@@ -267,6 +257,18 @@ impl Compensator {
             self.fail(ctx.file, ctx.span, codes::RUN_COMP_RULE, msg);
             return;
         }
+        let geo = match &self.pending {
+            Some(p) => Self::element(&self.start, &c, p.active.axes, p.active.scale),
+            None => Self::element(&self.start, &c, ctx.axes, ctx.scale),
+        };
+        let Some(geo) = geo else {
+            if self.pending.is_some() {
+                self.queue.push(c);
+            } else {
+                out.push(c);
+            }
+            return;
+        };
         let held = self.pending.take();
         let cancels = held.is_some() && want.is_none();
         let continues = held.as_ref().is_some_and(|p| Some(p.active) == want);

@@ -279,6 +279,9 @@ fn plane_change_while_active_is_an_error() {
     let src = "%1\nN10 G92 D1 R0=1.\nN20 G0 X0 Y-10\nN30 G1 G41 D1 X0 Y0 F100\nN40 X10\n\
                N50 G18 X20 Z5\nN60 M30\n";
     assert_eq!(fails(&mill(), src, PlanOptions::default()), (2511, 6));
+    // Also when the block with the new plane moves only out of the old plane.
+    let z_only = src.replace("N50 G18 X20 Z5", "N50 G18 Z5");
+    assert_eq!(fails(&mill(), &z_only, PlanOptions::default()), (2511, 6));
 }
 
 #[test]
@@ -287,6 +290,53 @@ fn program_end_without_g40_ends_on_the_perpendicular() {
     let p = run(&mill(), src, PlanOptions::default());
     let xy: Vec<(f64, f64)> = steps(&p).iter().map(|s| (s.2, s.3)).collect();
     assert_eq!(xy, vec![(0.0, 0.0), (10.0, -3.0), (20.0, -3.0)]);
+}
+
+#[test]
+fn g40_without_motion_cancels_on_the_next_motion_in_the_plane() {
+    let src = "%1\nN10 G92 D1 R0=3.\nN20 G0 X0 Y0\nN30 G1 G42 D1 X10 F50\nN40 X20\nN50 G40\n\
+               N55 Z-1\nN60 Y10\nN70 M30\n";
+    let p = run(&mill(), src, PlanOptions::default());
+    let path: Vec<(Option<u32>, f64, f64, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.kind != Kind::Aux)
+        .map(|c| (c.n, end(c, 'X'), end(c, 'Y'), end(c, 'Z')))
+        .collect();
+    assert_eq!(
+        path,
+        vec![
+            (Some(20), 0.0, 0.0, 0.0),
+            (Some(30), 10.0, -3.0, 0.0),
+            (Some(40), 20.0, -3.0, 0.0),
+            (Some(55), 20.0, -3.0, -1.0),
+            (Some(60), 20.0, 10.0, -1.0),
+        ]
+    );
+}
+
+#[test]
+fn mirror_of_one_plane_axis_swaps_the_side() {
+    // G35 X0 mirrors X: the clockwise G41 square becomes counter-clockwise in the machine frame and
+    // the tool stays outside, i.e. the machine path is the mirror of the unmirrored one.
+    let src = square(41, "5.").replace("N20 G0", "N15 G35 X0\nN20 G0");
+    let p = run(&mill(), &src, PlanOptions::default());
+    assert_eq!(
+        steps(&p),
+        vec![
+            (Some(20), Rapid, 20.0, 0.0, None),
+            (Some(30), Lin, 5.0, 0.0, None),
+            (Some(40), Lin, 5.0, 20.0, None),
+            (Some(45), Lin, 5.0, 20.0, None),
+            (Some(50), Ccw, 0.0, 25.0, Some((0.0, 20.0))),
+            (Some(50), Lin, -20.0, 25.0, None),
+            (Some(60), Ccw, -25.0, 20.0, Some((-20.0, 20.0))),
+            (Some(60), Lin, -25.0, 0.0, None),
+            (Some(70), Ccw, -20.0, -5.0, Some((-20.0, 0.0))),
+            (Some(70), Lin, 0.0, -5.0, None),
+            (Some(80), Lin, 20.0, 0.0, None),
+        ]
+    );
 }
 
 #[test]
