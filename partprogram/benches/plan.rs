@@ -47,6 +47,20 @@ fn bench_cam(c: &mut Criterion) {
             black_box(p.blocks.len())
         })
     });
+    // The same program cut with G41 and a 0.2 mm radius (D1): every block goes through the radius
+    // compensation (one look-ahead, corner arcs at outside corners).
+    let g41 = src
+        .replacen("N2 G01 Z-1 F800\n", "N2 G01 G41 D1 Z-1 F800\n", 1)
+        .replacen("N1 G54", "N0 G92 D1 R0=0.2\nN1 G54", 1);
+    g.bench_function("check_and_plan_g41", |b| {
+        b.iter(|| {
+            let (prog, diags) = compile(&machine, "cam", black_box(&g41));
+            let prog = prog.unwrap_or_else(|| panic!("{diags:?}"));
+            let p = plan(&prog, PlanOptions::default()).unwrap_or_else(|e| panic!("{}", e.1));
+            assert!(p.blocks.len() > 100_001);
+            black_box(p.blocks.len())
+        })
+    });
     g.bench_function("check_plan_and_json", |b| {
         b.iter(|| {
             let (prog, _) = compile(&machine, "cam", black_box(&src));

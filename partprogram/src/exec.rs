@@ -8,6 +8,7 @@
 use std::collections::HashMap;
 
 mod block;
+mod comp;
 mod flow;
 
 use crate::arith::{ArithError, ArithState, NPARAM};
@@ -16,6 +17,7 @@ use crate::codes;
 use crate::geom::Geometry;
 use crate::lexer::Lit;
 use crate::program::{CBlock, Program, UnitKind};
+use crate::radius::Compensator;
 pub use crate::run::{Backend, Plan, PlanOptions, RunError};
 
 /// Modal state that fixed cycles save and restore.
@@ -93,6 +95,8 @@ pub struct Exec<'p> {
     pub(crate) geo: Geometry,
     frames: Vec<Frame>,
     out: Vec<Canon>,
+    /// Radius compensation between the executor and `out`.
+    rc: Compensator,
     executed: u64,
     ended: bool,
 }
@@ -117,7 +121,8 @@ fn arith_err(b: &CBlock, e: ArithError) -> RunError {
 /// Plans `prog`: runs it and returns its canonical blocks.
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
     let mut ex = Exec::new(prog, opts);
-    match ex.run() {
+    let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
+    match done {
         Ok(()) => Ok(Plan {
             blocks: ex.out,
             params: ex.st.r,
@@ -139,6 +144,7 @@ impl<'p> Exec<'p> {
         };
         let mut st = Box::<ArithState>::default();
         st.double = m.double_precision;
+        st.corrections = m.corrections.rows();
         st.g_groups[1] = match plane {
             Plane::XY => 17,
             Plane::ZX => 18,
@@ -175,6 +181,7 @@ impl<'p> Exec<'p> {
                 cycle: None,
             }],
             out: Vec::new(),
+            rc: Compensator::new(opts.radius),
             executed: 0,
             ended: false,
         }
@@ -291,7 +298,8 @@ impl<'p> Exec<'p> {
             dwell: None,
             thread,
         };
-        self.out.push(c);
+        let ctx = self.comp_ctx(b);
+        self.rc.push(c, &ctx, &mut self.out);
     }
 
     fn emit_dwell(&mut self, b: &CBlock, secs: f64, m: &[MFunc]) {
@@ -312,6 +320,7 @@ impl<'p> Exec<'p> {
             dwell: Some(secs),
             thread: false,
         };
-        self.out.push(c);
+        let ctx = self.comp_ctx(b);
+        self.rc.push(c, &ctx, &mut self.out);
     }
 }

@@ -1,13 +1,16 @@
 //! Executor of the Fanuc/HAAS dialect: modal state, work offsets, canned cycles, circular pockets,
 //! cylinder interpolation G7.1 and M97/M98/M99 calls, emitting the same canonical blocks as MEFI.
 
+mod comp;
 mod cycles;
+mod tlo;
 
 use crate::ast::Val;
 use crate::canon::{Canon, Kind, MFunc, Plane};
 use crate::codes;
 use crate::exec::{Plan, PlanOptions, RunError};
 use crate::program::{CBlock, Program, UnitKind};
+use crate::radius::Compensator;
 
 /// Peck retract of G73 and clearance of G83 re-entry (mm); the HAAS text gives no value.
 pub const PECK_CLEARANCE: f64 = 0.5;
@@ -41,8 +44,23 @@ struct Ex<'p> {
     cyc: (f64, f64, f64, f64),
     cyl: Option<f64>,
     diameter: bool,
+    /// Active tool length per axis (G43/G44), part of the origin.
+    tlo: [f64; 6],
+    /// Length changes not yet taken by an incremental move, per axis.
+    tlo_due: [f64; 6],
+    /// G43 (+1) or G44 (−1) with the plane that fixed the tool axis; None: G49.
+    tlo_sign: Option<(f64, Plane)>,
+    /// The last H number.
+    tlo_h: i64,
     frames: Vec<Frame>,
     out: Vec<Canon>,
+    /// Cutter compensation: modal G40/G41/G42, D register, the compensator.
+    comp: u16,
+    d: i64,
+    /// Offset registers 0..=200 (radius, lengths of axes 1..4): 0..=99 from the machine's correction
+    /// table, the others zero until `G10 L12` sets a radius.
+    corrections: Vec<[f64; 5]>,
+    rc: Compensator,
     executed: u64,
     ended: bool,
 }
@@ -82,12 +100,25 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         cyc: (0.0, 0.0, 0.0, 0.0),
         cyl: None,
         diameter: prog.machine.diameter_x,
+        tlo: [0.0; 6],
+        tlo_due: [0.0; 6],
+        tlo_sign: None,
+        tlo_h: 0,
         frames: Vec::new(),
         out: Vec::new(),
+        comp: 40,
+        d: 0,
+        corrections: {
+            let mut rows = prog.machine.corrections.rows();
+            rows.resize(comp::REGISTERS, [0.0; 5]);
+            rows
+        },
+        rc: Compensator::new(opts.radius),
         executed: 0,
         ended: false,
     };
-    match ex.run() {
+    let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
+    match done {
         Ok(()) => Ok(Plan {
             blocks: ex.out,
             params: [0; 96],
@@ -104,7 +135,7 @@ impl Ex<'_> {
     }
 
     fn origin(&self, i: usize) -> f64 {
-        self.work[self.wsel][i] + self.local[i] + self.g92[i]
+        self.work[self.wsel][i] + self.local[i] + self.g92[i] + self.tlo[i]
     }
 
     fn run(&mut self) -> Result<(), RunError> {
@@ -175,7 +206,7 @@ impl Ex<'_> {
         } else {
             self.plane
         };
-        self.out.push(Canon {
+        let c = Canon {
             n: b.n,
             unit: self.label(),
             kind,
@@ -193,7 +224,9 @@ impl Ex<'_> {
             t: self.t,
             dwell,
             thread: false,
-        });
+        };
+        let ctx = self.comp_ctx(b);
+        self.rc.push(c, &ctx, &mut self.out);
     }
 
     fn move_to(&mut self, b: &CBlock, kind: Kind, target: [Option<f64>; 6], m: &[MFunc]) {
@@ -209,6 +242,7 @@ impl Ex<'_> {
     fn block(&mut self, bi: usize) -> Result<(), RunError> {
         let prog = self.prog;
         let b = &prog.blocks[bi];
+        self.rc.check()?;
         if b.skip && self.opts.block_skip {
             return Ok(());
         }
@@ -243,8 +277,11 @@ impl Ex<'_> {
         let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
             (false, false, false, false, false, None, false);
         let mut new_cycle = false;
+        let mut tlo_g = None;
+        let mut g10 = false;
         for &g in &gs {
             match g {
+                430 | 440 | 490 => tlo_g = Some(g),
                 0 | 10 | 20 | 30 => {
                     self.motion = g;
                     self.cycle = None;
@@ -256,7 +293,9 @@ impl Ex<'_> {
                 210 => self.inch = false,
                 900 => self.abs = true,
                 910 => self.abs = false,
-                940 | 960 | 970 | 610 | 640 | 400 | 410 | 420 | 430 | 440 | 490 | 100 => {}
+                940 | 960 | 970 | 610 | 640 => {}
+                400 | 410 | 420 => self.comp = g / 10,
+                100 => g10 = true,
                 540..=590 => self.wsel = usize::from((g - 540) / 10),
                 980 => self.g99 = false,
                 990 => self.g99 = true,
@@ -286,6 +325,9 @@ impl Ex<'_> {
         }
         if let Some(t) = num('T') {
             self.t = Some(t as i64);
+        }
+        if let Some(d) = num('D') {
+            self.d = d as i64;
         }
         let unit = if self.inch { 25.4 } else { 1.0 };
         if let Some(f) = num('F') {
@@ -326,12 +368,13 @@ impl Ex<'_> {
             }
         }
         let any = vals.iter().any(Option::is_some);
+        self.tool_length(b, tlo_g, g28)?;
         let target = |ex: &Self, vals: &[Option<f64>; 6]| -> [Option<f64>; 6] {
             let mut t = [None; 6];
             for i in 0..ex.axes.len() {
                 if let Some(v) = vals[i] {
                     t[i] = Some(if incr[i] || !ex.abs {
-                        ex.machine[i] + v
+                        ex.machine[i] + v + ex.tlo_due[i]
                     } else {
                         v + ex.origin(i)
                     });
@@ -344,10 +387,13 @@ impl Ex<'_> {
             self.cyl = if c > 0.0 { Some(c) } else { None };
         }
         let mut moved = false;
-        if g92 {
+        if g10 {
+            self.g10(b);
+        } else if g92 {
             for i in 0..self.axes.len() {
                 if let Some(v) = vals[i] {
-                    self.g92[i] = self.machine[i] - self.work[self.wsel][i] - self.local[i] - v;
+                    self.g92[i] =
+                        self.machine[i] - self.work[self.wsel][i] - self.local[i] - self.tlo[i] - v;
                 }
             }
         } else if g52 {
@@ -403,6 +449,7 @@ impl Ex<'_> {
             }
             moved = true;
         }
+        self.tlo_moved(&vals);
         if dwell {
             let secs = match val('P').or_else(|| val('X')) {
                 Some(l) if l.point || b.word('X').is_some() => l.value(),
@@ -467,6 +514,9 @@ impl Ex<'_> {
                 // M99 in the main program loops forever on a control; a plan stops here.
                 self.ended = true;
             }
+        }
+        if ms.contains(&30) || ms.contains(&2) {
+            self.cancel_tlo();
         }
         if (ms.contains(&30) || ms.contains(&2)) && self.frames.len() == 1 {
             self.ended = true;

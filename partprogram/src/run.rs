@@ -25,8 +25,11 @@ pub struct PlanOptions {
     pub block_skip: bool,
     /// Stop with an error after this many executed blocks (endless loops).
     pub max_blocks: u64,
-    /// Record canonical blocks (false: only run, for benchmarks of arithmetic).
+    /// Record canonical blocks (false: only run, for benchmarks of arithmetic; radius compensation
+    /// then does not run either).
     pub record: bool,
+    /// Tool radius compensation settings (G41/G42 corners, arc feed).
+    pub radius: crate::radius::RadiusOptions,
 }
 
 impl Default for PlanOptions {
@@ -36,6 +39,7 @@ impl Default for PlanOptions {
             block_skip: false,
             max_blocks: 20_000_000,
             record: true,
+            radius: crate::radius::RadiusOptions::default(),
         }
     }
 }

@@ -206,6 +206,27 @@ impl Ex<'_> {
             }
             radii.push(k);
         }
+        // G12 implies G42, G13 implies G41: both keep the tool inside the pocket, so every circle of
+        // the tool centre is the programmed radius less the radius of register D (D0: none). Circles
+        // the tool already covers from the centre are left out; the finishing circle must remain.
+        let kor = self.tool_radius(self.d);
+        let finish = radii.last().copied().unwrap_or(first) - kor;
+        if finish <= 1e-9 {
+            return Err(run_err(
+                b,
+                codes::RUN_EQUIDISTANT,
+                format!(
+                    "G{}: the pocket radius {:.4} is not larger than the tool radius {kor:.4}",
+                    g / 10,
+                    finish + kor
+                ),
+            ));
+        }
+        let radii: Vec<f64> = radii
+            .into_iter()
+            .map(|r| r - kor)
+            .filter(|r| *r > 1e-9)
+            .collect();
         let reps = if self.abs {
             1
         } else {

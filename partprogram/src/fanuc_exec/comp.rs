@@ -1,0 +1,65 @@
+//! The Fanuc/HAAS side of radius compensation: the D register (radius of entry D of the offset table,
+//! D00 is radius 0), `G10 L12 P<n> R<r>` (programmable setting of the radius offset), the [`Ctx`] of a
+//! block, and the implicit compensation of the G12/G13 pockets.
+
+use super::Ex;
+use crate::ast::Val;
+use crate::canon::Plane;
+use crate::program::CBlock;
+use crate::radius::{Ctx, Side};
+
+/// Number of offset registers (D0…D200, HAAS 002:1163).
+pub const REGISTERS: usize = 201;
+
+impl Ex<'_> {
+    /// Radius of the active D register (0 for D00).
+    pub(super) fn tool_radius(&self, d: i64) -> f64 {
+        match usize::try_from(d) {
+            Ok(0) | Err(_) => 0.0,
+            Ok(e) => self.corrections.get(e).map_or(0.0, |c| c[0]),
+        }
+    }
+
+    /// `G10 L12 P<n> R<r>`: sets the radius of offset register n (inch values converted). Other L
+    /// numbers are not planned.
+    pub(super) fn g10(&mut self, b: &CBlock) {
+        let num = |a: char| match b.word(a).map(|w| &w.val) {
+            Some(Val::Lit(l)) => Some(l.value()),
+            _ => None,
+        };
+        let unit = if self.inch { 25.4 } else { 1.0 };
+        if let (Some(12.0), Some(p), Some(r)) = (num('L'), num('P'), num('R'))
+            && let Some(entry) = usize::try_from(p as i64)
+                .ok()
+                .and_then(|p| self.corrections.get_mut(p))
+        {
+            entry[0] = r * unit;
+        }
+    }
+
+    /// The compensation context of block `b` in the current modal state. Under G7.1 the plane is the
+    /// development (C in degrees scaled by r·π/180, Z).
+    pub(super) fn comp_ctx(&self, b: &CBlock) -> Ctx {
+        let (axes, scale) = match self.cyl {
+            Some(r) => (('C', 'Z'), (r * std::f64::consts::PI / 180.0, 1.0)),
+            None => {
+                let axes = match self.plane {
+                    Plane::XY => ('X', 'Y'),
+                    Plane::ZX => ('Z', 'X'),
+                    Plane::YZ => ('Y', 'Z'),
+                };
+                let k = |a: char| if self.diameter && a == 'X' { 0.5 } else { 1.0 };
+                (axes, (k(axes.0), k(axes.1)))
+            }
+        };
+        Ctx {
+            side: Side::from_g(self.comp),
+            radius: self.tool_radius(self.d),
+            axes,
+            scale,
+            mirrored: false,
+            file: b.file,
+            span: b.span,
+        }
+    }
+}
