@@ -235,10 +235,14 @@ impl<'p> Exec<'p> {
         Ok(())
     }
 
-    /// The native region for block `bi` when the native back end may run it now (no fixed cycle
-    /// active: an active cycle runs after every block).
+    /// The native region for block `bi` when the native back end may run it now: not while a fixed
+    /// cycle is active (it runs after every block) or radius compensation is on (it looks at the
+    /// blocks between motions).
     fn region_at(&self, bi: usize) -> Option<usize> {
-        if self.opts.backend != Backend::Native || self.modal.cycle.is_some() {
+        if self.opts.backend != Backend::Native
+            || self.modal.cycle.is_some()
+            || self.modal.comp != 40
+        {
             return None;
         }
         self.prog.native.as_ref()?.region_at(bi)

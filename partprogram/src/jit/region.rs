@@ -118,8 +118,9 @@ pub(super) struct Run {
     pub unit_len: usize,
 }
 
+/// The parameter a `<addr>R<n>` word reads, as the executor's substitution clamps it.
 fn param(p: &crate::lexer::Lit) -> u8 {
-    (p.int.clamp(0, NPARAM as i64 - 1)) as u8
+    usize::try_from(p.int).map_or(NPARAM - 1, |v| v.min(NPARAM - 1)) as u8
 }
 
 /// Decodes block `bi` as a region block, or None when it does anything else.
