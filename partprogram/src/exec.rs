@@ -12,7 +12,7 @@ use crate::arith::{ArithError, ArithState, NPARAM};
 use crate::canon::{Canon, Kind, MFunc, Plane};
 use crate::codes;
 use crate::geom::Geometry;
-use crate::jit::RegionExit;
+use crate::jit::{RegionCount, RegionExit};
 use crate::lexer::Lit;
 use crate::program::{CBlock, Program, UnitKind};
 pub use crate::run::{Backend, Plan, PlanOptions, RunError};
@@ -253,16 +253,13 @@ impl<'p> Exec<'p> {
         let (Some(native), Some(fr)) = (self.prog.native.as_ref(), self.frames.last_mut()) else {
             return Ok(bi);
         };
-        let before = self.executed;
-        let exit = native.run_region(
-            ri,
-            bi,
-            &mut self.st,
-            &mut fr.counters,
-            &mut self.executed,
-            self.opts.max_blocks,
-            self.opts.block_skip,
-        );
+        let mut count = RegionCount {
+            executed: self.executed,
+            max_blocks: self.opts.max_blocks,
+            block_skip: self.opts.block_skip,
+        };
+        let exit = native.run_region(ri, bi, &mut self.st, &mut fr.counters, &mut count);
+        let before = std::mem::replace(&mut self.executed, count.executed);
         if self.executed > before {
             // Every interpreted block ends with this export; the geometry is unchanged in a region.
             self.geo.export_programmed(&mut self.st);

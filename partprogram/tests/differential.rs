@@ -109,7 +109,7 @@ fn flow_item() -> impl Strategy<Value = (u8, String, u8, bool)> {
         3 => ((40u8..45), q).prop_map(|(p, q)| format!(" GR{p} L@{q}")),
         3 => ((15u8..20), (10u8..21), (10u8..21), flag.clone()).prop_map(|(op, a, b, c)| format!(" G26 R5=+{op}{a:02}{b:02}{c:0>2}")),
         1 => (10u8..21).prop_map(|p| format!(" G1 XR{p} F100")),
-        2 => (flag, prop::sample::select(vec![73i64, 78, 0, 1, 5, 120])).prop_map(|(p, v)| format!(" R{p}={v}")),
+        2 => (flag, prop::sample::select(vec![73i64, 78, 0, 1, 5, 81, 120])).prop_map(|(p, v)| format!(" R{p}={v}")),
         1 => ((-3i64..3), (10u8..21)).prop_map(|(d, p)| format!(" R{p}={d} G26 R5=-41{p}00{p}")),
     ];
     (any::<u8>(), body, any::<u8>(), prop::bool::weighted(0.15))
@@ -155,14 +155,50 @@ proptest! {
         items in proptest::collection::vec(flow_item(), 1..9),
         block_skip in any::<bool>(),
     ) {
-        let src = flow_program(&seed, &items);
-        let (prog, diags) = compile(&mill(), "flow", &src);
-        let prog = prog.unwrap_or_else(|| panic!("{src}\n{diags:?}"));
-        for max_blocks in [3000, 517] {
-            let opts = |backend| PlanOptions { backend, block_skip, max_blocks, ..PlanOptions::default() };
-            let a = outcome(&prog, opts(Backend::Interpreter));
-            let b = outcome(&prog, opts(Backend::Native));
-            prop_assert_eq!(a, b, "{}", src);
-        }
+        // Without a macro folder (compiling the mill's cycles for every case would dominate).
+        let machine = partprogram::MachineSpec::new(partprogram::Dialect::Mefi, &['X', 'Y', 'Z']);
+        let (a, b) = flow_outcomes(&machine, &seed, &items, block_skip);
+        prop_assert_eq!(a, b, "{}", flow_program(&seed, &items));
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 16, .. ProptestConfig::default() })]
+
+    /// The same with the mill's macro folder: computed `GR<n>` = 81 starts its fixed cycle.
+    #[test]
+    fn native_regions_match_interpreter_with_cycles(
+        seed in any::<[bool; 5]>(),
+        items in proptest::collection::vec(flow_item(), 1..9),
+        block_skip in any::<bool>(),
+    ) {
+        let (a, b) = flow_outcomes(&mill(), &seed, &items, block_skip);
+        prop_assert_eq!(a, b, "{}", flow_program(&seed, &items));
+    }
+}
+
+/// Plans the flow program with both back ends at two block limits; (interpreter, native).
+fn flow_outcomes(
+    machine: &partprogram::MachineSpec,
+    seed: &[bool; 5],
+    items: &[(u8, String, u8, bool)],
+    block_skip: bool,
+) -> (Vec<Outcome>, Vec<Outcome>) {
+    let src = flow_program(seed, items);
+    let (prog, diags) = compile(machine, "flow", &src);
+    let prog = prog.unwrap_or_else(|| panic!("{src}\n{diags:?}"));
+    let run = |backend| {
+        [3000, 517]
+            .map(|max_blocks| {
+                let opts = PlanOptions {
+                    backend,
+                    block_skip,
+                    max_blocks,
+                    ..PlanOptions::default()
+                };
+                outcome(&prog, opts)
+            })
+            .to_vec()
+    };
+    (run(Backend::Interpreter), run(Backend::Native))
 }

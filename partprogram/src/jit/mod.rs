@@ -33,7 +33,7 @@ use cranelift_module::{FuncId, Linkage, Module};
 use crate::arith::{ArithError, ArithState, Word};
 use crate::machine::DoublePrecision;
 use crate::program::Program;
-pub use region::{RegionCtx, RegionExit};
+pub use region::{RegionCount, RegionCtx, RegionExit};
 
 type BlockFn = unsafe extern "C" fn(*mut ArithState) -> i32;
 type RegionFn = unsafe extern "C" fn(*mut RegionCtx, i64) -> i64;
@@ -98,17 +98,15 @@ impl NativeCode {
     }
 
     /// Runs region `ri` from block `entry`. `counters` are the G73 counters of the current frame
-    /// (indexed by block index − unit start, [`region::IDLE`] for none); `executed` is the executed-block
-    /// count, advanced by the blocks run here and checked against `max_blocks`.
+    /// (indexed by block index − unit start, [`region::IDLE`] for none); `count` holds the
+    /// executed-block count, advanced by the blocks run here and checked against its limit.
     pub fn run_region(
         &self,
         ri: usize,
         entry: usize,
         st: &mut ArithState,
         counters: &mut [i64],
-        executed: &mut u64,
-        max_blocks: u64,
-        block_skip: bool,
+        count: &mut RegionCount,
     ) -> RegionExit {
         let Some(rc) = self.regions.get(ri) else {
             return RegionExit::Next(entry);
@@ -119,16 +117,16 @@ impl NativeCode {
         let mut ctx = RegionCtx {
             st: st as *mut ArithState,
             counters: counters.as_mut_ptr(),
-            executed: *executed,
-            max_blocks,
-            block_skip: u64::from(block_skip),
+            executed: count.executed,
+            max_blocks: count.max_blocks,
+            block_skip: u64::from(count.block_skip),
             fail: 0,
         };
         // SAFETY: the function was compiled for `RegionCtx` (repr(C)); it addresses `r`, `g_groups`
         // of `*st` and `counters[0..rc.counters]` (checked above) only, and calls the host callbacks
         // with the same exclusive `st` pointer. Entries outside the region return at once.
         let rv = unsafe { (rc.f)(&mut ctx, entry as i64) };
-        *executed = ctx.executed;
+        count.executed = ctx.executed;
         region::decode_exit(rv, ctx.fail as usize)
     }
 }

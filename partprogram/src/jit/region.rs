@@ -51,6 +51,17 @@ pub enum RegionExit {
     Limit(usize),
 }
 
+/// The executed-block count a region advances, with the options that govern it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RegionCount {
+    /// Blocks executed so far (in and out).
+    pub executed: u64,
+    /// `PlanOptions::max_blocks`.
+    pub max_blocks: u64,
+    /// `PlanOptions::block_skip`.
+    pub block_skip: bool,
+}
+
 /// The state a region function works on. `repr(C)`: native code addresses the fields by offset.
 #[derive(Debug)]
 #[repr(C)]
