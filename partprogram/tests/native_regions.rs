@@ -189,3 +189,35 @@ fn active_fixed_cycle_runs_after_every_region_block() {
     assert_eq!(plunges, per_cycle * 7);
     assert!(per_cycle >= 1);
 }
+
+#[test]
+fn division_boundaries_agree() {
+    // R12 = 65536 · −32768 = i32::MIN (raw); i32::MIN / 1 fits, i32::MIN / −1 does not.
+    let p = prog("%1\nN1 R10=65536 R11=-32768 R13=1 G27 R5=-03101112 R6=-04121314\nN2 M30\n");
+    for plan in both(&p, PlanOptions::default()) {
+        assert_eq!(plan.params[14], -2_147_483_648);
+    }
+    let p = prog("%1\nN1 R10=65536 R11=-32768 R13=-1 G27 R5=-03101112 R6=-04121314\nN2 M30\n");
+    for backend in [Backend::Native, Backend::Interpreter] {
+        let Err((_, d)) = plan(
+            &p,
+            PlanOptions {
+                backend,
+                ..PlanOptions::default()
+            },
+        ) else {
+            panic!("no error");
+        };
+        assert_eq!((d.code, d.line), (2500, 2), "{backend:?}");
+        assert_eq!(
+            d.message,
+            "parameter arithmetic: result does not fit a parameter"
+        );
+    }
+    // Decimal 5000 / 3 (the scaled dividend 5·10⁹ needs 64 bits) and raw −7 / 2 (truncation).
+    let p =
+        prog("%1\nN1 R10=5000000 R11=3000 R12=-7 R13=2 G27 R5=+04101120 R6=-04121321\nN2 M30\n");
+    for plan in both(&p, PlanOptions::default()) {
+        assert_eq!((plan.params[20], plan.params[21]), (1_666_666, -3));
+    }
+}

@@ -139,6 +139,34 @@ impl Gen<'_, '_> {
         self.b.ins().iadd(q, sign)
     }
 
+    /// `x / y` (y ≠ 0, x ≠ i64::MIN) truncated toward zero: a 32-bit division when both fit 32 bits
+    /// and y ≠ −1 (several times faster than the 64-bit one on x86-64), else the 64-bit one.
+    fn sdiv(&mut self, x: Value, y: Value) -> Value {
+        let fx = self.fits32(x);
+        let fy = self.fits32(y);
+        let not_m1 = self.b.ins().icmp_imm_s(IntCC::NotEqual, y, -1);
+        let both = self.b.ins().band(fx, fy);
+        let narrow = self.b.ins().band(both, not_m1);
+        let (short, long, join) = (
+            self.b.create_block(),
+            self.b.create_block(),
+            self.b.create_block(),
+        );
+        self.b.append_block_param(join, types::I64);
+        self.b.ins().brif(narrow, short, &[], long, &[]);
+        self.b.switch_to_block(short);
+        let x32 = self.b.ins().ireduce(types::I32, x);
+        let y32 = self.b.ins().ireduce(types::I32, y);
+        let q32 = self.b.ins().sdiv(x32, y32);
+        let q = self.b.ins().sextend(types::I64, q32);
+        self.b.ins().jump(join, &[q.into()]);
+        self.b.switch_to_block(long);
+        let q = self.b.ins().sdiv(x, y);
+        self.b.ins().jump(join, &[q.into()]);
+        self.b.switch_to_block(join);
+        self.b.block_params(join)[0]
+    }
+
     fn fits32(&mut self, v: Value) -> Value {
         let narrow = self.b.ins().ireduce(types::I32, v);
         let wide = self.b.ins().sextend(types::I64, narrow);
@@ -257,7 +285,7 @@ impl Gen<'_, '_> {
                     let k = self.c(1000);
                     self.b.ins().imul(x, k)
                 };
-                let v = self.b.ins().sdiv(x, y);
+                let v = self.sdiv(x, y);
                 self.store_fit(w.c, v);
             }
             15..=19 if ok3 => {
