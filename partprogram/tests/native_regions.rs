@@ -221,3 +221,30 @@ fn division_boundaries_agree() {
         assert_eq!((plan.params[20], plan.params[21]), (1_666_666, -3));
     }
 }
+
+#[test]
+fn products_beyond_64_bits_overflow_in_both_back_ends() {
+    // N1 writes −1 to the pair R40/R41 (R41 = 2³² − 1); R41 · R41 needs more than 64 bits.
+    for word in ["-03414142", "+03414142", "+05410042"] {
+        let p = prog(&format!(
+            "%1\nN1 R10=-1 G26 R5=100090\nN2 G26 R5={word}\nN3 M30\n"
+        ));
+        assert!(regions(&p, 0..2).iter().all(Option::is_some));
+        for backend in [Backend::Native, Backend::Interpreter] {
+            let Err((_, d)) = plan(
+                &p,
+                PlanOptions {
+                    backend,
+                    ..PlanOptions::default()
+                },
+            ) else {
+                panic!("{word}: no error");
+            };
+            assert_eq!((d.code, d.line), (2500, 3), "{word} {backend:?}");
+            assert_eq!(
+                d.message,
+                "parameter arithmetic: result does not fit a parameter"
+            );
+        }
+    }
+}

@@ -256,23 +256,15 @@ impl Gen<'_, '_> {
             3 | 5 if ok3 || (w.op == 5 && ok2) => {
                 let x = self.load(w.a);
                 let y = if w.op == 5 { x } else { self.load(w.b) };
-                // Operands beyond 32 bits (pair halves) could overflow i64: use the interpreter then.
-                let fx = self.fits32(x);
-                let fy = self.fits32(y);
-                let both = self.b.ins().band(fx, fy);
-                let fast = self.b.create_block();
-                let slow = self.b.create_block();
-                let join = self.b.create_block();
-                self.b.ins().brif(both, fast, &[], slow, &[]);
-                self.b.switch_to_block(slow);
-                self.host(r);
-                self.b.ins().jump(join, &[]);
-                self.b.switch_to_block(fast);
+                // The target is a single 32-bit parameter, so a product beyond i64 (possible with
+                // pair halves as operands) cannot fit it either: overflow, as in the interpreter.
                 let p = self.b.ins().imul(x, y);
+                let hi = self.b.ins().smulhi(x, y);
+                let sign = self.b.ins().sshr_imm_u(p, 63);
+                let ok = self.b.ins().icmp(IntCC::Equal, hi, sign);
+                self.guard(ok, ArithError::Overflow.code());
                 let v = if w.raw { p } else { self.div1000(p) };
                 self.store_fit(w.c, v);
-                self.b.ins().jump(join, &[]);
-                self.b.switch_to_block(join);
             }
             4 if ok3 => {
                 let (x, y) = (self.load(w.a), self.load(w.b));
