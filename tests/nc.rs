@@ -220,6 +220,138 @@ fn fanuc_programs_are_detected_and_planned() {
     assert_eq!(out.status.code(), Some(1));
 }
 
+#[test]
+fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
+    // The mill's MP0/TAB0.KOR: H01 has Z length -150, so `G43 H01 Z2.` is machine Z -148.
+    let out = ncplc(&["nc", "plan", "plc-programs/mill", "O00050.nc"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let z = |n: u64| {
+        lines
+            .iter()
+            .filter(|v| v["n"] == n)
+            .map(|v| v["end"]["Z"].as_f64().unwrap_or(f64::NAN))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(z(15), vec![-148.0]);
+    assert_eq!(z(17), vec![-125.0], "G00 Z25. keeps the length");
+    assert_eq!(z(18), vec![0.0], "G53 G49 Z0. is machine zero");
+    // MEFI on a copy of the mill: method A by default, method B from nc/CONSTANTS.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("mill");
+    copy_machine("mill", &m);
+    std::fs::write(m.join("nc/LEN"), "%1\nN10 G0 X0 Y0 Z0 &1120 D10\nN20 M30\n").expect("program");
+    let xyz = |out: &std::process::Output| {
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v = &json_lines(&out.stdout)[0];
+        ["X", "Y", "Z"].map(|a| v["end"][a].as_f64().unwrap_or(f64::NAN))
+    };
+    let machine = m.to_str().unwrap_or_default();
+    let a = ncplc(&["nc", "plan", machine, "LEN"]);
+    assert_eq!(xyz(&a), [1.5, -2.0, -40.0]);
+    // Machine constant 329 decade 7 = 1: method B.
+    std::fs::write(m.join("nc/CONSTANTS"), "R329: 01000.000\n").expect("option");
+    let b = ncplc(&["nc", "plan", machine, "LEN"]);
+    assert_eq!(xyz(&b), [1.5, -2.0, 40.0]);
+    // --kor replaces the machine's table.
+    let kor = dir.path().join("other.KOR");
+    std::fs::write(&kor, "$KOR\n10: Z=7.5\n").expect("kor");
+    let k = ncplc(&[
+        "nc",
+        "plan",
+        machine,
+        "LEN",
+        "--kor",
+        kor.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(xyz(&k), [0.0, 0.0, 7.5]);
+}
+
+#[test]
+fn errors_in_the_correction_table_fail_check_and_plan() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("lathe");
+    copy_machine("lathe", &m);
+    // The lathe's axis 2 is Z: its length must be written `2=`.
+    std::fs::write(
+        m.join("MP0/TAB0.KOR"),
+        "comment\n$KOR\n01: R=0.8 X=0.0 2=0.0\n02: X=1.0 Z=2.0\n",
+    )
+    .expect("kor");
+    let machine = m.to_str().unwrap_or_default();
+    for cmd in ["check", "plan"] {
+        let out = ncplc(&["nc", cmd, machine, "G81ROUGH", "--format", "json"]);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert!(
+            out.stdout.is_empty() || cmd == "check",
+            "nothing is planned"
+        );
+        let diags = json_lines(&out.stderr);
+        assert_eq!(diags.len(), 1, "{cmd}");
+        assert_eq!(
+            (
+                &diags[0]["code"],
+                &diags[0]["file"],
+                &diags[0]["line"],
+                &diags[0]["column"]
+            ),
+            (
+                &serde_json::json!(2044),
+                &serde_json::json!("MP0/TAB0.KOR"),
+                &serde_json::json!(4),
+                &serde_json::json!(11)
+            )
+        );
+    }
+    // Without TAB0.KOR the lathe name TAB2.KOR of the manual is read.
+    std::fs::rename(m.join("MP0/TAB0.KOR"), m.join("MP0/TAB2.KOR")).expect("rename");
+    let out = ncplc(&["nc", "check", machine, "G81ROUGH", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(json_lines(&out.stderr)[0]["file"], "MP0/TAB2.KOR");
+    // The shipped lathe table is valid and keeps the roughing example's entry 01 without lengths.
+    let ok = ncplc(&["nc", "check", "plc-programs/lathe", "G81ROUGH"]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+}
+
+#[test]
+fn plan_cuts_the_lathe_thread_with_the_run_out_of_machine_constant_8() {
+    // plc-programs/lathe/nc/CONSTANTS: R8 = 04000.000, the run-out slope is in R04 (= 120.0: X, +20°).
+    let out = ncplc(&["nc", "plan", "plc-programs/lathe", "THREAD"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let threads: Vec<(f64, f64)> = json_lines(&out.stdout)
+        .iter()
+        .filter(|v| v["thread"] == true)
+        .map(|v| {
+            let x = v["end"]["X"].as_f64().unwrap_or(f64::NAN);
+            let z = v["end"]["Z"].as_f64().unwrap_or(f64::NAN);
+            ((x * 1000.0).round() / 1000.0, z)
+        })
+        .collect();
+    // 64 + 2·12·tan 20° = 72.735 at the end of the 12 mm run-out.
+    assert_eq!(threads, vec![(64.0, -88.0), (72.735, -100.0)]);
+}
+
 /// (N, kind, X, Y, feed) of the motion blocks of a JSON plan.
 fn xy_path(lines: &[serde_json::Value]) -> Vec<(u64, String, f64, f64, f64)> {
     lines
@@ -320,5 +452,40 @@ fn plan_reports_equidistants_not_found_with_code_2510() {
     assert_eq!(
         diags[0]["message"],
         "radius compensation: intersection of equidistants not found between N40 and N50"
+    );
+}
+
+#[test]
+fn o00023_takes_h03_length_and_d03_radius_from_the_mills_table() {
+    // TAB0.KOR entry 03: R=6.0 (the program's "DIA. OFFSET D03 AN 12."), Z=-135.5.
+    let out = ncplc(&["nc", "plan", "plc-programs/mill", "O00023.nc"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let end = |v: &serde_json::Value| {
+        let e = |a: &str| v["end"][a].as_f64().unwrap_or(f64::NAN);
+        (e("X"), e("Y"), e("Z"))
+    };
+    // G01 Z-16. F500. after G43 H03: Z -16 - 135.5.
+    let plunge = lines
+        .iter()
+        .position(|v| v["kind"] == "linear" && v["feed"] == 500.0)
+        .expect("the end mill plunge");
+    assert_eq!(end(&lines[plunge]), (-58.0, 58.0, -151.5));
+    // The contour Y50 → X50 → Y-50 … with the tool 6 mm to its left (an arc at the outside corner).
+    let contour: Vec<(String, (f64, f64, f64))> = lines[plunge + 1..plunge + 4]
+        .iter()
+        .map(|v| (v["kind"].as_str().unwrap_or("").to_string(), end(v)))
+        .collect();
+    assert_eq!(
+        contour,
+        vec![
+            ("linear".to_string(), (-58.0, 56.0, -151.5)),
+            ("linear".to_string(), (50.0, 56.0, -151.5)),
+            ("arc_cw".to_string(), (56.0, 50.0, -151.5)),
+        ]
     );
 }

@@ -19,8 +19,11 @@
 //!
 //! `FIELDBUS_BENCH_EVENTS` overrides the number of latency events (default 10,000);
 //! `FIELDBUS_BENCH_FIFO=1` runs the scan thread as SCHED_FIFO 80 (as `ncplc run` does when it may;
-//! the driver's I/O thread, started from the scan thread, inherits it) and the simulated device's
-//! thread as SCHED_FIFO 70;
+//! the driver moves its I/O thread to SCHED_FIFO 70 at the first latch, `fieldbus::rt`) and the
+//! simulated device's thread as SCHED_FIFO 70;
+//! `FIELDBUS_BENCH_DIRECT=0` leaves every write to the I/O task (`direct_write = false`);
+//! `FIELDBUS_BENCH_IO_OTHER=1` puts the driver's I/O thread back to SCHED_OTHER after the first
+//! latch (for comparison);
 //! `FIELDBUS_BENCH_SLACK=1` sets the scan thread's timer slack to 1 ns (Linux default 50 µs).
 //! `cargo bench -p fieldbus --bench modbus_loop -- latency-only` skips the criterion groups.
 
@@ -47,6 +50,7 @@ fn device(addr: std::net::SocketAddr, poll: Duration) -> ModbusDevice {
         timeout: Duration::from_millis(50),
         poll,
         write_connection: true,
+        direct_write: std::env::var("FIELDBUS_BENCH_DIRECT").map_or(true, |v| v != "0"),
         alarm_ticks: 50,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(100),
@@ -78,6 +82,13 @@ fn env_flag(name: &str) -> bool {
 struct TickLog {
     /// (due, woke, latched W0A0 bit 0) of every tick, in order.
     ticks: Vec<(Instant, Instant, bool)>,
+    /// Writes the scan thread put on the wire itself.
+    direct: u64,
+    /// Time spent in `publish_outputs` on ticks whose output changed / did not change.
+    publish_changed: Vec<Duration>,
+    publish_same: Vec<Duration>,
+    /// The SCHED_FIFO priority the driver's I/O thread took, if any.
+    io_priority: Option<i32>,
 }
 
 /// Where one event's time went, from the tick log.
@@ -91,6 +102,8 @@ struct Breakdown {
     gap: Duration,
     /// A tick woke after the event but still latched the old value (the read was not back yet).
     missed_tick: bool,
+    /// Event → wake of the first tick after it (whether or not that tick latched the change).
+    lead: Duration,
 }
 
 impl TickLog {
@@ -105,7 +118,28 @@ impl TickLog {
             write_path: at.saturating_duration_since(woke),
             gap: woke.saturating_duration_since(prev),
             missed_tick: k > first,
+            lead: self.ticks[first].1.saturating_duration_since(t0),
         })
+    }
+}
+
+/// Puts the driver's I/O threads (named `ncplc-modbus`) back to SCHED_OTHER, undoing
+/// `fieldbus::rt` for the comparison `FIELDBUS_BENCH_IO_OTHER=1` asks for.
+fn io_threads_to_sched_other() {
+    let Ok(tasks) = std::fs::read_dir("/proc/self/task") else {
+        return;
+    };
+    for task in tasks.flatten() {
+        let comm = std::fs::read_to_string(task.path().join("comm")).unwrap_or_default();
+        let tid = task
+            .file_name()
+            .to_str()
+            .and_then(|t| t.parse::<libc::pid_t>().ok());
+        if let (true, Some(tid)) = (comm.starts_with("ncplc-modbus"), tid) {
+            let param = libc::sched_param { sched_priority: 0 };
+            // SAFETY: plain syscall on a thread of this process with a valid parameter block.
+            unsafe { libc::sched_setscheduler(tid, libc::SCHED_OTHER, &param) };
+        }
     }
 }
 
@@ -135,6 +169,10 @@ fn scan_loop(addr: std::net::SocketAddr, write_connection: bool, stop: Arc<Atomi
     let mut image = vec![0u8; PACKETS_LEN];
     let mut log = TickLog {
         ticks: Vec::with_capacity(100_000),
+        direct: 0,
+        publish_changed: Vec::new(),
+        publish_same: Vec::with_capacity(100_000),
+        io_priority: None,
     };
     let mut next = Instant::now();
     let mut tick = 0;
@@ -142,9 +180,20 @@ fn scan_loop(addr: std::net::SocketAddr, write_connection: bool, stop: Arc<Atomi
         let woke = Instant::now();
         tick += 1;
         io.latch_inputs(tick, &mut image);
+        if tick == 2 && env_flag("FIELDBUS_BENCH_IO_OTHER") {
+            io_threads_to_sched_other();
+        }
         log.ticks.push((next, woke, image[0] & 1 == 1));
+        let changed = image[16] != image[0];
         image[16] = image[0];
+        let t = Instant::now();
         io.publish_outputs(tick, &image);
+        let spent = t.elapsed();
+        if changed {
+            log.publish_changed.push(spent);
+        } else {
+            log.publish_same.push(spent);
+        }
         next += TICK;
         let now = Instant::now();
         if next > now {
@@ -153,6 +202,10 @@ fn scan_loop(addr: std::net::SocketAddr, write_connection: bool, stop: Arc<Atomi
             next = now;
         }
     }
+    log.direct = io.direct_writes("rio1");
+    log.io_priority = io
+        .io_priority()
+        .filter(|_| !env_flag("FIELDBUS_BENCH_IO_OTHER"));
     log
 }
 
@@ -214,6 +267,7 @@ fn latency_report(write_connection: bool) {
     while sim.state().last_write.is_none() && start.elapsed() < Duration::from_secs(5) {
         std::thread::sleep(Duration::from_millis(1));
     }
+    let (reads_before, loop_start) = (sim.state().reads_done, Instant::now());
     let mut seed = 0x2545_F491u32;
     let mut lat = Vec::with_capacity(events);
     let mut spans = Vec::with_capacity(events);
@@ -249,6 +303,8 @@ fn latency_report(write_connection: bool) {
             std::thread::sleep(Duration::from_micros(50));
         }
     }
+    let reads = sim.state().reads_done - reads_before;
+    let read_period = loop_start.elapsed() / u32::try_from(reads.max(1)).unwrap_or(u32::MAX);
     stop.store(true, Ordering::Relaxed);
     let log = scan.join().expect("scan thread");
     let target = TICK + 2 * rtt;
@@ -322,8 +378,28 @@ fn latency_report(write_connection: bool) {
             );
         }
     };
+    println!(
+        "  {reads} reads answered during the loop (one per {read_period:.1?}); writes sent by the scan thread itself: {}; driver I/O thread: {}",
+        log.direct,
+        log.io_priority
+            .map_or("SCHED_OTHER".to_string(), |p| format!("SCHED_FIFO {p}"))
+    );
     show("event → latching tick", &to_latch);
+    // Events that a tick woke after but did not latch: how close before that tick they came. With
+    // back-to-back polling a change needs ≈ 0.5–1.5 RT to come back from the device.
+    let mut missed_lead: Vec<Duration> = parts
+        .iter()
+        .filter(|(_, b)| b.missed_tick)
+        .map(|(_, b)| b.lead)
+        .collect();
+    missed_lead.sort();
+    show("event → tick that missed it", &missed_lead);
     show("latching tick → write applied", &write_path);
+    let mut log = log;
+    log.publish_changed.sort();
+    log.publish_same.sort();
+    show("publish_outputs, output changed", &log.publish_changed);
+    show("publish_outputs, unchanged", &log.publish_same);
     show("scan wake-up lateness", &late);
     show("scan wake-to-wake gap", &gaps);
     println!(

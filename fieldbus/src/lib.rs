@@ -6,9 +6,10 @@
 //! ([`canopen::master`]). [`start_hmi`] wraps any driver (the simulated one too) with the Modbus TCP
 //! server for an HMI or SCADA ([`modbus::server`]). Drivers never block the scan: their network tasks
 //! run on a private tokio runtime and exchange images through lock-free buffers ([`exchange`]).
-//! That runtime's threads inherit the scheduling policy of the thread that starts the driver: start
-//! it after the scan thread took `SCHED_FIFO` when the I/O should run real-time too (measured in
-//! `BENCHMARKS.md`).
+//! When the scan thread runs `SCHED_FIFO`, a driver moves its I/O threads to `SCHED_FIFO` ten
+//! below it at its first latch ([`rt`]), whichever was started first; the Modbus client also puts
+//! output writes on the wire from the scan thread itself (one non-blocking `send`,
+//! [`modbus::writer`]). Measured in `BENCHMARKS.md`.
 //!
 //! # Wiring it into `ncplc run`
 //! ```no_run
@@ -39,6 +40,7 @@ pub mod exchange;
 pub mod health;
 pub mod map;
 pub mod modbus;
+pub mod rt;
 pub mod tick_io;
 pub mod validate;
 

@@ -128,6 +128,9 @@ pub struct ModbusDevice {
     /// Writes go over a second connection of their own, so a write never waits behind a read
     /// already on the wire (`write_connection = false` for devices that accept one connection).
     pub write_connection: bool,
+    /// With a write connection: the scan thread sends a write itself when that connection is idle
+    /// (one non-blocking `send`; `direct_write = false` leaves every write to the I/O task).
+    pub direct_write: bool,
     /// Ticks without a fresh answer after which the device is declared lost.
     pub alarm_ticks: u32,
     /// First reconnect delay; doubles after each failed attempt up to `reconnect_max`.
@@ -294,6 +297,7 @@ pub(crate) struct RawModbusDevice {
     pub timeout_ms: Option<Spanned<u64>>,
     pub poll_us: Option<Spanned<u64>>,
     pub write_connection: Option<Spanned<bool>>,
+    pub direct_write: Option<Spanned<bool>>,
     pub alarm_ticks: Option<Spanned<u32>>,
     pub reconnect_ms: Option<Spanned<u64>>,
     pub reconnect_max_ms: Option<Spanned<u64>>,

@@ -105,6 +105,21 @@ fn write_connection_can_be_turned_off_and_must_be_a_boolean() {
 }
 
 #[test]
+fn direct_write_is_on_by_default_and_can_be_turned_off() {
+    let none = DeclaredConnectors::default();
+    let (map, diags) = parse_map(DEVICE, "io.toml", &none);
+    assert!(diags.is_empty(), "{diags:?}");
+    assert!(map.expect("valid").modbus[0].direct_write);
+    let (map, diags) = parse_map(&format!("{DEVICE}direct_write = false\n"), "io.toml", &none);
+    assert!(diags.is_empty(), "{diags:?}");
+    assert!(!map.expect("valid").modbus[0].direct_write);
+    assert_eq!(
+        located(&format!("{DEVICE}direct_write = \"yes\"\n"), &none),
+        [(codes::SYNTAX, 4, 16)]
+    );
+}
+
+#[test]
 fn mill_map_is_valid() {
     let declared = DeclaredConnectors {
         inputs: vec![0, 1, 2],

@@ -18,6 +18,7 @@ fn device(addr: SocketAddr) -> ModbusDevice {
         timeout: Duration::from_millis(80),
         poll: Duration::from_micros(500),
         write_connection: true,
+        direct_write: true,
         alarm_ticks: 50,
         reconnect_min: Duration::from_millis(10),
         reconnect_max: Duration::from_millis(40),

@@ -1,5 +1,8 @@
 //! Benchmarks: a generated 100,000-block CAM program checked and planned (target ≤ 1 s), and parameter
-//! arithmetic in native code against the reference interpreter (target ≥ 10× faster).
+//! arithmetic in native code against the reference interpreter (target ≥ 10× faster): the block
+//! functions alone (`arith/*_16_ops`), the same operations as a planned parameter loop
+//! (`arith/*_plan_16k_ops`, native regions), and a loop-heavy parameter program with a conditional
+//! jump (`param_loop`).
 
 use std::hint::black_box;
 
@@ -154,9 +157,76 @@ fn bench_arith(c: &mut Criterion) {
             black_box(st.r[45])
         })
     });
+    // The same 16 operations as four G29 blocks of a planned program, looped 1000 times by G73.
+    let mut src = String::from("%1\nN1");
+    for (i, r) in seeded().r.iter().enumerate().skip(10).take(24) {
+        src.push_str(&format!(" R{i}={r}"));
+    }
+    for (k, ws) in words.iter().enumerate() {
+        src.push_str(&format!("\nN{} G29", k + 2));
+        for (j, w) in ws.iter().enumerate() {
+            src.push_str(&format!(" R{}={w:+}", 5 + j));
+        }
+    }
+    src.push_str("\nN6 G73 L2 Q999\nN7 M30\n");
+    let prog = compiled(&src);
+    let a = planned(&prog, Backend::Native);
+    let b = planned(&prog, Backend::Interpreter);
+    assert_eq!((a.params, a.executed), (b.params, b.executed));
+    assert_eq!(a.executed, 1 + 1000 * 5 + 1);
+    for (name, backend) in [
+        ("native_plan_16k_ops", Backend::Native),
+        ("interpreter_plan_16k_ops", Backend::Interpreter),
+    ] {
+        g.bench_function(name, |bch| {
+            bch.iter(|| black_box(planned(black_box(&prog), backend).params[45]))
+        });
+    }
     g.finish();
-    let _ = Backend::Native;
 }
 
-criterion_group!(benches, bench_cam, bench_arith);
+fn compiled(src: &str) -> partprogram::Program {
+    let machine = MachineSpec::new(Dialect::Mefi, &['X', 'Y', 'Z']);
+    let (prog, diags) = compile(&machine, "bench", src);
+    prog.unwrap_or_else(|| panic!("{diags:?}"))
+}
+
+fn planned(prog: &partprogram::Program, backend: Backend) -> partprogram::Plan {
+    plan(
+        prog,
+        PlanOptions {
+            backend,
+            ..PlanOptions::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{}", e.1))
+}
+
+/// A loop-heavy parameter program: 10,000 iterations of four operations (count, sum, product,
+/// comparison) and a conditional jump `GR10 L2 Q9999`.
+fn bench_param_loop(c: &mut Criterion) {
+    let prog = compiled(
+        "%1\nN1 R1=0 R2=0 R3=10000 R4=0 R9=3\n\
+         N2 G29 R5=-41020002 R6=-01010201 R7=-03020904 R8=-17020310\n\
+         N3 GR10 L2 Q9999\nN4 M30\n",
+    );
+    for backend in [Backend::Native, Backend::Interpreter] {
+        let p = planned(&prog, backend);
+        assert_eq!(p.params[1], 10_000 * 10_001 / 2);
+        assert_eq!((p.params[2], p.params[4]), (10_000, 30_000));
+        assert_eq!(p.executed, 1 + 10_000 * 2 + 1);
+    }
+    let mut g = c.benchmark_group("param_loop");
+    for (name, backend) in [
+        ("native_10k_iterations", Backend::Native),
+        ("interpreter_10k_iterations", Backend::Interpreter),
+    ] {
+        g.bench_function(name, |bch| {
+            bch.iter(|| black_box(planned(black_box(&prog), backend).params[1]))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_cam, bench_arith, bench_param_loop);
 criterion_main!(benches);

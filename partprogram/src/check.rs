@@ -178,8 +178,17 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
                 count_range(1, 99, a.to_string().as_str(), diags);
             }
             '&' => {
-                if let Some(v) = count_range(0, 2222, "&", diags)
-                    && v.to_string().bytes().any(|c| c > b'2')
+                let c = m.length_method == crate::machine::LengthMethod::C;
+                if let Some(v) = count_range(
+                    0,
+                    if c { 1 } else { 2222 },
+                    if c {
+                        "& under length correction method C"
+                    } else {
+                        "&"
+                    },
+                    diags,
+                ) && v.to_string().bytes().any(|c| c > b'2')
                 {
                     diags.push(err(
                         codes::OUT_OF_RANGE,

@@ -77,6 +77,33 @@ pub const RUN_TARGET: u32 = 2505;
 pub const RUN_DOUBLE: u32 = 2506;
 /// Run time: a G function computed through a parameter that is not allowed there.
 pub const RUN_BAD_G: u32 = 2507;
+
+/// `TAB*.KOR`: no `$KOR` keyword.
+pub const KOR_NO_KEYWORD: u32 = 2040;
+/// `TAB*.KOR`: a line that does not start with a two-digit correction number and `:`.
+pub const KOR_LINE: u32 = 2041;
+/// `TAB*.KOR`: a correction number defined twice.
+pub const KOR_DUPLICATE_ENTRY: u32 = 2042;
+/// `TAB*.KOR`: a field that is not R, X, Y, Z, U, 1..4 or P.
+pub const KOR_UNKNOWN_FIELD: u32 = 2043;
+/// `TAB*.KOR`: an axis name that is not the name of the machine's axis of that ordinal (lathe `Z=`).
+pub const KOR_AXIS_NAME: u32 = 2044;
+/// `TAB*.KOR`: a field without `=` or without a number.
+pub const KOR_SYNTAX: u32 = 2045;
+/// `TAB*.KOR`: a value out of format or range (no point, > 3 decimals, > ±999.999, P not 1..9).
+pub const KOR_VALUE: u32 = 2046;
+/// `TAB*.KOR`: a datum written twice in one entry.
+pub const KOR_DUPLICATE_FIELD: u32 = 2047;
+/// `TAB*.KOR`: a second `$KOR` keyword.
+pub const KOR_SECOND_TABLE: u32 = 2048;
+/// `TAB*.KOR`: the file cannot be read (reported by the runtime).
+pub const KOR_IO: u32 = 2049;
+/// Fanuc `G43`/`G44` without `H` in the block.
+pub const G43_WITHOUT_H: u32 = 2034;
+/// Run time: tool length compensation impossible (no tool axis for the plane, axis beyond the table).
+pub const RUN_TOOL_LENGTH: u32 = 2508;
+/// Run time: thread run-in/run-out without a valid slope (machine constant 8) or longer than the thread.
+pub const RUN_THREAD: u32 = 2509;
 /// Run time: radius compensation cannot join two elements (intersection of equidistants not found, or
 /// an arc radius smaller than the tool radius on its inside).
 pub const RUN_EQUIDISTANT: u32 = 2510;

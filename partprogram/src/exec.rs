@@ -5,8 +5,6 @@
 //! reference interpreter); update modal state; move; run the active fixed cycle; transfer control
 //! (G71/G72 calls, G73/`GR<n>` jumps, G70 return, M02/M30 end).
 
-use std::collections::HashMap;
-
 mod block;
 mod comp;
 mod flow;
@@ -15,6 +13,7 @@ use crate::arith::{ArithError, ArithState, NPARAM};
 use crate::canon::{Canon, Kind, MFunc, Plane};
 use crate::codes;
 use crate::geom::Geometry;
+use crate::jit::{RegionCount, RegionExit};
 use crate::lexer::Lit;
 use crate::program::{CBlock, Program, UnitKind};
 use crate::radius::Compensator;
@@ -57,7 +56,8 @@ struct Snapshot {
 struct Frame {
     unit: usize,
     pc: usize,
-    counters: HashMap<usize, i64>,
+    /// G73 jump counters, one slot per block of the unit ([`crate::jit::region::IDLE`]: none).
+    counters: Vec<i64>,
     repeat: i64,
     cycle: Option<Box<Snapshot>>,
 }
@@ -118,6 +118,14 @@ fn arith_err(b: &CBlock, e: ArithError) -> RunError {
     run_err(b, code, format!("parameter arithmetic: {e}"))
 }
 
+fn limit_err(b: &CBlock, max_blocks: u64) -> RunError {
+    run_err(
+        b,
+        codes::RUN_LIMIT,
+        format!("more than {max_blocks} blocks executed: endless loop?"),
+    )
+}
+
 /// Plans `prog`: runs it and returns its canonical blocks.
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
     let mut ex = Exec::new(prog, opts);
@@ -144,6 +152,7 @@ impl<'p> Exec<'p> {
         };
         let mut st = Box::<ArithState>::default();
         st.double = m.double_precision;
+        st.corrections = m.corrections.rows();
         st.g_groups[1] = match plane {
             Plane::XY => 17,
             Plane::ZX => 18,
@@ -175,7 +184,7 @@ impl<'p> Exec<'p> {
             frames: vec![Frame {
                 unit: 0,
                 pc: prog.units.first().map_or(0, |u| u.start),
-                counters: HashMap::new(),
+                counters: flow::idle_counters(prog.units.first()),
                 repeat: 1,
                 cycle: None,
             }],
@@ -208,22 +217,66 @@ impl<'p> Exec<'p> {
                 self.ret(bi)?;
                 continue;
             }
-            let bi = fr.pc;
-            fr.pc += 1;
+            let (mut bi, end) = (fr.pc, unit.end);
+            if let Some(ri) = self.region_at(bi) {
+                // A parameter-only region runs natively and returns the first block it does not
+                // handle; that block is interpreted at once (re-entering the region with it would
+                // return it again).
+                bi = self.run_region(ri, bi)?;
+                if bi >= end {
+                    if let Some(fr) = self.frames.last_mut() {
+                        fr.pc = bi;
+                    }
+                    continue;
+                }
+            }
+            if let Some(fr) = self.frames.last_mut() {
+                fr.pc = bi + 1;
+            }
             self.executed += 1;
             if self.executed > self.opts.max_blocks {
-                return Err(run_err(
-                    &self.prog.blocks[bi],
-                    codes::RUN_LIMIT,
-                    format!(
-                        "more than {} blocks executed: endless loop?",
-                        self.opts.max_blocks
-                    ),
-                ));
+                return Err(limit_err(&self.prog.blocks[bi], self.opts.max_blocks));
             }
             self.block(bi)?;
         }
         Ok(())
+    }
+
+    /// The native region for block `bi` when the native back end may run it now: not while a fixed
+    /// cycle is active (it runs after every block) or radius compensation is on (it looks at the
+    /// blocks between motions).
+    fn region_at(&self, bi: usize) -> Option<usize> {
+        if self.opts.backend != Backend::Native
+            || self.modal.cycle.is_some()
+            || self.modal.comp != 40
+        {
+            return None;
+        }
+        self.prog.native.as_ref()?.region_at(bi)
+    }
+
+    /// Runs region `ri` from block `bi`; returns the next block to interpret.
+    fn run_region(&mut self, ri: usize, bi: usize) -> Result<usize, RunError> {
+        let (Some(native), Some(fr)) = (self.prog.native.as_ref(), self.frames.last_mut()) else {
+            return Ok(bi);
+        };
+        let mut count = RegionCount {
+            executed: self.executed,
+            max_blocks: self.opts.max_blocks,
+            block_skip: self.opts.block_skip,
+        };
+        let exit = native.run_region(ri, bi, &mut self.st, &mut fr.counters, &mut count);
+        let before = std::mem::replace(&mut self.executed, count.executed);
+        if self.executed > before {
+            // Every interpreted block ends with this export; the geometry is unchanged in a region.
+            self.geo.export_programmed(&mut self.st);
+        }
+        let blocks = &self.prog.blocks;
+        match exit {
+            RegionExit::Next(n) => Ok(n),
+            RegionExit::Arith(b, e) => Err(arith_err(&blocks[b], e)),
+            RegionExit::Limit(b) => Err(limit_err(&blocks[b], self.opts.max_blocks)),
+        }
     }
 
     fn unit_label(&self) -> Option<String> {

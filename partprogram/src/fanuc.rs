@@ -127,6 +127,8 @@ fn lit(v: &Val) -> Option<f64> {
 /// Static checks of a Fanuc program.
 pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
     let axes = prog.machine.axes();
+    // On a lathe H is the incremental C address, not a length register.
+    let lathe = !axes.contains(&'Y');
     let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
     for (bi, b) in prog.blocks.iter().enumerate() {
         let f = &prog.files[b.file];
@@ -233,6 +235,20 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                     format!("{} must not be negative", w.addr),
                     "",
                 )),
+                'H' if v > 99.0 && !lathe => diags.push(err(
+                    codes::OUT_OF_RANGE,
+                    f,
+                    w.span,
+                    format!("H{v}: tool lengths come from the correction table, entries 0..99"),
+                    "HAAS allows registers up to 200; this controller's table (TAB0.KOR) ends at 99",
+                )),
+                'D' if v > 200.0 => diags.push(err(
+                    codes::OUT_OF_RANGE,
+                    f,
+                    w.span,
+                    format!("D{v}: offset registers are D0..D200"),
+                    "D0..D200",
+                )),
                 _ => {}
             }
             if w.addr != 'G' && w.addr != 'M' && seen.insert(w.addr, ()).is_some() {
@@ -246,6 +262,19 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
             }
         }
         let p = b.word('P').and_then(|w| lit(&w.val)).map(|v| v as u32);
+        let g43 = b
+            .words
+            .iter()
+            .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 43.0 || g == 44.0));
+        if g43 && !lathe && b.word('H').is_none() {
+            diags.push(err(
+                codes::G43_WITHOUT_H,
+                f,
+                b.span,
+                "G43/G44 without H",
+                "write the length register with it: G43 H01 Z2.",
+            ));
+        }
         for m in m_calls {
             match (m, p) {
                 (97 | 98, None) => diags.push(err(

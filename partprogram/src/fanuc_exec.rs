@@ -3,6 +3,7 @@
 
 mod comp;
 mod cycles;
+mod tlo;
 
 use crate::ast::Val;
 use crate::canon::{Canon, Kind, MFunc, Plane};
@@ -43,11 +44,21 @@ struct Ex<'p> {
     cyc: (f64, f64, f64, f64),
     cyl: Option<f64>,
     diameter: bool,
+    /// Active tool length per axis (G43/G44), part of the origin.
+    tlo: [f64; 6],
+    /// Length changes not yet taken by an incremental move, per axis.
+    tlo_due: [f64; 6],
+    /// G43 (+1) or G44 (−1) with the plane that fixed the tool axis; None: G49.
+    tlo_sign: Option<(f64, Plane)>,
+    /// The last H number.
+    tlo_h: i64,
     frames: Vec<Frame>,
     out: Vec<Canon>,
-    /// Cutter compensation: modal G40/G41/G42, D register, offset table, the compensator.
+    /// Cutter compensation: modal G40/G41/G42, D register, the compensator.
     comp: u16,
     d: i64,
+    /// Offset registers 0..=200 (radius, lengths of axes 1..4): 0..=99 from the machine's correction
+    /// table, the others zero until `G10 L12` sets a radius.
     corrections: Vec<[f64; 5]>,
     rc: Compensator,
     executed: u64,
@@ -89,11 +100,19 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         cyc: (0.0, 0.0, 0.0, 0.0),
         cyl: None,
         diameter: prog.machine.diameter_x,
+        tlo: [0.0; 6],
+        tlo_due: [0.0; 6],
+        tlo_sign: None,
+        tlo_h: 0,
         frames: Vec::new(),
         out: Vec::new(),
         comp: 40,
         d: 0,
-        corrections: vec![[0.0; 5]; comp::REGISTERS],
+        corrections: {
+            let mut rows = prog.machine.corrections.rows();
+            rows.resize(comp::REGISTERS, [0.0; 5]);
+            rows
+        },
         rc: Compensator::new(opts.radius),
         executed: 0,
         ended: false,
@@ -116,7 +135,7 @@ impl Ex<'_> {
     }
 
     fn origin(&self, i: usize) -> f64 {
-        self.work[self.wsel][i] + self.local[i] + self.g92[i]
+        self.work[self.wsel][i] + self.local[i] + self.g92[i] + self.tlo[i]
     }
 
     fn run(&mut self) -> Result<(), RunError> {
@@ -258,9 +277,11 @@ impl Ex<'_> {
         let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
             (false, false, false, false, false, None, false);
         let mut new_cycle = false;
+        let mut tlo_g = None;
         let mut g10 = false;
         for &g in &gs {
             match g {
+                430 | 440 | 490 => tlo_g = Some(g),
                 0 | 10 | 20 | 30 => {
                     self.motion = g;
                     self.cycle = None;
@@ -272,7 +293,7 @@ impl Ex<'_> {
                 210 => self.inch = false,
                 900 => self.abs = true,
                 910 => self.abs = false,
-                940 | 960 | 970 | 610 | 640 | 430 | 440 | 490 => {}
+                940 | 960 | 970 | 610 | 640 => {}
                 400 | 410 | 420 => self.comp = g / 10,
                 100 => g10 = true,
                 540..=590 => self.wsel = usize::from((g - 540) / 10),
@@ -347,12 +368,13 @@ impl Ex<'_> {
             }
         }
         let any = vals.iter().any(Option::is_some);
+        self.tool_length(b, tlo_g, g28)?;
         let target = |ex: &Self, vals: &[Option<f64>; 6]| -> [Option<f64>; 6] {
             let mut t = [None; 6];
             for i in 0..ex.axes.len() {
                 if let Some(v) = vals[i] {
                     t[i] = Some(if incr[i] || !ex.abs {
-                        ex.machine[i] + v
+                        ex.machine[i] + v + ex.tlo_due[i]
                     } else {
                         v + ex.origin(i)
                     });
@@ -370,7 +392,8 @@ impl Ex<'_> {
         } else if g92 {
             for i in 0..self.axes.len() {
                 if let Some(v) = vals[i] {
-                    self.g92[i] = self.machine[i] - self.work[self.wsel][i] - self.local[i] - v;
+                    self.g92[i] =
+                        self.machine[i] - self.work[self.wsel][i] - self.local[i] - self.tlo[i] - v;
                 }
             }
         } else if g52 {
@@ -426,6 +449,7 @@ impl Ex<'_> {
             }
             moved = true;
         }
+        self.tlo_moved(&vals);
         if dwell {
             let secs = match val('P').or_else(|| val('X')) {
                 Some(l) if l.point || b.word('X').is_some() => l.value(),
@@ -490,6 +514,9 @@ impl Ex<'_> {
                 // M99 in the main program loops forever on a control; a plan stops here.
                 self.ended = true;
             }
+        }
+        if ms.contains(&30) || ms.contains(&2) {
+            self.cancel_tlo();
         }
         if (ms.contains(&30) || ms.contains(&2)) && self.frames.len() == 1 {
             self.ended = true;

@@ -51,7 +51,7 @@ pub struct Geometry {
     /// Independent shift (G37).
     pub shift: [f64; 6],
     offset: [f64; 6],
-    /// Active length correction per axis (method A: `&` digits select data of entry D).
+    /// Active length correction per axis (methods A, B, C of [`crate::length`]).
     pub length: [f64; 6],
 }
 
@@ -216,18 +216,12 @@ impl Geometry {
         })
     }
 
-    /// Sets the length correction (method A): digit k of `amp` (thousands = axis 1 … units = axis 4)
-    /// 0 none, 1 add, 2 subtract datum k of correction `entry` ([radius, axis 1, …, axis 4]).
-    pub fn set_length(&mut self, amp: i64, entry: &[f64; 5]) {
-        for k in 0..4 {
-            let digit = (amp / 10i64.pow(3 - k as u32)) % 10;
-            let v = entry[k + 1];
+    /// Sets the active length correction of axes 1..4 (from [`crate::length::mefi_lengths`]); the
+    /// machine position stays, the programmed position follows.
+    pub fn set_lengths(&mut self, lengths: &[f64; 4]) {
+        for (k, v) in lengths.iter().enumerate() {
             if k < self.axes.len() {
-                self.length[k] = match digit {
-                    1 => v,
-                    2 => -v,
-                    _ => 0.0,
-                };
+                self.length[k] = *v;
             }
         }
         self.refresh_prog();

@@ -2,9 +2,15 @@
 //! block plans.
 //!
 //! [`compile`] parses and checks a partprogram together with the machine's macro folder and returns a
-//! [`Program`]; [`plan`] runs it and returns the canonical blocks ([`Canon`]). Parameter arithmetic
-//! (G26–G29) runs as cranelift-compiled native code ([`jit`]) beside the reference interpreter
-//! ([`arith`]); [`PlanOptions::backend`] selects which one.
+//! [`Program`]; [`plan`] runs it and returns the canonical blocks ([`Canon`]). In MEFI programs, runs of
+//! blocks that only touch the parameters (declarations, G26–G29 arithmetic, `G73 L Q` and `GR<n> L`
+//! jumps, loops among them) run as cranelift-compiled native code ([`jit::region`]), and the
+//! arithmetic of every other block with declared control words runs natively too ([`jit`]); the
+//! reference interpreter ([`arith`], [`exec`]) stands beside it. [`PlanOptions::backend`] selects
+//! which one; both give the same plan bit for bit.
+//! The machine's correction table (`TAB0.KOR`, read by [`parse_kor`]) is
+//! [`MachineSpec::corrections`]; tool length correction ([`length`]) and thread run-in/run-out
+//! ([`thread`]) use it and the machine constants of the spec.
 
 pub mod arith;
 pub mod ast;
@@ -17,6 +23,8 @@ pub mod fanuc_exec;
 pub mod geom;
 pub mod groups;
 pub mod jit;
+pub mod kor;
+pub mod length;
 pub mod lexer;
 mod link;
 pub mod machine;
@@ -24,10 +32,12 @@ pub mod parse;
 pub mod program;
 pub mod radius;
 pub mod run;
+pub mod thread;
 
 pub use canon::{Canon, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};
-pub use machine::{Dialect, DoublePrecision, MTiming, MachineSpec, ProcessSpec};
+pub use kor::{CorrectionTable, KorEntry, parse_kor};
+pub use machine::{Dialect, DoublePrecision, LengthMethod, MTiming, MachineSpec, ProcessSpec};
 pub use program::{Program, compile};
 
 /// Plans a compiled program: runs it and returns its canonical blocks, or the blocks emitted before a

@@ -2,10 +2,14 @@
 //!
 //! [`MachineSpec`] is deliberately decoupled from the characterization crate: the runtime builds it from
 //! IOCFIL section 2 (`Mxx=m_type,m_request,class` per process) and the AXCFIL axis names, plus the
-//! documented machine options (dialect, macro folder, diameter programming, double precision).
+//! documented machine options (dialect, macro folder, diameter programming, double precision), and the
+//! correction table at power-up (`TAB0.KOR`, read by [`crate::kor::parse_kor`]) with the MEFI length
+//! correction method (machine constant 329).
 
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+
+use crate::kor::CorrectionTable;
 
 /// Partprogram dialect.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
@@ -67,6 +71,32 @@ pub enum DoublePrecision {
     ByR95,
 }
 
+/// MEFI length correction method: machine constant 329, decade 7 (structure-motion spec §13.8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum LengthMethod {
+    /// Decade 7 = 0: `&k1k2k3k4` selects per axis (0 none, 1 add, 2 subtract) the data of entry D.
+    #[default]
+    A,
+    /// Decade 7 = 1: `D<n>` adds every length of entry n (axes 1..4); `D0` cancels; `&` has no effect.
+    B,
+    /// Decade 7 = 2 (printed "0", reading uncertain): `&1` adds every length of entry D, `&0` cancels.
+    C,
+}
+
+impl std::str::FromStr for LengthMethod {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.trim().to_ascii_uppercase().as_str() {
+            "A" | "0" => Ok(LengthMethod::A),
+            "B" | "1" => Ok(LengthMethod::B),
+            "C" | "2" => Ok(LengthMethod::C),
+            other => Err(format!(
+                "unknown length correction method `{other}` (use A, B or C: machine constant 329 decade 7 = 0, 1, 2)"
+            )),
+        }
+    }
+}
+
 /// Everything the partprogram compiler and planner need from a machine.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct MachineSpec {
@@ -86,6 +116,16 @@ pub struct MachineSpec {
     pub circle_tolerance: f64,
     /// When true, M functions not declared in IOCFIL section 2 are errors (false: not checked).
     pub check_m_declared: bool,
+    /// The correction table at power-up (the machine's `TAB0.KOR`); empty: all zero.
+    #[serde(default)]
+    pub corrections: CorrectionTable,
+    /// MEFI length correction method (machine constant 329, decade 7).
+    #[serde(default)]
+    pub length_method: LengthMethod,
+    /// Machine constant 8: the thread run-in/run-out slope, or the parameters holding it
+    /// ([`crate::thread`]); 0: not set.
+    #[serde(default)]
+    pub thread_constant: i64,
 }
 
 impl MachineSpec {
@@ -105,6 +145,9 @@ impl MachineSpec {
             double_precision: DoublePrecision::Enabled,
             circle_tolerance: 0.002,
             check_m_declared: false,
+            corrections: CorrectionTable::default(),
+            length_method: LengthMethod::A,
+            thread_constant: 0,
         }
     }
 
@@ -121,5 +164,58 @@ impl MachineSpec {
         self.processes
             .first()
             .and_then(|p| p.declared_m.get(&m).copied())
+    }
+}
+
+/// Reads machine constants written as in `TAB0.REK` listings: one `R<n>: <value>` per line, the
+/// value's decimal point insignificant (`R340: 00233.112` = 233112), `"` starts a comment; returns
+/// (constant number, value) pairs in file order, or the first bad line's message.
+pub fn parse_constants(text: &str) -> Result<Vec<(u32, i64)>, String> {
+    let mut out = Vec::new();
+    for (k, line) in text.lines().enumerate() {
+        let line = line.split('"').next().unwrap_or("").trim();
+        if line.is_empty() {
+            continue;
+        }
+        let bad = || format!("line {}: expected `R<n>: <value>`, found `{line}`", k + 1);
+        let (name, value) = line.split_once(':').ok_or_else(bad)?;
+        let n: u32 = name
+            .trim()
+            .strip_prefix('R')
+            .and_then(|d| d.parse().ok())
+            .ok_or_else(bad)?;
+        let value = value.trim();
+        let (neg, digits) = match value.strip_prefix('-') {
+            Some(d) => (true, d),
+            None => (false, value.strip_prefix('+').unwrap_or(value)),
+        };
+        let digits: String = digits.chars().filter(|c| *c != '.').collect();
+        if digits.is_empty()
+            || digits.len() > 9
+            || !digits.bytes().all(|c| c.is_ascii_digit())
+            || value.matches('.').count() > 1
+        {
+            return Err(bad());
+        }
+        let v: i64 = digits.parse().map_err(|_| bad())?;
+        out.push((n, if neg { -v } else { v }));
+    }
+    Ok(out)
+}
+
+impl MachineSpec {
+    /// Applies machine constant `n` with value `v`: 8 (thread run-in/run-out slope) and 329 (decade 7:
+    /// length correction method 0 A, 1 B, 2 C); other constants do not concern the planner and are
+    /// ignored.
+    pub fn set_constant(&mut self, n: u32, v: i64) -> Result<(), String> {
+        match n {
+            8 => self.thread_constant = v,
+            329 => {
+                let d7 = (v.unsigned_abs() / 1_000_000) % 10;
+                self.length_method = d7.to_string().parse()?;
+            }
+            _ => {}
+        }
+        Ok(())
     }
 }

@@ -9,7 +9,8 @@ use crate::program::Program;
 /// Which engine runs parameter arithmetic.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum Backend {
-    /// Cranelift-compiled native code where available (the interpreter for computed control words).
+    /// Cranelift-compiled native code where available: parameter-only regions (arithmetic and jumps)
+    /// and the arithmetic of other blocks; the interpreter for computed control words.
     #[default]
     Native,
     /// The reference interpreter only.

@@ -25,6 +25,10 @@ pub enum IoKind {
 
 /// Opens the I/O of `kind` for the machine in `machine_dir`; `declared` are the packet-A
 /// connectors of IOCFIL, which the I/O map must respect. Errors come back rendered.
+///
+/// May be called before the scan thread takes `SCHED_FIFO` ([`crate::clock::enable_realtime`]):
+/// the fieldbus drivers move their I/O threads to `SCHED_FIFO` ten below the scan at the first
+/// latch (`fieldbus::rt`); the HMI server's thread stays an ordinary one.
 pub fn open_io(
     kind: IoKind,
     machine_dir: &Path,

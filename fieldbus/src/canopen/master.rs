@@ -54,6 +54,7 @@ struct NodeSide {
 /// The CANopen master driver (implements [`PacketIo`]).
 pub struct CanopenIo {
     runtime: Option<tokio::runtime::Runtime>,
+    threads: crate::rt::IoThreads,
     nodes: Vec<NodeSide>,
     inputs: TripleReader<CanIn>,
     outputs: TripleWriter<OutFrame>,
@@ -76,9 +77,12 @@ impl CanopenIo {
         B: CanBus,
         F: Future<Output = std::io::Result<B>> + Send + 'static,
     {
+        let threads = crate::rt::IoThreads::new();
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
             .thread_name("ncplc-canopen")
+            .on_thread_start(threads.on_start())
+            .on_thread_stop(threads.on_stop())
             .enable_all()
             .build()?;
         // Not `block_on`: that panics when the caller is itself inside a tokio runtime.
@@ -135,6 +139,7 @@ impl CanopenIo {
             .collect();
         Ok(CanopenIo {
             runtime: Some(runtime),
+            threads,
             nodes,
             inputs: in_rx,
             outputs: out_tx,
@@ -185,6 +190,7 @@ impl PacketIo for CanopenIo {
     }
 
     fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
+        self.threads.follow_scan();
         let (frame, _) = self.inputs.read();
         for (i, n) in self.nodes.iter_mut().enumerate() {
             let st = frame.nodes.get(i).copied().unwrap_or_default();

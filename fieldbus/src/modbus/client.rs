@@ -2,20 +2,22 @@
 //!
 //! Each device gets its own tasks on the driver's private tokio runtime, each with its own connection
 //! (`TCP_NODELAY`). The read task loops: read every input mapping, publish the input frame, wait
-//! for the poll interval. The write task ([`ModbusDevice::write_connection`], the default) sleeps on
-//! a [`Notify`] until the scan publishes changed outputs, then at once writes the output mappings
-//! whose bytes changed since the device last acknowledged them, so a write never waits behind a read
-//! already on the wire. With `write_connection = false` one task does both on one connection,
-//! writing changed outputs before each read. Every request runs under `tokio::time::timeout`; any
-//! failure drops that connection (a late answer would desynchronise the transaction ids) and
-//! reconnects with exponential backoff. Outputs are written only from frames the scan published, so
-//! the device never receives a value the logic did not command; after a reconnect the last commanded
-//! values are written again.
+//! for the poll interval. Writes go over a connection of their own ([`ModbusDevice::write_connection`],
+//! the default), so a write never waits behind a read already on the wire, and the scan thread
+//! sends them itself when that connection is idle: one non-blocking `send` of the first changed
+//! output mapping, with the write task reading the answer and doing everything that could wait
+//! ([`crate::modbus::writer`]). With `write_connection = false` one task does both on one
+//! connection, writing changed outputs before each read. Every request is timed out; any failure
+//! drops that connection (a late answer would desynchronise the transaction ids) and reconnects
+//! with exponential backoff. Outputs are written only from frames the scan published, so the device
+//! never receives a value the logic did not command; after a reconnect the last commanded values
+//! are written again.
 //!
-//! The scan side ([`ModbusIo`]) only touches triple buffers and atomics: [`PacketIo::latch_inputs`]
-//! copies each device's newest consistent input frame (or its fail state while the device is lost,
-//! see [`crate::health`]; a fault of either connection counts) and sets its healthy bit;
-//! [`PacketIo::publish_outputs`] hands over changed outputs and wakes the task that writes them.
+//! The scan side ([`ModbusIo`]) only touches triple buffers, atomics, a `try_lock` and at most one
+//! non-blocking `send` per device and tick: [`PacketIo::latch_inputs`] copies each device's newest
+//! consistent input frame (or its fail state while the device is lost, see [`crate::health`]; a
+//! fault of either connection counts) and sets its healthy bit; [`PacketIo::publish_outputs`] hands
+//! over changed outputs and puts the write on the wire or wakes the task that writes them.
 
 use std::net::SocketAddr;
 use std::sync::Arc;
@@ -30,7 +32,9 @@ use tokio_modbus::client::{Context, Reader, Writer};
 use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
+use crate::modbus::writer::{WriteLink, WriteTask};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
+use crate::rt::IoThreads;
 use crate::tick_io::{A_LEN, latch_device, safe_image, take_changed_outputs};
 
 /// One device's newest input image as the task read it.
@@ -53,6 +57,8 @@ struct DeviceSide {
     acked: Arc<AtomicU64>,
     /// The write connection's fault ([`Fault::code`]); `Fault::None` in single-connection mode.
     write_fault: Arc<AtomicU8>,
+    /// The write connection, shared with its task (None in single-connection mode).
+    link: Option<Arc<WriteLink>>,
     out_seq: u64,
     last_out: [u8; A_LEN],
 }
@@ -60,6 +66,7 @@ struct DeviceSide {
 /// The Modbus TCP client driver (implements [`PacketIo`]).
 pub struct ModbusIo {
     runtime: Option<tokio::runtime::Runtime>,
+    threads: IoThreads,
     devices: Vec<DeviceSide>,
     alarms: Vec<IoAlarm>,
 }
@@ -67,9 +74,12 @@ pub struct ModbusIo {
 impl ModbusIo {
     /// Starts one task per device on a private runtime; fails only when the runtime cannot start.
     pub fn start(devices: &[ModbusDevice]) -> std::io::Result<ModbusIo> {
+        let threads = IoThreads::new();
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
             .thread_name("ncplc-modbus")
+            .on_thread_start(threads.on_start())
+            .on_thread_stop(threads.on_stop())
             .enable_all()
             .build()?;
         let mut sides = Vec::new();
@@ -78,8 +88,11 @@ impl ModbusIo {
             let mut cfg = cfg.clone();
             cfg.inputs
                 .retain(|m| m.range.len > 0 && m.range.end() <= A_LEN);
-            cfg.outputs
-                .retain(|m| m.range.len > 0 && m.range.end() <= A_LEN);
+            cfg.outputs.retain(|m| {
+                m.range.len > 0
+                    && m.range.end() <= A_LEN
+                    && matches!(m.area, ModbusArea::Coils | ModbusArea::HoldingRegisters)
+            });
             let cfg = &cfg;
             let (in_tx, in_rx) = triple(InFrame {
                 seq: 0,
@@ -93,18 +106,20 @@ impl ModbusIo {
             let wake = Arc::new(Notify::new());
             let acked = Arc::new(AtomicU64::new(0));
             let write_fault = Arc::new(AtomicU8::new(Fault::None.code()));
-            let outputs = if cfg.write_connection && !cfg.outputs.is_empty() {
+            let (outputs, link) = if cfg.write_connection && !cfg.outputs.is_empty() {
+                let link = Arc::new(WriteLink::new(cfg.outputs.len()));
                 let writer = WriteTask {
                     cfg: cfg.clone(),
                     outputs: out_rx,
+                    link: link.clone(),
                     wake: wake.clone(),
                     acked: acked.clone(),
                     fault: write_fault.clone(),
                 };
                 runtime.spawn(writer.run());
-                None
+                (None, Some(link))
             } else {
-                Some(out_rx)
+                (Some(out_rx), None)
             };
             let task = DeviceTask {
                 cfg: cfg.clone(),
@@ -123,12 +138,14 @@ impl ModbusIo {
                 wake,
                 acked,
                 write_fault,
+                link,
                 out_seq: 0,
                 last_out: [0; A_LEN],
             });
         }
         Ok(ModbusIo {
             runtime: Some(runtime),
+            threads,
             devices: sides,
             alarms: Vec::new(),
         })
@@ -139,6 +156,30 @@ impl ModbusIo {
         self.devices
             .iter()
             .any(|d| d.cfg.name == name && d.health.healthy())
+    }
+
+    /// The `SCHED_FIFO` priority the driver's I/O thread took below a real-time scan thread
+    /// (see [`crate::rt`]), once it did.
+    pub fn io_priority(&self) -> Option<i32> {
+        self.threads.priority()
+    }
+
+    /// True when every device not declared lost has acknowledged the newest outputs published.
+    pub fn outputs_acknowledged(&self) -> bool {
+        self.devices
+            .iter()
+            .all(|d| d.health.lost() || d.acked.load(Ordering::Acquire) >= d.out_seq)
+    }
+
+    /// How many output writes to device `name` the scan thread put on the wire itself (see
+    /// [`crate::modbus::writer`]); 0 without a write connection.
+    pub fn direct_writes(&self, name: &str) -> u64 {
+        self.devices
+            .iter()
+            .filter(|d| d.cfg.name == name)
+            .filter_map(|d| d.link.as_ref())
+            .map(|l| l.direct_sends())
+            .sum()
     }
 
     fn hand_over(&mut self, packets: &[u8], force: bool) {
@@ -152,7 +193,10 @@ impl ModbusIo {
                 buf.seq = d.out_seq;
                 buf.data = d.last_out;
                 d.outputs.publish();
-                d.wake.notify_one();
+                match &d.link {
+                    Some(link) => link.push(&d.cfg, d.out_seq, &d.last_out, &d.wake, &d.acked),
+                    None => d.wake.notify_one(),
+                }
             }
         }
     }
@@ -172,6 +216,7 @@ impl PacketIo for ModbusIo {
     }
 
     fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
+        self.threads.follow_scan();
         for d in &mut self.devices {
             let (frame, _) = d.inputs.read();
             let fault = match frame.fault {
@@ -220,14 +265,7 @@ impl PacketIo for ModbusIo {
             .max()
             .unwrap_or_default();
         let deadline = Instant::now() + wait;
-        while Instant::now() < deadline {
-            if self
-                .devices
-                .iter()
-                .all(|d| d.health.lost() || d.acked.load(Ordering::Acquire) >= d.out_seq)
-            {
-                break;
-            }
+        while Instant::now() < deadline && !self.outputs_acknowledged() {
             std::thread::sleep(Duration::from_micros(200));
         }
     }
@@ -330,70 +368,6 @@ impl DeviceTask {
         buf.data = *data;
         self.inputs.publish();
         Ok(())
-    }
-}
-
-/// The write side of one device, on a connection of its own.
-struct WriteTask {
-    cfg: ModbusDevice,
-    outputs: TripleReader<OutFrame>,
-    wake: Arc<Notify>,
-    acked: Arc<AtomicU64>,
-    fault: Arc<AtomicU8>,
-}
-
-impl WriteTask {
-    async fn run(mut self) {
-        let mut backoff = self.cfg.reconnect_min;
-        let mut retry_now = false;
-        loop {
-            let fault = match connect(self.cfg.address, self.cfg.unit, self.cfg.timeout).await {
-                Ok(mut ctx) => {
-                    let fault = self.serve(&mut ctx, &mut backoff, &mut retry_now).await;
-                    let _ = tokio::time::timeout(
-                        self.cfg.timeout,
-                        tokio_modbus::client::Client::disconnect(&mut ctx),
-                    )
-                    .await;
-                    fault
-                }
-                Err(f) => f,
-            };
-            // An idle connection may have been closed by a device that restarted meanwhile: the
-            // first write on it fails at once. Reconnect at once (once) before calling it a fault.
-            if fault == Fault::Io && std::mem::take(&mut retry_now) {
-                continue;
-            }
-            retry_now = false;
-            self.fault.store(fault.code(), Ordering::Release);
-            tokio::time::sleep(backoff).await;
-            backoff = (backoff * 2).min(self.cfg.reconnect_max);
-        }
-    }
-
-    /// Writes every change the scan publishes until a request fails; returns the fault.
-    async fn serve(
-        &mut self,
-        ctx: &mut Context,
-        backoff: &mut Duration,
-        retry_now: &mut bool,
-    ) -> Fault {
-        let mut written: Vec<Option<Vec<u8>>> = vec![None; self.cfg.outputs.len()];
-        loop {
-            let (out, _) = self.outputs.read();
-            let (out_seq, out_data) = (out.seq, out.data);
-            if out_seq > 0 {
-                if let Err(fault) = write_changed(ctx, &self.cfg, &out_data, &mut written).await {
-                    return fault;
-                }
-                self.acked.store(out_seq, Ordering::Release);
-            }
-            self.fault.store(Fault::None.code(), Ordering::Release);
-            *backoff = self.cfg.reconnect_min;
-            *retry_now = true;
-            // A publish while writing left a permit: the loop goes round again at once.
-            self.wake.notified().await;
-        }
     }
 }
 

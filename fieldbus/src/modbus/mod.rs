@@ -6,8 +6,10 @@
 //! (high 8 bits).
 
 pub mod client;
+pub mod frame;
 pub mod server;
 pub mod sim;
+pub mod writer;
 
 /// Unpacks Modbus bits into bytes (bit `n` of byte `i` = `bits[8i + n]`); missing bits read as 0.
 pub fn bits_to_bytes(bits: &[bool], out: &mut [u8]) {

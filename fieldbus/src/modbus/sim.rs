@@ -36,6 +36,8 @@ pub struct SimState {
     pub read_delay: Duration,
     /// Read requests received and not answered yet (a muted request stays counted).
     pub reads_pending: usize,
+    /// Read requests answered since the start.
+    pub reads_done: u64,
     /// [`SimState::reads_pending`] when the last write was applied.
     pub reads_pending_at_last_write: usize,
     /// When true the device swallows requests and never answers.
@@ -55,6 +57,7 @@ impl Default for SimState {
             delay: Duration::ZERO,
             read_delay: Duration::ZERO,
             reads_pending: 0,
+            reads_done: 0,
             reads_pending_at_last_write: 0,
             mute: false,
             last_write: None,
@@ -266,6 +269,7 @@ impl tokio_modbus::server::Service for SimService {
             if !is_write {
                 let mut s = lock(&state);
                 s.reads_pending = s.reads_pending.saturating_sub(1);
+                s.reads_done += 1;
             }
             let r = apply(&state, req);
             if is_write {

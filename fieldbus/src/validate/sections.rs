@@ -133,6 +133,7 @@ pub(super) fn modbus_device(cx: &mut Ctx, d: &RawModbusDevice) -> ModbusDevice {
         timeout: cx.ms(&d.timeout_ms, 50, "timeout_ms"),
         poll,
         write_connection: d.write_connection.as_ref().is_none_or(|w| *w.get_ref()),
+        direct_write: d.direct_write.as_ref().is_none_or(|w| *w.get_ref()),
         alarm_ticks,
         reconnect_min,
         reconnect_max,

@@ -28,6 +28,7 @@ impl Exec<'_> {
         let mut ijk: [Option<f64>; 3] = [None; 3];
         let (mut f, mut s, mut t, mut d, mut l, mut q, mut amp) =
             (None, None, None, None, None, None, None);
+        let mut run_in = None;
         for w in &b.words {
             let v = match w.val {
                 Val::Lit(l) => V::Lit(l),
@@ -70,7 +71,8 @@ impl Exec<'_> {
                 'L' => l = Some(v.count()),
                 'Q' => q = Some(v.count()),
                 '&' => amp = Some(v.count()),
-                'H' | 'P' | 'E' => {}
+                'E' => run_in = Some(v.mm()),
+                'H' | 'P' => {}
                 a => {
                     if let Some(i) = self.geo.axes.iter().position(|c| *c == a)
                         && i < naxes
@@ -201,7 +203,10 @@ impl Exec<'_> {
         if (amp.is_some() || d.is_some()) && !g92 {
             let e = usize::try_from(self.modal.d).unwrap_or(0).min(99);
             let entry = self.st.corrections[e];
-            self.geo.set_length(self.modal.amp, &entry);
+            let lengths =
+                crate::length::mefi_lengths(prog.machine.length_method, self.modal.amp, &entry)
+                    .map_err(|m| run_err(b, codes::RUN_RANGE, m))?;
+            self.geo.set_lengths(&lengths);
         }
         let mut mfuncs: Vec<MFunc> = Vec::with_capacity(ms.len());
         let mut end_program = false;
@@ -312,13 +317,17 @@ impl Exec<'_> {
                     self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, false);
                 }
                 _ => {
+                    let start = self.geo.machine;
                     self.geo.linear(&tgt, &self.st);
                     let feed = if motion == 33 {
                         self.modal.lead.zip(self.modal.s).map(|(l, s)| l * s)
                     } else {
                         self.feed()
                     };
-                    self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
+                    let ej = (run_in, ijk[1]);
+                    if !(motion == 33 && self.thread_run(b, start, ej, feed, &mfuncs)?) {
+                        self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
+                    }
                 }
             }
             moved = true;
@@ -402,5 +411,39 @@ impl Exec<'_> {
             }
         }
         Ok(())
+    }
+}
+
+impl Exec<'_> {
+    /// A G33 block with run-in `E` / run-out `J` (`ej`): emits the thread from `start` to the current
+    /// (programmed) end in up to three segments ([`crate::thread`]); false when the block has neither.
+    fn thread_run(
+        &mut self,
+        b: &crate::program::CBlock,
+        start: [f64; 6],
+        ej: (Option<f64>, Option<f64>),
+        feed: Option<f64>,
+        mfuncs: &[MFunc],
+    ) -> Result<bool, RunError> {
+        if ej == (None, None) {
+            return Ok(false);
+        }
+        let dia = std::array::from_fn(|i| self.geo.diameter && self.geo.axes.get(i) == Some(&'X'));
+        let need = (ej.1.is_some(), ej.0.is_some());
+        let mc8 = self.prog.machine.thread_constant;
+        let pts = crate::thread::slopes(mc8, &self.st.r, need)
+            .and_then(|sl| crate::thread::split(start, self.geo.machine, dia, ej, sl))
+            .map_err(|m| run_err(b, codes::RUN_THREAD, m))?;
+        let last = pts.len().saturating_sub(1);
+        for (k, p) in pts.into_iter().enumerate() {
+            self.geo.move_machine(p, &self.st, self.modal.offset);
+            let m: Vec<MFunc> = mfuncs
+                .iter()
+                .filter(|m| if m.before { k == 0 } else { k == last })
+                .cloned()
+                .collect();
+            self.emit(b, Kind::Linear, Vec::new(), feed, &m, true);
+        }
+        Ok(true)
     }
 }

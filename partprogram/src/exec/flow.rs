@@ -1,12 +1,16 @@
 //! Program flow of the MEFI executor: calls of subprograms, macros and fixed cycles (with the
 //! snapshot a fixed cycle restores), returns with repetition, and G73 jumps with their counters.
 
-use std::collections::HashMap;
-
 use super::{Exec, Frame, Snapshot, run_err};
 use crate::codes;
 use crate::exec::RunError;
-use crate::program::{CBlock, UnitKind};
+use crate::jit::region::IDLE;
+use crate::program::{CBlock, Unit, UnitKind};
+
+/// Fresh jump counters for a frame of `unit`: one idle slot per block.
+pub(super) fn idle_counters(unit: Option<&Unit>) -> Vec<i64> {
+    vec![IDLE; unit.map_or(0, |u| u.end - u.start)]
+}
 
 impl Exec<'_> {
     pub(super) fn call(
@@ -27,7 +31,7 @@ impl Exec<'_> {
         self.frames.push(Frame {
             unit,
             pc: start,
-            counters: HashMap::new(),
+            counters: idle_counters(self.prog.units.get(unit)),
             repeat,
             cycle,
         });
@@ -45,7 +49,7 @@ impl Exec<'_> {
         if fr.repeat > 1 {
             fr.repeat -= 1;
             fr.pc = self.prog.units[fr.unit].start;
-            fr.counters.clear();
+            fr.counters.fill(IDLE);
             return Ok(());
         }
         if let Some(fr) = self.frames.pop()
@@ -78,24 +82,29 @@ impl Exec<'_> {
                 format!("jump to N{lv}, which is not in this program unit"),
             )
         })?;
+        let start = unit.start;
         let Some(fr) = self.frames.last_mut() else {
             return Ok(());
         };
-        let take = match fr.counters.get(&bi).copied() {
-            None => {
+        // One counter per jump block of the frame (the region functions share this layout).
+        let Some(slot) = bi.checked_sub(start).and_then(|i| fr.counters.get_mut(i)) else {
+            return Ok(());
+        };
+        let take = match *slot {
+            IDLE => {
                 if q > 0 {
-                    fr.counters.insert(bi, q - 1);
+                    *slot = q - 1;
                     true
                 } else {
                     false
                 }
             }
-            Some(0) => {
-                fr.counters.remove(&bi);
+            0 => {
+                *slot = IDLE;
                 false
             }
-            Some(k) => {
-                fr.counters.insert(bi, k - 1);
+            k => {
+                *slot = k - 1;
                 true
             }
         };

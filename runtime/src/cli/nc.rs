@@ -3,6 +3,12 @@
 //! `ncplc nc check <machine> <program>` compiles a partprogram (with the machine's macro folder) and
 //! prints diagnostics; `ncplc nc plan <machine> <program> --format json` runs it and writes one JSON
 //! object per canonical block. A program path that does not exist is looked up in `<machine>/nc/`.
+//!
+//! The correction table at power-up is the machine's `MP0/TAB0.KOR` (else `MP0/TAB2.KOR`, the lathe
+//! name of the manual), or the file given with `--kor`; errors in it are reported like program
+//! diagnostics and fail both subcommands. The machine constants the planner uses (8: thread
+//! run-in/run-out slope; 329 decade 7: MEFI length correction method) are read from the option file
+//! `<machine>/nc/CONSTANTS`, written as in a `TAB0.REK` listing (`R329: 01000.000`).
 
 use crate::machine_facts::Facts;
 use std::path::{Path, PathBuf};
@@ -28,6 +34,9 @@ pub struct Common {
     /// Dialect, overriding the machine's (mefi or fanuc).
     #[arg(long)]
     pub dialect: Option<String>,
+    /// Correction table file, instead of the machine's MP0/TAB0.KOR (or MP0/TAB2.KOR).
+    #[arg(long, value_name = "FILE")]
+    pub kor: Option<PathBuf>,
 }
 
 /// `ncplc nc` subcommands.
@@ -72,6 +81,9 @@ pub enum MachineError {
     /// A dialect name that is not known.
     #[error("{0}")]
     Dialect(String),
+    /// The option file `nc/CONSTANTS` is not valid.
+    #[error("nc/CONSTANTS: {0}")]
+    Constants(String),
 }
 
 /// Builds the partprogram view of the machine in `dir` from its validated characterization.
@@ -83,6 +95,7 @@ pub enum MachineError {
 ///
 /// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
 /// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
+/// Machine constants 8 and 329 come from `<dir>/nc/CONSTANTS` when it exists.
 pub fn machine_spec(
     dir: &Path,
     dialect: Option<&str>,
@@ -147,7 +160,56 @@ pub fn machine_spec(
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
     spec.check_m_declared = true;
+    if let Ok(text) = std::fs::read_to_string(dir.join("nc").join("CONSTANTS")) {
+        let constants =
+            partprogram::machine::parse_constants(&text).map_err(MachineError::Constants)?;
+        for (n, v) in constants {
+            spec.set_constant(n, v)
+                .map_err(|e| MachineError::Constants(format!("R{n}: {e}")))?;
+        }
+    }
     Ok(spec)
+}
+
+/// The correction table file of the machine in `dir`: `kor` when given, else `MP0/TAB0.KOR`, else
+/// `MP0/TAB2.KOR`; `None` when the machine has neither (the table is then all zero). The second
+/// value is the file's name in diagnostics (relative to the machine for the default files).
+pub fn kor_file(dir: &Path, kor: Option<&Path>) -> Option<(PathBuf, String)> {
+    if let Some(k) = kor {
+        return Some((k.to_path_buf(), k.display().to_string()));
+    }
+    ["TAB0.KOR", "TAB2.KOR"].iter().find_map(|n| {
+        let p = dir.join("MP0").join(n);
+        p.is_file().then(|| (p, format!("MP0/{n}")))
+    })
+}
+
+/// Reads the correction table into `spec` (see [`kor_file`]); returns the file's name and text for
+/// rendering, and its diagnostics (an unreadable file is error 2049).
+pub fn load_corrections(
+    dir: &Path,
+    kor: Option<&Path>,
+    spec: &mut MachineSpec,
+) -> Option<(String, String, Vec<diag::Diagnostic>)> {
+    let (path, name) = kor_file(dir, kor)?;
+    match std::fs::read(&path) {
+        Ok(bytes) => {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let (table, diags) = partprogram::parse_kor(&name, &text, &spec.axes());
+            spec.corrections = table;
+            Some((name, text, diags))
+        }
+        Err(e) => {
+            let d = diag::Diagnostic::error(
+                partprogram::codes::KOR_IO,
+                name.clone(),
+                0..0,
+                format!("cannot read the correction table: {e}"),
+            )
+            .locate("");
+            Some((name, String::new(), vec![d]))
+        }
+    }
 }
 
 /// Fanuc when the first word of the program (after `%` lines and comments) is an `O<number>`.
@@ -209,7 +271,7 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
+    let mut spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("ncplc nc: {e}");
@@ -220,9 +282,17 @@ pub fn run(args: Args) -> ExitCode {
         || path.display().to_string(),
         |n| format!("nc/{}", n.to_string_lossy()),
     );
+    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
     let (prog, diags) = partprogram::compile(&spec, &name, &text);
     let mut sources = diag::Sources::new();
     sources.add(name.clone(), text.clone());
+    let mut kor_failed = false;
+    let mut diags = diags;
+    if let Some((kname, ktext, kdiags)) = kor {
+        kor_failed = diag::has_errors(&kdiags);
+        sources.add(kname, ktext);
+        diags.splice(0..0, kdiags);
+    }
     if let Some(p) = &prog {
         for f in &p.files {
             sources.add(f.name.clone(), f.text.clone());
@@ -242,7 +312,7 @@ pub fn run(args: Args) -> ExitCode {
     };
     let json = format == "json";
     print_diags(&diags, json);
-    let Some(prog) = prog else {
+    let Some(prog) = prog.filter(|_| !kor_failed) else {
         return ExitCode::from(1);
     };
     let Some(opts) = plan_opts else {
