@@ -272,6 +272,16 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
             ));
         }
     }
+    if (gl.contains(&2) || gl.contains(&3)) && gl.iter().any(|g| (40..=42).contains(g)) {
+        diags.push(err(
+            codes::COMP_ON_ARC,
+            file,
+            src,
+            b.span,
+            "radius compensation G41/G42/G40 in a circular block",
+            "switch compensation on or off in a linear block (G01/G00)",
+        ));
+    }
     if gl.contains(&79) {
         if let Some(w) = b.words.iter().find(|w| {
             !(w.addr == 'L' || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == 79_000)))

@@ -100,6 +100,8 @@ pub const KOR_SECOND_TABLE: u32 = 2048;
 pub const KOR_IO: u32 = 2049;
 /// Fanuc `G43`/`G44` without `H` in the block.
 pub const G43_WITHOUT_H: u32 = 2034;
+/// G41/G42/G40 written in a G02/G03 block: compensation is switched only in linear blocks (S15).
+pub const COMP_ON_ARC: u32 = 2035;
 /// Run time: tool length compensation impossible (no tool axis for the plane, axis beyond the table).
 pub const RUN_TOOL_LENGTH: u32 = 2508;
 /// Run time: thread run-in/run-out without a valid slope (machine constant 8) or longer than the thread.

@@ -275,6 +275,22 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                 "write the length register with it: G43 H01 Z2.",
             ));
         }
+        let arc = b
+            .words
+            .iter()
+            .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 2.0 || g == 3.0));
+        let comp = b.words.iter().any(|w| {
+            w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 40.0 || g == 41.0 || g == 42.0)
+        });
+        if arc && comp {
+            diags.push(err(
+                codes::COMP_ON_ARC,
+                f,
+                b.span,
+                "cutter compensation G41/G42/G40 in a circular block",
+                "switch compensation on or off on a G01/G00 line",
+            ));
+        }
         for m in m_calls {
             match (m, p) {
                 (97 | 98, None) => diags.push(err(

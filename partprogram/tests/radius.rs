@@ -267,11 +267,18 @@ fn arc_smaller_than_the_tool_on_its_inside_is_an_error() {
 
 #[test]
 fn g41_g42_or_g40_on_an_arc_is_an_error() {
+    // Written in the G02/G03 block: a compile-time error in both dialects (S15).
     let on = "%1\nN10 G92 D1 R0=5.\nN20 G0 X0 Y-10\nN30 G2 G41 D1 X10 Y0 I10 J0 F100\nN40 M30\n";
-    assert_eq!(fails(&mill(), on, PlanOptions::default()), (2511, 4));
+    assert_eq!(codes(&mill(), on), vec![2035]);
+    let fanuc = "%\nO1\nG00 X0 Y-10.\nG03 G40 X10. Y0 I10. J0 F100.\nM30\n%\n";
+    assert_eq!(codes(&haas(), fanuc), vec![2035]);
+    // With a modal arc: a run-time error located at the block.
+    let on = "%1\nN10 G92 D1 R0=5.\nN20 G0 X0 Y-10\nN30 G2 X10 Y0 I10 J0 F100\n\
+              N40 G41 D1 X20 Y-10 I0 J-10\nN50 M30\n";
+    assert_eq!(fails(&mill(), on, PlanOptions::default()), (2511, 5));
     let off = "%1\nN10 G92 D1 R0=1.\nN20 G0 X0 Y-10\nN30 G1 G41 D1 X0 Y0 F100\nN40 X10\n\
-               N50 G40 G3 X20 Y10 I0 J10\nN60 M30\n";
-    assert_eq!(fails(&mill(), off, PlanOptions::default()), (2511, 6));
+               N50 G3 X20 Y10 I0 J10\nN60 G40 X30 Y20 I10 J0\nN70 M30\n";
+    assert_eq!(fails(&mill(), off, PlanOptions::default()), (2511, 7));
 }
 
 #[test]
