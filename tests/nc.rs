@@ -489,3 +489,57 @@ fn o00023_takes_h03_length_and_d03_radius_from_the_mills_table() {
         ]
     );
 }
+
+#[test]
+fn plan_runs_the_lathe_thread_cycle_g84_from_pevnecy5() {
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/lathe",
+        "G84THREAD",
+        "--format",
+        "json",
+    ]);
+    assert!(
+        out.status.success() && out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lines = json_lines(&out.stdout);
+    let threads: Vec<(u64, f64, f64, f64)> = lines
+        .iter()
+        .filter(|v| v["unit"] == "L84" && v["thread"] == true)
+        .map(|v| {
+            (
+                v["n"].as_u64().unwrap_or(0),
+                v["end"]["X"].as_f64().unwrap_or(f64::NAN),
+                v["end"]["Z"].as_f64().unwrap_or(f64::NAN),
+                v["feed"].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    // Chips 0.623, 0.498, 0.398 on the diameter from Ø20 (first chip 1.840/2.952 truncated), then
+    // R23 + 1 = 2 passes at Ø18.16; lead R26 = 1.5 mm at S500 = 750 mm/min.
+    assert_eq!(
+        threads,
+        vec![
+            (6, 19.377, -30.0, 750.0),
+            (6, 18.879, -30.0, 750.0),
+            (6, 18.481, -30.0, 750.0),
+            (10, 18.16, -30.0, 750.0),
+            (10, 18.16, -30.0, 750.0),
+        ]
+    );
+    assert_eq!(lines.iter().filter(|v| v["unit"] == "L84").count(), 20);
+    // The alternating variant plans the same with the interpreter.
+    let a = ncplc(&["nc", "plan", "plc-programs/lathe", "G84ALTERN"]);
+    let b = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/lathe",
+        "G84ALTERN",
+        "--interpreter",
+    ]);
+    assert!(a.status.success() && b.status.success());
+    assert_eq!(a.stdout, b.stdout);
+}

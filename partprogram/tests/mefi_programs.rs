@@ -450,6 +450,33 @@ fn thread_feed_is_lead_times_speed() {
 }
 
 #[test]
+fn g33_without_f_cuts_with_the_lead_of_the_modal_f() {
+    // F is one modal address (structure spec, address table): the lathe cycles G84-G87 program
+    // `FR26` in a G00 block and `G33 IR27 ZR31` without F. R26=1.5 is r 1500, a lead of 1.5 mm;
+    // at S200 the thread feed is 300 mm/min. The F of a G00 block stays the feed of later G01 (r 1500
+    // as mm/min under G94); F in a G33 block is the lead only.
+    let p = plan(
+        "%1\nN1 R26=1.5\n G0 X20 Z5 S200 M03\nN2 FR26\nN3 G33 Z-40\nN4 G0 X30\nN5 G01 Z5\nN6 G33 Z-40 F2.0\nN7 G01 Z5\nN8 G33 Z-40\nN9 M30\n",
+    );
+    let feeds: Vec<(Option<u32>, bool, Option<f64>)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.kind == Kind::Linear)
+        .map(|c| (c.n, c.thread, c.feed))
+        .collect();
+    assert_eq!(
+        feeds,
+        vec![
+            (Some(3), true, Some(300.0)),
+            (Some(5), false, Some(1500.0)),
+            (Some(6), true, Some(400.0)),
+            (Some(7), false, Some(1500.0)),
+            (Some(8), true, Some(400.0)),
+        ]
+    );
+}
+
+#[test]
 fn f26_f29_f30_length_correction_method_a() {
     let p = plan(
         "%1\nN1 G92 D1 R1=125.0 R2=80.0\nN2 G0 X0 Y0 &1000\nN3 X0 Y0 &100\nN4 G92 D2 R1=80.0 R2=50.0 R3=-5.0\nN5 X0 Y0 Z0 &2201 D2\nN6 X0 Y0 Z0 &0\nN7 M30\n",

@@ -148,14 +148,17 @@ impl Exec<'_> {
         let _ = cycle_start;
         self.sync_groups(&gs);
         // 5. Technological words.
-        if let (Some(v), 33) = (f, self.modal.motion) {
+        if let Some(v) = f {
+            // F is one modal address: a G33 block without F cuts with the lead of the last F (the
+            // lathe cycles G84-G87 program `FR26` in a G00/G90 block and `G33 IR27 ZR31` after it).
             // Thread lead in mm/rev: with a point mm, without a point µm (as G95), a parameter r µm.
             self.modal.lead = Some(match v {
                 V::Lit(l) if l.point => l.value(),
                 V::Lit(l) => l.value() / 1000.0,
                 V::R(r) => r as f64 / 1000.0,
             });
-        } else if let Some(v) = f {
+        }
+        if let Some(v) = f.filter(|_| self.modal.motion != 33) {
             let per_rev = matches!(self.modal.feed_mode, 95 | 97);
             let value = match (v, per_rev) {
                 (V::Lit(l), false) => {
