@@ -74,6 +74,11 @@ impl Packet {
         }
     }
 
+    /// Always false: every packet has bytes (here for the `len`/`is_empty` convention).
+    pub const fn is_empty(self) -> bool {
+        self.len() == 0
+    }
+
     /// Number of connectors (4 bytes each).
     pub const fn connectors(self) -> u16 {
         (self.len() / 4) as u16

@@ -390,15 +390,15 @@ impl Ex<'_> {
         if g10 {
             self.g10(b);
         } else if g92 {
-            for i in 0..self.axes.len() {
-                if let Some(v) = vals[i] {
+            for (i, v) in vals.iter().enumerate().take(self.axes.len()) {
+                if let Some(v) = v {
                     self.g92[i] =
                         self.machine[i] - self.work[self.wsel][i] - self.local[i] - self.tlo[i] - v;
                 }
             }
         } else if g52 {
-            for i in 0..self.axes.len() {
-                self.local[i] = vals[i].unwrap_or(0.0);
+            for (local, v) in self.local.iter_mut().zip(vals.iter()).take(self.axes.len()) {
+                *local = v.unwrap_or(0.0);
             }
         } else if g28 {
             let mid = target(self, &vals);

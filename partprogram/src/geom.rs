@@ -103,8 +103,8 @@ impl Geometry {
                 self.shift = [0.0; 6];
             }
             35 => {
-                for i in 0..6 {
-                    self.mirror[i] = axes[i].is_some();
+                for (m, a) in self.mirror.iter_mut().zip(axes.iter()) {
+                    *m = a.is_some();
                 }
             }
             36 => {
@@ -117,8 +117,8 @@ impl Geometry {
                 };
             }
             37 => {
-                for i in 0..6 {
-                    self.shift[i] = axes[i].unwrap_or(0.0);
+                for (sh, a) in self.shift.iter_mut().zip(axes.iter()) {
+                    *sh = a.unwrap_or(0.0);
                 }
             }
             _ => {}
@@ -128,9 +128,14 @@ impl Geometry {
 
     fn target(&self, t: &Target) -> [f64; 6] {
         let mut p = self.prog;
-        for i in 0..self.axes.len() {
-            if let Some(v) = t.axes[i] {
-                p[i] = if t.abs { v } else { self.prog[i] + v };
+        for ((pi, prog), v) in p
+            .iter_mut()
+            .zip(self.prog)
+            .zip(t.axes)
+            .take(self.axes.len())
+        {
+            if let Some(v) = v {
+                *pi = if t.abs { v } else { prog + v };
             }
         }
         p

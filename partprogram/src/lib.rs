@@ -42,6 +42,8 @@ pub use program::{Program, compile};
 
 /// Plans a compiled program: runs it and returns its canonical blocks, or the blocks emitted before a
 /// run-time error together with the located error.
+// The error carries the blocks planned before it by design (the CLI prints them before the error).
+#[allow(clippy::result_large_err)]
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, diag::Diagnostic)> {
     match prog.dialect {
         Dialect::Mefi => exec::plan(prog, opts).map_err(|(b, e)| (b, e.to_diagnostic(prog))),
