@@ -3,6 +3,8 @@
 //! compile time linear). One [`JITModule`] per program version; dropping the [`JitProgram`] frees
 //! its code.
 
+mod bits;
+mod cache;
 mod stateful;
 mod translate;
 
@@ -15,6 +17,7 @@ use cranelift_module::{Linkage, Module};
 
 use crate::engine::Engine;
 use crate::ir::{self, Program, Stmt};
+use cache::Caches;
 use translate::Translator;
 
 /// Why JIT compilation failed.
@@ -110,13 +113,33 @@ fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
 }
 
 /// Fills `func` with the body for `stmts`.
+/// What one compiling thread reuses from function to function (allocations only; no function
+/// depends on what was compiled before it).
+struct Scratch {
+    fctx: FunctionBuilderContext,
+    ctx: cranelift_codegen::Context,
+    caches: Caches,
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Scratch {
+            fctx: FunctionBuilderContext::new(),
+            ctx: cranelift_codegen::Context::new(),
+            caches: Caches::default(),
+        }
+    }
+}
+
 fn build(
     func: &mut Function,
     fctx: &mut FunctionBuilderContext,
+    caches: &mut Caches,
     p: &Program,
     stmts: &[Stmt],
     isa: &OwnedTargetIsa,
 ) {
+    caches.clear();
     let mut b = FunctionBuilder::new(func, fctx);
     let entry = b.create_block();
     b.append_block_params_for_function_params(entry);
@@ -127,8 +150,8 @@ fn build(
             b: &mut b,
             p,
             mem,
-            consts: Default::default(),
-            mem_cache: Default::default(),
+            c: caches,
+            guard: None,
         };
         t.stmts(stmts);
     }
@@ -165,13 +188,14 @@ fn machine_code(
     stmts: &[Stmt],
     isa: &OwnedTargetIsa,
     sig: &Signature,
-    fctx: &mut FunctionBuilderContext,
+    s: &mut Scratch,
 ) -> Result<Code, JitError> {
-    let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
-    build(&mut func, fctx, p, stmts, isa);
-    let mut ctx = cranelift_codegen::Context::for_function(func);
+    s.ctx.clear();
+    s.ctx.func.signature = sig.clone();
+    build(&mut s.ctx.func, &mut s.fctx, &mut s.caches, p, stmts, isa);
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
-    let code = ctx
+    let code = s
+        .ctx
         .compile(&**isa, &mut ctrl)
         .map_err(|e| JitError::Codegen(format!("{:?}", e.inner)))?;
     if !code.buffer.relocs().is_empty() {
@@ -198,9 +222,9 @@ fn compile_chunks(
     let threads = if threads == 0 { auto } else { threads };
     let threads = threads.min(chunks.len()).max(1);
     let run = |part: &[&[Stmt]]| -> Result<Vec<Code>, JitError> {
-        let mut fctx = FunctionBuilderContext::new();
+        let mut scratch = Scratch::default();
         part.iter()
-            .map(|stmts| machine_code(p, stmts, isa, sig, &mut fctx))
+            .map(|stmts| machine_code(p, stmts, isa, sig, &mut scratch))
             .collect()
     };
     if threads == 1 {
@@ -273,7 +297,7 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
     let opts = JitOptions::default();
     let isa = isa(&opts)?;
     let sig = signature(&isa, isa.default_call_conv());
-    let mut fctx = FunctionBuilderContext::new();
+    let mut s = Scratch::default();
     let mut out = String::new();
     let mut n = 0u32;
     let lists = std::iter::once(("FAST", &p.fast[..]))
@@ -281,7 +305,7 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
     for (i, (what, stmts)) in lists.enumerate() {
         for chunk in chunks(stmts, opts.chunk_cost) {
             let mut func = Function::with_name_signature(UserFuncName::user(0, n), sig.clone());
-            build(&mut func, &mut fctx, p, chunk, &isa);
+            build(&mut func, &mut s.fctx, &mut s.caches, p, chunk, &isa);
             let label = if i == 0 {
                 what.to_string()
             } else {
@@ -295,6 +319,39 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
         }
     }
     Ok(out)
+}
+
+/// Size of the cranelift IR a program compiles to (the JIT's compile time is about linear in it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ClifStats {
+    /// Functions (FAST chunks plus SLOW slice chunks).
+    pub functions: usize,
+    /// Basic blocks over all functions.
+    pub blocks: usize,
+    /// CLIF instructions over all functions.
+    pub insts: usize,
+}
+
+/// Builds (without compiling) the cranelift IR of every function and counts it.
+pub fn clif_stats(p: &Program, opts: &JitOptions) -> Result<ClifStats, JitError> {
+    check_len(p)?;
+    let isa = isa(opts)?;
+    let sig = signature(&isa, isa.default_call_conv());
+    let mut s = Scratch::default();
+    let mut st = ClifStats::default();
+    let lists = std::iter::once(&p.fast[..]).chain(p.slow.iter().map(Vec::as_slice));
+    for stmts in lists {
+        for chunk in chunks(stmts, opts.chunk_cost) {
+            let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
+            build(&mut func, &mut s.fctx, &mut s.caches, p, chunk, &isa);
+            st.functions += 1;
+            for block in func.layout.blocks() {
+                st.blocks += 1;
+                st.insts += func.layout.block_insts(block).count();
+            }
+        }
+    }
+    Ok(st)
 }
 
 impl JitProgram {
