@@ -50,8 +50,13 @@ fn main() {
     }
     for (name, threads) in [("jit1", 1), ("jit2", 2)] {
         if what == "all" || what == name {
+            let chunk_cost = std::env::var("CHUNK_COST")
+                .ok()
+                .and_then(|c| c.parse().ok())
+                .unwrap_or(JitOptions::default().chunk_cost);
             let opts = JitOptions {
                 threads,
+                chunk_cost,
                 ..JitOptions::default()
             };
             let t = best(&mut || {
