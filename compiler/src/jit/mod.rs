@@ -35,7 +35,8 @@ pub enum JitError {
 }
 
 /// Code generation options (the defaults are what [`compile`] uses: `none`, `single_pass`,
-/// chunks of 2000 cost units, one thread so that compiling never competes with the scan thread).
+/// chunks of 2000 cost units, one thread so that compiling never competes with the scan thread,
+/// IF zones up to 24 cost units if-converted).
 #[derive(Debug, Clone)]
 pub struct JitOptions {
     /// Cranelift `opt_level`: `none`, `speed` or `speed_and_size`.
@@ -46,6 +47,9 @@ pub struct JitOptions {
     pub chunk_cost: u32,
     /// Threads compiling functions in parallel (0: the available cores, at most 4).
     pub threads: usize,
+    /// IF zones whose [`ir::Stmt::cost`] is at most this run branch-free (both branches with
+    /// guarded stores) instead of branching; 0 never, `u32::MAX` always.
+    pub if_convert_cost: u32,
 }
 
 impl Default for JitOptions {
@@ -55,6 +59,7 @@ impl Default for JitOptions {
             regalloc: "single_pass",
             chunk_cost: 2000,
             threads: 1,
+            if_convert_cost: 24,
         }
     }
 }
@@ -133,12 +138,13 @@ impl Default for Scratch {
 
 fn build(
     func: &mut Function,
-    fctx: &mut FunctionBuilderContext,
-    caches: &mut Caches,
+    s: &mut Scratch,
     p: &Program,
     stmts: &[Stmt],
     isa: &OwnedTargetIsa,
+    opts: &JitOptions,
 ) {
+    let (fctx, caches) = (&mut s.fctx, &mut s.caches);
     caches.clear();
     let mut b = FunctionBuilder::new(func, fctx);
     let entry = b.create_block();
@@ -152,6 +158,7 @@ fn build(
             mem,
             c: caches,
             guard: None,
+            if_convert_cost: opts.if_convert_cost,
         };
         t.stmts(stmts);
     }
@@ -188,15 +195,27 @@ fn machine_code(
     stmts: &[Stmt],
     isa: &OwnedTargetIsa,
     sig: &Signature,
+    opts: &JitOptions,
     s: &mut Scratch,
 ) -> Result<Code, JitError> {
-    s.ctx.clear();
-    s.ctx.func.signature = sig.clone();
-    build(&mut s.ctx.func, &mut s.fctx, &mut s.caches, p, stmts, isa);
+    let mut ctx = std::mem::replace(&mut s.ctx, cranelift_codegen::Context::new());
+    ctx.clear();
+    ctx.func.signature = sig.clone();
+    build(&mut ctx.func, s, p, stmts, isa, opts);
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
-    let code = s
-        .ctx
-        .compile(&**isa, &mut ctrl)
+    let result = machine_code_of(&mut ctx, isa, &mut ctrl);
+    s.ctx = ctx;
+    result
+}
+
+/// Compiles the function in `ctx` and copies out its code.
+fn machine_code_of(
+    ctx: &mut cranelift_codegen::Context,
+    isa: &OwnedTargetIsa,
+    ctrl: &mut cranelift_codegen::control::ControlPlane,
+) -> Result<Code, JitError> {
+    let code = ctx
+        .compile(&**isa, ctrl)
         .map_err(|e| JitError::Codegen(format!("{:?}", e.inner)))?;
     if !code.buffer.relocs().is_empty() {
         return Err(JitError::Codegen("scan code needs relocations".into()));
@@ -214,8 +233,9 @@ fn compile_chunks(
     chunks: &[&[Stmt]],
     isa: &OwnedTargetIsa,
     sig: &Signature,
-    threads: usize,
+    opts: &JitOptions,
 ) -> Result<Vec<Code>, JitError> {
+    let threads = opts.threads;
     let auto = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(4);
@@ -224,7 +244,7 @@ fn compile_chunks(
     let run = |part: &[&[Stmt]]| -> Result<Vec<Code>, JitError> {
         let mut scratch = Scratch::default();
         part.iter()
-            .map(|stmts| machine_code(p, stmts, isa, sig, &mut scratch))
+            .map(|stmts| machine_code(p, stmts, isa, sig, opts, &mut scratch))
             .collect()
     };
     if threads == 1 {
@@ -257,7 +277,7 @@ pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitErr
         .map(|stmts| chunks(stmts, opts.chunk_cost))
         .collect();
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
-    let codes = compile_chunks(p, &flat, &isa, &sig, opts.threads)?;
+    let codes = compile_chunks(p, &flat, &isa, &sig, opts)?;
     let mut module = JITModule::new(JITBuilder::with_isa(
         isa.clone(),
         cranelift_module::default_libcall_names(),
@@ -305,7 +325,7 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
     for (i, (what, stmts)) in lists.enumerate() {
         for chunk in chunks(stmts, opts.chunk_cost) {
             let mut func = Function::with_name_signature(UserFuncName::user(0, n), sig.clone());
-            build(&mut func, &mut s.fctx, &mut s.caches, p, chunk, &isa);
+            build(&mut func, &mut s, p, chunk, &isa, &opts);
             let label = if i == 0 {
                 what.to_string()
             } else {
@@ -343,7 +363,7 @@ pub fn clif_stats(p: &Program, opts: &JitOptions) -> Result<ClifStats, JitError>
     for stmts in lists {
         for chunk in chunks(stmts, opts.chunk_cost) {
             let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
-            build(&mut func, &mut s.fctx, &mut s.caches, p, chunk, &isa);
+            build(&mut func, &mut s, p, chunk, &isa, opts);
             st.functions += 1;
             for block in func.layout.blocks() {
                 st.blocks += 1;

@@ -27,9 +27,6 @@ pub(super) fn clty(ty: Ty) -> Type {
     }
 }
 
-/// IF zones whose [`Stmt::cost`] is at most this are if-converted (no branch, guarded stores).
-const IF_CONVERT_COST: u32 = 24;
-
 /// Translates statements into one function body over the image pointer `mem`.
 pub(super) struct Translator<'a, 'b> {
     /// The function under construction.
@@ -42,6 +39,8 @@ pub(super) struct Translator<'a, 'b> {
     pub c: &'a mut Caches,
     /// Inside an if-converted zone: the I8 0/1 condition under which stores take effect.
     pub guard: Option<Value>,
+    /// IF zones up to this cost are if-converted ([`super::JitOptions::if_convert_cost`]).
+    pub if_convert_cost: u32,
 }
 
 macro_rules! with_k {
@@ -270,7 +269,7 @@ impl Translator<'_, '_> {
     /// empty branch jumps straight to the join block.
     fn zone(&mut self, cost: u32, cond: &Expr, then_: &[Stmt], else_: &[Stmt]) {
         let x = self.bits(cond, 0);
-        if self.guard.is_some() || cost <= IF_CONVERT_COST {
+        if self.guard.is_some() || cost <= self.if_convert_cost {
             let c = self.materialize(x);
             let outer = self.guard;
             let g = match outer {
