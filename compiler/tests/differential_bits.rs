@@ -176,3 +176,44 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn coils_of_one_byte_become_one_store() {
+    let load = |s: &str| Expr::Load(Place::Signal(sig(s)));
+    let coil = |s: &str, value: Expr| Stmt::Assign {
+        place: Place::Signal(sig(s)),
+        value,
+    };
+    let and = |l: Expr, r: Expr| Expr::Binary {
+        op: BinOp::And,
+        ty: Ty::Bool,
+        lhs: b(l),
+        rhs: b(r),
+    };
+    // Each coil after the first reads a bit written just before it.
+    let fast = vec![
+        coil("U4A0", load("I0A0")),
+        coil("U4A1", and(load("I0A1"), load("U4A0"))),
+        coil("U4A2", Expr::Not(b(load("U4A1")))),
+        coil("U4A3", and(load("I0A3"), load("U4A2"))),
+    ];
+    let p = Arc::new(
+        ProgramBuilder::new(10, 0)
+            .finish(fast, Vec::new())
+            .expect("valid"),
+    );
+    let clif = compiler::jit::emit_clif(&p).expect("clif");
+    let stores: Vec<&str> = clif.lines().filter(|l| l.contains("store ")).collect();
+    assert_eq!(stores.len(), 1, "{clif}");
+    assert!(stores[0].ends_with("v0+16"), "{}", stores[0]);
+    let mut interp = Interpreter::new(p.clone());
+    let mut jit = compiler::jit::compile(&p).expect("jit");
+    for input in 0..16u8 {
+        let (mut want, mut got) = (p.new_image(), p.new_image());
+        want[0] = input;
+        got[0] = input;
+        interp.tick(&mut want);
+        jit.tick(&mut got);
+        assert_eq!(got, want, "input {input:#06b}");
+    }
+}

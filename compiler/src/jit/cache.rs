@@ -47,6 +47,19 @@ impl Hasher for FxHasher {
     }
 }
 
+/// A store not emitted yet (see [`Caches::pending`]).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Pending {
+    /// Image offset.
+    pub at: usize,
+    /// The stored value (its type gives the width).
+    pub v: Value,
+    /// Width in bytes.
+    pub len: usize,
+    /// The statement that last wrote it.
+    pub stamp: u32,
+}
+
 /// What the translator remembers within one basic block.
 #[derive(Debug, Default)]
 pub(super) struct Caches {
@@ -57,12 +70,16 @@ pub(super) struct Caches {
     mem: Vec<Option<(Type, Value)>>,
     /// Offsets with a `Some` in `mem`.
     touched: Vec<usize>,
+    /// Stores held back for a statement, in program order: a store to the same place by the
+    /// next statement replaces the held one (coils of one byte become one store).
+    pub pending: Vec<Pending>,
 }
 
 impl Caches {
     /// Forgets everything (a new block starts); keeps the allocations.
     pub fn clear(&mut self) {
         self.consts.clear();
+        self.pending.clear();
         for o in self.touched.drain(..) {
             if let Some(slot) = self.mem.get_mut(o) {
                 *slot = None;

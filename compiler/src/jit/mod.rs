@@ -159,8 +159,10 @@ fn build(
             c: caches,
             guard: None,
             if_convert_cost: opts.if_convert_cost,
+            stamp: 0,
         };
         t.stmts(stmts);
+        t.flush_all();
     }
     b.ins().return_(&[]);
     b.seal_all_blocks();

@@ -7,7 +7,7 @@ use cranelift_codegen::ir::{InstBuilder, MemFlagsData, Type, Value, types};
 use cranelift_frontend::FunctionBuilder;
 
 use super::bits::Bits;
-use super::cache::Caches;
+use super::cache::{Caches, Pending};
 use crate::ir::{self, BinOp, CmpOp, CounterKind, Expr, FLAG_Q, Place, Program, Stmt, Ty, UnOp};
 
 /// Memory flags for image accesses: offsets are checked against the image length at compile time
@@ -41,6 +41,8 @@ pub(super) struct Translator<'a, 'b> {
     pub guard: Option<Value>,
     /// IF zones up to this cost are if-converted ([`super::JitOptions::if_convert_cost`]).
     pub if_convert_cost: u32,
+    /// Number of the statement being translated (for held-back stores).
+    pub stamp: u32,
 }
 
 macro_rules! with_k {
@@ -105,6 +107,7 @@ impl Translator<'_, '_> {
         if let Some(v) = self.c.get(at, ty) {
             return v;
         }
+        self.flush_overlapping(at, ty.bytes() as usize);
         let v = self.b.ins().load(ty, FL, self.mem, Self::off(at));
         self.c.remember(at, ty, v);
         v
@@ -117,6 +120,11 @@ impl Translator<'_, '_> {
     /// Stores `v` at image offset `at`; cached values overlapping the written bytes are dropped
     /// and the stored value is remembered for later loads. Inside an if-converted zone the store
     /// writes `guard ? v : old`.
+    ///
+    /// The store itself is held back until the end of the next statement: if that statement
+    /// stores to the same place again, the held store is dead and is dropped (later reads of
+    /// the place are served from the cache, and a load of overlapping bytes that misses the cache
+    /// first emits the held stores it overlaps).
     pub(super) fn store(&mut self, v: Value, at: usize) {
         let ty = self.b.func.dfg.value_type(v);
         let v = match self.guard {
@@ -126,8 +134,61 @@ impl Translator<'_, '_> {
             }
             None => v,
         };
-        self.b.ins().store(FL, v, self.mem, Self::off(at));
         self.c.stored(at, ty, v);
+        let len = ty.bytes() as usize;
+        let stamp = self.stamp;
+        if let Some(p) = self
+            .c
+            .pending
+            .iter_mut()
+            .find(|p| p.at == at && p.len == len)
+        {
+            p.v = v;
+            p.stamp = stamp;
+            return;
+        }
+        self.flush_overlapping(at, len);
+        self.c.pending.push(Pending { at, v, len, stamp });
+    }
+
+    fn emit_store(&mut self, p: Pending) {
+        self.b.ins().store(FL, p.v, self.mem, Self::off(p.at));
+    }
+
+    /// Emits the held stores that overlap `at..at + len`.
+    fn flush_overlapping(&mut self, at: usize, len: usize) {
+        let mut i = 0;
+        while i < self.c.pending.len() {
+            let p = self.c.pending[i];
+            if p.at < at + len && at < p.at + p.len {
+                self.c.pending.remove(i);
+                self.emit_store(p);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Emits the held stores the current statement did not write.
+    fn flush_stale(&mut self) {
+        let stamp = self.stamp;
+        let mut i = 0;
+        while i < self.c.pending.len() {
+            let p = self.c.pending[i];
+            if p.stamp != stamp {
+                self.c.pending.remove(i);
+                self.emit_store(p);
+            } else {
+                i += 1;
+            }
+        }
+    }
+
+    /// Emits every held store (before a branch, a jump or the return).
+    pub(super) fn flush_all(&mut self) {
+        for p in std::mem::take(&mut self.c.pending) {
+            self.emit_store(p);
+        }
     }
 
     /// BOOL (I8 0/1) from a nonzero test.
@@ -225,7 +286,9 @@ impl Translator<'_, '_> {
     /// Emits a list of statements.
     pub(super) fn stmts(&mut self, stmts: &[Stmt]) {
         for s in stmts {
+            self.stamp += 1;
             self.stmt(s);
+            self.flush_stale();
         }
     }
 
@@ -291,6 +354,7 @@ impl Translator<'_, '_> {
             return;
         }
         let c = self.truthy(x);
+        self.flush_all();
         let join = self.b.create_block();
         let tb = if then_.is_empty() {
             join
@@ -307,6 +371,7 @@ impl Translator<'_, '_> {
             if block != join {
                 self.switch(block);
                 self.stmts(body);
+                self.flush_all();
                 self.b.ins().jump(join, &[]);
             }
         }
