@@ -6,7 +6,8 @@
 //! and a coil writes the result into its byte without ever normalizing it to 0/1. Operands are
 //! lined up on the bit the statement finally writes when they can be, so most rungs need no
 //! shift at all for the target's own bits. Where a real 0/1 is needed (timers, BOOL variables,
-//! conversions) [`Translator::materialize`] makes one.
+//! conversions) [`Translator::materialize`] makes one. The coils, SET and RES of bit places
+//! (also here) merge the result into the target byte in two or three instructions.
 
 use cranelift_codegen::ir::{InstBuilder, Value, types};
 
@@ -159,6 +160,69 @@ impl Translator<'_, '_> {
             x.v
         } else {
             self.band_k(x.v, 1 << x.pos)
+        }
+    }
+
+    /// Writes bit `bit` of the byte at `at` to the boolean `x`.
+    fn store_bit(&mut self, at: usize, bit: u8, x: Bits) {
+        let byte = self.load8(at);
+        let x = self.align(x, bit);
+        let m = 1i64 << bit;
+        let n = if x.clean {
+            let cleared = self.band_k(byte, !m);
+            self.b.ins().bor(cleared, x.v)
+        } else {
+            // byte ^ ((byte ^ x) & m): the bit of x, the other bits of byte.
+            let d = self.b.ins().bxor(byte, x.v);
+            let d = self.band_k(d, m);
+            self.b.ins().bxor(byte, d)
+        };
+        self.store(n, at);
+    }
+
+    pub(super) fn assign(&mut self, place: &Place, value: &Expr) {
+        match self.place_at(place) {
+            (at, Some(bit)) => {
+                let x = self.bits(value, bit);
+                self.store_bit(at, bit, x);
+            }
+            (at, None) => {
+                let v = self.expr(value);
+                self.store(v, at);
+            }
+        }
+    }
+
+    /// SET (`set`) or RES of a BOOL place when `cond`.
+    pub(super) fn set_res(&mut self, place: &Place, cond: &Expr, set: bool) {
+        match self.place_at(place) {
+            (at, Some(bit)) => {
+                let x = self.bits(cond, bit);
+                let byte = self.load8(at);
+                let x = self.align(x, bit);
+                let m = 1i64 << bit;
+                let n = match (set, x.clean) {
+                    (true, true) => self.b.ins().bor(byte, x.v),
+                    (true, false) => {
+                        let xm = self.band_k(x.v, m);
+                        self.b.ins().bor(byte, xm)
+                    }
+                    (false, clean) => {
+                        let nx = self.b.ins().bnot(x.v);
+                        let nx = if clean { nx } else { self.bor_k(nx, !m) };
+                        self.b.ins().band(byte, nx)
+                    }
+                };
+                self.store(n, at);
+            }
+            (at, None) => {
+                let x = self.bits(cond, 0);
+                let c = self.truthy(x);
+                let old = self.load8(at);
+                let k = self.i8c(i64::from(set));
+                let n = self.b.ins().select(c, k, old);
+                self.store(n, at);
+            }
         }
     }
 }

@@ -5,6 +5,7 @@
 
 mod bits;
 mod cache;
+mod memory;
 mod stateful;
 mod translate;
 

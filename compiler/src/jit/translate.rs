@@ -1,13 +1,13 @@
 //! IR → cranelift IR for expressions and plain statements. Every operation is branch-free except
-//! IF zones; divisions are guarded so that no emitted instruction can trap.
+//! larger IF zones (small ones are if-converted: both branches run with guarded stores);
+//! divisions are guarded so that no emitted instruction can trap.
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::immediates::{Ieee32, Ieee64};
 use cranelift_codegen::ir::{InstBuilder, MemFlagsData, Type, Value, types};
 use cranelift_frontend::FunctionBuilder;
 
-use super::bits::Bits;
-use super::cache::{Caches, Pending};
+use super::cache::Caches;
 use crate::ir::{self, BinOp, CmpOp, CounterKind, Expr, FLAG_Q, Place, Program, Stmt, Ty, UnOp};
 
 /// Memory flags for image accesses: offsets are checked against the image length at compile time
@@ -96,101 +96,6 @@ impl Translator<'_, '_> {
         self.k(types::I8, v & 0xFF)
     }
 
-    pub(super) fn load8(&mut self, at: usize) -> Value {
-        self.load(types::I8, at)
-    }
-
-    /// Loads a value of type `ty` at image offset `at`, reusing the value last loaded from or
-    /// stored to exactly that place in this block (all offsets are constants, so aliasing is
-    /// known exactly).
-    fn load(&mut self, ty: Type, at: usize) -> Value {
-        if let Some(v) = self.c.get(at, ty) {
-            return v;
-        }
-        self.flush_overlapping(at, ty.bytes() as usize);
-        let v = self.b.ins().load(ty, FL, self.mem, Self::off(at));
-        self.c.remember(at, ty, v);
-        v
-    }
-
-    pub(super) fn load32(&mut self, at: usize) -> Value {
-        self.load(types::I32, at)
-    }
-
-    /// Stores `v` at image offset `at`; cached values overlapping the written bytes are dropped
-    /// and the stored value is remembered for later loads. Inside an if-converted zone the store
-    /// writes `guard ? v : old`.
-    ///
-    /// The store itself is held back until the end of the next statement: if that statement
-    /// stores to the same place again, the held store is dead and is dropped (later reads of
-    /// the place are served from the cache, and a load of overlapping bytes that misses the cache
-    /// first emits the held stores it overlaps).
-    pub(super) fn store(&mut self, v: Value, at: usize) {
-        let ty = self.b.func.dfg.value_type(v);
-        let v = match self.guard {
-            Some(g) => {
-                let old = self.load(ty, at);
-                self.b.ins().select(g, v, old)
-            }
-            None => v,
-        };
-        self.c.stored(at, ty, v);
-        let len = ty.bytes() as usize;
-        let stamp = self.stamp;
-        if let Some(p) = self
-            .c
-            .pending
-            .iter_mut()
-            .find(|p| p.at == at && p.len == len)
-        {
-            p.v = v;
-            p.stamp = stamp;
-            return;
-        }
-        self.flush_overlapping(at, len);
-        self.c.pending.push(Pending { at, v, len, stamp });
-    }
-
-    fn emit_store(&mut self, p: Pending) {
-        self.b.ins().store(FL, p.v, self.mem, Self::off(p.at));
-    }
-
-    /// Emits the held stores that overlap `at..at + len`.
-    fn flush_overlapping(&mut self, at: usize, len: usize) {
-        let mut i = 0;
-        while i < self.c.pending.len() {
-            let p = self.c.pending[i];
-            if p.at < at + len && at < p.at + p.len {
-                self.c.pending.remove(i);
-                self.emit_store(p);
-            } else {
-                i += 1;
-            }
-        }
-    }
-
-    /// Emits the held stores the current statement did not write.
-    fn flush_stale(&mut self) {
-        let stamp = self.stamp;
-        let mut i = 0;
-        while i < self.c.pending.len() {
-            let p = self.c.pending[i];
-            if p.stamp != stamp {
-                self.c.pending.remove(i);
-                self.emit_store(p);
-            } else {
-                i += 1;
-            }
-        }
-    }
-
-    /// Emits every held store (before a branch, a jump or the return).
-    pub(super) fn flush_all(&mut self) {
-        for p in std::mem::take(&mut self.c.pending) {
-            self.emit_store(p);
-        }
-    }
-
     /// BOOL (I8 0/1) from a nonzero test.
     fn nonzero(&mut self, v: Value) -> Value {
         self.icmp_k(IntCC::NotEqual, v, 0)
@@ -218,69 +123,6 @@ impl Translator<'_, '_> {
         let ty = self.p.place_ty(place);
         let v = self.load(clty(ty), at);
         if ty == Ty::Bool { self.nonzero(v) } else { v }
-    }
-
-    /// Writes bit `bit` of the byte at `at` to the boolean `x`.
-    fn store_bit(&mut self, at: usize, bit: u8, x: Bits) {
-        let byte = self.load8(at);
-        let x = self.align(x, bit);
-        let m = 1i64 << bit;
-        let n = if x.clean {
-            let cleared = self.band_k(byte, !m);
-            self.b.ins().bor(cleared, x.v)
-        } else {
-            // byte ^ ((byte ^ x) & m): the bit of x, the other bits of byte.
-            let d = self.b.ins().bxor(byte, x.v);
-            let d = self.band_k(d, m);
-            self.b.ins().bxor(byte, d)
-        };
-        self.store(n, at);
-    }
-
-    fn assign(&mut self, place: &Place, value: &Expr) {
-        match self.place_at(place) {
-            (at, Some(bit)) => {
-                let x = self.bits(value, bit);
-                self.store_bit(at, bit, x);
-            }
-            (at, None) => {
-                let v = self.expr(value);
-                self.store(v, at);
-            }
-        }
-    }
-
-    /// SET (`set`) or RES of a BOOL place when `cond`.
-    fn set_res(&mut self, place: &Place, cond: &Expr, set: bool) {
-        match self.place_at(place) {
-            (at, Some(bit)) => {
-                let x = self.bits(cond, bit);
-                let byte = self.load8(at);
-                let x = self.align(x, bit);
-                let m = 1i64 << bit;
-                let n = match (set, x.clean) {
-                    (true, true) => self.b.ins().bor(byte, x.v),
-                    (true, false) => {
-                        let xm = self.band_k(x.v, m);
-                        self.b.ins().bor(byte, xm)
-                    }
-                    (false, clean) => {
-                        let nx = self.b.ins().bnot(x.v);
-                        let nx = if clean { nx } else { self.bor_k(nx, !m) };
-                        self.b.ins().band(byte, nx)
-                    }
-                };
-                self.store(n, at);
-            }
-            (at, None) => {
-                let x = self.bits(cond, 0);
-                let c = self.truthy(x);
-                let old = self.load8(at);
-                let k = self.i8c(i64::from(set));
-                let n = self.b.ins().select(c, k, old);
-                self.store(n, at);
-            }
-        }
     }
 
     /// Emits a list of statements.
