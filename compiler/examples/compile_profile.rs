@@ -46,7 +46,17 @@ fn main() {
         let front = best(&mut || {
             std::hint::black_box(compile("bench", src.as_bytes(), &ctx));
         });
-        println!("lex {lex:.2} ms, lex+parse {parse:.2} ms, front end {front:.2} ms");
+        let front2 = best(&mut || {
+            std::hint::black_box(compiler::compile_with_threads(
+                "bench",
+                src.as_bytes(),
+                &ctx,
+                2,
+            ));
+        });
+        println!(
+            "lex {lex:.2} ms, lex+parse {parse:.2} ms, front end {front:.2} ms (2 threads {front2:.2} ms)"
+        );
     }
     for (name, threads) in [("jit1", 1), ("jit2", 2)] {
         if what == "all" || what == name {

@@ -19,6 +19,13 @@ lalrpop_util::lalrpop_mod!(
 
 /// Parses decoded source `text` of `file`; diagnostics are located (line and column filled in).
 pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
+    parse_with_threads(file, text, 1)
+}
+
+/// [`parse`] on up to `threads` threads (0: the available cores): a long source is cut at the line
+/// end nearest its middle and both halves go through the grammar at once. The result is always
+/// exactly [`parse`]'s.
+pub fn parse_with_threads(file: &str, text: &str, threads: usize) -> (Program, Vec<Diagnostic>) {
     let (mut tokens, lex_errors) = lexer::tokenize(text);
     let mut diags: Vec<Diagnostic> = lex_errors
         .iter()
@@ -31,18 +38,14 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
         .collect();
     truncate_after_second_dollar(file, text, &mut tokens, &mut diags);
 
-    let mut recovered = Vec::new();
-    let lines = match grammar::LinesParser::new()
-        .parse(&mut recovered, tokens.into_iter().map(Ok::<_, ()>))
-    {
-        Ok(lines) => lines,
-        Err(e) => {
-            recovered.push(lalrpop_util::ErrorRecovery {
-                error: e,
-                dropped_tokens: Vec::new(),
-            });
-            Vec::new()
-        }
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let (lines, recovered) = if threads > 1 && tokens.len() >= SPLIT_TOKENS {
+        parse_lines_split(&tokens)
+    } else {
+        parse_lines(&tokens).0
     };
     for r in recovered {
         if let Some(d) = syntax_diagnostic(file, text, r.error) {
@@ -56,6 +59,61 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
     let lines = lexer::LineIndex::new(text);
     let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
     (program, diags)
+}
+
+/// Sources shorter than this many tokens are parsed on one thread.
+const SPLIT_TOKENS: usize = 20_000;
+
+type Recovered<'a> = Vec<lalrpop_util::ErrorRecovery<usize, Tok<'a>, ()>>;
+
+/// Runs the grammar over `tokens`. An unrecoverable error becomes one more recovered error and no
+/// lines; the flag says it happened.
+fn parse_lines<'a>(tokens: &[Spanned<'a>]) -> ((Vec<Line>, Recovered<'a>), bool) {
+    let mut recovered = Vec::new();
+    let input = tokens.iter().cloned().map(Ok::<_, ()>);
+    match grammar::LinesParser::new().parse(&mut recovered, input) {
+        Ok(lines) => ((lines, recovered), false),
+        Err(e) => {
+            recovered.push(lalrpop_util::ErrorRecovery {
+                error: e,
+                dropped_tokens: Vec::new(),
+            });
+            ((Vec::new(), recovered), true)
+        }
+    }
+}
+
+/// [`parse_lines`] of two halves at once. Every line is a complete item of the grammar (IF blocks
+/// are nested afterwards), so cutting right after a line end and concatenating the results gives
+/// what one pass gives; when a half fails unrecoverably or runs into its end (never expected), the
+/// whole is parsed again in one pass.
+fn parse_lines_split<'a>(tokens: &[Spanned<'a>]) -> (Vec<Line>, Recovered<'a>) {
+    let mid = tokens.len() / 2;
+    let cut = tokens[mid..]
+        .iter()
+        .position(|t| t.1 == Tok::Newline)
+        .map(|i| mid + i + 1)
+        .filter(|&c| c < tokens.len());
+    let Some(cut) = cut else {
+        return parse_lines(tokens).0;
+    };
+    let (first, second) = tokens.split_at(cut);
+    let (a, b) = std::thread::scope(|s| {
+        let h = s.spawn(|| parse_lines(second));
+        (parse_lines(first), h.join())
+    });
+    let ends_early = |r: &Recovered<'_>| {
+        r.iter()
+            .any(|e| matches!(e.error, ParseError::UnrecognizedEof { .. }))
+    };
+    match (a, b) {
+        (((mut lines, mut rec), false), Ok(((more, more_rec), false))) if !ends_early(&rec) => {
+            lines.extend(more);
+            rec.extend(more_rec);
+            (lines, rec)
+        }
+        _ => parse_lines(tokens).0,
+    }
 }
 
 /// Binding strength of a binary operator (higher binds tighter); every level is left-associative:

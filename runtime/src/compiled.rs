@@ -173,7 +173,8 @@ pub fn compile(
     compile_with_threads(file_name, source, cfg, interface, tick_ms, engine, 1)
 }
 
-/// [`compile`] with the JIT on `threads` threads (0: all available cores; see [`load_with_threads`]).
+/// [`compile`] parsing and JIT-compiling on `threads` threads (0: all available cores; see
+/// [`load_with_threads`]).
 pub fn compile_with_threads(
     file_name: &str,
     source: &[u8],
@@ -184,7 +185,7 @@ pub fn compile_with_threads(
     threads: usize,
 ) -> Result<Loaded, String> {
     let ctx = machine_context(cfg, tick_ms, interface.clone());
-    let c = compiler::compile(file_name, source, &ctx);
+    let c = compiler::compile_with_threads(file_name, source, &ctx, threads);
     let mut sources = diag::Sources::new();
     sources.add(file_name, c.text.clone());
     match c.program {
