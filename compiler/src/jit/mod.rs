@@ -229,8 +229,9 @@ fn machine_code_of(
     ))
 }
 
-/// Compiles every chunk, on several threads when there is more than one chunk; results keep
-/// the order of `chunks` (and the code does not depend on the thread that made it).
+/// Compiles every chunk, on several threads when there is more than one chunk: each thread takes
+/// the next chunk not yet taken (so uneven chunks still share the work evenly); results keep the
+/// order of `chunks`, and the code does not depend on the thread that made it.
 fn compile_chunks(
     p: &Program,
     chunks: &[&[Stmt]],
@@ -238,35 +239,46 @@ fn compile_chunks(
     sig: &Signature,
     opts: &JitOptions,
 ) -> Result<Vec<Code>, JitError> {
-    let threads = opts.threads;
     let auto = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(4);
-    let threads = if threads == 0 { auto } else { threads };
-    let threads = threads.min(chunks.len()).max(1);
-    let run = |part: &[&[Stmt]]| -> Result<Vec<Code>, JitError> {
-        let mut scratch = Scratch::default();
-        part.iter()
-            .map(|stmts| machine_code(p, stmts, isa, sig, opts, &mut scratch))
-            .collect()
+    let threads = if opts.threads == 0 {
+        auto
+    } else {
+        opts.threads
     };
+    let threads = threads.min(chunks.len()).max(1);
     if threads == 1 {
-        return run(chunks);
-    }
-    let per = chunks.len().div_ceil(threads);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = chunks
-            .chunks(per)
-            .map(|part| scope.spawn(move || run(part)))
+        let mut scratch = Scratch::default();
+        return chunks
+            .iter()
+            .map(|stmts| machine_code(p, stmts, isa, sig, opts, &mut scratch))
             .collect();
-        let mut out = Vec::with_capacity(chunks.len());
-        for h in handles {
-            let codes = h
-                .join()
-                .map_err(|_| JitError::Codegen("a compile thread panicked".into()))??;
-            out.extend(codes);
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let work = || -> Result<Vec<(usize, Code)>, JitError> {
+        let mut scratch = Scratch::default();
+        let mut out = Vec::new();
+        loop {
+            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(stmts) = chunks.get(i) else {
+                return Ok(out);
+            };
+            out.push((i, machine_code(p, stmts, isa, sig, opts, &mut scratch)?));
         }
-        Ok(out)
+    };
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mine = work();
+        // Join every thread before looking at any result (a thread left running would keep its
+        // panic for the end of the scope).
+        let theirs: Vec<_> = handles.into_iter().map(|h| h.join()).collect();
+        let mut all = mine?;
+        for codes in theirs {
+            all.extend(codes.map_err(|_| JitError::Codegen("a compile thread panicked".into()))??);
+        }
+        all.sort_unstable_by_key(|(i, _)| *i);
+        Ok(all.into_iter().map(|(_, code)| code).collect())
     })
 }
 
