@@ -32,6 +32,17 @@ fn main() {
         std::process::exit(1);
     };
     let stmts = p.statement_count();
+    if what == "front2" {
+        for _ in 0..reps {
+            std::hint::black_box(compiler::compile_with_threads(
+                "bench",
+                src.as_bytes(),
+                &ctx,
+                2,
+            ));
+        }
+        return;
+    }
     if what == "clif" {
         print!("{}", jit::emit_clif(&p).expect("clif"));
         return;
