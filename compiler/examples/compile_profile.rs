@@ -86,6 +86,20 @@ fn main() {
             println!("JIT {threads} thread(s) {t:.2} ms");
         }
     }
+    if matches!(what, "all" | "e2e") {
+        for threads in [1, 2] {
+            let opts = JitOptions {
+                threads,
+                ..JitOptions::default()
+            };
+            let t = best(&mut || {
+                let c = compiler::compile_with_threads("bench", src.as_bytes(), &ctx, threads);
+                let p = c.program.expect("compiles");
+                std::hint::black_box(jit::compile_with(&p, &opts).expect("jit"));
+            });
+            println!("front end + JIT, {threads} thread(s): {t:.2} ms");
+        }
+    }
     if what == "all" {
         let st = jit::clif_stats(&p, &JitOptions::default()).expect("clif");
         println!(
