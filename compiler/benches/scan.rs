@@ -110,6 +110,7 @@ fn compile_time(c: &mut Criterion) {
         regalloc,
         chunk_cost,
         threads,
+        ..JitOptions::default()
     };
     let variants = [
         (

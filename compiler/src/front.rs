@@ -40,9 +40,20 @@ pub struct Compilation {
 
 /// Compiles `source` (the bytes of `file_name`) for the machine `ctx`.
 pub fn compile(file_name: &str, source: &[u8], ctx: &MachineContext) -> Compilation {
+    compile_with_threads(file_name, source, ctx, 1)
+}
+
+/// [`compile`] parsing on up to `threads` threads (0: the available cores; see
+/// [`parser::parse_with_threads`]); the result is the same.
+pub fn compile_with_threads(
+    file_name: &str,
+    source: &[u8],
+    ctx: &MachineContext,
+    threads: usize,
+) -> Compilation {
     let start = Instant::now();
     let text = lexer::decode_source(source);
-    let (ast, mut diagnostics) = parser::parse(file_name, &text);
+    let (ast, mut diagnostics) = parser::parse_with_threads(file_name, &text, threads);
     let (checked, mut sema_diags) = sema::check(file_name, &text, &ast, ctx);
     diagnostics.append(&mut sema_diags);
     let mut stats = CompileStats::default();

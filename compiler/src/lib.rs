@@ -17,7 +17,7 @@ pub mod synth;
 
 pub use context::MachineContext;
 pub use engine::Engine;
-pub use front::{Compilation, CompileStats, compile};
+pub use front::{Compilation, CompileStats, compile, compile_with_threads};
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;
 pub use jit::{JitError, JitProgram};

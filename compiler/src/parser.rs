@@ -8,7 +8,7 @@
 use diag::Diagnostic;
 use lalrpop_util::ParseError;
 
-use crate::ast::{Line, Program, Span, Stmt, StmtKind};
+use crate::ast::{BinOp, Expr, ExprKind, Line, Program, Span, Stmt, StmtKind};
 use crate::lexer::{self, LexErrorKind, Spanned, Tok};
 use crate::sema::codes;
 
@@ -19,6 +19,13 @@ lalrpop_util::lalrpop_mod!(
 
 /// Parses decoded source `text` of `file`; diagnostics are located (line and column filled in).
 pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
+    parse_with_threads(file, text, 1)
+}
+
+/// [`parse`] on up to `threads` threads (0: the available cores): a long source is cut at the line
+/// end nearest its middle and both halves go through the grammar at once. The result is always
+/// exactly [`parse`]'s.
+pub fn parse_with_threads(file: &str, text: &str, threads: usize) -> (Program, Vec<Diagnostic>) {
     let (mut tokens, lex_errors) = lexer::tokenize(text);
     let mut diags: Vec<Diagnostic> = lex_errors
         .iter()
@@ -31,18 +38,14 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
         .collect();
     truncate_after_second_dollar(file, text, &mut tokens, &mut diags);
 
-    let mut recovered = Vec::new();
-    let lines = match grammar::LinesParser::new()
-        .parse(&mut recovered, tokens.into_iter().map(Ok::<_, ()>))
-    {
-        Ok(lines) => lines,
-        Err(e) => {
-            recovered.push(lalrpop_util::ErrorRecovery {
-                error: e,
-                dropped_tokens: Vec::new(),
-            });
-            Vec::new()
-        }
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let (lines, recovered) = if threads > 1 && tokens.len() >= SPLIT_TOKENS {
+        parse_lines_split(&tokens)
+    } else {
+        parse_lines(&tokens).0
     };
     for r in recovered {
         if let Some(d) = syntax_diagnostic(file, text, r.error) {
@@ -56,6 +59,117 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
     let lines = lexer::LineIndex::new(text);
     let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
     (program, diags)
+}
+
+/// Sources shorter than this many tokens are parsed on one thread.
+const SPLIT_TOKENS: usize = 20_000;
+
+type Recovered<'a> = Vec<lalrpop_util::ErrorRecovery<usize, Tok<'a>, ()>>;
+
+/// Runs the grammar over `tokens`. An unrecoverable error becomes one more recovered error and no
+/// lines; the flag says it happened.
+fn parse_lines<'a>(tokens: &[Spanned<'a>]) -> ((Vec<Line>, Recovered<'a>), bool) {
+    let mut recovered = Vec::new();
+    let input = tokens.iter().cloned().map(Ok::<_, ()>);
+    match grammar::LinesParser::new().parse(&mut recovered, input) {
+        Ok(lines) => ((lines, recovered), false),
+        Err(e) => {
+            recovered.push(lalrpop_util::ErrorRecovery {
+                error: e,
+                dropped_tokens: Vec::new(),
+            });
+            ((Vec::new(), recovered), true)
+        }
+    }
+}
+
+/// [`parse_lines`] of two halves at once. Every line is a complete item of the grammar (IF blocks
+/// are nested afterwards), so cutting right after a line end and concatenating the results gives
+/// what one pass gives; when a half fails unrecoverably or runs into its end (never expected), the
+/// whole is parsed again in one pass.
+fn parse_lines_split<'a>(tokens: &[Spanned<'a>]) -> (Vec<Line>, Recovered<'a>) {
+    let mid = tokens.len() / 2;
+    let cut = tokens[mid..]
+        .iter()
+        .position(|t| t.1 == Tok::Newline)
+        .map(|i| mid + i + 1)
+        .filter(|&c| c < tokens.len());
+    let Some(cut) = cut else {
+        return parse_lines(tokens).0;
+    };
+    let (first, second) = tokens.split_at(cut);
+    let (a, b) = std::thread::scope(|s| {
+        let h = s.spawn(|| parse_lines(second));
+        (parse_lines(first), h.join())
+    });
+    let ends_early = |r: &Recovered<'_>| {
+        r.iter()
+            .any(|e| matches!(e.error, ParseError::UnrecognizedEof { .. }))
+    };
+    match (a, b) {
+        (((mut lines, mut rec), false), Ok(((more, more_rec), false))) if !ends_early(&rec) => {
+            lines.extend(more);
+            rec.extend(more_rec);
+            (lines, rec)
+        }
+        _ => parse_lines(tokens).0,
+    }
+}
+
+/// Binding strength of a binary operator (higher binds tighter); every level is left-associative:
+/// OR < `|` < `^` < `&` < shifts < `+ -` < XOR < `* / MOD AND`.
+pub(crate) fn precedence(op: BinOp) -> u8 {
+    match op {
+        BinOp::OrKw => 0,
+        BinOp::Pipe => 1,
+        BinOp::Caret => 2,
+        BinOp::Amp => 3,
+        BinOp::Shl | BinOp::Shr => 4,
+        BinOp::Plus | BinOp::Minus => 5,
+        BinOp::XorKw => 6,
+        BinOp::Star | BinOp::Slash | BinOp::Mod | BinOp::AndKw => 7,
+    }
+}
+
+/// An operand with the byte range of its tokens (parentheses included, unlike its span).
+type Operand = (usize, Expr, usize);
+
+/// Nests `first (op operand)*` by precedence. A binary node spans the tokens of both operands,
+/// as a node of a tiered grammar would; a lone operand is returned as it is.
+pub(crate) fn climb(first: Operand, rest: Vec<(BinOp, Operand)>) -> Expr {
+    if rest.is_empty() {
+        return first.1;
+    }
+    let mut it = rest.into_iter().peekable();
+    climb_from(first, 0, &mut it).1
+}
+
+fn climb_from(
+    mut lhs: Operand,
+    min: u8,
+    it: &mut std::iter::Peekable<std::vec::IntoIter<(BinOp, Operand)>>,
+) -> Operand {
+    while let Some(p) = it.peek().map(|(op, _)| precedence(*op)) {
+        if p < min {
+            break;
+        }
+        let Some((op, mut rhs)) = it.next() else {
+            break;
+        };
+        while it.peek().is_some_and(|(next, _)| precedence(*next) > p) {
+            rhs = climb_from(rhs, p + 1, it);
+        }
+        let (l, r) = (lhs.0, rhs.2);
+        lhs = (
+            l,
+            Expr {
+                kind: ExprKind::Binary(op, Box::new(lhs.1), Box::new(rhs.1)),
+                span: l..r,
+            },
+            r,
+        );
+    }
+    lhs
 }
 
 /// Finds the second `$` line; drops every token after it and reports them once.
@@ -349,6 +463,51 @@ mod tests {
             panic!("* below +")
         };
         assert!(matches!(not.kind, ExprKind::Unary(UnOp::Slash, _)));
+    }
+
+    /// The value of the first statement as `(lhs op rhs)@start..end` with names and numbers as
+    /// leaves (`op` as the `BinOp` debug name).
+    fn tree(src: &str) -> String {
+        fn show(e: &Expr, text: &str) -> String {
+            match &e.kind {
+                ExprKind::Binary(op, a, b) => format!(
+                    "({} {op:?} {})@{}..{}",
+                    show(a, text),
+                    show(b, text),
+                    e.span.start,
+                    e.span.end
+                ),
+                _ => text[e.span.clone()].to_string(),
+            }
+        }
+        let (p, d) = parse("t", src);
+        assert_eq!(d, vec![], "{src}");
+        let StmtKind::Assign { value, .. } = &p.fast[0].kind else {
+            panic!("assignment expected")
+        };
+        show(value, src)
+    }
+
+    #[test]
+    fn binary_operators_nest_by_precedence_left_to_right() {
+        assert_eq!(tree("X=A-B-C"), "((A Minus B)@2..5 Minus C)@2..7");
+        assert_eq!(
+            tree("X=A+B*C-D"),
+            "((A Plus (B Star C)@4..7)@2..7 Minus D)@2..9"
+        );
+        // Every tier, lowest first: each operator's right operand holds all the tighter ones.
+        assert_eq!(
+            tree("X=A OR B|C^D&E<<F+G XOR H*I"),
+            "(A OrKw (B Pipe (C Caret (D Amp (E Shl (F Plus (G XorKw (H Star I)@24..27)@18..27)@16..27)@13..27)@11..27)@9..27)@7..27)@2..27"
+        );
+        // The same operators from tightest to loosest nest to the left.
+        assert_eq!(
+            tree("X=A*B XOR C+D>>E&F^G|H OR I"),
+            "((((((((A Star B)@2..5 XorKw C)@2..11 Plus D)@2..13 Shr E)@2..16 Amp F)@2..18 Caret G)@2..20 Pipe H)@2..22 OrKw I)@2..27"
+        );
+        // A parenthesized operand: the node's span covers the parentheses, the operand's not.
+        assert_eq!(tree("X=(A+B)*C"), "((A Plus B)@3..6 Star C)@2..9");
+        assert_eq!(tree("X=(A+B)"), "(A Plus B)@3..6");
     }
 
     #[test]

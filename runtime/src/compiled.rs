@@ -126,13 +126,31 @@ pub fn machine_context(cfg: &RunConfig, tick_ms: u32, interface: InterfaceMap) -
     }
 }
 
-/// Wraps an IR program in an engine.
+/// Wraps an IR program in an engine (the JIT compiles on one thread).
 pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, String> {
+    load_with_threads(program, engine, 1)
+}
+
+/// [`load`] with the JIT compiling on `threads` threads (0: all available cores). A first load,
+/// before the scan runs, uses every core; an online change keeps 1 so that compiling never
+/// competes with the scan thread.
+pub fn load_with_threads(
+    program: Program,
+    engine: EngineKind,
+    threads: usize,
+) -> Result<Loaded, String> {
     let program = Arc::new(program);
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
         EngineKind::Jit => {
-            Box::new(compiler::jit::compile(&program).map_err(|e| format!("error: JIT: {e}"))?)
+            let opts = compiler::jit::JitOptions {
+                threads,
+                ..compiler::jit::JitOptions::default()
+            };
+            Box::new(
+                compiler::jit::compile_with(&program, &opts)
+                    .map_err(|e| format!("error: JIT: {e}"))?,
+            )
         }
     };
     Ok(Loaded {
@@ -143,6 +161,7 @@ pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, String> {
 
 /// Compiles `source` (named `file_name` in diagnostics) for the machine `cfg` with tick `tick_ms`.
 /// `Err` holds the rendered diagnostics. Warnings of a successful compile are printed to stderr.
+/// The JIT uses one thread (what an online change needs).
 pub fn compile(
     file_name: &str,
     source: &[u8],
@@ -151,8 +170,22 @@ pub fn compile(
     tick_ms: u32,
     engine: EngineKind,
 ) -> Result<Loaded, String> {
+    compile_with_threads(file_name, source, cfg, interface, tick_ms, engine, 1)
+}
+
+/// [`compile`] parsing and JIT-compiling on `threads` threads (0: all available cores; see
+/// [`load_with_threads`]).
+pub fn compile_with_threads(
+    file_name: &str,
+    source: &[u8],
+    cfg: &RunConfig,
+    interface: &InterfaceMap,
+    tick_ms: u32,
+    engine: EngineKind,
+    threads: usize,
+) -> Result<Loaded, String> {
     let ctx = machine_context(cfg, tick_ms, interface.clone());
-    let c = compiler::compile(file_name, source, &ctx);
+    let c = compiler::compile_with_threads(file_name, source, &ctx, threads);
     let mut sources = diag::Sources::new();
     sources.add(file_name, c.text.clone());
     match c.program {
@@ -160,7 +193,7 @@ pub fn compile(
             if !c.diagnostics.is_empty() {
                 eprint!("{}", diag::render_human(&c.diagnostics, &sources));
             }
-            load(p, engine)
+            load_with_threads(p, engine, threads)
         }
         _ => Err(diag::render_human(&c.diagnostics, &sources)),
     }

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use compiler::InterfaceMap;
 
-use crate::compiled::{EngineKind, compile};
+use crate::compiled::{EngineKind, compile_with_threads};
 use crate::config::RunConfig;
 use crate::machine_facts::Facts;
 use crate::online::CompileFn;
@@ -76,11 +76,25 @@ impl Machine {
         self.config.plc_source.display().to_string()
     }
 
-    /// A compile function for this machine, `engine` and tick.
+    /// A compile function for this machine, `engine` and tick; the JIT uses one thread (for
+    /// online change, beside the running scan).
     pub fn compile_fn(&self, engine: EngineKind, tick_ms: u32) -> CompileFn {
+        self.compile_fn_with_threads(engine, tick_ms, 1)
+    }
+
+    /// [`Machine::compile_fn`] with the JIT on `threads` threads (0: all cores; for a first load,
+    /// before the scan starts).
+    pub fn compile_fn_with_threads(
+        &self,
+        engine: EngineKind,
+        tick_ms: u32,
+        threads: usize,
+    ) -> CompileFn {
         let cfg = self.config.clone();
         let name = self.source_name();
         let map = self.interface.clone();
-        std::sync::Arc::new(move |src: &[u8]| compile(&name, src, &cfg, &map, tick_ms, engine))
+        std::sync::Arc::new(move |src: &[u8]| {
+            compile_with_threads(&name, src, &cfg, &map, tick_ms, engine, threads)
+        })
     }
 }

@@ -2,7 +2,16 @@
 //! functions over the image (long parts are split into several functions of bounded size to keep
 //! compile time linear). One [`JITModule`] per program version; dropping the [`JitProgram`] frees
 //! its code.
+//!
+//! Compile time is about linear in the number of CLIF instructions, so the translation keeps it
+//! low: BOOL rungs work on bits in place (`bits`), loads are cached and stores to one place merged
+//! within a block (`memory`), small IF zones are if-converted (`translate`), timers and counters
+//! are branch-free (`stateful`). [`clif_stats`] counts what a program compiles to; functions are
+//! compiled on [`JitOptions::threads`] threads.
 
+mod bits;
+mod cache;
+mod memory;
 mod stateful;
 mod translate;
 
@@ -15,6 +24,7 @@ use cranelift_module::{Linkage, Module};
 
 use crate::engine::Engine;
 use crate::ir::{self, Program, Stmt};
+use cache::Caches;
 use translate::Translator;
 
 /// Why JIT compilation failed.
@@ -32,7 +42,8 @@ pub enum JitError {
 }
 
 /// Code generation options (the defaults are what [`compile`] uses: `none`, `single_pass`,
-/// chunks of 2000 cost units, one thread so that compiling never competes with the scan thread).
+/// chunks of 2000 cost units, one thread so that compiling never competes with the scan thread,
+/// IF zones up to 24 cost units if-converted).
 #[derive(Debug, Clone)]
 pub struct JitOptions {
     /// Cranelift `opt_level`: `none`, `speed` or `speed_and_size`.
@@ -43,6 +54,9 @@ pub struct JitOptions {
     pub chunk_cost: u32,
     /// Threads compiling functions in parallel (0: the available cores, at most 4).
     pub threads: usize,
+    /// IF zones whose [`ir::Stmt::cost`] is at most this run branch-free (both branches with
+    /// guarded stores) instead of branching; 0 never, `u32::MAX` always.
+    pub if_convert_cost: u32,
 }
 
 impl Default for JitOptions {
@@ -52,6 +66,7 @@ impl Default for JitOptions {
             regalloc: "single_pass",
             chunk_cost: 2000,
             threads: 1,
+            if_convert_cost: 24,
         }
     }
 }
@@ -110,13 +125,34 @@ fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
 }
 
 /// Fills `func` with the body for `stmts`.
+/// What one compiling thread reuses from function to function (allocations only; no function
+/// depends on what was compiled before it).
+struct Scratch {
+    fctx: FunctionBuilderContext,
+    ctx: cranelift_codegen::Context,
+    caches: Caches,
+}
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Scratch {
+            fctx: FunctionBuilderContext::new(),
+            ctx: cranelift_codegen::Context::new(),
+            caches: Caches::default(),
+        }
+    }
+}
+
 fn build(
     func: &mut Function,
-    fctx: &mut FunctionBuilderContext,
+    s: &mut Scratch,
     p: &Program,
     stmts: &[Stmt],
     isa: &OwnedTargetIsa,
+    opts: &JitOptions,
 ) {
+    let (fctx, caches) = (&mut s.fctx, &mut s.caches);
+    caches.clear();
     let mut b = FunctionBuilder::new(func, fctx);
     let entry = b.create_block();
     b.append_block_params_for_function_params(entry);
@@ -127,10 +163,13 @@ fn build(
             b: &mut b,
             p,
             mem,
-            consts: Default::default(),
-            mem_cache: Default::default(),
+            c: caches,
+            guard: None,
+            if_convert_cost: opts.if_convert_cost,
+            stamp: 0,
         };
         t.stmts(stmts);
+        t.flush_all();
     }
     b.ins().return_(&[]);
     b.seal_all_blocks();
@@ -165,14 +204,27 @@ fn machine_code(
     stmts: &[Stmt],
     isa: &OwnedTargetIsa,
     sig: &Signature,
-    fctx: &mut FunctionBuilderContext,
+    opts: &JitOptions,
+    s: &mut Scratch,
 ) -> Result<Code, JitError> {
-    let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
-    build(&mut func, fctx, p, stmts, isa);
-    let mut ctx = cranelift_codegen::Context::for_function(func);
+    let mut ctx = std::mem::replace(&mut s.ctx, cranelift_codegen::Context::new());
+    ctx.clear();
+    ctx.func.signature = sig.clone();
+    build(&mut ctx.func, s, p, stmts, isa, opts);
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
+    let result = machine_code_of(&mut ctx, isa, &mut ctrl);
+    s.ctx = ctx;
+    result
+}
+
+/// Compiles the function in `ctx` and copies out its code.
+fn machine_code_of(
+    ctx: &mut cranelift_codegen::Context,
+    isa: &OwnedTargetIsa,
+    ctrl: &mut cranelift_codegen::control::ControlPlane,
+) -> Result<Code, JitError> {
     let code = ctx
-        .compile(&**isa, &mut ctrl)
+        .compile(&**isa, ctrl)
         .map_err(|e| JitError::Codegen(format!("{:?}", e.inner)))?;
     if !code.buffer.relocs().is_empty() {
         return Err(JitError::Codegen("scan code needs relocations".into()));
@@ -183,43 +235,56 @@ fn machine_code(
     ))
 }
 
-/// Compiles every chunk, on several threads when there is more than one chunk; results keep
-/// the order of `chunks` (and the code does not depend on the thread that made it).
+/// Compiles every chunk, on several threads when there is more than one chunk: each thread takes
+/// the next chunk not yet taken (so uneven chunks still share the work evenly); results keep the
+/// order of `chunks`, and the code does not depend on the thread that made it.
 fn compile_chunks(
     p: &Program,
     chunks: &[&[Stmt]],
     isa: &OwnedTargetIsa,
     sig: &Signature,
-    threads: usize,
+    opts: &JitOptions,
 ) -> Result<Vec<Code>, JitError> {
     let auto = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(4);
-    let threads = if threads == 0 { auto } else { threads };
-    let threads = threads.min(chunks.len()).max(1);
-    let run = |part: &[&[Stmt]]| -> Result<Vec<Code>, JitError> {
-        let mut fctx = FunctionBuilderContext::new();
-        part.iter()
-            .map(|stmts| machine_code(p, stmts, isa, sig, &mut fctx))
-            .collect()
+    let threads = if opts.threads == 0 {
+        auto
+    } else {
+        opts.threads
     };
+    let threads = threads.min(chunks.len()).max(1);
     if threads == 1 {
-        return run(chunks);
-    }
-    let per = chunks.len().div_ceil(threads);
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = chunks
-            .chunks(per)
-            .map(|part| scope.spawn(move || run(part)))
+        let mut scratch = Scratch::default();
+        return chunks
+            .iter()
+            .map(|stmts| machine_code(p, stmts, isa, sig, opts, &mut scratch))
             .collect();
-        let mut out = Vec::with_capacity(chunks.len());
-        for h in handles {
-            let codes = h
-                .join()
-                .map_err(|_| JitError::Codegen("a compile thread panicked".into()))??;
-            out.extend(codes);
+    }
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let work = || -> Result<Vec<(usize, Code)>, JitError> {
+        let mut scratch = Scratch::default();
+        let mut out = Vec::new();
+        loop {
+            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let Some(stmts) = chunks.get(i) else {
+                return Ok(out);
+            };
+            out.push((i, machine_code(p, stmts, isa, sig, opts, &mut scratch)?));
         }
-        Ok(out)
+    };
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (1..threads).map(|_| scope.spawn(work)).collect();
+        let mine = work();
+        // Join every thread before looking at any result (a thread left running would keep its
+        // panic for the end of the scope).
+        let theirs: Vec<_> = handles.into_iter().map(|h| h.join()).collect();
+        let mut all = mine?;
+        for codes in theirs {
+            all.extend(codes.map_err(|_| JitError::Codegen("a compile thread panicked".into()))??);
+        }
+        all.sort_unstable_by_key(|(i, _)| *i);
+        Ok(all.into_iter().map(|(_, code)| code).collect())
     })
 }
 
@@ -233,7 +298,7 @@ pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitErr
         .map(|stmts| chunks(stmts, opts.chunk_cost))
         .collect();
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
-    let codes = compile_chunks(p, &flat, &isa, &sig, opts.threads)?;
+    let codes = compile_chunks(p, &flat, &isa, &sig, opts)?;
     let mut module = JITModule::new(JITBuilder::with_isa(
         isa.clone(),
         cranelift_module::default_libcall_names(),
@@ -273,7 +338,7 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
     let opts = JitOptions::default();
     let isa = isa(&opts)?;
     let sig = signature(&isa, isa.default_call_conv());
-    let mut fctx = FunctionBuilderContext::new();
+    let mut s = Scratch::default();
     let mut out = String::new();
     let mut n = 0u32;
     let lists = std::iter::once(("FAST", &p.fast[..]))
@@ -281,7 +346,7 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
     for (i, (what, stmts)) in lists.enumerate() {
         for chunk in chunks(stmts, opts.chunk_cost) {
             let mut func = Function::with_name_signature(UserFuncName::user(0, n), sig.clone());
-            build(&mut func, &mut fctx, p, chunk, &isa);
+            build(&mut func, &mut s, p, chunk, &isa, &opts);
             let label = if i == 0 {
                 what.to_string()
             } else {
@@ -295,6 +360,39 @@ pub fn emit_clif(p: &Program) -> Result<String, JitError> {
         }
     }
     Ok(out)
+}
+
+/// Size of the cranelift IR a program compiles to (the JIT's compile time is about linear in it).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct ClifStats {
+    /// Functions (FAST chunks plus SLOW slice chunks).
+    pub functions: usize,
+    /// Basic blocks over all functions.
+    pub blocks: usize,
+    /// CLIF instructions over all functions.
+    pub insts: usize,
+}
+
+/// Builds (without compiling) the cranelift IR of every function and counts it.
+pub fn clif_stats(p: &Program, opts: &JitOptions) -> Result<ClifStats, JitError> {
+    check_len(p)?;
+    let isa = isa(opts)?;
+    let sig = signature(&isa, isa.default_call_conv());
+    let mut s = Scratch::default();
+    let mut st = ClifStats::default();
+    let lists = std::iter::once(&p.fast[..]).chain(p.slow.iter().map(Vec::as_slice));
+    for stmts in lists {
+        for chunk in chunks(stmts, opts.chunk_cost) {
+            let mut func = Function::with_name_signature(UserFuncName::default(), sig.clone());
+            build(&mut func, &mut s, p, chunk, &isa, opts);
+            st.functions += 1;
+            for block in func.layout.blocks() {
+                st.blocks += 1;
+                st.insts += func.layout.block_insts(block).count();
+            }
+        }
+    }
+    Ok(st)
 }
 
 impl JitProgram {

@@ -8,12 +8,12 @@ use super::translate::Translator;
 use crate::ir::{CounterKind, FLAG_PREV, FLAG_RUN, TimerKind};
 
 impl Translator<'_, '_> {
-    /// `P<n> = x`: value := x AND NOT prev; prev := x.
+    /// `P<n> = x`: value := x AND NOT prev; prev := x (`x` is I8 0/1, so `x & !(f >> 1)` has
+    /// no other bit set).
     pub(super) fn pulse(&mut self, x: Value, at: usize) {
         let f = self.load8(at);
         let prev = self.ushr_k(f, 1);
-        let prev = self.band_k(prev, 1);
-        let np = self.bxor_k(prev, 1);
+        let np = self.b.ins().bnot(prev);
         let v = self.b.ins().band(x, np);
         let x2 = self.ishl_k(x, 1);
         let n = self.b.ins().bor(v, x2);
@@ -39,23 +39,28 @@ impl Translator<'_, '_> {
         let pt64 = i64::from(pt);
         let f = self.load8(at + 4);
         let et = self.load32(at);
+        let zero = self.k(cranelift_codegen::ir::types::I32, 0);
+        let eta = self.iadd_k(et, tick);
+        if kind == TimerKind::Ton {
+            // x and prev without normalizing prev: (x << 1) & f is nonzero exactly when both hold
+            // (FLAG_PREV is bit 1), and x << 1 is the new flags' prev bit as well.
+            let x2 = self.ishl_k(x, 1);
+            let xp = self.b.ins().band(x2, f);
+            let ptv = self.k(cranelift_codegen::ir::types::I32, pt64);
+            let m = self.b.ins().smin(eta, ptv);
+            let et2 = self.b.ins().select(xp, m, zero);
+            let reached = self.icmp_k(IntCC::SignedGreaterThanOrEqual, et2, pt64);
+            let q = self.b.ins().band(x, reached);
+            self.store(et2, at);
+            let fl = self.b.ins().bor(q, x2);
+            self.store(fl, at + 4);
+            return;
+        }
         let prev = self.band_k(f, i64::from(FLAG_PREV));
         let prev = self.icmp_k(IntCC::NotEqual, prev, 0);
         let running = self.band_k(f, i64::from(FLAG_RUN));
         let running = self.icmp_k(IntCC::NotEqual, running, 0);
-        let zero = self.k(cranelift_codegen::ir::types::I32, 0);
-        let eta = self.iadd_k(et, tick);
         let (et2, q, run) = match kind {
-            TimerKind::Ton => {
-                let ptv = self.k(cranelift_codegen::ir::types::I32, pt64);
-                let lt = self.b.ins().icmp(IntCC::SignedLessThan, eta, ptv);
-                let m = self.b.ins().select(lt, eta, ptv);
-                let xp = self.b.ins().band(x, prev);
-                let et2 = self.b.ins().select(xp, m, zero);
-                let reached = self.icmp_k(IntCC::SignedGreaterThanOrEqual, et2, pt64);
-                let q = self.b.ins().band(x, reached);
-                (et2, q, None)
-            }
             TimerKind::Tof => {
                 let nx = self.bxor_k(x, 1);
                 let e1 = self.b.ins().select(running, eta, et);
@@ -68,7 +73,8 @@ impl Translator<'_, '_> {
                 let q = self.b.ins().bor(x, run2);
                 (et2, q, Some(run2))
             }
-            TimerKind::Tp => {
+            // TP (TON returned above).
+            _ => {
                 let np = self.bxor_k(prev, 1);
                 let rising = self.b.ins().band(x, np);
                 let nw = self.bxor_k(running, 1);
@@ -94,10 +100,8 @@ impl Translator<'_, '_> {
     pub(super) fn counter_count(&mut self, kind: CounterKind, x: Value, at: usize) {
         let f = self.load8(at + 4);
         let cv = self.load32(at);
-        let prev = self.band_k(f, i64::from(FLAG_PREV));
-        let blocked = self.band_k(f, i64::from(FLAG_RUN));
-        let idle = self.b.ins().bor(prev, blocked);
-        let idle = self.icmp_k(IntCC::Equal, idle, 0);
+        let busy = self.band_k(f, i64::from(FLAG_PREV | FLAG_RUN));
+        let idle = self.icmp_k(IntCC::Equal, busy, 0);
         let go = self.b.ins().band(x, idle);
         let (limit, step) = match kind {
             CounterKind::Ctu => (i64::from(i32::MAX), 1),

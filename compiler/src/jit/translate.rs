@@ -1,13 +1,13 @@
 //! IR → cranelift IR for expressions and plain statements. Every operation is branch-free except
-//! IF zones; divisions are guarded so that no emitted instruction can trap.
-
-use std::collections::{BTreeMap, HashMap};
+//! larger IF zones (small ones are if-converted: both branches run with guarded stores);
+//! divisions are guarded so that no emitted instruction can trap.
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::immediates::{Ieee32, Ieee64};
 use cranelift_codegen::ir::{InstBuilder, MemFlagsData, Type, Value, types};
 use cranelift_frontend::FunctionBuilder;
 
+use super::cache::Caches;
 use crate::ir::{self, BinOp, CmpOp, CounterKind, Expr, FLAG_Q, Place, Program, Stmt, Ty, UnOp};
 
 /// Memory flags for image accesses: offsets are checked against the image length at compile time
@@ -35,10 +35,14 @@ pub(super) struct Translator<'a, 'b> {
     pub p: &'a Program,
     /// The image pointer.
     pub mem: Value,
-    /// Integer constants already materialized in the current block.
-    pub consts: HashMap<(Type, i64), Value>,
-    /// The value each image offset holds, as far as this block has loaded or stored it.
-    pub mem_cache: BTreeMap<usize, (Type, Value)>,
+    /// Constants and image values known in the current block.
+    pub c: &'a mut Caches,
+    /// Inside an if-converted zone: the I8 0/1 condition under which stores take effect.
+    pub guard: Option<Value>,
+    /// IF zones up to this cost are if-converted ([`super::JitOptions::if_convert_cost`]).
+    pub if_convert_cost: u32,
+    /// Number of the statement being translated (for held-back stores).
+    pub stamp: u32,
 }
 
 macro_rules! with_k {
@@ -53,7 +57,7 @@ macro_rules! with_k {
 }
 
 impl Translator<'_, '_> {
-    with_k!(band_k => band, bxor_k => bxor, ushr_k => ushr, ishl_k => ishl, sshr_k => sshr, iadd_k => iadd);
+    with_k!(band_k => band, bor_k => bor, bxor_k => bxor, ushr_k => ushr, ishl_k => ishl, sshr_k => sshr, iadd_k => iadd);
 
     /// An integer constant of type `ty` (the low bits of `v`), materialized once per block.
     pub(super) fn k(&mut self, ty: Type, v: i64) -> Value {
@@ -62,11 +66,11 @@ impl Translator<'_, '_> {
         } else {
             v & ((1i64 << ty.bits()) - 1)
         };
-        if let Some(&c) = self.consts.get(&(ty, v)) {
+        if let Some(&c) = self.c.consts.get(&(ty, v)) {
             return c;
         }
         let c = self.b.ins().iconst(ty, v);
-        self.consts.insert((ty, v), c);
+        self.c.consts.insert((ty, v), c);
         c
     }
 
@@ -79,8 +83,7 @@ impl Translator<'_, '_> {
 
     /// Switches to `block`; constants of the previous block are forgotten.
     fn switch(&mut self, block: cranelift_codegen::ir::Block) {
-        self.consts.clear();
-        self.mem_cache.clear();
+        self.c.clear();
         self.b.switch_to_block(block);
     }
 
@@ -93,52 +96,12 @@ impl Translator<'_, '_> {
         self.k(types::I8, v & 0xFF)
     }
 
-    pub(super) fn load8(&mut self, at: usize) -> Value {
-        self.load(types::I8, at)
-    }
-
-    /// Loads a value of type `ty` at image offset `at`, reusing the value last loaded from or
-    /// stored to exactly that place in this block (all offsets are constants, so aliasing is
-    /// known exactly).
-    fn load(&mut self, ty: Type, at: usize) -> Value {
-        if let Some(&(t, v)) = self.mem_cache.get(&at)
-            && t == ty
-        {
-            return v;
-        }
-        let v = self.b.ins().load(ty, FL, self.mem, Self::off(at));
-        self.mem_cache.insert(at, (ty, v));
-        v
-    }
-
-    pub(super) fn load32(&mut self, at: usize) -> Value {
-        self.load(types::I32, at)
-    }
-
-    /// Stores `v` at image offset `at`; cached values overlapping the written bytes are dropped
-    /// and the stored value is remembered for later loads.
-    pub(super) fn store(&mut self, v: Value, at: usize) {
-        let ty = self.b.func.dfg.value_type(v);
-        let end = at + ty.bytes() as usize;
-        let stale: Vec<usize> = self
-            .mem_cache
-            .range(at.saturating_sub(7)..end)
-            .filter(|(o, (t, _))| **o + t.bytes() as usize > at)
-            .map(|(o, _)| *o)
-            .collect();
-        for o in stale {
-            self.mem_cache.remove(&o);
-        }
-        self.b.ins().store(FL, v, self.mem, Self::off(at));
-        self.mem_cache.insert(at, (ty, v));
-    }
-
     /// BOOL (I8 0/1) from a nonzero test.
     fn nonzero(&mut self, v: Value) -> Value {
         self.icmp_k(IntCC::NotEqual, v, 0)
     }
 
-    fn place_at(&self, place: &Place) -> (usize, Option<u8>) {
+    pub(super) fn place_at(&self, place: &Place) -> (usize, Option<u8>) {
         match *place {
             Place::Signal(sig) => (sig.image_byte(), sig.bit()),
             Place::View { at, .. } => (at.image_byte(), None),
@@ -162,66 +125,20 @@ impl Translator<'_, '_> {
         if ty == Ty::Bool { self.nonzero(v) } else { v }
     }
 
-    /// Writes bit `bit` of the byte at `at` to `v` (I8 0/1).
-    fn store_bit(&mut self, at: usize, bit: u8, v: Value) {
-        let byte = self.load8(at);
-        let cleared = self.band_k(byte, i64::from(!(1u8 << bit)));
-        let sh = self.ishl_k(v, i64::from(bit));
-        let n = self.b.ins().bor(cleared, sh);
-        self.store(n, at);
-    }
-
-    fn store_place(&mut self, place: &Place, v: Value) {
-        match self.place_at(place) {
-            (at, Some(bit)) => self.store_bit(at, bit, v),
-            (at, None) => self.store(v, at),
-        }
-    }
-
-    /// SET (`set`) or RES of a BOOL place when `cond`.
-    fn set_res(&mut self, place: &Place, cond: Value, set: bool) {
-        match self.place_at(place) {
-            (at, Some(bit)) => {
-                let byte = self.load8(at);
-                let m = self.ishl_k(cond, i64::from(bit));
-                let n = if set {
-                    self.b.ins().bor(byte, m)
-                } else {
-                    let nm = self.b.ins().bnot(m);
-                    self.b.ins().band(byte, nm)
-                };
-                self.store(n, at);
-            }
-            (at, None) => {
-                let old = self.load8(at);
-                let k = self.i8c(i64::from(set));
-                let n = self.b.ins().select(cond, k, old);
-                self.store(n, at);
-            }
-        }
-    }
-
     /// Emits a list of statements.
     pub(super) fn stmts(&mut self, stmts: &[Stmt]) {
         for s in stmts {
+            self.stamp += 1;
             self.stmt(s);
+            self.flush_stale();
         }
     }
 
     fn stmt(&mut self, s: &Stmt) {
         match s {
-            Stmt::Assign { place, value } => {
-                let v = self.expr(value);
-                self.store_place(place, v);
-            }
-            Stmt::Set { place, cond } => {
-                let c = self.expr(cond);
-                self.set_res(place, c, true);
-            }
-            Stmt::Res { place, cond } => {
-                let c = self.expr(cond);
-                self.set_res(place, c, false);
-            }
+            Stmt::Assign { place, value } => self.assign(place, value),
+            Stmt::Set { place, cond } => self.set_res(place, cond, true),
+            Stmt::Res { place, cond } => self.set_res(place, cond, false),
             Stmt::Pulse { pulse, input } => {
                 let x = self.expr(input);
                 let at = self.p.pulses[pulse.0 as usize].offset;
@@ -247,23 +164,60 @@ impl Translator<'_, '_> {
                 };
                 self.counter_reset(value, x, d.offset);
             }
-            Stmt::If { cond, then_, else_ } => {
-                let c = self.expr(cond);
-                let (tb, eb, join) = (
-                    self.b.create_block(),
-                    self.b.create_block(),
-                    self.b.create_block(),
-                );
-                self.b.ins().brif(c, tb, &[], eb, &[]);
-                self.switch(tb);
-                self.stmts(then_);
-                self.b.ins().jump(join, &[]);
-                self.switch(eb);
+            Stmt::If { cond, then_, else_ } => self.zone(s.cost(), cond, then_, else_),
+        }
+    }
+
+    /// An IF zone. A small one (or any zone inside an if-converted one) is if-converted: both
+    /// branches run straight-line and every store is guarded by the branch's condition, which
+    /// keeps the block (and its cached loads and constants) going. A larger one branches; an
+    /// empty branch jumps straight to the join block.
+    fn zone(&mut self, cost: u32, cond: &Expr, then_: &[Stmt], else_: &[Stmt]) {
+        let x = self.bits(cond, 0);
+        if self.guard.is_some() || cost <= self.if_convert_cost {
+            let c = self.materialize(x);
+            let outer = self.guard;
+            let g = match outer {
+                Some(o) => self.b.ins().band(o, c),
+                None => c,
+            };
+            self.guard = Some(g);
+            self.stmts(then_);
+            if !else_.is_empty() {
+                let nc = self.bxor_k(c, 1);
+                let g = match outer {
+                    Some(o) => self.b.ins().band(o, nc),
+                    None => nc,
+                };
+                self.guard = Some(g);
                 self.stmts(else_);
+            }
+            self.guard = outer;
+            return;
+        }
+        let c = self.truthy(x);
+        self.flush_all();
+        let join = self.b.create_block();
+        let tb = if then_.is_empty() {
+            join
+        } else {
+            self.b.create_block()
+        };
+        let eb = if else_.is_empty() {
+            join
+        } else {
+            self.b.create_block()
+        };
+        self.b.ins().brif(c, tb, &[], eb, &[]);
+        for (block, body) in [(tb, then_), (eb, else_)] {
+            if block != join {
+                self.switch(block);
+                self.stmts(body);
+                self.flush_all();
                 self.b.ins().jump(join, &[]);
-                self.switch(join);
             }
         }
+        self.switch(join);
     }
 
     fn canon(&mut self, ty: Ty, v: Value) -> Value {
@@ -278,6 +232,15 @@ impl Translator<'_, '_> {
 
     /// Emits an expression; the result has type `clty(e.ty())` (BOOL: I8 0/1).
     pub(super) fn expr(&mut self, e: &Expr) -> Value {
+        if self.is_bitwise(e) {
+            let x = self.bits(e, 0);
+            return self.materialize(x);
+        }
+        self.expr_plain(e)
+    }
+
+    /// [`Translator::expr`] for the kinds [`Translator::is_bitwise`] does not take.
+    pub(super) fn expr_plain(&mut self, e: &Expr) -> Value {
         match e {
             Expr::Const(v) => self.constant(*v),
             Expr::Load(place) => self.load_place(place),

@@ -83,7 +83,8 @@ pub fn run(args: Args) -> ExitCode {
         .unwrap_or(&path)
         .display()
         .to_string();
-    let c = compiler::compile(&name, &bytes, &ctx);
+    // A build is not beside a running scan: parse on every core (same result as one thread).
+    let c = compiler::compile_with_threads(&name, &bytes, &ctx, 0);
     let mut emitted = None;
     let mut diagnostics = c.diagnostics.clone();
     if let (Some(emit), Some(p)) = (args.emit, &c.program) {
