@@ -1,6 +1,10 @@
 //! Scan-time and compile-time benchmarks on a generated 10,000-statement program: the JIT's tick
 //! against the interpreter's, the front end, and JIT compile time under several cranelift settings.
 
+/// The allocator of the `ncplc` binary, so the figures are what the tool does.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 use std::hint::black_box;
 use std::sync::Arc;
 

@@ -4,6 +4,12 @@ use std::process::ExitCode;
 
 use clap::Parser;
 
+/// mimalloc instead of the system allocator: the PLC compiler's front end and cranelift allocate many
+/// small objects, and with glibc malloc the 10,000-statement compile took 175 ms instead of 89 ms
+/// (README, benchmarks). The scan itself does not allocate.
+#[global_allocator]
+static GLOBAL: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn main() -> ExitCode {
     runtime::cli::main(runtime::cli::Cli::parse())
 }
