@@ -42,8 +42,13 @@ fn copy_dir(from: &Path, to: &Path) {
 }
 
 fn spawn_run(machine: &Path, io: &str, ticks: u32) -> Child {
+    spawn_run_with(machine, io, ticks, &[])
+}
+
+fn spawn_run_with(machine: &Path, io: &str, ticks: u32, extra: &[&str]) -> Child {
     Command::new(env!("CARGO_BIN_EXE_ncplc"))
         .args(["run"])
+        .args(extra)
         .arg(machine)
         .args([
             "--io",
@@ -158,4 +163,45 @@ fn an_io_map_with_an_undeclared_connector_is_refused_with_a_located_error() {
     assert!(!out.status.success(), "{stderr}");
     assert!(stderr.contains("error[E3020]"), "{stderr}");
     assert!(stderr.contains("connector = 6"), "{stderr}");
+}
+
+#[test]
+fn scan_and_io_threads_can_be_pinned_and_bad_cpus_are_refused() {
+    let machine = lathe_with_device("127.0.0.1:5020");
+    let map = std::fs::read_to_string(machine.path().join("io.toml")).expect("io.toml");
+    std::fs::write(
+        machine.path().join("io.toml"),
+        format!("[affinity]\nio_cpus = [0]\n{map}"),
+    )
+    .expect("write");
+    // CPU 0 exists everywhere; this test process may use it unless a cgroup says otherwise.
+    let out = spawn_run_with(machine.path(), "canopen", 50, &["--scan-cpu", "0"])
+        .wait_with_output()
+        .expect("ncplc ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(stderr.contains("50 ticks of 10 ms on canopen"), "{stderr}");
+
+    let out = spawn_run_with(machine.path(), "canopen", 5, &["--scan-cpu", "100000"])
+        .wait_with_output()
+        .expect("ncplc ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("error: --scan-cpu: CPU 100000 does not exist"),
+        "{stderr}"
+    );
+
+    std::fs::write(
+        machine.path().join("io.toml"),
+        format!("[affinity]\nio_cpus = [100000]\n{map}"),
+    )
+    .expect("write");
+    let out = spawn_run(machine.path(), "canopen", 5)
+        .wait_with_output()
+        .expect("ncplc ends");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{stderr}");
+    assert!(stderr.contains("error[E3042]"), "{stderr}");
+    assert!(stderr.contains("io_cpus = [100000]"), "{stderr}");
 }

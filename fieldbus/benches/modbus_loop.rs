@@ -25,6 +25,9 @@
 //! `FIELDBUS_BENCH_IO_OTHER=1` puts the driver's I/O thread back to SCHED_OTHER after the first
 //! latch (for comparison);
 //! `FIELDBUS_BENCH_SLACK=1` sets the scan thread's timer slack to 1 ns (Linux default 50 µs).
+//! `FIELDBUS_BENCH_PIN="scan=0,io=1,device=1"` pins the scan thread, the driver's I/O threads
+//! (`ModbusIo::start_pinned`, as io.toml `[affinity] io_cpus` does) and the simulated device's
+//! thread to those CPUs (any subset of the three keys).
 //! `cargo bench -p fieldbus --bench modbus_loop -- latency-only` skips the criterion groups.
 
 use std::hint::black_box;
@@ -76,6 +79,15 @@ fn percentile(sorted: &[Duration], p: f64) -> Duration {
 
 fn env_flag(name: &str) -> bool {
     std::env::var(name).is_ok_and(|v| v == "1")
+}
+
+/// The CPU `FIELDBUS_BENCH_PIN` gives for `who` (`scan`, `io` or `device`).
+fn pin_for(who: &str) -> Option<usize> {
+    let spec = std::env::var("FIELDBUS_BENCH_PIN").ok()?;
+    spec.split(',').find_map(|kv| {
+        let (k, v) = kv.split_once('=')?;
+        (k.trim() == who).then(|| v.trim().parse().ok())?
+    })
 }
 
 /// Every scan tick of the latency loop: when it was due, when it woke, the input bit it latched.
@@ -163,9 +175,14 @@ fn scan_loop(addr: std::net::SocketAddr, write_connection: bool, stop: Arc<Atomi
             if rc == 0 { "on" } else { "refused" }
         );
     }
+    if let Some(cpu) = pin_for("scan") {
+        let r = fieldbus::affinity::pin_thread(0, &[cpu]);
+        println!("  scan thread pinned to CPU {cpu}: {r:?}");
+    }
     let mut cfg = device(addr, Duration::ZERO);
     cfg.write_connection = write_connection;
-    let mut io = ModbusIo::start(&[cfg]).expect("driver");
+    let io_cpus: Vec<usize> = pin_for("io").into_iter().collect();
+    let mut io = ModbusIo::start_pinned(&[cfg], &io_cpus).expect("driver");
     let mut image = vec![0u8; PACKETS_LEN];
     let mut log = TickLog {
         ticks: Vec::with_capacity(100_000),
@@ -202,6 +219,12 @@ fn scan_loop(addr: std::net::SocketAddr, write_connection: bool, stop: Arc<Atomi
             next = now;
         }
     }
+    if !io_cpus.is_empty() {
+        println!(
+            "  I/O threads pinned to CPU {io_cpus:?}: {:?}",
+            io.io_pinned()
+        );
+    }
     log.direct = io.direct_writes("rio1");
     log.io_priority = io
         .io_priority()
@@ -218,6 +241,10 @@ fn latency_report(write_connection: bool) {
         .worker_threads(1)
         .enable_all()
         .on_thread_start(|| {
+            if let Some(cpu) = pin_for("device") {
+                let r = fieldbus::affinity::pin_thread(0, &[cpu]);
+                println!("  simulated device pinned to CPU {cpu}: {r:?}");
+            }
             if env_flag("FIELDBUS_BENCH_FIFO") {
                 // The simulated device stands for separate hardware: keep the build jobs sharing
                 // this VM from delaying its answers (SCHED_FIFO 70, below the scan's 80).

@@ -35,6 +35,7 @@
 //! io.safe_state();
 //! ```
 
+pub mod affinity;
 pub mod canopen;
 pub mod exchange;
 pub mod health;
@@ -149,7 +150,8 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
                     "add a [[modbus.device]] table",
                 ));
             }
-            let io = modbus::client::ModbusIo::start(&map.modbus).map_err(start_err)?;
+            let io = modbus::client::ModbusIo::start_pinned(&map.modbus, &map.io_cpus)
+                .map_err(start_err)?;
             Ok(Box::new(io))
         }
         IoKind::Canopen => {
@@ -160,7 +162,7 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
                     "add a [canopen] table with [[canopen.node]] entries",
                 ));
             };
-            let io = start_canopen(cfg).map_err(start_err)?;
+            let io = start_canopen(cfg, &map.io_cpus).map_err(start_err)?;
             Ok(Box::new(io))
         }
     }
@@ -168,12 +170,16 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
 
 /// Starts the CANopen master on the configured transport. The `virtual` transport also starts one
 /// simulated CiA 401 node per configured node on the same in-process bus (a demo without hardware).
-pub fn start_canopen(cfg: &map::CanopenConfig) -> std::io::Result<canopen::master::CanopenIo> {
+/// The master's threads are pinned to `io_cpus` (empty = unpinned).
+pub fn start_canopen(
+    cfg: &map::CanopenConfig,
+    io_cpus: &[usize],
+) -> std::io::Result<canopen::master::CanopenIo> {
     use canopen::master::CanopenIo;
     match &cfg.transport {
         map::TransportConfig::Virtual => {
             let ids: Vec<u8> = cfg.nodes.iter().map(|n| n.node_id).collect();
-            CanopenIo::start(cfg, move || async move {
+            CanopenIo::start_pinned(cfg, io_cpus, move || async move {
                 let bus = canopen::virtual_bus::VirtualBus::new();
                 for id in ids {
                     // The node lives as long as the master's runtime.
@@ -184,13 +190,15 @@ pub fn start_canopen(cfg: &map::CanopenConfig) -> std::io::Result<canopen::maste
         }
         map::TransportConfig::SocketCan { interface } => {
             let name = interface.clone();
-            CanopenIo::start(cfg, move || async move {
+            CanopenIo::start_pinned(cfg, io_cpus, move || async move {
                 canopen::socketcan_bus::SocketCanBus::open(&name)
             })
         }
         map::TransportConfig::Cannelloni { local, remote } => {
             let (l, r) = (*local, *remote);
-            CanopenIo::start(cfg, move || canopen::cannelloni::UdpBus::bind(l, r))
+            CanopenIo::start_pinned(cfg, io_cpus, move || {
+                canopen::cannelloni::UdpBus::bind(l, r)
+            })
         }
     }
 }

@@ -1,6 +1,6 @@
 //! The I/O map file `<machine>/io.toml`: which packet-A bytes come from or go to which device.
 //!
-//! The file has up to five parts, all optional:
+//! The file has up to six parts, all optional:
 //!
 //! ```toml
 //! [hmi]                                   # Modbus TCP server for an HMI or SCADA
@@ -26,6 +26,9 @@
 //! area = "discrete_inputs"                # Modbus: discrete_inputs | coils | input_registers | holding_registers
 //! address = 0
 //! fail = 0                                # value the bytes take while the device is lost
+//!
+//! [affinity]                              # optional: pin the drivers' I/O threads
+//! io_cpus = [1]                           # CPU indices (0-based), e.g. the NIC interrupt's core
 //!
 //! [[output]]                              # packet A output connector bytes → device
 //! device = "dio1"
@@ -249,6 +252,8 @@ pub struct IoMap {
     pub modbus: Vec<ModbusDevice>,
     /// The CANopen master, when the map has `[canopen]`.
     pub canopen: Option<CanopenConfig>,
+    /// CPUs the drivers' I/O threads are pinned to (`[affinity] io_cpus`; empty = unpinned).
+    pub io_cpus: Vec<usize>,
 }
 
 // ---- raw serde form -------------------------------------------------------------------------
@@ -260,10 +265,17 @@ pub(crate) struct RawMap {
     pub hmi: Option<Spanned<RawHmi>>,
     pub modbus: Option<RawModbus>,
     pub canopen: Option<Spanned<RawCanopen>>,
+    pub affinity: Option<Spanned<RawAffinity>>,
     #[serde(default)]
     pub input: Vec<Spanned<RawMapping>>,
     #[serde(default)]
     pub output: Vec<Spanned<RawMapping>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawAffinity {
+    pub io_cpus: Option<Spanned<Vec<Spanned<u64>>>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -8,7 +8,12 @@
 //! jobs or a busy desktop cannot delay the processing of an answer, and below the scan, so the I/O
 //! can never delay a tick. The I/O threads block in `epoll` between requests (they never spin),
 //! so they cannot starve the rest of the machine either. Without real time nothing changes.
+//!
+//! With CPUs given ([`IoThreads::pinned`], io.toml `[affinity] io_cpus`) every runtime thread also
+//! pins itself to them as it starts ([`crate::affinity`]); when the kernel refuses, one warning is
+//! printed and the threads run unpinned.
 
+use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::{Arc, Mutex};
 
 /// How far below the scan thread the I/O threads run.
@@ -20,7 +25,14 @@ pub struct IoThreads {
     tids: Arc<Mutex<Vec<libc::pid_t>>>,
     checked: bool,
     priority: Option<i32>,
+    cpus: Arc<Vec<usize>>,
+    /// [`PIN_NONE`], [`PIN_OK`] or [`PIN_FAILED`].
+    pin: Arc<AtomicU8>,
 }
+
+const PIN_NONE: u8 = 0;
+const PIN_OK: u8 = 1;
+const PIN_FAILED: u8 = 2;
 
 fn gettid() -> libc::pid_t {
     // SAFETY: gettid takes no arguments and cannot fail.
@@ -33,10 +45,39 @@ impl IoThreads {
         IoThreads::default()
     }
 
+    /// No threads recorded yet; each will pin itself to `cpus` as it starts (empty = unpinned).
+    pub fn pinned(cpus: &[usize]) -> IoThreads {
+        IoThreads {
+            cpus: Arc::new(cpus.to_vec()),
+            ..IoThreads::default()
+        }
+    }
+
     /// The runtime's `on_thread_start` hook: records the new thread.
     pub fn on_start(&self) -> impl Fn() + Send + Sync + 'static {
         let tids = self.tids.clone();
+        let cpus = self.cpus.clone();
+        let pin = self.pin.clone();
         move || {
+            if !cpus.is_empty() {
+                match crate::affinity::pin_thread(0, &cpus) {
+                    Ok(()) => {
+                        let _ = pin.compare_exchange(
+                            PIN_NONE,
+                            PIN_OK,
+                            Ordering::AcqRel,
+                            Ordering::Acquire,
+                        );
+                    }
+                    Err(e) => {
+                        if pin.swap(PIN_FAILED, Ordering::AcqRel) != PIN_FAILED {
+                            eprintln!(
+                                "warning: cannot pin the fieldbus I/O threads to CPU(s) {cpus:?} ({e}); running unpinned"
+                            );
+                        }
+                    }
+                }
+            }
             if let Ok(mut t) = tids.lock() {
                 t.push(gettid());
             }
@@ -94,6 +135,16 @@ impl IoThreads {
         }
     }
 
+    /// Whether the I/O threads are pinned: `None` when no CPUs were given or no thread has
+    /// started yet, `Some(false)` when the kernel refused.
+    pub fn is_pinned(&self) -> Option<bool> {
+        match self.pin.load(Ordering::Acquire) {
+            PIN_OK => Some(true),
+            PIN_FAILED => Some(false),
+            _ => None,
+        }
+    }
+
     /// The `SCHED_FIFO` priority the I/O threads took, once they did.
     pub fn priority(&self) -> Option<i32> {
         self.priority
@@ -135,6 +186,40 @@ mod tests {
             threads.tids.lock().expect("list").is_empty(),
             "stopped threads are forgotten"
         );
+    }
+
+    #[test]
+    fn io_threads_pin_themselves_as_they_start() {
+        let allowed = crate::affinity::thread_cpus(0).expect("affinity");
+        let last = *allowed.last().expect("some CPU");
+        let threads = IoThreads::pinned(&[last]);
+        let _rt = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .on_thread_start(threads.on_start())
+            .on_thread_stop(threads.on_stop())
+            .build()
+            .expect("runtime");
+        let tid = recorded(&threads)[0];
+        assert_eq!(threads.is_pinned(), Some(true));
+        assert_eq!(
+            crate::affinity::thread_cpus(tid).expect("affinity"),
+            vec![last]
+        );
+        // A CPU the kernel cannot take: warned once, the thread runs where it may.
+        let refused = IoThreads::pinned(&[libc::CPU_SETSIZE as usize]);
+        let _rt2 = tokio::runtime::Builder::new_multi_thread()
+            .worker_threads(1)
+            .on_thread_start(refused.on_start())
+            .on_thread_stop(refused.on_stop())
+            .build()
+            .expect("runtime");
+        let tid = recorded(&refused)[0];
+        assert_eq!(refused.is_pinned(), Some(false));
+        assert_eq!(
+            crate::affinity::thread_cpus(tid).expect("affinity"),
+            allowed
+        );
+        assert_eq!(IoThreads::new().is_pinned(), None);
     }
 
     #[test]

@@ -120,6 +120,36 @@ fn direct_write_is_on_by_default_and_can_be_turned_off() {
 }
 
 #[test]
+fn io_cpus_are_parsed_and_checked_against_the_machine() {
+    let (map, diags) = parse_map("[affinity]\nio_cpus = [0]\n", "io.toml", &lathe());
+    assert!(diags.is_empty(), "{diags:?}");
+    assert_eq!(map.expect("valid").io_cpus, vec![0]);
+    let (map, _) = parse_map("", "io.toml", &lathe());
+    assert_eq!(map.expect("valid").io_cpus, Vec::<usize>::new());
+    // No machine has a million CPUs; the error points at the index.
+    assert_eq!(
+        located("[affinity]\nio_cpus = [0, 1000000]\n", &lathe()),
+        [(codes::CPU, 2, 15)]
+    );
+    assert_eq!(
+        located("[affinity]\nio_cpus = []\n", &lathe()),
+        [(codes::CPU, 2, 11)]
+    );
+    assert_eq!(
+        located("[affinity]\nio_cpus = [0, 0]\n", &lathe()),
+        [(codes::CPU, 2, 15)]
+    );
+    assert_eq!(
+        located("[affinity]\nio_cpus = [-1]\n", &lathe())[0].0,
+        codes::SYNTAX
+    );
+    assert_eq!(
+        located("[affinity]\nscan_cpu = 0\n", &lathe())[0].0,
+        codes::SYNTAX
+    );
+}
+
+#[test]
 fn mill_map_is_valid() {
     let declared = DeclaredConnectors {
         inputs: vec![0, 1, 2],

@@ -77,7 +77,21 @@ impl CanopenIo {
         B: CanBus,
         F: Future<Output = std::io::Result<B>> + Send + 'static,
     {
-        let threads = crate::rt::IoThreads::new();
+        CanopenIo::start_pinned(cfg, &[], connect)
+    }
+
+    /// As [`CanopenIo::start`], the runtime's threads pinned to `io_cpus` (empty = unpinned; a
+    /// refusal by the kernel is warned about once and ignored).
+    pub fn start_pinned<B, F>(
+        cfg: &CanopenConfig,
+        io_cpus: &[usize],
+        connect: impl FnOnce() -> F + Send + 'static,
+    ) -> std::io::Result<CanopenIo>
+    where
+        B: CanBus,
+        F: Future<Output = std::io::Result<B>> + Send + 'static,
+    {
+        let threads = crate::rt::IoThreads::pinned(io_cpus);
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
             .thread_name("ncplc-canopen")

@@ -74,7 +74,13 @@ pub struct ModbusIo {
 impl ModbusIo {
     /// Starts one task per device on a private runtime; fails only when the runtime cannot start.
     pub fn start(devices: &[ModbusDevice]) -> std::io::Result<ModbusIo> {
-        let threads = IoThreads::new();
+        ModbusIo::start_pinned(devices, &[])
+    }
+
+    /// As [`ModbusIo::start`], the runtime's threads pinned to `io_cpus` (empty = unpinned; a
+    /// refusal by the kernel is warned about once and ignored).
+    pub fn start_pinned(devices: &[ModbusDevice], io_cpus: &[usize]) -> std::io::Result<ModbusIo> {
+        let threads = IoThreads::pinned(io_cpus);
         let runtime = tokio::runtime::Builder::new_multi_thread()
             .worker_threads(1)
             .thread_name("ncplc-modbus")
@@ -162,6 +168,11 @@ impl ModbusIo {
     /// (see [`crate::rt`]), once it did.
     pub fn io_priority(&self) -> Option<i32> {
         self.threads.priority()
+    }
+
+    /// Whether the I/O threads are pinned (`None`: no CPUs given; `Some(false)`: refused).
+    pub fn io_pinned(&self) -> Option<bool> {
+        self.threads.is_pinned()
     }
 
     /// True when every device not declared lost has acknowledged the newest outputs published.

@@ -62,6 +62,8 @@ pub mod codes {
     pub const HMI_WINDOW: u32 = 3040;
     /// An unknown CANopen transport or one missing its parameters.
     pub const TRANSPORT: u32 = 3041;
+    /// An `[affinity]` CPU list names a CPU the machine does not have, is empty or repeats a CPU.
+    pub const CPU: u32 = 3042;
     /// The selected bus has no devices in the map.
     pub const NO_DEVICES: u32 = 3050;
     /// The driver could not start (runtime, socket, CAN interface).
@@ -201,6 +203,11 @@ pub fn parse_map(
     };
     let mut map = IoMap {
         hmi: raw.hmi.as_ref().map(|h| hmi(&mut cx, h.get_ref())),
+        io_cpus: raw
+            .affinity
+            .as_ref()
+            .map(|a| io_cpus(&mut cx, a, crate::affinity::cpu_count()))
+            .unwrap_or_default(),
         ..IoMap::default()
     };
 
@@ -299,6 +306,55 @@ pub fn parse_map(
     (ok.then_some(map), cx.diags)
 }
 
+/// Checks `[affinity] io_cpus` against a machine of `count` CPUs; the valid, distinct indices.
+fn io_cpus(cx: &mut Ctx, raw: &Spanned<RawAffinity>, count: usize) -> Vec<usize> {
+    let Some(list) = &raw.get_ref().io_cpus else {
+        return Vec::new();
+    };
+    if list.get_ref().is_empty() {
+        cx.err(
+            codes::CPU,
+            list.span(),
+            "`io_cpus` lists no CPU",
+            "name at least one CPU, e.g. io_cpus = [1], or leave the key out to run unpinned",
+        );
+        return Vec::new();
+    }
+    let mut cpus: Vec<usize> = Vec::new();
+    for c in list.get_ref() {
+        let checked = usize::try_from(*c.get_ref())
+            .map_err(|_| crate::affinity::NoSuchCpu {
+                cpu: usize::MAX,
+                count,
+            })
+            .and_then(|cpu| crate::affinity::check_cpu_of(cpu, count));
+        match checked {
+            Ok(cpu) if cpus.contains(&cpu) => {
+                cx.err(
+                    codes::CPU,
+                    c.span(),
+                    format!("CPU {cpu} is listed twice"),
+                    "list each CPU once",
+                );
+            }
+            Ok(cpu) => cpus.push(cpu),
+            Err(_) => {
+                let msg = format!(
+                    "CPU {} does not exist: this machine has {count} CPU(s)",
+                    c.get_ref()
+                );
+                cx.err(
+                    codes::CPU,
+                    c.span(),
+                    msg,
+                    format!("use CPU indices 0..{}", count.saturating_sub(1)),
+                );
+            }
+        }
+    }
+    cpus
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub(crate) enum Bus {
     Modbus,
@@ -328,5 +384,53 @@ fn register_name(
         );
     } else {
         names.insert(name.get_ref().clone(), (bus, i, name.span()));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cpus_on(text: &str, count: usize) -> (Vec<usize>, Vec<(u32, String)>) {
+        let mut cx = Ctx {
+            file: "io.toml",
+            text,
+            diags: Vec::new(),
+        };
+        let raw: RawMap = toml::from_str(text).expect("toml");
+        let cpus = io_cpus(&mut cx, raw.affinity.as_ref().expect("[affinity]"), count);
+        let diags = cx
+            .diags
+            .iter()
+            .map(|d| (d.code, d.message.clone()))
+            .collect();
+        (cpus, diags)
+    }
+
+    #[test]
+    fn io_cpus_beyond_the_machine_are_located_errors() {
+        assert_eq!(
+            cpus_on("[affinity]\nio_cpus = [1, 0]", 2),
+            (vec![1, 0], vec![])
+        );
+        assert_eq!(cpus_on("[affinity]", 2), (vec![], vec![]));
+        assert_eq!(
+            cpus_on("[affinity]\nio_cpus = [2]", 2),
+            (
+                vec![],
+                vec![(
+                    codes::CPU,
+                    "CPU 2 does not exist: this machine has 2 CPU(s)".into()
+                )]
+            )
+        );
+        assert_eq!(
+            cpus_on("[affinity]\nio_cpus = [3, 3]", 4),
+            (vec![3], vec![(codes::CPU, "CPU 3 is listed twice".into())])
+        );
+        assert_eq!(
+            cpus_on("[affinity]\nio_cpus = []", 4),
+            (vec![], vec![(codes::CPU, "`io_cpus` lists no CPU".into())])
+        );
     }
 }

@@ -58,6 +58,10 @@ pub struct Args {
     /// Keep retained data in this file (default: `<machine>/retain.bin`).
     #[arg(long)]
     pub retain_file: Option<PathBuf>,
+    /// Pin the scan thread to this CPU (0-based); the fieldbus I/O threads take io.toml
+    /// `[affinity] io_cpus`.
+    #[arg(long)]
+    pub scan_cpu: Option<usize>,
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -87,6 +91,9 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn run_inner(args: Args) -> Result<ExitCode, String> {
+    if let Some(cpu) = args.scan_cpu {
+        fieldbus::affinity::check_cpu(cpu).map_err(|e| format!("error: --scan-cpu: {e}"))?;
+    }
     let machine = Machine::open(&args.machine, args.plc.as_deref())?;
     let tick_ms = args.tick_ms.unwrap_or(machine.config.tick_ms).max(1);
     // The first load compiles on every core (the scan is not running yet); online changes
@@ -188,7 +195,13 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         }
     };
     install_stop_handler();
-    // Only now: threads started before (watcher, compiler, retain writer) keep normal priority.
+    // Only now: threads started before (watcher, compiler, retain writer) keep normal priority
+    // and stay off the scan's CPU.
+    if let Some(cpu) = args.scan_cpu
+        && let Err(e) = fieldbus::affinity::pin_thread(0, &[cpu])
+    {
+        eprintln!("warning: cannot pin the scan thread to CPU {cpu} ({e}); running unpinned");
+    }
     if !args.virtual_time
         && let Some(w) = enable_realtime(80).warning()
     {
