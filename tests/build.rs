@@ -44,6 +44,11 @@ fn the_example_lathe_program_builds_with_a_summary() {
         summary.contains(" statements, ") && summary.contains("image ") && summary.contains(" ms"),
         "{summary}"
     );
+    // The build also produces the native code `ncplc run` loads, and says what each half cost.
+    assert!(
+        summary.contains("(front end ") && summary.contains(" ms, native code "),
+        "{summary}"
+    );
 }
 
 #[test]

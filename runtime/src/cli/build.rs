@@ -84,9 +84,34 @@ pub fn run(args: Args) -> ExitCode {
         .display()
         .to_string();
     // A build is not beside a running scan: parse on every core (same result as one thread).
+    let front_started = Instant::now();
     let c = compiler::compile_with_threads(&name, &bytes, &ctx, 0);
+    let front_ms = front_started.elapsed().as_secs_f64() * 1000.0;
     let mut emitted = None;
     let mut diagnostics = c.diagnostics.clone();
+    // The native code `ncplc run` would load, on every core: a program the JIT cannot compile is a
+    // build error, and the summary says what the compile costs.
+    let mut jit_ms = None;
+    if let Some(p) = c
+        .program
+        .as_ref()
+        .filter(|_| !diag::has_errors(&diagnostics))
+    {
+        let jit_started = Instant::now();
+        let opts = compiler::jit::JitOptions {
+            threads: 0,
+            ..compiler::jit::JitOptions::default()
+        };
+        match compiler::jit::compile_with(p, &opts) {
+            Ok(_) => jit_ms = Some(jit_started.elapsed().as_secs_f64() * 1000.0),
+            Err(e) => diagnostics.push(diag::Diagnostic::error(
+                compiler::sema::codes::LOWERING,
+                &name,
+                0..0,
+                format!("JIT failed: {e}"),
+            )),
+        }
+    }
     if let (Some(emit), Some(p)) = (args.emit, &c.program) {
         emitted = Some(match emit {
             Emit::Ir => {
@@ -118,12 +143,13 @@ pub fn run(args: Args) -> ExitCode {
     let ok = c.program.is_some() && !diag::has_errors(&diagnostics);
     let summary = if ok {
         format!(
-            "{name}: {} statements, {} symbolic names, image {} bytes, {} SLOW slices, compiled in {:.1} ms",
+            "{name}: {} statements, {} symbolic names, image {} bytes, {} SLOW slices, compiled in {:.1} ms (front end {front_ms:.1} ms, native code {:.1} ms)",
             c.stats.statements,
             c.stats.symbolic_names,
             c.stats.image_size,
             c.stats.slow_slices,
-            started.elapsed().as_secs_f64() * 1000.0
+            started.elapsed().as_secs_f64() * 1000.0,
+            jit_ms.unwrap_or(0.0)
         )
     } else {
         format!(
