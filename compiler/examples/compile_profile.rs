@@ -1,6 +1,6 @@
 //! Compile-time profile of the generated 10,000-statement program: front-end phases, CLIF size
 //! and JIT time at 1 and 2 threads. `cargo run --release -p compiler --example compile_profile
-//! -- [statements] [repeats] [what]` (`what`: all, front, jit1, jit2); also the callgrind target.
+//! -- [statements] [repeats] [what]` (`what`: all, front, front2, e2e, jit1, jit2, clif, source); also the callgrind target.
 
 /// The allocator of the `ncplc` binary, so the figures are what the tool does.
 #[global_allocator]
@@ -36,6 +36,11 @@ fn main() {
         }
         t.first().copied().unwrap_or(f64::NAN)
     };
+    if what == "source" {
+        // The generated program itself, e.g. for `ncplc build --plc` on a machine.
+        print!("{src}");
+        return;
+    }
     let c = compile("bench", src.as_bytes(), &ctx);
     let Some(p) = c.program else {
         eprintln!("does not compile: {:?}", c.diagnostics.first());
