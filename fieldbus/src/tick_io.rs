@@ -4,6 +4,7 @@
 
 use packets::IoAlarm;
 
+use crate::exchange::MAX_PENDING_ALARMS;
 use crate::health::{Fault, Health};
 use crate::map::ByteRange;
 
@@ -39,6 +40,16 @@ pub fn latch_device(
         bit.write(packets, u8::from(healthy));
     }
     alarm
+}
+
+/// Queues `alarm` for the runtime's next `take_alarms`, dropping it when
+/// [`MAX_PENDING_ALARMS`] are already pending (a runtime that never takes them must not grow memory).
+pub fn queue_alarm(pending: &mut Vec<IoAlarm>, alarm: Option<IoAlarm>) {
+    if let Some(a) = alarm
+        && pending.len() < MAX_PENDING_ALARMS
+    {
+        pending.push(a);
+    }
 }
 
 /// The packet-A image that commands each output range's safe value (zero elsewhere).

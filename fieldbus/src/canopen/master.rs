@@ -22,10 +22,10 @@ use tokio::time::Instant;
 
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
-use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
+use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{CanNode, CanopenConfig};
-use crate::tick_io::{A_LEN, latch_device, safe_image, take_changed_outputs};
+use crate::tick_io::{A_LEN, latch_device, queue_alarm, safe_image, take_changed_outputs};
 
 /// Device profile number of CiA 401 (low 16 bits of object `1000h`).
 const CIA_401: u32 = 401;
@@ -218,11 +218,7 @@ impl PacketIo for CanopenIo {
                 n.cfg.healthy,
                 packets,
             );
-            if let Some(a) = alarm
-                && self.alarms.len() < MAX_PENDING_ALARMS
-            {
-                self.alarms.push(a);
-            }
+            queue_alarm(&mut self.alarms, alarm);
         }
     }
 

@@ -29,13 +29,13 @@ use tokio::sync::Notify;
 use tokio_modbus::Slave;
 use tokio_modbus::client::{Context, Reader, Writer};
 
-use crate::exchange::{MAX_PENDING_ALARMS, OutFrame, TripleReader, TripleWriter, triple};
+use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
 use crate::health::{Fault, Health};
 use crate::map::{ModbusArea, ModbusDevice, ModbusMapping};
 use crate::modbus::writer::{WriteLink, WriteTask};
 use crate::modbus::{bits_to_bytes, bytes_to_bits, bytes_to_regs, regs_to_bytes};
 use crate::rt::IoThreads;
-use crate::tick_io::{A_LEN, latch_device, safe_image, take_changed_outputs};
+use crate::tick_io::{A_LEN, latch_device, queue_alarm, safe_image, take_changed_outputs};
 
 /// One device's newest input image as the task read it.
 #[derive(Debug, Clone)]
@@ -244,11 +244,7 @@ impl PacketIo for ModbusIo {
                 d.cfg.healthy,
                 packets,
             );
-            if let Some(alarm) = alarm
-                && self.alarms.len() < MAX_PENDING_ALARMS
-            {
-                self.alarms.push(alarm);
-            }
+            queue_alarm(&mut self.alarms, alarm);
         }
     }
 
