@@ -60,6 +60,16 @@ pub fn machine_context(dir: &Path) -> Result<(MachineContext, PathBuf), MachineE
     Ok((facts.compiler_context()?, facts.plc_source().to_path_buf()))
 }
 
+/// The build error for a program the front end accepted but cranelift could not compile.
+fn jit_failed(name: &str, e: &impl std::fmt::Display) -> diag::Diagnostic {
+    diag::Diagnostic::error(
+        compiler::sema::codes::LOWERING,
+        name,
+        0..0,
+        format!("JIT failed: {e}"),
+    )
+}
+
 /// Runs `ncplc build`.
 pub fn run(args: Args) -> ExitCode {
     let started = Instant::now();
@@ -104,12 +114,7 @@ pub fn run(args: Args) -> ExitCode {
         };
         match compiler::jit::compile_with(p, &opts) {
             Ok(_) => jit_ms = Some(jit_started.elapsed().as_secs_f64() * 1000.0),
-            Err(e) => diagnostics.push(diag::Diagnostic::error(
-                compiler::sema::codes::LOWERING,
-                &name,
-                0..0,
-                format!("JIT failed: {e}"),
-            )),
+            Err(e) => diagnostics.push(jit_failed(&name, &e)),
         }
     }
     if let (Some(emit), Some(p)) = (args.emit, &c.program) {
@@ -120,12 +125,7 @@ pub fn run(args: Args) -> ExitCode {
             Emit::Clif => match compiler::jit::emit_clif(p) {
                 Ok(text) => text,
                 Err(e) => {
-                    diagnostics.push(diag::Diagnostic::error(
-                        compiler::sema::codes::LOWERING,
-                        &name,
-                        0..0,
-                        format!("JIT failed: {e}"),
-                    ));
+                    diagnostics.push(jit_failed(&name, &e));
                     String::new()
                 }
             },
