@@ -48,7 +48,11 @@ proptest! {
         }
         let text = lines.join("\n") + "\n";
         let one = parse("t", &text);
-        prop_assert!(!one.1.is_empty(), "the edits are errors");
+        // IF, ELSE and END_IF can land where they pair up with the program's blocks or with each
+        // other, which is legal; the other edits are errors wherever they land.
+        if edits.iter().any(|&(_, which)| !matches!(BROKEN[which], "IF I0K3 THEN" | "ELSE" | "END_IF")) {
+            prop_assert!(!one.1.is_empty(), "the edits are errors");
+        }
         let two = parse_with_threads("t", &text, 2);
         prop_assert_eq!(one, two);
     }
