@@ -226,9 +226,21 @@ impl MissingRole {
 
     /// What to write in `<machine>/interface.toml`.
     pub fn hint(&self) -> String {
+        let (width, dir) = match super::fixed_signal(self.role) {
+            Some((w, d)) => (
+                format!("{w:?}").to_ascii_lowercase(),
+                match d {
+                    super::Direction::CncToPlc => "in",
+                    super::Direction::PlcToCnc => "out",
+                },
+            ),
+            None => ("bit".to_string(), "in"),
+        };
+        let connectors = if dir == "in" { "0..9" } else { "10..99" };
         format!(
             "add to <machine>/interface.toml: [[signal]] name = \"{}{}\", role = \"{}\", \
-             process = {}, address = … (K/N connectors 0..9 for CNC→PLC, 10..99 for PLC→CNC)",
+             process = {}, width = \"{width}\", dir = \"{dir}\", address = a free address on K/N \
+             connectors {connectors}",
             self.role, self.process, self.role, self.process
         )
     }

@@ -4,13 +4,17 @@
 //! ```toml
 //! strobe_timeout_ms = 5000          # M/S/T strobe not answered → alarm naming the function
 //! period = 20000                    # optional: the `at` schedule repeats every 20000 ticks
-//! [signals]                         # optional: move handshake signals (defaults: interface map)
+//! [signals]                         # optional: move process 1's handshake signals (defaults: map)
 //! MFIN = "U11K0"
 //! [[at]]                            # at tick 10: set inputs, issue functions through the handshake
 //! tick = 10
 //! set = { I0A0 = 1, I0K2 = 1 }
 //! m = [3]
 //! s = 1200
+//! [[at]]                            # process 2's handshake (its roles come from interface.toml)
+//! tick = 12
+//! process = 2
+//! m = [30]
 //! [[follow]]                        # machine feedback: input follows an output after a delay
 //! input = "I0A3"
 //! output = "U4A0"
@@ -18,143 +22,23 @@
 //! delay_ms = 500
 //! invert = false
 //! ```
-//! Everything happens at tick numbers, so `run --virtual-time --record` gives reproducible traces.
+//! Every process has its own M, S and T channel ([`process`]): strobes, codes, FIN watching and
+//! strobe timeouts are per process (an alarm of process 2..5 starts with `process n:`); the general
+//! reset clears every process's strobes. Processes are stepped in order, process 1 first, and
+//! everything happens at tick numbers, so `run --virtual-time --record` gives reproducible traces.
+
+mod process;
+mod script;
+mod signals;
 
 use std::collections::{BTreeMap, VecDeque};
 
 use packets::{IoAlarm, PacketIo, Signal};
-use serde::Deserialize;
 
-use crate::handshake::{Channel, Kind, Note, bcd};
-
-/// The script as written in `sim.toml`.
-#[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Script {
-    /// Strobe timeout in ms (0: none; default 10 000).
-    #[serde(default = "default_timeout")]
-    pub strobe_timeout_ms: u64,
-    /// When set, the `at` schedule repeats every `period` ticks (for long captures and benchmarks).
-    #[serde(default)]
-    pub period: Option<u64>,
-    /// Handshake signal addresses that differ from the interface map (name → address).
-    #[serde(default)]
-    pub signals: BTreeMap<String, String>,
-    /// Scheduled actions.
-    #[serde(default)]
-    pub at: Vec<At>,
-    /// Feedback rules.
-    #[serde(default)]
-    pub follow: Vec<Follow>,
-}
-
-fn default_timeout() -> u64 {
-    10_000
-}
-
-/// Actions at one tick.
-#[derive(Debug, Clone, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct At {
-    /// The tick.
-    pub tick: u64,
-    /// Input signals to set (held until changed).
-    #[serde(default)]
-    pub set: BTreeMap<String, u64>,
-    /// M functions to issue, in order.
-    #[serde(default)]
-    pub m: Vec<u32>,
-    /// S function to issue.
-    pub s: Option<u32>,
-    /// T function to issue.
-    pub t: Option<u32>,
-}
-
-/// An input that follows an output after a delay (spindle at speed, lubrication level, …).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Follow {
-    /// The input driven.
-    pub input: String,
-    /// The output followed.
-    pub output: String,
-    /// Further outputs OR'ed with `output`.
-    #[serde(default)]
-    pub or_outputs: Vec<String>,
-    /// The delay in ms (rounded up to ticks; 0 = the next tick).
-    #[serde(default)]
-    pub delay_ms: u64,
-    /// The input is the inverse of the output.
-    #[serde(default)]
-    pub invert: bool,
-}
-
-/// Why a script cannot be used.
-#[derive(Debug, thiserror::Error)]
-pub enum SimError {
-    /// TOML syntax or an unknown key.
-    #[error("sim script: {0}")]
-    Toml(#[from] toml::de::Error),
-    /// A bad signal name or value.
-    #[error("sim script: {0}")]
-    Invalid(String),
-}
-
-/// The handshake signals the simulated CNC uses.
-#[derive(Debug, Clone, PartialEq, Eq)]
-pub struct CncSignals {
-    /// General reset (input to the logic).
-    pub reset: Signal,
-    /// Strobes M, S, T.
-    pub strobes: [Signal; 3],
-    /// FINs M, S, T.
-    pub fins: [Signal; 3],
-    /// MCODE (1 byte BCD).
-    pub mcode: Signal,
-    /// First byte of SCODE (4 bytes binary, little-endian).
-    pub scode: Signal,
-    /// First byte of TCODE (4 bytes BCD).
-    pub tcode: Signal,
-}
-
-impl CncSignals {
-    /// The addresses from a lookup by interface-map name (`RESET`, `MSTB`, `MFIN`, `MCODE`, …),
-    /// falling back on plc-interface-map.md where the lookup has none.
-    pub fn from_lookup(lookup: impl Fn(&str) -> Option<Signal>) -> CncSignals {
-        let get =
-            |name: &str, default: &str| lookup(name).unwrap_or_else(|| parse_default(default));
-        CncSignals {
-            reset: get("RESET", "I0K1"),
-            strobes: [
-                get("MSTB", "I1K0"),
-                get("SSTB", "I1K1"),
-                get("TSTB", "I1K2"),
-            ],
-            fins: [
-                get("MFIN", "U11K0"),
-                get("SFIN", "U11K1"),
-                get("TFIN", "U11K2"),
-            ],
-            mcode: get("MCODE", "W3K0"),
-            scode: get("SCODE", "W4K0"),
-            tcode: get("TCODE", "W5K0"),
-        }
-    }
-}
-
-fn parse_default(s: &str) -> Signal {
-    s.parse().unwrap_or(Signal::Byte {
-        packet: packets::Packet::K,
-        connector: 0,
-        index: 0,
-    })
-}
-
-impl Default for CncSignals {
-    fn default() -> Self {
-        CncSignals::from_lookup(|_| None)
-    }
-}
+pub use process::HandshakeCounts;
+use process::ProcessSim;
+pub use script::{At, Follow, Script, SimError};
+pub use signals::{ChannelSignals, CncSignals, ProcessSignals};
 
 struct FollowRule {
     input: Signal,
@@ -166,11 +50,12 @@ struct FollowRule {
 
 /// The simulated CNC and machine.
 pub struct Sim {
-    signals: CncSignals,
+    reset: Signal,
     schedule: BTreeMap<u64, Vec<At>>,
     period: Option<u64>,
     follow: Vec<FollowRule>,
-    channels: [Channel; 3],
+    processes: Vec<ProcessSim>,
+    counts: HandshakeCounts,
     driven: BTreeMap<Signal, u8>,
     last_out: Vec<u8>,
     alarms: Vec<IoAlarm>,
@@ -181,6 +66,35 @@ fn parse_sig(name: &str) -> Result<Signal, SimError> {
         .map_err(|e| SimError::Invalid(format!("`{name}`: {e}")))
 }
 
+/// Checks that `at`'s functions have a channel in `signals`.
+fn check_functions(at: &At, signals: &CncSignals) -> Result<(), SimError> {
+    if !(1..=5).contains(&at.process) {
+        return Err(SimError::Invalid(format!(
+            "tick {}: process {} is outside 1..5",
+            at.tick, at.process
+        )));
+    }
+    let wanted = [
+        (!at.m.is_empty(), crate::handshake::Kind::M),
+        (at.s.is_some(), crate::handshake::Kind::S),
+        (at.t.is_some(), crate::handshake::Kind::T),
+    ];
+    for (used, kind) in wanted {
+        let has = signals
+            .process(at.process)
+            .is_some_and(|p| p.channels[signals::index(kind)].is_some());
+        if used && !has {
+            return Err(SimError::Invalid(format!(
+                "tick {}: process {} has no {kind:?} handshake ({}) in the interface map",
+                at.tick,
+                at.process,
+                signals::roles(kind).join(", ")
+            )));
+        }
+    }
+    Ok(())
+}
+
 impl Sim {
     /// A sim from a script, for a logic tick of `tick_ms` ms.
     pub fn new(script: Script, signals: CncSignals, tick_ms: u32) -> Result<Sim, SimError> {
@@ -188,22 +102,11 @@ impl Sim {
         let mut signals = signals;
         for (name, addr) in &script.signals {
             let s = parse_sig(addr)?;
-            match name.to_ascii_uppercase().as_str() {
-                "RESET" => signals.reset = s,
-                "MSTB" => signals.strobes[0] = s,
-                "SSTB" => signals.strobes[1] = s,
-                "TSTB" => signals.strobes[2] = s,
-                "MFIN" => signals.fins[0] = s,
-                "SFIN" => signals.fins[1] = s,
-                "TFIN" => signals.fins[2] = s,
-                "MCODE" => signals.mcode = s,
-                "SCODE" => signals.scode = s,
-                "TCODE" => signals.tcode = s,
-                other => {
-                    return Err(SimError::Invalid(format!(
-                        "unknown handshake signal `{other}`"
-                    )));
-                }
+            let name = name.to_ascii_uppercase();
+            if !signals.set_process1(&name, s) {
+                return Err(SimError::Invalid(format!(
+                    "unknown handshake signal `{name}`"
+                )));
             }
         }
         let mut schedule: BTreeMap<u64, Vec<At>> = BTreeMap::new();
@@ -218,6 +121,7 @@ impl Sim {
                     )));
                 }
             }
+            check_functions(&at, &signals)?;
             schedule.entry(at.tick).or_default().push(at);
         }
         let follow = script
@@ -237,16 +141,14 @@ impl Sim {
             })
             .collect::<Result<Vec<_>, SimError>>()?;
         let timeout = script.strobe_timeout_ms.div_ceil(tick_ms);
+        let (processes, counts) = ProcessSim::all(&signals.processes, timeout);
         Ok(Sim {
-            signals,
+            reset: signals.reset,
             schedule,
             period: script.period.filter(|&p| p > 0),
             follow,
-            channels: [
-                Channel::new(Kind::M, timeout),
-                Channel::new(Kind::S, timeout),
-                Channel::new(Kind::T, timeout),
-            ],
+            processes,
+            counts,
             driven: BTreeMap::new(),
             last_out: vec![0; packets::PACKETS_LEN],
             alarms: Vec::new(),
@@ -258,36 +160,15 @@ impl Sim {
         Ok(toml::from_str(text)?)
     }
 
-    /// Functions completed per channel (M, S, T).
+    /// Functions completed by process 1 per channel (M, S, T).
     pub fn completed(&self) -> [u64; 3] {
-        [
-            self.channels[0].done,
-            self.channels[1].done,
-            self.channels[2].done,
-        ]
+        self.counts.completed(1).unwrap_or_default()
     }
 
-    fn drive_bytes(&mut self, first: Signal, bytes: &[u8]) {
-        let base = first.image_byte();
-        for (i, b) in bytes.iter().enumerate() {
-            if let Some(s) = byte_signal_at(base + i) {
-                self.driven.insert(s, *b);
-            }
-        }
+    /// The completed and timed-out counts of every process (stays valid after the sim is boxed).
+    pub fn counts(&self) -> HandshakeCounts {
+        self.counts.clone()
     }
-}
-
-/// The `W` signal of an image byte in packets A, K, N or T.
-fn byte_signal_at(at: usize) -> Option<Signal> {
-    let packet = packets::Packet::ALL
-        .into_iter()
-        .find(|p| at >= p.offset() && at < p.offset() + p.len())?;
-    let rel = at - packet.offset();
-    Some(Signal::Byte {
-        packet,
-        connector: (rel / 4) as u16,
-        index: (rel % 4) as u8,
-    })
 }
 
 impl PacketIo for Sim {
@@ -309,14 +190,21 @@ impl PacketIo for Sim {
                         self.driven.insert(s, *v as u8);
                     }
                 }
-                for m in &at.m {
-                    self.channels[0].issue(*m);
-                }
-                if let Some(s) = at.s {
-                    self.channels[1].issue(s);
-                }
-                if let Some(t) = at.t {
-                    self.channels[2].issue(t);
+                // Checked in `new`: the process exists and has the channels used.
+                if let Some(p) = self
+                    .processes
+                    .iter_mut()
+                    .find(|p| p.process() == at.process)
+                {
+                    for m in &at.m {
+                        p.issue(0, *m);
+                    }
+                    if let Some(s) = at.s {
+                        p.issue(1, s);
+                    }
+                    if let Some(t) = at.t {
+                        p.issue(2, t);
+                    }
                 }
             }
         }
@@ -328,32 +216,16 @@ impl PacketIo for Sim {
             };
             self.driven.insert(f.input, v ^ u8::from(f.invert));
         }
-        let reset = self.driven.get(&self.signals.reset).copied().unwrap_or(0) == 1;
-        for i in 0..3 {
-            let fin = self.signals.fins[i].read(&self.last_out) == 1;
-            let (drive, note) = self.channels[i].step(tick, fin, reset);
-            if let Some(code) = drive.code {
-                match i {
-                    0 => self.drive_bytes(self.signals.mcode, &[bcd(code, 2) as u8]),
-                    1 => self.drive_bytes(self.signals.scode, &code.to_le_bytes()),
-                    _ => self.drive_bytes(self.signals.tcode, &bcd(code, 8).to_le_bytes()),
-                }
-            }
-            self.driven
-                .insert(self.signals.strobes[i], u8::from(drive.strobe));
-            match note {
-                Some(Note::Timeout(f)) => self.alarms.push(IoAlarm {
-                    device: "cnc".into(),
-                    message: format!("{f} not acknowledged (FIN) within the strobe timeout"),
-                    cleared: false,
-                }),
-                Some(Note::Recovered(f)) => self.alarms.push(IoAlarm {
-                    device: "cnc".into(),
-                    message: format!("{f} acknowledged late"),
-                    cleared: true,
-                }),
-                None => {}
-            }
+        let reset = self.driven.get(&self.reset).copied().unwrap_or(0) == 1;
+        for p in &mut self.processes {
+            p.step(
+                tick,
+                reset,
+                &self.last_out,
+                &mut self.driven,
+                &self.counts,
+                &mut self.alarms,
+            );
         }
         for (s, v) in &self.driven {
             s.write(packets, *v);
