@@ -90,11 +90,11 @@ pub enum InterfaceMapError {
         /// The entry's name.
         name: String,
         /// Its address.
-        address: String,
+        address: packets::Signal,
         /// The entry it overlaps.
         other: String,
         /// That entry's address.
-        other_address: String,
+        other_address: packets::Signal,
         /// The address of the later entry.
         span: Range<usize>,
     },

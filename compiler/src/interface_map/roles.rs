@@ -287,9 +287,9 @@ pub(super) fn conflict(
     Some(InterfaceMapError::AddressClash {
         file: s.origin.file.clone(),
         name: s.name.clone(),
-        address: s.signal.to_string(),
+        address: s.signal,
         other: other.name.clone(),
-        other_address: other.signal.to_string(),
+        other_address: other.signal,
         span: s.origin.address.clone(),
     })
 }
