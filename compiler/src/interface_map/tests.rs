@@ -241,3 +241,57 @@ fn processes_two_to_nbp_must_have_their_handshake_roles() {
     assert_eq!(MissingRole::CODE, 1609);
     assert!(map.missing_roles(1, &needs).is_empty());
 }
+
+mod props {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Pieces of map entries, valid and not, so that generated files reach every check.
+    const FIELDS: &[&str] = &[
+        "name='A'",
+        "name='MSTB2'",
+        "name='1X'",
+        "role='MSTB'",
+        "role='MFIN'",
+        "role='RESET'",
+        "role='NOPE'",
+        "process=2",
+        "process=6",
+        "process=-1",
+        "address='I6K0'",
+        "address='I1K0'",
+        "address='U30K0'",
+        "address='W7K3'",
+        "address='Q1'",
+        "width='bit'",
+        "width='byte'",
+        "width='dword'",
+        "dir='in'",
+        "dir='out'",
+        "meaning='m'",
+        "[[signal]]",
+        "x=1",
+    ];
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(128))]
+
+        #[test]
+        fn any_map_text_gives_a_map_or_located_errors(picks in proptest::collection::vec(0..FIELDS.len(), 0..40)) {
+            let text: String = picks.iter().map(|&i| format!("{}\n", FIELDS[i])).collect();
+            let checked = InterfaceMap::parse_all("f", &text)
+                .and_then(|o| InterfaceMap::builtin().with_overrides(o));
+            if let Err(errors) = checked {
+                prop_assert!(!errors.is_empty());
+                for e in &errors {
+                    prop_assert!((1601..=1608).contains(&e.code()));
+                    if let Some(span) = e.span() {
+                        prop_assert!(span.end <= text.len());
+                    }
+                    let d = e.to_diagnostic(Some(&text));
+                    prop_assert!(d.span.end <= text.len());
+                }
+            }
+        }
+    }
+}
