@@ -47,7 +47,8 @@ impl Machine {
                 ..Script::default()
             },
         };
-        let interface = InterfaceMap::load_for_machine(dir).map_err(|e| e.to_string())?;
+        let interface = InterfaceMap::load_for_machine(dir)
+            .map_err(|e| format!("error[E{:04}]: {e}", e.code()))?;
         process_map::require(&facts.machine, &interface)?;
         let signals = CncSignals::from_map(&interface, process_map::nbp(&facts.machine));
         Ok(Machine {

@@ -182,7 +182,8 @@ impl InterfaceMapError {
                 "give each fixed signal of a process one entry"
             }
             InterfaceMapError::AddressClash { .. } => {
-                "pick a free address: K/N connectors 100..255 are free for the integrator"
+                "pick a free address: a fixed signal on a free K/N connector of its direction \
+                 (0..9 CNC→PLC, 10..99 PLC→CNC), the integrator's own on 100..255"
             }
             InterfaceMapError::Direction { .. } => {
                 "K/N connectors 0..9 are CNC→PLC (`in`, `I` bits), 10..99 PLC→CNC (`out`, `U` \
