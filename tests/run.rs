@@ -95,7 +95,14 @@ fn a_program_that_does_not_compile_is_not_run() {
 fn old_machine(dir: &Path) -> PathBuf {
     let m = dir.join("mill");
     std::fs::create_dir_all(m.join("MP0")).expect("mkdir");
-    for f in ["FCRSYS", "MP0/AXCFIL", "MP0/PGCFIL", "MP0/IOCFIL"] {
+    // interface.toml gives process 2 (NBP=2) its handshake signals; without it `run` refuses.
+    for f in [
+        "FCRSYS",
+        "MP0/AXCFIL",
+        "MP0/PGCFIL",
+        "MP0/IOCFIL",
+        "interface.toml",
+    ] {
         std::fs::copy(root().join("plc-programs/mill").join(f), m.join(f)).expect("copy");
     }
     std::fs::write(

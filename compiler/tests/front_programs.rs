@@ -128,11 +128,26 @@ fn lathe_lubrication_alarm_latches_until_reset() {
     assert_eq!(r.get("U5A2"), 0, "cleared by RESET once refilled");
 }
 
+/// The mill's context: its connectors and its interface map (process 2's signals).
+fn mill_ctx() -> MachineContext {
+    let o = compiler::InterfaceMap::parse(
+        "interface.toml",
+        include_str!("../../plc-programs/mill/interface.toml"),
+    )
+    .expect("the mill's map parses");
+    MachineContext {
+        interface: compiler::InterfaceMap::builtin()
+            .with_overrides(o)
+            .expect("no clash"),
+        ..ctx(&[0, 1, 2], &[4, 5, 6])
+    }
+}
+
 #[test]
 fn mill_m06_runs_the_tool_change_sequence() {
     let mut r = Rig::new(
         include_bytes!("../../plc-programs/mill/MP0/PLCPRG"),
-        &ctx(&[0, 1, 2], &[4, 5, 6]),
+        &mill_ctx(),
     );
     for s in [
         "I0K2", "I0A0", "I0A1", "I0A2", "I1A0", "I0A7", "I2A0", "I2A2",
@@ -173,4 +188,51 @@ fn mill_m06_runs_the_tool_change_sequence() {
     r.set("I1K0", 0);
     r.tick(2);
     assert_eq!((r.get("U11K0"), r.get("U6A0")), (0, 0));
+}
+
+#[test]
+fn mill_process_2_m30_waits_for_the_tool_change_and_m00_does_not() {
+    let mut r = Rig::new(
+        include_bytes!("../../plc-programs/mill/MP0/PLCPRG"),
+        &mill_ctx(),
+    );
+    for s in ["I0A0", "I0A1", "I0A2", "I1A0", "I0A7", "I2A0", "I2A2"] {
+        r.set(s, 1);
+    }
+    r.tick(1);
+    assert_eq!(r.get("U30K8"), 0, "RABI_T off while process 2 is not ready");
+    r.set("I6K2", 1); // CONP_T
+    r.tick(1);
+    assert_eq!(r.get("U30K8"), 1, "RABI_T");
+    // M06 on process 1 starts the tool change.
+    r.set("W3K0", 0x06);
+    r.set("I1K0", 1);
+    r.tick(1);
+    assert_eq!(r.get("U6A0"), 1, "orienting");
+    // M30 on process 2 (MCODE_T W7K0, MSTB_T I6K0) waits while the change runs.
+    r.set("W7K0", 0x30);
+    r.set("I6K0", 1);
+    r.tick(3);
+    assert_eq!(r.get("U30K0"), 0, "no MFIN_T during the tool change");
+    // The change ends (RESET clears it), and M30 finishes.
+    r.set("I1K0", 0);
+    r.set("I0K1", 1);
+    r.tick(1);
+    assert_eq!((r.get("U6A0"), r.get("U30K0")), (0, 1), "MFIN_T");
+    r.set("I0K1", 0);
+    r.set("I6K0", 0);
+    r.tick(1);
+    assert_eq!(r.get("U30K0"), 0, "MFIN_T follows the strobe down");
+    // M00 finishes at once, even during a tool change.
+    r.set("W3K0", 0x06);
+    r.set("I1K0", 1);
+    r.tick(1);
+    r.set("W7K0", 0x00);
+    r.set("I6K0", 1);
+    r.tick(1);
+    assert_eq!(r.get("U30K0"), 1, "M00 at once");
+    // The e-stop chain opening drops the magazine axis enable.
+    r.set("I0A0", 0);
+    r.tick(1);
+    assert_eq!(r.get("U30K8"), 0);
 }

@@ -10,7 +10,7 @@ use std::path::Path;
 
 use packets::PacketIo;
 
-use crate::sim::{CncSignals, Script, Sim};
+use crate::sim::{CncSignals, HandshakeCounts, Script, Sim};
 
 /// Which I/O to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -37,11 +37,23 @@ pub fn open_io(
     signals: CncSignals,
     tick_ms: u32,
 ) -> Result<Box<dyn PacketIo>, String> {
+    open_io_counted(kind, machine_dir, declared, script, signals, tick_ms).map(|(io, _)| io)
+}
+
+/// [`open_io`], plus the simulated CNC's handshake counts per process when `kind` is `sim`.
+pub fn open_io_counted(
+    kind: IoKind,
+    machine_dir: &Path,
+    declared: &fieldbus::DeclaredConnectors,
+    script: Script,
+    signals: CncSignals,
+    tick_ms: u32,
+) -> Result<(Box<dyn PacketIo>, Option<HandshakeCounts>), String> {
     let bus = match kind {
         IoKind::Sim => {
-            return Ok(Box::new(
-                Sim::new(script, signals, tick_ms).map_err(|e| e.to_string())?,
-            ));
+            let sim = Sim::new(script, signals, tick_ms).map_err(|e| e.to_string())?;
+            let counts = sim.counts();
+            return Ok((Box::new(sim), Some(counts)));
         }
         IoKind::Modbus => fieldbus::IoKind::Modbus,
         IoKind::Canopen => fieldbus::IoKind::Canopen,
@@ -57,5 +69,8 @@ pub fn open_io(
         diag::render_human(&diagnostics, &sources)
     };
     let io = fieldbus::open(bus, machine_dir, declared).map_err(render)?;
-    fieldbus::start_hmi(machine_dir, declared, io).map_err(render)
+    Ok((
+        fieldbus::start_hmi(machine_dir, declared, io).map_err(render)?,
+        None,
+    ))
 }

@@ -17,6 +17,7 @@
 //! | [`handshake`], [`sim`] | the simulated CNC (M/S/T handshake) and machine |
 //! | [`io`] | choosing the I/O (`sim`, `modbus`, `canopen`) |
 //! | [`config`], [`machine`], [`machine_facts`] | machine settings for a run |
+//! | [`process_map`] | the interface map against the machine's processes (NBP>1 roles) |
 
 pub mod cli;
 pub mod clock;
@@ -28,6 +29,7 @@ pub mod io;
 pub mod machine;
 pub mod machine_facts;
 pub mod online;
+pub mod process_map;
 pub mod program;
 pub mod replay;
 pub mod retain;

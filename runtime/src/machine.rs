@@ -11,6 +11,7 @@ use crate::compiled::{EngineKind, compile_with_threads};
 use crate::config::RunConfig;
 use crate::machine_facts::Facts;
 use crate::online::CompileFn;
+use crate::process_map;
 use crate::sim::{CncSignals, Script, Sim};
 
 /// A machine ready to run.
@@ -22,7 +23,7 @@ pub struct Machine {
     pub config: RunConfig,
     /// The simulated machine's script (empty when there is no `sim.toml`).
     pub script: Script,
-    /// The handshake signals.
+    /// The handshake signals of processes 1..NBP.
     pub signals: CncSignals,
     /// The interface map (builtin plus `<machine>/interface.toml`).
     pub interface: InterfaceMap,
@@ -46,8 +47,10 @@ impl Machine {
                 ..Script::default()
             },
         };
-        let interface = InterfaceMap::load_for_machine(dir).map_err(|e| e.to_string())?;
-        let signals = CncSignals::from_lookup(|name| interface.signal(name));
+        let interface = InterfaceMap::load_for_machine(dir)
+            .map_err(|e| format!("error[E{:04}]: {e}", e.code()))?;
+        process_map::require(&facts.machine, &interface)?;
+        let signals = CncSignals::from_map(&interface, process_map::nbp(&facts.machine));
         Ok(Machine {
             dir: dir.to_path_buf(),
             config,

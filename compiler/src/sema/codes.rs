@@ -104,6 +104,25 @@ pub const NEVER_USED: u32 = 1502;
 /// Warning: a one-shot that is read but never assigned (it always reads 0).
 pub const PULSE_NEVER_SET: u32 = 1503;
 
+/// Interface map: the TOML text does not have the map's shape.
+pub const MAP_TOML: u32 = 1601;
+/// Interface map: an entry's name, address or width is invalid, or its name is defined twice.
+pub const MAP_ENTRY: u32 = 1602;
+/// Interface map: the machine's `interface.toml` exists but cannot be read.
+pub const MAP_IO: u32 = 1603;
+/// Interface map: `role` names no fixed signal (or a machine-wide one for process 2..5).
+pub const MAP_UNKNOWN_ROLE: u32 = 1604;
+/// Interface map: `process` outside 1..5.
+pub const MAP_PROCESS_RANGE: u32 = 1605;
+/// Interface map: two entries for the same (process, role).
+pub const MAP_DUPLICATE_ROLE: u32 = 1606;
+/// Interface map: an entry's bits or bytes overlap another entry's.
+pub const MAP_ADDRESS_CLASH: u32 = 1607;
+/// Interface map: `dir` against the connector convention, the `I`/`U` prefix or the role.
+pub const MAP_DIRECTION: u32 = 1608;
+/// Interface map: a process 2..NBP lacks a handshake signal it needs.
+pub const MAP_MISSING_ROLE: u32 = 1609;
+
 /// The program's internal areas do not fit the image, or the IR rejected the lowered program.
 pub const LOWERING: u32 = 1901;
 
@@ -159,5 +178,20 @@ pub const ALL: &[(u32, &str)] = &[
     (NEVER_WRITTEN, "never written"),
     (NEVER_USED, "never used"),
     (PULSE_NEVER_SET, "one-shot never assigned"),
+    (MAP_TOML, "interface map: bad TOML"),
+    (MAP_ENTRY, "interface map: bad entry"),
+    (MAP_IO, "interface map: unreadable file"),
+    (MAP_UNKNOWN_ROLE, "interface map: unknown role"),
+    (MAP_PROCESS_RANGE, "interface map: process outside 1..5"),
+    (MAP_DUPLICATE_ROLE, "interface map: role given twice"),
+    (MAP_ADDRESS_CLASH, "interface map: address clash"),
+    (
+        MAP_DIRECTION,
+        "interface map: direction against the convention",
+    ),
+    (
+        MAP_MISSING_ROLE,
+        "interface map: process lacks a handshake signal",
+    ),
     (LOWERING, "lowering failed"),
 ];

@@ -1,5 +1,8 @@
 //! `ncplc check <machine-dir>`: reads and validates a machine's characterization files.
 //!
+//! The machine's interface map is checked too: the errors of `<machine>/interface.toml` (codes
+//! 1601–1608) and, when AXCFIL says NBP>1, every handshake signal a process 2..NBP lacks (1609).
+//!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
 //! (`--format json`), and exits 1 when there is any error, 0 otherwise. `--dump` prints the typed
 //! model as JSON on stdout instead (diagnostics then go to stderr).
@@ -36,7 +39,7 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
         Format::Human if load.diagnostics.is_empty() => {
             // Say what was checked, so a clean run is distinguishable from one that read nothing.
             let mut files: Vec<&str> = Vec::new();
-            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL"] {
+            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL", "interface.toml"] {
                 files.extend(load.sources.names().filter(|f| f.ends_with(name)));
             }
             format!("{}: no problems found\n", files.join(", "))
@@ -52,7 +55,11 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
 
 /// Runs `ncplc check`.
 pub fn run(args: Args) -> ExitCode {
-    let load = characterization::load_machine(&args.machine_dir);
+    let mut load = characterization::load_machine(&args.machine_dir);
+    if let Some(machine) = load.machine.clone() {
+        let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
+        load.diagnostics.extend(map);
+    }
     let report = render(&load, args.format);
     let mut out = std::io::stdout().lock();
     let written = if args.dump {

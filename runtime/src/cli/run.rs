@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use crate::clock::{Clock, RealClock, VirtualClock, enable_realtime};
 use crate::compiled::EngineKind;
 use crate::image::Image;
-use crate::io::{IoKind, open_io};
+use crate::io::{IoKind, open_io_counted};
 use crate::machine::Machine;
 use crate::online::{self, Note};
 use crate::retain::{self, Restored, RetainLayout, RetainRecord};
@@ -43,7 +43,8 @@ pub struct Args {
     /// The engine.
     #[arg(long, value_enum, default_value = "jit")]
     pub engine: EngineKind,
-    /// Print scan-time and wake-latency statistics at the end.
+    /// Print scan-time and wake-latency statistics at the end (with the simulated CNC: the M/S/T
+    /// functions completed and the strobe timeouts of each process).
     #[arg(long)]
     pub stats: bool,
     /// Consecutive overruns that put the outputs in their safe state (0: never).
@@ -141,7 +142,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             Err(e) => eprintln!("warning: {e}; starting without retained data"),
         }
     }
-    let io = open_io(
+    let (io, handshakes) = open_io_counted(
         args.io,
         &machine.dir,
         &machine.declared_connectors(),
@@ -276,6 +277,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     );
     if args.stats {
         print!("{}", sched.stats.summary());
+        if let Some(h) = &handshakes {
+            print!("{}", h.summary());
+        }
     }
     Ok(if sched.tripped() {
         ExitCode::from(1)

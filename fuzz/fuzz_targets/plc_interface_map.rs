@@ -1,0 +1,19 @@
+#![no_main]
+//! Interface maps from arbitrary text never panic the reader: every error has a code in 1601..1608
+//! and a span inside the text, and a map that parses merges with the default map without a panic.
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    if let Ok(s) = std::str::from_utf8(data) {
+        let checked = compiler::InterfaceMap::parse_all("interface.toml", s)
+            .and_then(|o| compiler::InterfaceMap::builtin().with_overrides(o));
+        if let Err(errors) = checked {
+            assert!(!errors.is_empty());
+            for e in &errors {
+                assert!((1601..=1608).contains(&e.code()));
+                if let Some(span) = e.span() {
+                    assert!(span.start <= span.end && span.end <= s.len());
+                }
+                let _ = e.to_diagnostic(Some(s));
+            }
+        }
+    }
+});

@@ -1,0 +1,98 @@
+//! The simulated machine's script as written in `<machine>/sim.toml` (see the [`super`] docs).
+
+use std::collections::BTreeMap;
+
+use serde::Deserialize;
+
+/// The script as written in `sim.toml`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Script {
+    /// Strobe timeout in ms (0: none; default 10 000).
+    #[serde(default = "default_timeout")]
+    pub strobe_timeout_ms: u64,
+    /// When set, the `at` schedule repeats every `period` ticks (for long captures and benchmarks).
+    #[serde(default)]
+    pub period: Option<u64>,
+    /// Process 1's handshake signal addresses that differ from the interface map (name → address).
+    #[serde(default)]
+    pub signals: BTreeMap<String, String>,
+    /// Scheduled actions.
+    #[serde(default)]
+    pub at: Vec<At>,
+    /// Feedback rules.
+    #[serde(default)]
+    pub follow: Vec<Follow>,
+}
+
+fn default_timeout() -> u64 {
+    10_000
+}
+
+fn process_one() -> u8 {
+    1
+}
+
+/// Actions at one tick.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct At {
+    /// The tick.
+    pub tick: u64,
+    /// The process whose handshake carries `m`, `s` and `t` (1..5, default 1).
+    #[serde(default = "process_one")]
+    pub process: u8,
+    /// Input signals to set (held until changed).
+    #[serde(default)]
+    pub set: BTreeMap<String, u64>,
+    /// M functions to issue, in order.
+    #[serde(default)]
+    pub m: Vec<u32>,
+    /// S function to issue.
+    pub s: Option<u32>,
+    /// T function to issue.
+    pub t: Option<u32>,
+}
+
+impl Default for At {
+    fn default() -> Self {
+        At {
+            tick: 0,
+            process: 1,
+            set: BTreeMap::new(),
+            m: Vec::new(),
+            s: None,
+            t: None,
+        }
+    }
+}
+
+/// An input that follows an output after a delay (spindle at speed, lubrication level, …).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Follow {
+    /// The input driven.
+    pub input: String,
+    /// The output followed.
+    pub output: String,
+    /// Further outputs OR'ed with `output`.
+    #[serde(default)]
+    pub or_outputs: Vec<String>,
+    /// The delay in ms (rounded up to ticks; 0 = the next tick).
+    #[serde(default)]
+    pub delay_ms: u64,
+    /// The input is the inverse of the output.
+    #[serde(default)]
+    pub invert: bool,
+}
+
+/// Why a script cannot be used.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// TOML syntax or an unknown key.
+    #[error("sim script: {0}")]
+    Toml(#[from] toml::de::Error),
+    /// A bad signal name or value.
+    #[error("sim script: {0}")]
+    Invalid(String),
+}
