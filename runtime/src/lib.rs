@@ -19,6 +19,7 @@
 //! | [`config`], [`machine`], [`machine_facts`] | machine settings for a run |
 //! | [`process_map`] | the interface map against the machine's processes (NBP>1 roles) |
 
+pub mod atomic_file;
 pub mod cli;
 pub mod clock;
 pub mod compiled;

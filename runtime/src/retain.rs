@@ -6,8 +6,7 @@
 //! the same directory, syncs it, renames it over the old file and syncs the directory, so a reader
 //! (even after `kill -9` or power loss) sees either the previous complete record or the new one.
 
-use std::fs::{self, File};
-use std::io::Write;
+use std::fs;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 
@@ -101,24 +100,7 @@ pub fn decode(bytes: &[u8]) -> Result<RetainRecord, String> {
 
 /// Writes `rec` to `path` atomically (temporary file, fsync, rename, fsync of the directory).
 pub fn save(path: &Path, rec: &RetainRecord) -> Result<(), RetainError> {
-    let dir = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut tmp_name = path.file_name().unwrap_or_default().to_os_string();
-    tmp_name.push(".tmp");
-    let tmp = dir.join(tmp_name);
-    let bytes = encode(rec);
-    {
-        let mut f = File::create(&tmp).map_err(io_err(&tmp))?;
-        f.write_all(&bytes).map_err(io_err(&tmp))?;
-        f.sync_all().map_err(io_err(&tmp))?;
-    }
-    fs::rename(&tmp, path).map_err(io_err(path))?;
-    if let Ok(d) = File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
+    crate::atomic_file::write(path, &encode(rec)).map_err(io_err(path))
 }
 
 /// Reads the record at `path`: `Ok(None)` when there is no file.

@@ -316,7 +316,7 @@ impl Scheduler {
                 };
                 sink.record(&end)?;
             }
-            sink.flush()?;
+            sink.finish()?;
         }
         match self.last_io_error.take() {
             Some(e) => Err(e),

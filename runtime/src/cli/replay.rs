@@ -88,7 +88,9 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
         } else {
             binary::encode(&result.actual).map_err(|e| e.to_string())?
         };
-        std::fs::write(&args.trace, out).map_err(|e| format!("{}: {e}", args.trace.display()))?;
+        // Atomically: an interrupted update leaves the old golden trace, never half of the new one.
+        crate::atomic_file::write(&args.trace, &out)
+            .map_err(|e| format!("{}: {e}", args.trace.display()))?;
         eprintln!(
             "{}: expectations updated ({total} ticks)",
             args.trace.display()

@@ -46,7 +46,8 @@ pub fn run(args: Args) -> ExitCode {
             .map_err(|e| format!("{}: {e}", file.display()))
             .and_then(|t| binary::encode(&t).map_err(|e| e.to_string()))
             .and_then(|bytes| {
-                std::fs::write(&out, bytes).map_err(|e| format!("{}: {e}", out.display()))
+                crate::atomic_file::write(&out, &bytes)
+                    .map_err(|e| format!("{}: {e}", out.display()))
             }),
     };
     match result {

@@ -103,19 +103,69 @@ pub trait TraceSink {
     fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError>;
     /// Flushes buffered data.
     fn flush(&mut self) -> Result<(), TraceError>;
+    /// Ends the recording: flushes and, for a file, puts it in place (see [`create_sink`]).
+    fn finish(&mut self) -> Result<(), TraceError> {
+        self.flush()
+    }
 }
 
 /// Opens a file sink: binary when the path ends in `.ptrace` or `.bin`, text otherwise.
+///
+/// The records stream into `<path>.partial`; [`TraceSink::finish`] syncs it and renames it over
+/// `path`. A run that dies mid-recording therefore leaves the existing file at `path` (often a
+/// golden trace) intact and the ticks recorded so far in `<path>.partial`.
 pub fn create_sink(path: &Path, tick_ms: u32) -> Result<Box<dyn TraceSink>, TraceError> {
-    let file = std::io::BufWriter::new(std::fs::File::create(path)?);
+    let partial = partial_path(path);
+    let file = std::io::BufWriter::new(std::fs::File::create(&partial)?);
     let binary = matches!(
         path.extension().and_then(|e| e.to_str()),
         Some("ptrace" | "bin")
     );
-    if binary {
-        Ok(Box::new(binary::BinaryWriter::new(file, tick_ms)?))
+    let inner: Box<dyn TraceSink> = if binary {
+        Box::new(binary::BinaryWriter::new(file, tick_ms)?)
     } else {
-        Ok(Box::new(text::TextWriter::new(file, tick_ms)?))
+        Box::new(text::TextWriter::new(file, tick_ms)?)
+    };
+    Ok(Box::new(FileSink {
+        inner,
+        partial,
+        target: path.to_path_buf(),
+        done: false,
+    }))
+}
+
+/// Where [`create_sink`] streams a recording until it is finished.
+pub fn partial_path(path: &Path) -> std::path::PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(".partial");
+    path.with_file_name(name)
+}
+
+/// A recording into `<target>.partial`, renamed over `target` when finished.
+struct FileSink {
+    inner: Box<dyn TraceSink>,
+    partial: std::path::PathBuf,
+    target: std::path::PathBuf,
+    done: bool,
+}
+
+impl TraceSink for FileSink {
+    fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
+        self.inner.record(rec)
+    }
+
+    fn flush(&mut self) -> Result<(), TraceError> {
+        self.inner.flush()
+    }
+
+    fn finish(&mut self) -> Result<(), TraceError> {
+        self.inner.flush()?;
+        if !self.done {
+            std::fs::File::open(&self.partial)?.sync_all()?;
+            std::fs::rename(&self.partial, &self.target)?;
+            self.done = true;
+        }
+        Ok(())
     }
 }
 
@@ -133,5 +183,52 @@ impl TraceSink for MemorySink {
 
     fn flush(&mut self) -> Result<(), TraceError> {
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rec(t: u64) -> TickRecord {
+        TickRecord {
+            t,
+            ..TickRecord::default()
+        }
+    }
+
+    #[test]
+    fn a_finished_recording_replaces_the_file_and_leaves_no_partial() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("golden.jsonl");
+        std::fs::write(&path, "old golden trace").expect("seed");
+        let mut sink = create_sink(&path, 10).expect("sink");
+        sink.record(&rec(0)).expect("record");
+        sink.record(&rec(5)).expect("record");
+        sink.finish().expect("finish");
+        sink.finish().expect("a second finish is harmless");
+        assert!(!partial_path(&path).exists());
+        let trace = Trace::load(&path).expect("load");
+        assert_eq!(trace.tick_ms, 10);
+        assert_eq!(trace.ticks.iter().map(|r| r.t).collect::<Vec<_>>(), [0, 5]);
+    }
+
+    #[test]
+    fn an_unfinished_recording_keeps_the_old_file_and_its_ticks_in_partial() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("golden.ptrace");
+        std::fs::write(&path, "old golden trace").expect("seed");
+        {
+            let mut sink = create_sink(&path, 10).expect("sink");
+            sink.record(&rec(3)).expect("record");
+            sink.flush().expect("flush");
+            // dropped without finish: the run died
+        }
+        assert_eq!(
+            std::fs::read_to_string(&path).expect("old"),
+            "old golden trace"
+        );
+        let partial = Trace::load(&partial_path(&path)).expect("partial loads");
+        assert_eq!(partial.ticks.iter().map(|r| r.t).collect::<Vec<_>>(), [3]);
     }
 }

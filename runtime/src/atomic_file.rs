@@ -1,0 +1,59 @@
+//! Files replaced atomically: a write goes to a temporary file in the same directory, is synced,
+//! renamed over the target and the directory is synced, so a reader (even after `kill -9` or a
+//! power loss) sees either the old complete file or the new one, never a mix.
+//!
+//! Used for every file ncplc replaces: the retain record, a golden trace rewritten by
+//! `ncplc replay --update`, the output of `ncplc trace pack`.
+
+use std::fs::File;
+use std::io::{self, Write};
+use std::path::Path;
+
+/// Replaces `path` with `bytes` atomically (see the module doc).
+pub fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let mut tmp = tempfile::Builder::new()
+        .prefix(".ncplc-")
+        .suffix(".tmp")
+        .tempfile_in(dir)?;
+    tmp.write_all(bytes)?;
+    tmp.as_file().sync_all()?;
+    tmp.persist(path).map_err(|e| e.error)?;
+    // Make the rename itself durable; a directory that cannot be opened for syncing (some
+    // file systems) still has the complete new file.
+    if let Ok(d) = File::open(dir) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn replaces_the_file_and_leaves_no_temporary_behind() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("golden.jsonl");
+        std::fs::write(&path, b"old contents").expect("seed");
+        write(&path, b"new").expect("write");
+        assert_eq!(std::fs::read(&path).expect("read"), b"new");
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .expect("dir")
+            .map(|e| e.expect("entry").file_name())
+            .collect();
+        assert_eq!(names, vec![std::ffi::OsString::from("golden.jsonl")]);
+    }
+
+    #[test]
+    fn a_missing_directory_is_an_error_and_writes_nothing() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let path = dir.path().join("no/such/dir/file");
+        let e = write(&path, b"x").expect_err("no directory");
+        assert_eq!(e.kind(), io::ErrorKind::NotFound);
+        assert!(!path.exists());
+    }
+}
