@@ -19,6 +19,22 @@ use packets::Signal;
 use crate::config::RunConfig;
 use crate::program::{Loaded, Logic, ProgramMeta};
 
+/// Why a PLC source could not become a loaded program.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The source has errors (the compiler's diagnostics).
+    #[error("{rendered}")]
+    Diagnostics {
+        /// The diagnostics, errors and warnings.
+        diagnostics: Vec<diag::Diagnostic>,
+        /// Their rustc-style rendering with the source lines.
+        rendered: String,
+    },
+    /// Cranelift could not compile the checked program.
+    #[error("error: JIT: {0}")]
+    Jit(#[from] compiler::JitError),
+}
+
 /// Which engine runs the program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum EngineKind {
@@ -127,7 +143,7 @@ pub fn machine_context(cfg: &RunConfig, tick_ms: u32, interface: InterfaceMap) -
 }
 
 /// Wraps an IR program in an engine (the JIT compiles on one thread).
-pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, String> {
+pub fn load(program: Program, engine: EngineKind) -> Result<Loaded, LoadError> {
     load_with_threads(program, engine, 1)
 }
 
@@ -138,7 +154,7 @@ pub fn load_with_threads(
     program: Program,
     engine: EngineKind,
     threads: usize,
-) -> Result<Loaded, String> {
+) -> Result<Loaded, LoadError> {
     let program = Arc::new(program);
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
@@ -147,10 +163,7 @@ pub fn load_with_threads(
                 threads,
                 ..compiler::jit::JitOptions::default()
             };
-            Box::new(
-                compiler::jit::compile_with(&program, &opts)
-                    .map_err(|e| format!("error: JIT: {e}"))?,
-            )
+            Box::new(compiler::jit::compile_with(&program, &opts)?)
         }
     };
     Ok(Loaded {
@@ -160,7 +173,7 @@ pub fn load_with_threads(
 }
 
 /// Compiles `source` (named `file_name` in diagnostics) for the machine `cfg` with tick `tick_ms`.
-/// `Err` holds the rendered diagnostics. Warnings of a successful compile are printed to stderr.
+/// `Err` holds the diagnostics and their rendering. Warnings of a successful compile are printed to stderr.
 /// The JIT uses one thread (what an online change needs).
 pub fn compile(
     file_name: &str,
@@ -169,7 +182,7 @@ pub fn compile(
     interface: &InterfaceMap,
     tick_ms: u32,
     engine: EngineKind,
-) -> Result<Loaded, String> {
+) -> Result<Loaded, LoadError> {
     compile_with_threads(file_name, source, cfg, interface, tick_ms, engine, 1)
 }
 
@@ -183,7 +196,7 @@ pub fn compile_with_threads(
     tick_ms: u32,
     engine: EngineKind,
     threads: usize,
-) -> Result<Loaded, String> {
+) -> Result<Loaded, LoadError> {
     let ctx = machine_context(cfg, tick_ms, interface.clone());
     let c = compiler::compile_with_threads(file_name, source, &ctx, threads);
     let mut sources = diag::Sources::new();
@@ -195,7 +208,10 @@ pub fn compile_with_threads(
             }
             load_with_threads(p, engine, threads)
         }
-        _ => Err(diag::render_human(&c.diagnostics, &sources)),
+        _ => Err(LoadError::Diagnostics {
+            rendered: diag::render_human(&c.diagnostics, &sources),
+            diagnostics: c.diagnostics,
+        }),
     }
 }
 

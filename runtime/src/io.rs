@@ -10,7 +10,23 @@ use std::path::Path;
 
 use packets::PacketIo;
 
-use crate::sim::{CncSignals, HandshakeCounts, Script, Sim};
+use crate::sim::{CncSignals, HandshakeCounts, Script, Sim, SimError};
+
+/// Why the I/O could not be opened.
+#[derive(Debug, thiserror::Error)]
+pub enum IoOpenError {
+    /// The simulated CNC refused its script.
+    #[error(transparent)]
+    Sim(#[from] SimError),
+    /// The I/O map (`io.toml`) or a driver setting is wrong.
+    #[error("{rendered}")]
+    Fieldbus {
+        /// The located diagnostics.
+        diagnostics: Vec<diag::Diagnostic>,
+        /// Their rustc-style rendering with the lines of `io.toml`.
+        rendered: String,
+    },
+}
 
 /// Which I/O to use.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -24,7 +40,7 @@ pub enum IoKind {
 }
 
 /// Opens the I/O of `kind` for the machine in `machine_dir`; `declared` are the packet-A
-/// connectors of IOCFIL, which the I/O map must respect. Errors come back rendered.
+/// connectors of IOCFIL, which the I/O map must respect.
 ///
 /// May be called before the scan thread takes `SCHED_FIFO` ([`crate::clock::enable_realtime`]):
 /// the fieldbus drivers move their I/O threads to `SCHED_FIFO` ten below the scan at the first
@@ -36,7 +52,7 @@ pub fn open_io(
     script: Script,
     signals: CncSignals,
     tick_ms: u32,
-) -> Result<Box<dyn PacketIo>, String> {
+) -> Result<Box<dyn PacketIo>, IoOpenError> {
     open_io_counted(kind, machine_dir, declared, script, signals, tick_ms).map(|(io, _)| io)
 }
 
@@ -48,10 +64,10 @@ pub fn open_io_counted(
     script: Script,
     signals: CncSignals,
     tick_ms: u32,
-) -> Result<(Box<dyn PacketIo>, Option<HandshakeCounts>), String> {
+) -> Result<(Box<dyn PacketIo>, Option<HandshakeCounts>), IoOpenError> {
     let bus = match kind {
         IoKind::Sim => {
-            let sim = Sim::new(script, signals, tick_ms).map_err(|e| e.to_string())?;
+            let sim = Sim::new(script, signals, tick_ms)?;
             let counts = sim.counts();
             return Ok((Box::new(sim), Some(counts)));
         }
@@ -66,7 +82,10 @@ pub fn open_io_counted(
                 sources.add(d.file.clone(), text.clone());
             }
         }
-        diag::render_human(&diagnostics, &sources)
+        IoOpenError::Fieldbus {
+            rendered: diag::render_human(&diagnostics, &sources),
+            diagnostics,
+        }
     };
     let io = fieldbus::open(bus, machine_dir, declared).map_err(render)?;
     Ok((

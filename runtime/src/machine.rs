@@ -6,13 +6,44 @@
 use std::path::{Path, PathBuf};
 
 use compiler::InterfaceMap;
+use compiler::interface_map::InterfaceMapError;
 
 use crate::compiled::{EngineKind, compile_with_threads};
 use crate::config::RunConfig;
-use crate::machine_facts::Facts;
+use crate::machine_facts::{Facts, MachineError};
 use crate::online::CompileFn;
-use crate::process_map;
-use crate::sim::{CncSignals, Script, Sim};
+use crate::process_map::{self, MissingHandshakes};
+use crate::sim::{CncSignals, Script, Sim, SimError};
+
+/// Why a machine directory could not be opened for `run` or `replay`.
+#[derive(Debug, thiserror::Error)]
+pub enum OpenError {
+    /// The characterization is missing or has errors.
+    #[error(transparent)]
+    Facts(#[from] MachineError),
+    /// `sim.toml` is not a valid script.
+    #[error("{}: {source}", path.display())]
+    SimScript {
+        /// The script file.
+        path: PathBuf,
+        /// What is wrong with it.
+        source: SimError,
+    },
+    /// `interface.toml` is invalid.
+    #[error("error[E{code:04}]: {0}", code = .0.code())]
+    Interface(InterfaceMapError),
+    /// Processes 2..NBP lack handshake signals in the interface map.
+    #[error(transparent)]
+    MissingHandshakes(#[from] MissingHandshakes),
+    /// The PLC source cannot be read.
+    #[error("{}: {source}", path.display())]
+    Source {
+        /// The source file.
+        path: PathBuf,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+}
 
 /// A machine ready to run.
 #[derive(Debug, Clone)]
@@ -31,24 +62,24 @@ pub struct Machine {
 
 impl Machine {
     /// Opens `dir`; `plc` overrides the PLC source (as `ncplc build --plc`).
-    pub fn open(dir: &Path, plc: Option<&Path>) -> Result<Machine, String> {
-        let facts = Facts::load(dir).map_err(|e| e.to_string())?;
+    pub fn open(dir: &Path, plc: Option<&Path>) -> Result<Machine, OpenError> {
+        let facts = Facts::load(dir)?;
         let mut config = RunConfig::from_facts(&facts);
         if let Some(p) = plc {
             config.plc_source = p.to_path_buf();
         }
         let sim_path = dir.join("sim.toml");
         let script = match std::fs::read_to_string(&sim_path) {
-            Ok(text) => {
-                Sim::parse_script(&text).map_err(|e| format!("{}: {e}", sim_path.display()))?
-            }
+            Ok(text) => Sim::parse_script(&text).map_err(|source| OpenError::SimScript {
+                path: sim_path.clone(),
+                source,
+            })?,
             Err(_) => Script {
                 strobe_timeout_ms: 10_000,
                 ..Script::default()
             },
         };
-        let interface = InterfaceMap::load_for_machine(dir)
-            .map_err(|e| format!("error[E{:04}]: {e}", e.code()))?;
+        let interface = InterfaceMap::load_for_machine(dir).map_err(OpenError::Interface)?;
         process_map::require(&facts.machine, &interface)?;
         let signals = CncSignals::from_map(&interface, process_map::nbp(&facts.machine));
         Ok(Machine {
@@ -69,9 +100,11 @@ impl Machine {
     }
 
     /// Reads the PLC source.
-    pub fn read_source(&self) -> Result<Vec<u8>, String> {
-        std::fs::read(&self.config.plc_source)
-            .map_err(|e| format!("{}: {e}", self.config.plc_source.display()))
+    pub fn read_source(&self) -> Result<Vec<u8>, OpenError> {
+        std::fs::read(&self.config.plc_source).map_err(|source| OpenError::Source {
+            path: self.config.plc_source.clone(),
+            source,
+        })
     }
 
     /// The source's name for diagnostics.

@@ -13,11 +13,12 @@ use std::time::{Duration, Instant};
 
 use notify::{RecommendedWatcher, RecursiveMode, Watcher};
 
+use crate::compiled::LoadError;
 use crate::program::Loaded;
 use crate::scheduler::Swap;
 
 /// Compiles PLC source text into a runnable program, or returns the rendered diagnostics.
-pub type CompileFn = Arc<dyn Fn(&[u8]) -> Result<Loaded, String> + Send + Sync>;
+pub type CompileFn = Arc<dyn Fn(&[u8]) -> Result<Loaded, LoadError> + Send + Sync>;
 
 /// What the watcher tells the operator.
 #[derive(Debug, Clone, PartialEq)]
@@ -128,8 +129,10 @@ fn compile_loop(
                     return;
                 }
             }
-            Err(diagnostics) => {
-                let _ = notes.send(Note::Rejected { diagnostics });
+            Err(e) => {
+                let _ = notes.send(Note::Rejected {
+                    diagnostics: e.to_string(),
+                });
             }
         }
         current = bytes;
@@ -149,7 +152,10 @@ mod tests {
                 .trim()
                 .strip_prefix("ok ")
                 .and_then(|n| n.parse().ok())
-                .ok_or("error: bad program")?;
+                .ok_or_else(|| LoadError::Diagnostics {
+                    diagnostics: Vec::new(),
+                    rendered: "error: bad program".into(),
+                })?;
             let meta = FixedMeta {
                 image_len: packets::PACKETS_LEN,
                 written: vec![sig("W4A0")],

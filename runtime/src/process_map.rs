@@ -9,7 +9,7 @@
 //! AXCFIL section-1 `PRO` record (code 1609); [`check`] is what `ncplc check` adds to the
 //! characterization's diagnostics; [`require`] is `ncplc run`'s refusal.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use characterization::Machine;
 use compiler::interface_map::{InterfaceMap, MissingRole, ProcessNeeds};
@@ -118,34 +118,62 @@ pub fn check(dir: &Path, machine: &Machine, sources: &mut Sources) -> Vec<Diagno
     out
 }
 
-/// `ncplc run`'s rule: every process 2..NBP has its handshake roles, or a message naming each
-/// process and role that is missing.
-pub fn require(machine: &Machine, map: &InterfaceMap) -> Result<(), String> {
+/// `ncplc run`'s refusal: processes 2..NBP lack handshake signals in the interface map.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}", self.render())]
+pub struct MissingHandshakes {
+    /// The machine directory.
+    pub dir: PathBuf,
+    /// AXCFIL NBP.
+    pub nbp: u8,
+    /// Every (process, role) that is missing, in process order.
+    pub missing: Vec<MissingRole>,
+}
+
+impl MissingHandshakes {
+    fn render(&self) -> String {
+        let mut lines = Vec::new();
+        for p in 2..=self.nbp {
+            let roles: Vec<&str> = self
+                .missing
+                .iter()
+                .filter(|m| m.process == p)
+                .map(|m| m.role)
+                .collect();
+            if !roles.is_empty() {
+                lines.push(format!("  process {p}: {}", roles.join(", ")));
+            }
+        }
+        let hint = self
+            .missing
+            .first()
+            .map(MissingRole::hint)
+            .unwrap_or_default();
+        format!(
+            "error[E{:04}]: {}: AXCFIL NBP={}, but the interface map does not give these processes \
+             their handshake signals:\n{}\nhelp: {}\n(see `ncplc check {}`)",
+            MissingRole::CODE,
+            self.dir.display(),
+            self.nbp,
+            lines.join("\n"),
+            hint,
+            self.dir.display()
+        )
+    }
+}
+
+/// `ncplc run`'s rule: every process 2..NBP has its handshake roles, or the list of what is
+/// missing, process by process.
+pub fn require(machine: &Machine, map: &InterfaceMap) -> Result<(), MissingHandshakes> {
     let missing = map.missing_roles(nbp(machine), &needs(machine));
     if missing.is_empty() {
         return Ok(());
     }
-    let mut lines = Vec::new();
-    for p in 2..=nbp(machine) {
-        let roles: Vec<&str> = missing
-            .iter()
-            .filter(|m| m.process == p)
-            .map(|m| m.role)
-            .collect();
-        if !roles.is_empty() {
-            lines.push(format!("  process {p}: {}", roles.join(", ")));
-        }
-    }
-    Err(format!(
-        "error[E{:04}]: {}: AXCFIL NBP={}, but the interface map does not give these processes \
-         their handshake signals:\n{}\nhelp: {}\n(see `ncplc check {}`)",
-        MissingRole::CODE,
-        machine.dir.display(),
-        nbp(machine),
-        lines.join("\n"),
-        missing[0].hint(),
-        machine.dir.display()
-    ))
+    Err(MissingHandshakes {
+        dir: machine.dir.clone(),
+        nbp: nbp(machine),
+        missing,
+    })
 }
 
 #[cfg(test)]
@@ -209,7 +237,9 @@ mod tests {
         );
         assert_eq!(d[0].file, "MP0/AXCFIL");
         let err = require(&mill, &map).expect_err("refused");
-        assert!(err.contains("  process 2: MSTB, MFIN, MCODE\n"), "{err}");
+        assert_eq!(err.missing.len(), 3);
+        let text = err.to_string();
+        assert!(text.contains("  process 2: MSTB, MFIN, MCODE\n"), "{text}");
         // The lathe has one process: nothing to require.
         assert!(require(&example("lathe"), &map).is_ok());
     }

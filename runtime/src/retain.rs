@@ -49,8 +49,36 @@ pub enum RetainError {
         /// The file.
         path: PathBuf,
         /// What is wrong.
-        reason: String,
+        reason: DecodeError,
     },
+}
+
+/// Why bytes are not a valid retain record.
+#[derive(Debug, thiserror::Error)]
+pub enum DecodeError {
+    /// Too short, or the `NCRT` magic is missing.
+    #[error("no NCRT header")]
+    NoHeader,
+    /// Written by another format version.
+    #[error("format version {found} (expected {FORMAT_VERSION})")]
+    Version {
+        /// The version in the header.
+        found: u32,
+    },
+    /// The payload is shorter or longer than the header says (a torn write).
+    #[error("payload is {actual} bytes, header says {header}")]
+    Length {
+        /// Bytes after the header.
+        actual: usize,
+        /// The length in the header.
+        header: usize,
+    },
+    /// The CRC-32 of the payload does not match.
+    #[error("checksum mismatch")]
+    Checksum,
+    /// The payload passed the checksum but does not decode.
+    #[error("undecodable record: {0}")]
+    Payload(#[from] postcard::Error),
 }
 
 fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> RetainError + '_ {
@@ -73,29 +101,26 @@ pub fn encode(rec: &RetainRecord) -> Vec<u8> {
 }
 
 /// Decodes and verifies a record (`Err` carries the reason).
-pub fn decode(bytes: &[u8]) -> Result<RetainRecord, String> {
+pub fn decode(bytes: &[u8]) -> Result<RetainRecord, DecodeError> {
     if bytes.len() < HEADER_LEN || &bytes[..4] != MAGIC {
-        return Err("no NCRT header".into());
+        return Err(DecodeError::NoHeader);
     }
     let word = |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
     if word(4) != FORMAT_VERSION {
-        return Err(format!(
-            "format version {} (expected {FORMAT_VERSION})",
-            word(4)
-        ));
+        return Err(DecodeError::Version { found: word(4) });
     }
     let len = word(8) as usize;
     let payload = &bytes[HEADER_LEN..];
     if payload.len() != len {
-        return Err(format!(
-            "payload is {} bytes, header says {len}",
-            payload.len()
-        ));
+        return Err(DecodeError::Length {
+            actual: payload.len(),
+            header: len,
+        });
     }
     if crc32fast::hash(payload) != word(12) {
-        return Err("checksum mismatch".into());
+        return Err(DecodeError::Checksum);
     }
-    postcard::from_bytes(payload).map_err(|e| format!("undecodable record: {e}"))
+    Ok(postcard::from_bytes(payload)?)
 }
 
 /// Writes `rec` to `path` atomically (temporary file, fsync, rename, fsync of the directory).
@@ -235,9 +260,13 @@ mod tests {
         let last = bytes.len() - 1;
         bytes[last] ^= 0x40;
         fs::write(&path, &bytes).expect("write");
-        assert!(
-            matches!(load(&path), Err(RetainError::Corrupt { reason, .. }) if reason == "checksum mismatch")
-        );
+        assert!(matches!(
+            load(&path),
+            Err(RetainError::Corrupt {
+                reason: DecodeError::Checksum,
+                ..
+            })
+        ));
         fs::write(&path, &bytes[..10]).expect("write");
         assert!(matches!(load(&path), Err(RetainError::Corrupt { .. })));
     }

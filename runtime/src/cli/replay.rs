@@ -45,11 +45,11 @@ pub fn run(args: Args) -> ExitCode {
 }
 
 fn run_inner(args: &Args) -> Result<ExitCode, String> {
-    let machine = Machine::open(&args.machine, args.plc.as_deref())?;
+    let machine = Machine::open(&args.machine, args.plc.as_deref()).map_err(|e| e.to_string())?;
     let bytes = std::fs::read(&args.trace).map_err(|e| format!("{}: {e}", args.trace.display()))?;
     let trace = Trace::from_bytes(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?;
     let compile = machine.compile_fn_with_threads(args.engine, trace.tick_ms, 0);
-    let loaded = match compile(&machine.read_source()?) {
+    let loaded = match compile(&machine.read_source().map_err(|e| e.to_string())?) {
         Ok(l) => l,
         Err(diags) => {
             eprintln!("{diags}");

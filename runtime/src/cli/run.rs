@@ -95,13 +95,13 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     if let Some(cpu) = args.scan_cpu {
         fieldbus::affinity::check_cpu(cpu).map_err(|e| format!("error: --scan-cpu: {e}"))?;
     }
-    let machine = Machine::open(&args.machine, args.plc.as_deref())?;
+    let machine = Machine::open(&args.machine, args.plc.as_deref()).map_err(|e| e.to_string())?;
     let tick_ms = args.tick_ms.unwrap_or(machine.config.tick_ms).max(1);
     // The first load compiles on every core (the scan is not running yet); online changes
     // compile on one thread beside the scan.
     let first = machine.compile_fn_with_threads(args.engine, tick_ms, 0);
     let compile = machine.compile_fn(args.engine, tick_ms);
-    let source = machine.read_source()?;
+    let source = machine.read_source().map_err(|e| e.to_string())?;
     let loaded = match first(&source) {
         Ok(l) => l,
         Err(diags) => {
@@ -149,7 +149,8 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         machine.script.clone(),
         machine.signals.clone(),
         tick_ms,
-    )?;
+    )
+    .map_err(|e| e.to_string())?;
     let clock: Box<dyn Clock> = if args.virtual_time {
         Box::new(VirtualClock::new())
     } else {
