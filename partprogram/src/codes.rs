@@ -111,3 +111,6 @@ pub const RUN_THREAD: u32 = 2509;
 pub const RUN_EQUIDISTANT: u32 = 2510;
 /// Run time: a radius-compensation rule broken (G41/G42/G40 on an arc, plane changed while active).
 pub const RUN_COMP_RULE: u32 = 2511;
+/// Run time: radius compensation would gouge: a compensated line runs backwards or collapses, or a
+/// compensated arc's sweep reverses or vanishes (interference check, project rule).
+pub const RUN_GOUGE: u32 = 2512;
