@@ -114,3 +114,7 @@ pub const RUN_COMP_RULE: u32 = 2511;
 /// Run time: radius compensation would gouge: a compensated line runs backwards or collapses, or a
 /// compensated arc's sweep reverses or vanishes (interference check, project rule).
 pub const RUN_GOUGE: u32 = 2512;
+/// Run time: G14/G15/G16 (also computed through `GR<n>`) name an axis the process does not have.
+pub const RUN_PLANE_AXIS: u32 = 2513;
+/// G14/G15/G16 written while the process has no axis of the machine-constant-341 plane they select.
+pub const PLANE_AXIS: u32 = 2036;
