@@ -53,6 +53,9 @@ fn g14_to_g16_without_a_4th_axis_are_compile_errors_at_the_g_word() {
             ),
         ]
     );
+    // G14 is no Fanuc/HAAS G function.
+    let haas = MachineSpec::new(Dialect::Fanuc, &['X', 'Y', 'Z', 'A']);
+    assert_eq!(codes(&haas, "O1\nG14\nM30\n"), vec![2015]);
     // The lathe has two axes: no axis 3 or 4.
     assert_eq!(codes(&lathe(), "%1\nN10 G14\nN20 M30\n"), vec![2036]);
     // G17–G19 stay valid.
