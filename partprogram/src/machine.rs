@@ -166,7 +166,7 @@ impl MachineSpec {
 
     /// The (first, second) axis ordinals of the correction plane of G14, G15 or G16: pair 1, 2 or 3 of
     /// machine constant 341 counted from the low-order end (structure spec §13.7); a pair `00` (and
-    /// the whole constant 0) takes its default `34`, `24`, `41`.
+    /// the whole constant 0) takes its default `34`, `24`, `41`. Other `g` are clamped to 14..=16.
     pub fn plane_341(&self, g: u16) -> (u8, u8) {
         let k = u32::from(g.saturating_sub(14).min(2));
         let pair = (self.planes_341.unsigned_abs() / 100u64.pow(k)) % 100;
@@ -192,7 +192,7 @@ impl MachineSpec {
             (Some(a), Some(b)) if a != b => Ok((a, b)),
             _ => Err(format!(
                 "G{g} selects the correction plane of axes {o1} and {o2} (machine constant 341 pair {}), but the process has {} axes ({})",
-                g - 13,
+                g.saturating_sub(14).min(2) + 1,
                 axes.len(),
                 axes.iter().collect::<String>()
             )),

@@ -1,7 +1,8 @@
 //! Interference (gouge) check of tool radius compensation (error 2512), with hand-computed coordinates:
 //! a step lower than the tool radius between two inside/outside corners, a slot narrower than the tool
-//! diameter, an arc eaten by its two inside corners, the same slot in the Fanuc dialect, and near misses
-//! (a slot 2 µm wider than the tool, a shallower arc) that plan unchanged.
+//! diameter, an arc eaten by its two inside corners, the same slot in the Fanuc dialect, near misses
+//! (a slot 2 µm wider than the tool, a shallower arc) that plan unchanged, and a property: a slot gouges
+//! exactly when it is not wider than the tool.
 
 mod common;
 
@@ -268,4 +269,35 @@ fn fanuc_step_gouges_and_a_step_two_microns_higher_than_the_radius_does_not() {
             (Lin, 40.0, 20.0)
         ]
     );
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// The slot of width w (0.5..19.9 mm) and a tool of radius r (0.5..9.9 mm), both in µm: the bottom
+    /// keeps w − 2r, so the plan fails with 2512 at N60 exactly when w ≤ 2r, in both corner modes.
+    #[test]
+    fn slot_gouges_exactly_when_it_is_not_wider_than_the_tool(
+        w_um in 500u32..19_900,
+        r_um in 500u32..9_900,
+        arcs in proptest::bool::ANY,
+    ) {
+        let (w, r) = (f64::from(w_um) / 1000.0, f64::from(r_um) / 1000.0);
+        let src = slot(&format!("{:.3}", 10.0 + w)).replace("R0=5.", &format!("R0={r:.3}"));
+        let (prog, d) = compile(&mill(), "p", &src);
+        let prog = prog.ok_or_else(|| proptest::test_runner::TestCaseError::fail(format!("{d:?}")))?;
+        let mode = if arcs { Corners::Arc } else { Corners::Intersection };
+        match plan(&prog, opts(mode)) {
+            Ok(p) => {
+                proptest::prop_assert!(w_um > 2 * r_um, "w {w} r {r} planned");
+                // The bottom runs from X10 + r to X10 + w − r at Y−20 + r.
+                let bottom = p.blocks.iter().find(|c| c.n == Some(60)).map(|c| (end(c, 'X'), end(c, 'Y')));
+                proptest::prop_assert_eq!(bottom, Some((um(10.0 + w - r), um(-20.0 + r))));
+            }
+            Err((_, e)) => {
+                proptest::prop_assert!(w_um <= 2 * r_um, "w {w} r {r}: {e}");
+                proptest::prop_assert_eq!((e.code, e.line), (2512, 7));
+            }
+        }
+    }
 }
