@@ -456,6 +456,75 @@ fn plan_reports_equidistants_not_found_with_code_2510() {
 }
 
 #[test]
+fn plan_reports_a_gouge_with_code_2512() {
+    // A slot 4 mm wide with a 10 mm tool (G41, radius 5): the bottom N60 would run from (15, −15) back
+    // to (9, −15).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = dir.path().join("slot");
+    std::fs::write(
+        &p,
+        "%1\nN10 G92 D1 R0=5.\nN20 G0 X-10 Y10\nN30 G1 G41 D1 X0 Y0 F100\nN40 X10\nN50 Y-20\n\
+         N60 X14\nN70 Y0\nN80 X30\nN90 G40 X40 Y10\nN100 M30\n",
+    )
+    .expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        p.to_str().unwrap_or_default(),
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let diags = json_lines(&out.stderr);
+    assert_eq!(diags.len(), 1);
+    assert_eq!(
+        (diags[0]["code"].as_u64(), diags[0]["line"].as_u64()),
+        (Some(2512), Some(7))
+    );
+    assert_eq!(
+        diags[0]["message"],
+        "radius compensation: interference (gouge) at N60: the compensated line from X15.0000 \
+         Y-15.0000 to X9.0000 Y-15.0000 runs against its programmed direction before N70; the tool \
+         radius 5.0000 does not fit"
+    );
+}
+
+#[test]
+fn check_and_plan_reject_g14_on_the_three_axis_mill_with_code_2036() {
+    // The example mill has X, Y, Z: G14 (MC 341 pair 1 = axes 3 and 4) has no 4th axis.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let p = dir.path().join("g14");
+    std::fs::write(&p, "%1\nN10 G0 X0\nN20 G14\nN30 M30\n").expect("program");
+    for cmd in ["check", "plan"] {
+        let out = ncplc(&[
+            "nc",
+            cmd,
+            "plc-programs/mill",
+            p.to_str().unwrap_or_default(),
+            "--format",
+            "json",
+        ]);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert!(out.stdout.is_empty(), "{cmd}: nothing planned");
+        let diags = json_lines(&out.stderr);
+        assert_eq!(diags.len(), 1, "{cmd}");
+        assert_eq!(
+            (
+                diags[0]["code"].as_u64(),
+                diags[0]["line"].as_u64(),
+                diags[0]["column"].as_u64()
+            ),
+            (Some(2036), Some(3), Some(5)),
+            "{cmd}"
+        );
+        assert_eq!(
+            diags[0]["message"],
+            "G14 selects the correction plane of axes 3 and 4 (machine constant 341 pair 1), but the \
+             process has 3 axes (XYZ)"
+        );
+    }
+}
+
+#[test]
 fn o00023_takes_h03_length_and_d03_radius_from_the_mills_table() {
     // TAB0.KOR entry 03: R=6.0 (the program's "DIA. OFFSET D03 AN 12."), Z=-135.5.
     let out = ncplc(&["nc", "plan", "plc-programs/mill", "O00023.nc"]);

@@ -44,16 +44,22 @@ pub enum Plane {
     ZX,
     /// G19.
     YZ,
+    /// MEFI G14, G15, G16: a plane of machine constant 341 with the 4th axis.
+    Extra {
+        /// The G function (14, 15 or 16).
+        g: u8,
+        /// First axis letter (I runs along it).
+        first: char,
+        /// Second axis letter (J runs along it).
+        second: char,
+    },
 }
 
 impl Plane {
-    /// The JSON name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Plane::XY => "XY",
-            Plane::ZX => "ZX",
-            Plane::YZ => "YZ",
-        }
+    /// The JSON name: the first and second axis letters (`XY`, `ZX`, `YZ`, or e.g. `ZA` under G14).
+    pub fn name(self) -> String {
+        let (a, b) = self.axes();
+        format!("{a}{b}")
     }
 
     /// The (first, second) axis letters of the plane; I runs along the first, J along the second.
@@ -62,6 +68,17 @@ impl Plane {
             Plane::XY => ('X', 'Y'),
             Plane::ZX => ('Z', 'X'),
             Plane::YZ => ('Y', 'Z'),
+            Plane::Extra { first, second, .. } => (first, second),
+        }
+    }
+
+    /// The G function that selects the plane (17, 18, 19, or 14–16).
+    pub fn g(self) -> u16 {
+        match self {
+            Plane::XY => 17,
+            Plane::ZX => 18,
+            Plane::YZ => 19,
+            Plane::Extra { g, .. } => u16::from(g),
         }
     }
 }
@@ -137,7 +154,8 @@ impl Canon {
             }
             s.push('}');
         }
-        let _ = write!(s, ",\"plane\":\"{}\"", self.plane.name());
+        let (p1, p2) = self.plane.axes();
+        let _ = write!(s, ",\"plane\":\"{p1}{p2}\"");
         match self.feed {
             Some(f) => {
                 let _ = write!(s, ",\"feed\":{}", num(f));

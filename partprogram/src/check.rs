@@ -111,6 +111,18 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
         match a {
             'G' => {
                 if let Some(g) = count_range(0, 99, "G functions", diags) {
+                    if (14..=16).contains(&g)
+                        && let Err(msg) = m.plane_341_axes(g as u16)
+                    {
+                        diags.push(err(
+                            codes::PLANE_AXIS,
+                            file,
+                            src,
+                            w.span,
+                            msg,
+                            "G14–G16 select the planes of machine constant 341 with the 4th axis; use G17–G19 on this machine",
+                        ));
+                    }
                     match mefi_g_group(g as u16) {
                         Some(grp) => {
                             if let Some(prev) = ggroups.insert(grp, g) {

@@ -111,3 +111,10 @@ pub const RUN_THREAD: u32 = 2509;
 pub const RUN_EQUIDISTANT: u32 = 2510;
 /// Run time: a radius-compensation rule broken (G41/G42/G40 on an arc, plane changed while active).
 pub const RUN_COMP_RULE: u32 = 2511;
+/// Run time: radius compensation would gouge: a compensated line runs backwards or collapses, or a
+/// compensated arc's sweep reverses or vanishes (interference check, project rule).
+pub const RUN_GOUGE: u32 = 2512;
+/// Run time: G14/G15/G16 (also computed through `GR<n>`) name an axis the process does not have.
+pub const RUN_PLANE_AXIS: u32 = 2513;
+/// G14/G15/G16 written while the process has no axis of the machine-constant-341 plane they select.
+pub const PLANE_AXIS: u32 = 2036;

@@ -153,11 +153,7 @@ impl<'p> Exec<'p> {
         let mut st = Box::<ArithState>::default();
         st.double = m.double_precision;
         st.corrections = m.corrections.rows();
-        st.g_groups[1] = match plane {
-            Plane::XY => 17,
-            Plane::ZX => 18,
-            Plane::YZ => 19,
-        };
+        st.g_groups[1] = plane.g();
         Exec {
             prog,
             opts,

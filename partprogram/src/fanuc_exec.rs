@@ -530,6 +530,8 @@ impl Ex<'_> {
             Plane::XY => ('X', 'Y', 'I', 'J'),
             Plane::ZX => ('Z', 'X', 'K', 'I'),
             Plane::YZ => ('Y', 'Z', 'J', 'K'),
+            // G14–G16 are MEFI functions: the Fanuc executor never selects such a plane.
+            Plane::Extra { first, second, .. } => (first, second, 'I', 'J'),
         }
     }
 

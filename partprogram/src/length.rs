@@ -47,12 +47,13 @@ pub fn mefi_lengths(method: LengthMethod, amp: i64, entry: &[f64; 5]) -> Result<
     }
 }
 
-/// The Fanuc tool axis of G43/G44 in `plane`: the axis normal to it.
-pub fn tool_axis(plane: Plane) -> char {
+/// The Fanuc tool axis of G43/G44 in `plane`: the axis normal to it (none for a MEFI G14–G16 plane).
+pub fn tool_axis(plane: Plane) -> Option<char> {
     match plane {
-        Plane::XY => 'Z',
-        Plane::ZX => 'Y',
-        Plane::YZ => 'X',
+        Plane::XY => Some('Z'),
+        Plane::ZX => Some('Y'),
+        Plane::YZ => Some('X'),
+        Plane::Extra { .. } => None,
     }
 }
 

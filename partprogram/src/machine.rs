@@ -126,6 +126,10 @@ pub struct MachineSpec {
     /// ([`crate::thread`]); 0: not set.
     #[serde(default)]
     pub thread_constant: i64,
+    /// Machine constant 341: the correction planes of G14, G15, G16 as two-decade pairs (first, second
+    /// axis ordinal) from the low-order end; 0 means the defaults 34, 24, 41 ([`MachineSpec::plane_341`]).
+    #[serde(default)]
+    pub planes_341: i64,
 }
 
 impl MachineSpec {
@@ -148,6 +152,7 @@ impl MachineSpec {
             corrections: CorrectionTable::default(),
             length_method: LengthMethod::A,
             thread_constant: 0,
+            planes_341: 0,
         }
     }
 
@@ -156,6 +161,41 @@ impl MachineSpec {
         match self.processes.first() {
             Some(p) if !p.axes.is_empty() => p.axes.clone(),
             _ => vec!['X', 'Y', 'Z'],
+        }
+    }
+
+    /// The (first, second) axis ordinals of the correction plane of G14, G15 or G16: pair 1, 2 or 3 of
+    /// machine constant 341 counted from the low-order end (structure spec §13.7); a pair `00` (and
+    /// the whole constant 0) takes its default `34`, `24`, `41`. Other `g` are clamped to 14..=16.
+    pub fn plane_341(&self, g: u16) -> (u8, u8) {
+        let k = u32::from(g.saturating_sub(14).min(2));
+        let pair = (self.planes_341.unsigned_abs() / 100u64.pow(k)) % 100;
+        let pair = if pair == 0 {
+            [34, 24, 41][k as usize]
+        } else {
+            pair
+        };
+        ((pair / 10) as u8, (pair % 10) as u8)
+    }
+
+    /// The axis letters of the G14/G15/G16 correction plane of process 1, or why the process has none.
+    pub fn plane_341_axes(&self, g: u16) -> Result<(char, char), String> {
+        let (o1, o2) = self.plane_341(g);
+        let axes = self.axes();
+        let letter = |o: u8| {
+            usize::from(o)
+                .checked_sub(1)
+                .and_then(|i| axes.get(i))
+                .copied()
+        };
+        match (letter(o1), letter(o2)) {
+            (Some(a), Some(b)) if a != b => Ok((a, b)),
+            _ => Err(format!(
+                "G{g} selects the correction plane of axes {o1} and {o2} (machine constant 341 pair {}), but the process has {} axes ({})",
+                g.saturating_sub(14).min(2) + 1,
+                axes.len(),
+                axes.iter().collect::<String>()
+            )),
         }
     }
 
@@ -204,12 +244,13 @@ pub fn parse_constants(text: &str) -> Result<Vec<(u32, i64)>, String> {
 }
 
 impl MachineSpec {
-    /// Applies machine constant `n` with value `v`: 8 (thread run-in/run-out slope) and 329 (decade 7:
-    /// length correction method 0 A, 1 B, 2 C); other constants do not concern the planner and are
-    /// ignored.
+    /// Applies machine constant `n` with value `v`: 8 (thread run-in/run-out slope), 329 (decade 7:
+    /// length correction method 0 A, 1 B, 2 C) and 341 (G14–G16 planes); other constants do not concern
+    /// the planner and are ignored.
     pub fn set_constant(&mut self, n: u32, v: i64) -> Result<(), String> {
         match n {
             8 => self.thread_constant = v,
+            341 => self.planes_341 = v,
             329 => {
                 let d7 = (v.unsigned_abs() / 1_000_000) % 10;
                 self.length_method = d7.to_string().parse()?;

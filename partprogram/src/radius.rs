@@ -15,8 +15,11 @@
 //!   only) goes to its programmed end point;
 //! * a change of side, radius or correction entry while active works as a cancel followed by a
 //!   start-up on the next motion;
-//! * compensated arcs keep their centre; their feed becomes `F·R'/R` (§13.6) unless disabled.
+//! * compensated arcs keep their centre; their feed becomes `F·R'/R` (§13.6) unless disabled;
+//! * interference: a fully compensated element (not the start-up line) that runs backwards, collapses
+//!   or whose arc sweep reverses is error 2512 at its block ([`gouge`]).
 
+pub mod gouge;
 pub mod offset;
 
 use crate::canon::{Canon, Kind};
@@ -140,6 +143,8 @@ struct Pending {
     geo: Geo,
     active: Active,
     startup: bool,
+    /// Compensated start point (None for the start-up line, which starts at the programmed point).
+    from: Option<V2>,
     file: usize,
     span: (usize, usize),
 }
@@ -151,6 +156,8 @@ pub struct Compensator {
     prev: Vec<(char, f64)>,
     start: Vec<(char, f64)>,
     pending: Option<Pending>,
+    /// Compensated start of the element after the last released one.
+    next_from: Option<V2>,
     queue: Vec<Canon>,
     error: Option<RunError>,
 }
@@ -289,7 +296,12 @@ impl Compensator {
                 )
             };
             match joint {
-                Ok(j) => self.release(p, j, &c, out),
+                Ok(j) => {
+                    if self.interferes(&p, j, Some(&c)) {
+                        return;
+                    }
+                    self.release(p, j, &c, out)
+                }
                 Err(e) => {
                     let msg = format!(
                         "radius compensation: {e} between {} and {}",
@@ -332,9 +344,45 @@ impl Compensator {
             geo,
             active: a,
             startup: !continues,
+            from: if continues { self.next_from } else { None },
             file: ctx.file,
             span: ctx.span,
         });
+    }
+
+    /// The interference check of the held element `p` ending at `joint` (the start-up line and radius 0
+    /// are not checked); records error 2512 located at `p` and returns true when it would gouge.
+    fn interferes(&mut self, p: &Pending, joint: Joint, next: Option<&Canon>) -> bool {
+        let Some(from) = p.from.filter(|_| !p.startup && p.active.d != 0.0) else {
+            return false;
+        };
+        let to = match joint {
+            Joint::Point(q) => q,
+            Joint::Arc { a, .. } => a,
+        };
+        let Some(g) = gouge::check(&p.geo, from, to) else {
+            return false;
+        };
+        let (ax, s) = (p.active.axes, p.active.scale);
+        let at = |v: V2| format!("{}{:.4} {}{:.4}", ax.0, v.x / s.0, ax.1, v.y / s.1);
+        let what = if matches!(p.geo, Geo::Line { .. }) {
+            "line"
+        } else {
+            "arc"
+        };
+        let after = next.map_or_else(
+            || " at the end of the program".to_string(),
+            |n| format!(" before {}", block_name(n)),
+        );
+        let msg = format!(
+            "radius compensation: interference (gouge) at {}: the compensated {what} from {} to {} {g}{after}; the tool radius {:.4} does not fit",
+            block_name(&p.canon),
+            at(from),
+            at(to),
+            p.active.d.abs()
+        );
+        self.fail(p.file, p.span, codes::RUN_GOUGE, msg);
+        true
     }
 
     /// Emits the held element `p` ending at the joint, the blocks queued behind it, and an inserted
@@ -344,6 +392,10 @@ impl Compensator {
             Joint::Point(q) => q,
             Joint::Arc { a, .. } => a,
         };
+        self.next_from = Some(match joint {
+            Joint::Point(q) => q,
+            Joint::Arc { b, .. } => b,
+        });
         let mut c = p.canon;
         set_point(&mut c.end, &p.active, end);
         if self.opts.adapt_arc_feed
@@ -381,6 +433,9 @@ impl Compensator {
         self.check()?;
         if let Some(p) = self.pending.take() {
             let end = p.geo.end_offset(p.active.d);
+            if self.interferes(&p, Joint::Point(end), None) {
+                return self.check();
+            }
             let next = p.canon.clone();
             self.release(p, Joint::Point(end), &next, out);
         }

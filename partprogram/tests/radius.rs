@@ -558,7 +558,7 @@ proptest::proptest! {
                 }
             }
             Err((_, d)) => proptest::prop_assert!(
-                matches!(d.code, 2503 | 2510 | 2511), "unexpected {d}"
+                matches!(d.code, 2503 | 2510 | 2511 | 2512), "unexpected {d}"
             ),
         }
         // With radius 0 the compensated plan is the programmed one.

@@ -105,6 +105,17 @@ impl Exec<'_> {
                 17 => self.modal.plane = Plane::XY,
                 18 => self.modal.plane = Plane::ZX,
                 19 => self.modal.plane = Plane::YZ,
+                14..=16 => {
+                    let (first, second) = prog
+                        .machine
+                        .plane_341_axes(g)
+                        .map_err(|m| run_err(b, codes::RUN_PLANE_AXIS, m))?;
+                    self.modal.plane = Plane::Extra {
+                        g: g as u8,
+                        first,
+                        second,
+                    };
+                }
                 40..=42 => self.modal.comp = g,
                 53..=57 => {
                     self.modal.offset = usize::from(g - 53);
@@ -135,7 +146,7 @@ impl Exec<'_> {
                 9 => self.modal.helix = true,
                 98 => self.modal.helix = false,
                 10 => lift = true,
-                26..=29 | 5..=7 | 23 | 24 | 14..=16 => {}
+                26..=29 | 5..=7 | 23 | 24 => {}
                 g => {
                     return Err(run_err(
                         b,

@@ -4,7 +4,6 @@
 
 use super::Ex;
 use crate::ast::Val;
-use crate::canon::Plane;
 use crate::program::CBlock;
 use crate::radius::{Ctx, Side};
 
@@ -43,11 +42,7 @@ impl Ex<'_> {
         let (axes, scale) = match self.cyl {
             Some(r) => (('C', 'Z'), (r * std::f64::consts::PI / 180.0, 1.0)),
             None => {
-                let axes = match self.plane {
-                    Plane::XY => ('X', 'Y'),
-                    Plane::ZX => ('Z', 'X'),
-                    Plane::YZ => ('Y', 'Z'),
-                };
+                let axes = self.plane.axes();
                 let k = |a: char| if self.diameter && a == 'X' { 0.5 } else { 1.0 };
                 (axes, (k(axes.0), k(axes.1)))
             }

@@ -52,11 +52,13 @@ impl Ex<'_> {
         let Some((sign, plane)) = self.tlo_sign else {
             return Ok(());
         };
-        let axis = tool_axis(plane);
-        let gname = match plane {
-            crate::canon::Plane::XY => 17,
-            crate::canon::Plane::ZX => 18,
-            crate::canon::Plane::YZ => 19,
+        let gname = plane.g();
+        let Some(axis) = tool_axis(plane) else {
+            return Err(run_err(
+                b,
+                codes::RUN_TOOL_LENGTH,
+                format!("G43/G44 in G{gname}: the plane has no tool axis"),
+            ));
         };
         let Some(i) = self.idx(axis) else {
             return Err(run_err(
