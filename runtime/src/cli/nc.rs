@@ -7,8 +7,8 @@
 //! The correction table at power-up is the machine's `MP0/TAB0.KOR` (else `MP0/TAB2.KOR`, the lathe
 //! name of the manual), or the file given with `--kor`; errors in it are reported like program
 //! diagnostics and fail both subcommands. The machine constants the planner uses (8: thread
-//! run-in/run-out slope; 329 decade 7: MEFI length correction method) are read from the option file
-//! `<machine>/nc/CONSTANTS`, written as in a `TAB0.REK` listing (`R329: 01000.000`).
+//! run-in/run-out slope; 329 decade 7: MEFI length correction method; 341: the G14–G16 planes) are
+//! read from the option file `<machine>/nc/CONSTANTS`, written as in a `TAB0.REK` listing (`R329: 01000.000`).
 
 use crate::machine_facts::Facts;
 use std::path::{Path, PathBuf};
@@ -95,7 +95,7 @@ pub enum MachineError {
 ///
 /// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
 /// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
-/// Machine constants 8 and 329 come from `<dir>/nc/CONSTANTS` when it exists.
+/// Machine constants 8, 329 and 341 come from `<dir>/nc/CONSTANTS` when it exists.
 pub fn machine_spec(
     dir: &Path,
     dialect: Option<&str>,
