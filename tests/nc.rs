@@ -612,3 +612,34 @@ fn plan_runs_the_lathe_thread_cycle_g84_from_pevnecy5() {
     assert!(a.status.success() && b.status.success());
     assert_eq!(a.stdout, b.stdout);
 }
+
+#[test]
+fn a_bad_or_unreadable_constants_file_is_an_error_not_ignored() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("mill");
+    copy_machine("mill", &m);
+    let machine = m.to_str().unwrap_or_default();
+    let cases: [(&[u8], &str); 3] = [
+        (
+            b"R8: 0\nR329 01000.000\n",
+            "nc/CONSTANTS: line 2: expected `R<n>: <value>`, found `R329 01000.000`",
+        ),
+        (
+            b"R329: 03000.000\n",
+            "nc/CONSTANTS: R329: unknown length correction method `3`",
+        ),
+        // Not UTF-8: once silently skipped, now refused.
+        (
+            b"R329: 01000.000 \xff\n",
+            "nc/CONSTANTS: stream did not contain valid UTF-8",
+        ),
+    ];
+    for (text, want) in cases {
+        std::fs::write(m.join("nc/CONSTANTS"), text).expect("constants");
+        let out = ncplc(&["nc", "plan", machine, "GRID"]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(want), "{err}");
+        assert!(out.stdout.is_empty());
+    }
+}

@@ -83,18 +83,44 @@ pub enum LengthMethod {
     C,
 }
 
+/// A length correction method that is not A, B or C.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "unknown length correction method `{0}` (use A, B or C: machine constant 329 decade 7 = 0, 1, 2)"
+)]
+pub struct UnknownLengthMethod(pub String);
+
 impl std::str::FromStr for LengthMethod {
-    type Err = String;
+    type Err = UnknownLengthMethod;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.trim().to_ascii_uppercase().as_str() {
             "A" | "0" => Ok(LengthMethod::A),
             "B" | "1" => Ok(LengthMethod::B),
             "C" | "2" => Ok(LengthMethod::C),
-            other => Err(format!(
-                "unknown length correction method `{other}` (use A, B or C: machine constant 329 decade 7 = 0, 1, 2)"
-            )),
+            other => Err(UnknownLengthMethod(other.to_string())),
         }
     }
+}
+
+/// Why a machine-constants file (`nc/CONSTANTS`) or one of its values was refused.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ConstantsError {
+    /// A line is not `R<n>: <value>`.
+    #[error("line {line}: expected `R<n>: <value>`, found `{text}`")]
+    Syntax {
+        /// 1-based line number.
+        line: usize,
+        /// The line, comment removed.
+        text: String,
+    },
+    /// Constant 329's decade 7 names no length correction method.
+    #[error("R{constant}: {source}")]
+    LengthMethod {
+        /// The constant (329).
+        constant: u32,
+        /// The bad method.
+        source: UnknownLengthMethod,
+    },
 }
 
 /// Everything the partprogram compiler and planner need from a machine.
@@ -209,15 +235,18 @@ impl MachineSpec {
 
 /// Reads machine constants written as in `TAB0.REK` listings: one `R<n>: <value>` per line, the
 /// value's decimal point insignificant (`R340: 00233.112` = 233112), `"` starts a comment; returns
-/// (constant number, value) pairs in file order, or the first bad line's message.
-pub fn parse_constants(text: &str) -> Result<Vec<(u32, i64)>, String> {
+/// (constant number, value) pairs in file order, or the first bad line.
+pub fn parse_constants(text: &str) -> Result<Vec<(u32, i64)>, ConstantsError> {
     let mut out = Vec::new();
     for (k, line) in text.lines().enumerate() {
         let line = line.split('"').next().unwrap_or("").trim();
         if line.is_empty() {
             continue;
         }
-        let bad = || format!("line {}: expected `R<n>: <value>`, found `{line}`", k + 1);
+        let bad = || ConstantsError::Syntax {
+            line: k + 1,
+            text: line.to_string(),
+        };
         let (name, value) = line.split_once(':').ok_or_else(bad)?;
         let n: u32 = name
             .trim()
@@ -247,13 +276,19 @@ impl MachineSpec {
     /// Applies machine constant `n` with value `v`: 8 (thread run-in/run-out slope), 329 (decade 7:
     /// length correction method 0 A, 1 B, 2 C) and 341 (G14–G16 planes); other constants do not concern
     /// the planner and are ignored.
-    pub fn set_constant(&mut self, n: u32, v: i64) -> Result<(), String> {
+    pub fn set_constant(&mut self, n: u32, v: i64) -> Result<(), ConstantsError> {
         match n {
             8 => self.thread_constant = v,
             341 => self.planes_341 = v,
             329 => {
                 let d7 = (v.unsigned_abs() / 1_000_000) % 10;
-                self.length_method = d7.to_string().parse()?;
+                self.length_method =
+                    d7.to_string()
+                        .parse()
+                        .map_err(|source| ConstantsError::LengthMethod {
+                            constant: n,
+                            source,
+                        })?;
             }
             _ => {}
         }

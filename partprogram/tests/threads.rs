@@ -125,7 +125,7 @@ fn invalid_run_in_and_run_out_are_located_run_time_errors() {
 #[test]
 fn machine_constants_in_tab0_rek_notation_set_the_slope_and_the_length_method() {
     use partprogram::LengthMethod;
-    use partprogram::machine::parse_constants;
+    use partprogram::machine::{ConstantsError, UnknownLengthMethod, parse_constants};
     let text =
         "\" planner constants\nR8: -00112.500\nR329: 02000.000 \" method C\nR340: 00233.112\n\n";
     let c = parse_constants(text).expect("valid");
@@ -138,13 +138,25 @@ fn machine_constants_in_tab0_rek_notation_set_the_slope_and_the_length_method() 
         (m.thread_constant, m.length_method),
         (-112_500, LengthMethod::C)
     );
-    assert!(
-        m.set_constant(329, 3_000_000).is_err(),
+    assert_eq!(
+        m.set_constant(329, 3_000_000),
+        Err(ConstantsError::LengthMethod {
+            constant: 329,
+            source: UnknownLengthMethod("3".into())
+        }),
         "decade 7 = 3 is no method"
     );
+    let e = parse_constants("R8: 1.2.3\n").expect_err("two points");
     assert_eq!(
-        parse_constants("R8: 1.2.3\n"),
-        Err("line 1: expected `R<n>: <value>`, found `R8: 1.2.3`".to_string())
+        e,
+        ConstantsError::Syntax {
+            line: 1,
+            text: "R8: 1.2.3".into()
+        }
+    );
+    assert_eq!(
+        e.to_string(),
+        "line 1: expected `R<n>: <value>`, found `R8: 1.2.3`"
     );
     assert!(parse_constants("X8: 1\n").is_err());
 }

@@ -168,7 +168,7 @@ pub fn static_words(prog: &Program, bi: usize) -> Option<Vec<i64>> {
 }
 
 /// Compiles every block of `prog` whose arithmetic is static, and every parameter-only region.
-pub fn compile_program(prog: &Program) -> Result<NativeCode, String> {
+pub fn compile_program(prog: &Program) -> Result<NativeCode, NativeError> {
     let todo: Vec<(usize, Vec<i64>)> = (0..prog.blocks.len())
         .filter(|&bi| prog.blocks[bi].arith_ops > 0)
         .filter_map(|bi| static_words(prog, bi).map(|w| (bi, w)))
@@ -205,7 +205,7 @@ pub fn compile_program(prog: &Program) -> Result<NativeCode, String> {
 pub fn compile_words(
     todo: &[(usize, Vec<i64>)],
     mode: DoublePrecision,
-) -> Result<NativeCode, String> {
+) -> Result<NativeCode, NativeError> {
     let mut jit = Jit::new(mode)?;
     let ids = todo
         .iter()
@@ -214,8 +214,23 @@ pub fn compile_words(
     jit.finish(todo, &ids, &[], &[], Vec::new())
 }
 
-fn err(x: &dyn std::fmt::Display) -> String {
-    x.to_string()
+/// Why native code could not be generated (the interpreter then runs the program).
+#[derive(Debug, thiserror::Error)]
+pub enum NativeError {
+    /// The host ISA or a cranelift setting is not available.
+    #[error("cranelift setup: {0}")]
+    Setup(String),
+    /// Cranelift rejected a function or the module could not be finalized.
+    #[error("cranelift: {0}")]
+    Codegen(String),
+}
+
+fn setup(x: &dyn std::fmt::Display) -> NativeError {
+    NativeError::Setup(x.to_string())
+}
+
+fn codegen(x: &dyn std::fmt::Display) -> NativeError {
+    NativeError::Codegen(x.to_string())
 }
 
 /// A cranelift JIT module being filled with functions.
@@ -232,16 +247,16 @@ struct Jit {
 }
 
 impl Jit {
-    fn new(mode: DoublePrecision) -> Result<Jit, String> {
+    fn new(mode: DoublePrecision) -> Result<Jit, NativeError> {
         let mut fb = settings::builder();
-        fb.set("opt_level", "speed").map_err(|x| err(&x))?;
-        fb.set("is_pic", "false").map_err(|x| err(&x))?;
+        fb.set("opt_level", "speed").map_err(|x| setup(&x))?;
+        fb.set("is_pic", "false").map_err(|x| setup(&x))?;
         fb.set("use_colocated_libcalls", "false")
-            .map_err(|x| err(&x))?;
+            .map_err(|x| setup(&x))?;
         let isa = cranelift_native::builder()
-            .map_err(|x| err(&x))?
+            .map_err(|x| setup(&x))?
             .finish(settings::Flags::new(fb))
-            .map_err(|x| err(&x))?;
+            .map_err(|x| setup(&x))?;
         let ptr = isa.pointer_type();
         let module = JITModule::new(JITBuilder::with_isa(
             isa.clone(),
@@ -278,12 +293,12 @@ impl Jit {
         &mut self,
         sig: Signature,
         body: impl FnOnce(&mut FunctionBuilder, cranelift_codegen::ir::SigRef),
-    ) -> Result<FuncId, String> {
+    ) -> Result<FuncId, NativeError> {
         self.count += 1;
         let id = self
             .module
             .declare_function(&format!("pp{}", self.count), Linkage::Local, &sig)
-            .map_err(|x| err(&x))?;
+            .map_err(|x| codegen(&x))?;
         self.ctx.func.signature = sig;
         {
             let mut b = FunctionBuilder::new(&mut self.ctx.func, &mut self.fctx);
@@ -294,12 +309,12 @@ impl Jit {
         }
         self.module
             .define_function(id, &mut self.ctx)
-            .map_err(|x| format!("{x:?}"))?;
+            .map_err(|x| NativeError::Codegen(format!("{x:?}")))?;
         self.module.clear_context(&mut self.ctx);
         Ok(id)
     }
 
-    fn block_fn(&mut self, words: &[i64]) -> Result<FuncId, String> {
+    fn block_fn(&mut self, words: &[i64]) -> Result<FuncId, NativeError> {
         let (ptr, mode) = (self.isa.pointer_type(), self.mode);
         self.define(self.block_sig.clone(), |b, host_ref| {
             let entry = b.create_block();
@@ -329,7 +344,7 @@ impl Jit {
         })
     }
 
-    fn region_fn(&mut self, run: &region::Run) -> Result<FuncId, String> {
+    fn region_fn(&mut self, run: &region::Run) -> Result<FuncId, NativeError> {
         let (ptr, mode) = (self.isa.pointer_type(), self.mode);
         self.define(self.region_sig.clone(), |b, host_ref| {
             region::build(b, host_ref, ptr, mode, run);
@@ -343,8 +358,10 @@ impl Jit {
         runs: &[region::Run],
         rids: &[FuncId],
         region_of: Vec<u32>,
-    ) -> Result<NativeCode, String> {
-        self.module.finalize_definitions().map_err(|x| err(&x))?;
+    ) -> Result<NativeCode, NativeError> {
+        self.module
+            .finalize_definitions()
+            .map_err(|x| codegen(&x))?;
         let fns = ids
             .iter()
             .map(|&id| {

@@ -83,7 +83,10 @@ pub enum MachineError {
     Dialect(String),
     /// The option file `nc/CONSTANTS` is not valid.
     #[error("nc/CONSTANTS: {0}")]
-    Constants(String),
+    Constants(#[from] partprogram::machine::ConstantsError),
+    /// The option file `nc/CONSTANTS` exists but cannot be read.
+    #[error("nc/CONSTANTS: {0}")]
+    ConstantsFile(std::io::Error),
 }
 
 /// Builds the partprogram view of the machine in `dir` from its validated characterization.
@@ -160,13 +163,14 @@ pub fn machine_spec(
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
     spec.check_m_declared = true;
-    if let Ok(text) = std::fs::read_to_string(dir.join("nc").join("CONSTANTS")) {
-        let constants =
-            partprogram::machine::parse_constants(&text).map_err(MachineError::Constants)?;
-        for (n, v) in constants {
-            spec.set_constant(n, v)
-                .map_err(|e| MachineError::Constants(format!("R{n}: {e}")))?;
+    match std::fs::read_to_string(dir.join("nc").join("CONSTANTS")) {
+        Ok(text) => {
+            for (n, v) in partprogram::machine::parse_constants(&text)? {
+                spec.set_constant(n, v)?;
+            }
         }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(MachineError::ConstantsFile(e)),
     }
     Ok(spec)
 }
