@@ -1,9 +1,15 @@
 #![no_main]
-//! Partprograms from arbitrary bytes never panic the compiler or the planner (both dialects).
+//! Partprograms from arbitrary bytes never panic the compiler or the planner (both dialects, and a
+//! 4-axis MEFI machine so that the G14–G16 planes of machine constant 341 are planned too).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let text = String::from_utf8_lossy(data);
-    for dialect in [partprogram::Dialect::Mefi, partprogram::Dialect::Fanuc] {
-        let spec = partprogram::MachineSpec::new(dialect, &['X', 'Y', 'Z']);
+    let machines: [(partprogram::Dialect, &[char]); 3] = [
+        (partprogram::Dialect::Mefi, &['X', 'Y', 'Z']),
+        (partprogram::Dialect::Fanuc, &['X', 'Y', 'Z']),
+        (partprogram::Dialect::Mefi, &['X', 'Y', 'Z', 'A']),
+    ];
+    for (dialect, axes) in machines {
+        let spec = partprogram::MachineSpec::new(dialect, axes);
         let (prog, _) = partprogram::compile(&spec, "fuzz", &text);
         if let Some(p) = prog {
             let opts = partprogram::PlanOptions {
