@@ -12,7 +12,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         Some(i) => (&data[..i], &data[i + 1..]),
         None => (data, &[][..]),
     };
-    let ctx = MachineContext { time_slow_ms: 0, ..MachineContext::lathe_like() };
+    let ctx = MachineContext {
+        time_slow_ms: 0,
+        ..MachineContext::lathe_like()
+    };
     let Some(p) = compiler::compile("fuzz", src, &ctx).program else {
         return;
     };
@@ -38,7 +41,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         }
         interp.tick(&mut a);
         jit.tick(&mut b);
-        let diff: Vec<_> = (0..a.len()).filter(|&i| a[i] != b[i]).map(|i| (i, a[i], b[i])).collect();
+        let diff: Vec<_> = (0..a.len())
+            .filter(|&i| a[i] != b[i])
+            .map(|i| (i, a[i], b[i]))
+            .collect();
         assert!(diff.is_empty(), "tick {t}: (offset, interp, jit) {diff:?}");
     }
 });

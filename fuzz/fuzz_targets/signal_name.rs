@@ -5,7 +5,11 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     if let Ok(s) = std::str::from_utf8(data) {
         if let Ok(sig) = s.parse::<packets::Signal>() {
             let canonical = sig.to_string();
-            assert_eq!(canonical.parse::<packets::Signal>(), Ok(sig), "{s:?} -> {canonical:?}");
+            assert_eq!(
+                canonical.parse::<packets::Signal>(),
+                Ok(sig),
+                "{s:?} -> {canonical:?}"
+            );
         }
     }
 });
