@@ -235,6 +235,25 @@ fn machine_code_of(
     ))
 }
 
+/// Lays the functions' code end to end, each at an offset aligned as it needs (at least
+/// `min_align`), padding with `int3`. The code is position-independent (no relocations), so it
+/// runs wherever it lands. Returns the text, each function's offset and the text's alignment.
+fn link(codes: &[Code], min_align: u64) -> (Vec<u8>, Vec<usize>, u64) {
+    let align = codes
+        .iter()
+        .map(|(_, a)| *a)
+        .fold(min_align.max(1), u64::max);
+    let mut text = Vec::with_capacity(codes.iter().map(|(b, _)| b.len() + align as usize).sum());
+    let mut offsets = Vec::with_capacity(codes.len());
+    for (bytes, a) in codes {
+        let a = (*a).max(min_align).max(1) as usize;
+        text.resize(text.len().div_ceil(a) * a, 0xCC);
+        offsets.push(text.len());
+        text.extend_from_slice(bytes);
+    }
+    (text, offsets, align)
+}
+
 /// Compiles every chunk, on several threads when there is more than one chunk: each thread takes
 /// the next chunk not yet taken (so uneven chunks still share the work evenly); results keep the
 /// order of `chunks`, and the code does not depend on the thread that made it.
@@ -299,27 +318,26 @@ pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitErr
         .collect();
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
     let codes = compile_chunks(p, &flat, &isa, &sig, opts)?;
+    let (text, offsets, align) = link(&codes, isa.function_alignment().minimum.into());
     let mut module = JITModule::new(JITBuilder::with_isa(
         isa.clone(),
         cranelift_module::default_libcall_names(),
     ));
     let codegen = |e: &dyn std::fmt::Display| JitError::Codegen(e.to_string());
-    let mut ids = Vec::with_capacity(codes.len());
-    for (n, (bytes, align)) in codes.iter().enumerate() {
-        let id = module
-            .declare_function(&format!("part{n}"), Linkage::Local, &sig)
-            .map_err(|e| codegen(&e))?;
-        module
-            .define_function_bytes(id, *align, bytes, &[])
-            .map_err(|e| codegen(&e))?;
-        ids.push(id);
-    }
+    // One definition holding every function: one mapping and one `mprotect` for the program
+    // instead of one per function.
+    let id = module
+        .declare_function("text", Linkage::Local, &sig)
+        .map_err(|e| codegen(&e))?;
+    module
+        .define_function_bytes(id, align, &text, &[])
+        .map_err(|e| codegen(&e))?;
     module.finalize_definitions().map_err(|e| codegen(&e))?;
-    let mut fns = ids.iter().map(|&id| {
-        let ptr = module.get_finalized_function(id);
-        // SAFETY: the function was compiled with signature `fn(*mut u8)` and the system
-        // calling convention, and is finalized.
-        unsafe { std::mem::transmute::<*const u8, ScanFn>(ptr) }
+    let base = module.get_finalized_function(id);
+    let mut fns = offsets.iter().map(|&at| {
+        // SAFETY: `at` is the start of one function inside the finalized text (see `link`); every
+        // function was compiled with signature `fn(*mut u8)` and the system calling convention.
+        unsafe { std::mem::transmute::<*const u8, ScanFn>(base.wrapping_add(at)) }
     });
     let mut take = |n: usize| fns.by_ref().take(n).collect::<Vec<ScanFn>>();
     let fast = take(parts[0].len());
