@@ -11,6 +11,7 @@
 
 mod bits;
 mod cache;
+mod code_cache;
 mod memory;
 mod stateful;
 mod translate;
@@ -25,6 +26,7 @@ use cranelift_module::{Linkage, Module};
 use crate::engine::Engine;
 use crate::ir::{self, Program, Stmt};
 use cache::Caches;
+pub use code_cache::CodeCache;
 use translate::Translator;
 
 /// Why JIT compilation failed.
@@ -106,12 +108,20 @@ fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
 }
 
 /// Groups top-level statements into chunks of at most `budget` cost (at least one statement each).
+/// Past three quarters of the budget a chunk also ends where [`cut_here`] says so: the cut then
+/// depends on the statements around it, not on their position, so an edit that adds or removes
+/// statements moves the chunk boundaries after it only up to the next such cut, and the chunks
+/// behind keep their code (see [`CodeCache`]).
 fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
     let mut out = Vec::new();
-    let (mut start, mut cost) = (0, 0u32);
+    let soft = budget - budget / 4;
+    let (mut start, mut cost, mut prev) = (0, 0u32, 0u32);
     for (i, s) in stmts.iter().enumerate() {
         let c = s.cost();
-        if i > start && cost.saturating_add(c) > budget {
+        let full = cost.saturating_add(c) > budget;
+        let seam = cost >= soft && cut_here(prev, c);
+        prev = c;
+        if i > start && (full || seam) {
             out.push(&stmts[start..i]);
             start = i;
             cost = 0;
@@ -122,6 +132,13 @@ fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
         out.push(&stmts[start..]);
     }
     out
+}
+
+/// A content-defined chunk boundary between statements of costs `prev` and `next` (one pair in
+/// eight, by a multiplicative hash).
+fn cut_here(prev: u32, next: u32) -> bool {
+    let h = (prev.wrapping_mul(0x9E37_79B9) ^ next).wrapping_mul(0x85EB_CA6B);
+    h >> 29 == 0
 }
 
 /// Fills `func` with the body for `stmts`.
@@ -198,23 +215,36 @@ pub fn compile(p: &Program) -> Result<JitProgram, JitError> {
 /// Machine code of one function: bytes and required alignment.
 type Code = (Vec<u8>, u64);
 
-/// Builds and compiles one function for `stmts` (position-independent, no relocations).
+/// One compiled function: its code and, when compiling through a [`CodeCache`], its IR text and
+/// whether the code came from the cache.
+type Compiled = (Code, Option<(String, bool)>);
+
+/// Builds and compiles one function for `stmts` (position-independent, no relocations); with a
+/// cache, a function whose IR text the cache holds is not compiled again.
 fn machine_code(
     p: &Program,
     stmts: &[Stmt],
-    isa: &OwnedTargetIsa,
-    sig: &Signature,
+    target: (&OwnedTargetIsa, &Signature),
     opts: &JitOptions,
     s: &mut Scratch,
-) -> Result<Code, JitError> {
+    cache: Option<&CodeCache>,
+) -> Result<Compiled, JitError> {
+    let (isa, sig) = target;
     let mut ctx = std::mem::replace(&mut s.ctx, cranelift_codegen::Context::new());
     ctx.clear();
     ctx.func.signature = sig.clone();
     build(&mut ctx.func, s, p, stmts, isa, opts);
+    let clif = cache.map(|_| ctx.func.display().to_string());
+    if let (Some(cache), Some(clif)) = (cache, &clif)
+        && let Some(code) = cache.get(opts, clif)
+    {
+        s.ctx = ctx;
+        return Ok((code.clone(), Some((clif.clone(), true))));
+    }
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
     let result = machine_code_of(&mut ctx, isa, &mut ctrl);
     s.ctx = ctx;
-    result
+    Ok((result?, clif.map(|c| (c, false))))
 }
 
 /// Compiles the function in `ctx` and copies out its code.
@@ -260,10 +290,10 @@ fn link(codes: &[Code], min_align: u64) -> (Vec<u8>, Vec<usize>, u64) {
 fn compile_chunks(
     p: &Program,
     chunks: &[&[Stmt]],
-    isa: &OwnedTargetIsa,
-    sig: &Signature,
+    target: (&OwnedTargetIsa, &Signature),
     opts: &JitOptions,
-) -> Result<Vec<Code>, JitError> {
+    cache: Option<&CodeCache>,
+) -> Result<Vec<Compiled>, JitError> {
     let auto = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(4);
@@ -277,11 +307,11 @@ fn compile_chunks(
         let mut scratch = Scratch::default();
         return chunks
             .iter()
-            .map(|stmts| machine_code(p, stmts, isa, sig, opts, &mut scratch))
+            .map(|stmts| machine_code(p, stmts, target, opts, &mut scratch, cache))
             .collect();
     }
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let work = || -> Result<Vec<(usize, Code)>, JitError> {
+    let work = || -> Result<Vec<(usize, Compiled)>, JitError> {
         let mut scratch = Scratch::default();
         let mut out = Vec::new();
         loop {
@@ -289,7 +319,10 @@ fn compile_chunks(
             let Some(stmts) = chunks.get(i) else {
                 return Ok(out);
             };
-            out.push((i, machine_code(p, stmts, isa, sig, opts, &mut scratch)?));
+            out.push((
+                i,
+                machine_code(p, stmts, target, opts, &mut scratch, cache)?,
+            ));
         }
     };
     std::thread::scope(|scope| {
@@ -309,6 +342,26 @@ fn compile_chunks(
 
 /// Compiles a program with explicit options.
 pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitError> {
+    compile_program(p, opts, None)
+}
+
+/// [`compile_with`] reusing the machine code of every function whose cranelift IR is unchanged
+/// since the last program compiled through `cache` (an online change of a few statements
+/// recompiles a few functions); afterwards `cache` holds this program's functions. The program
+/// behaves exactly as compiled by [`compile_with`].
+pub fn compile_cached(
+    p: &Program,
+    opts: &JitOptions,
+    cache: &mut CodeCache,
+) -> Result<JitProgram, JitError> {
+    compile_program(p, opts, Some(cache))
+}
+
+fn compile_program(
+    p: &Program,
+    opts: &JitOptions,
+    mut cache: Option<&mut CodeCache>,
+) -> Result<JitProgram, JitError> {
     check_len(p)?;
     let isa = isa(opts)?;
     let sig = signature(&isa, isa.default_call_conv());
@@ -317,7 +370,18 @@ pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitErr
         .map(|stmts| chunks(stmts, opts.chunk_cost))
         .collect();
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
-    let codes = compile_chunks(p, &flat, &isa, &sig, opts)?;
+    let compiled = compile_chunks(p, &flat, (&isa, &sig), opts, cache.as_deref())?;
+    let mut codes = Vec::with_capacity(compiled.len());
+    let mut keys = Vec::new();
+    for (code, key) in compiled {
+        if let Some((clif, reused)) = key {
+            keys.push((clif, code.clone(), reused));
+        }
+        codes.push(code);
+    }
+    if let Some(cache) = cache.as_deref_mut() {
+        cache.replace(opts, keys);
+    }
     let (text, offsets, align) = link(&codes, isa.function_alignment().minimum.into());
     let mut module = JITModule::new(JITBuilder::with_isa(
         isa.clone(),
