@@ -120,3 +120,33 @@ fn an_edit_recompiles_only_the_functions_it_changes() {
     let mut interp = Interpreter::new(new.clone());
     assert_same_behaviour(&new, &mut [&mut interp, &mut jit_new, &mut plain]);
 }
+
+#[test]
+fn a_changed_constant_recompiles_its_function() {
+    let src = synthetic_program(3000);
+    let mut lines: Vec<String> = src.lines().map(str::to_string).collect();
+    let at = (lines.len() / 3..lines.len())
+        .find(|&i| lines[i].starts_with("IF [V"))
+        .expect("an IF zone");
+    let (head, tail) = lines[at].split_once("> ").expect("a comparison");
+    let (k, rest) = tail.split_once(']').expect("closing bracket");
+    let k: u32 = k.parse().expect("a constant");
+    lines[at] = format!("{head}> {}]{rest}", k + 1);
+    let edited = lines.join("\n") + "\n";
+    let (old, new) = (program(&src), program(&edited));
+    let opts = JitOptions::default();
+    let mut cache = CodeCache::new();
+    jit::compile_cached(&old, &opts, &mut cache).expect("jit");
+    let mut jit_new = jit::compile_cached(&new, &opts, &mut cache).expect("jit");
+    let changed = function_texts(&new)
+        .difference(&function_texts(&old))
+        .count();
+    assert_eq!(changed, 1);
+    assert_eq!(
+        (cache.compiled(), cache.reused()),
+        (1, jit_new.function_count() - 1)
+    );
+    let mut plain = jit::compile_with(&new, &opts).expect("jit");
+    let mut interp = Interpreter::new(new.clone());
+    assert_same_behaviour(&new, &mut [&mut interp, &mut jit_new, &mut plain]);
+}

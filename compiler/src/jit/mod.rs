@@ -215,12 +215,12 @@ pub fn compile(p: &Program) -> Result<JitProgram, JitError> {
 /// Machine code of one function: bytes and required alignment.
 type Code = (Vec<u8>, u64);
 
-/// One compiled function: its code and, when compiling through a [`CodeCache`], its IR text and
+/// One compiled function: its code and, when compiling through a [`CodeCache`], its IR key and
 /// whether the code came from the cache.
-type Compiled = (Code, Option<(String, bool)>);
+type Compiled = (Code, Option<(Vec<u8>, bool)>);
 
 /// Builds and compiles one function for `stmts` (position-independent, no relocations); with a
-/// cache, a function whose IR text the cache holds is not compiled again.
+/// cache, a function whose IR the cache holds is not compiled again.
 fn machine_code(
     p: &Program,
     stmts: &[Stmt],
@@ -234,17 +234,17 @@ fn machine_code(
     ctx.clear();
     ctx.func.signature = sig.clone();
     build(&mut ctx.func, s, p, stmts, isa, opts);
-    let clif = cache.map(|_| ctx.func.display().to_string());
-    if let (Some(cache), Some(clif)) = (cache, &clif)
-        && let Some(code) = cache.get(opts, clif)
+    let ir = cache.and_then(|_| code_cache::key(&mut ctx.func));
+    if let (Some(cache), Some(ir)) = (cache, &ir)
+        && let Some(code) = cache.get(opts, ir)
     {
         s.ctx = ctx;
-        return Ok((code.clone(), Some((clif.clone(), true))));
+        return Ok((code.clone(), Some((ir.clone(), true))));
     }
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
     let result = machine_code_of(&mut ctx, isa, &mut ctrl);
     s.ctx = ctx;
-    Ok((result?, clif.map(|c| (c, false))))
+    Ok((result?, ir.map(|k| (k, false))))
 }
 
 /// Compiles the function in `ctx` and copies out its code.
@@ -374,8 +374,8 @@ fn compile_program(
     let mut codes = Vec::with_capacity(compiled.len());
     let mut keys = Vec::new();
     for (code, key) in compiled {
-        if let Some((clif, reused)) = key {
-            keys.push((clif, code.clone(), reused));
+        if let Some((ir, reused)) = key {
+            keys.push((ir, code.clone(), reused));
         }
         codes.push(code);
     }
