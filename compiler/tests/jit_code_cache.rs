@@ -70,7 +70,7 @@ fn recompiling_the_same_program_reuses_every_function() {
     let mut first = jit::compile_cached(&p, &opts, &mut cache).expect("jit");
     let n = first.function_count();
     assert_eq!((cache.reused(), cache.compiled()), (0, n));
-    assert_eq!(cache.len(), n);
+    assert_eq!(cache.len(), function_texts(&p).len());
     let mut second = jit::compile_cached(&p, &opts, &mut cache).expect("jit");
     assert_eq!((cache.reused(), cache.compiled()), (n, 0));
     // Other settings make other code: nothing is reused across them.
@@ -146,31 +146,6 @@ fn a_changed_constant_recompiles_its_function() {
         (cache.compiled(), cache.reused()),
         (1, jit_new.function_count() - 1)
     );
-    let mut plain = jit::compile_with(&new, &opts).expect("jit");
-    let mut interp = Interpreter::new(new.clone());
-    assert_same_behaviour(&new, &mut [&mut interp, &mut jit_new, &mut plain]);
-}
-
-#[test]
-fn changed_declarations_fall_back_to_comparing_the_ir() {
-    let src = synthetic_program(3000);
-    // A new initial value: the declarations differ (no function is found by its statements),
-    // the layout and so every function's IR stay the same (every function is found by its IR).
-    let edited = src.replacen("DEF V0 : DINT := 0\n", "DEF V0 : DINT := 77\n", 1);
-    let (old, new) = (program(&src), program(&edited));
-    assert_ne!(old.vars[0].init, new.vars[0].init);
-    let opts = JitOptions::default();
-    let mut cache = CodeCache::new();
-    jit::compile_cached(&old, &opts, &mut cache).expect("jit");
-    let mut jit_new = jit::compile_cached(&new, &opts, &mut cache).expect("jit");
-    let changed = function_texts(&new)
-        .difference(&function_texts(&old))
-        .count();
-    assert_eq!(
-        (cache.compiled(), cache.reused()),
-        (changed, jit_new.function_count() - changed)
-    );
-    assert_eq!(changed, 0);
     let mut plain = jit::compile_with(&new, &opts).expect("jit");
     let mut interp = Interpreter::new(new.clone());
     assert_same_behaviour(&new, &mut [&mut interp, &mut jit_new, &mut plain]);

@@ -1,9 +1,7 @@
 //! Machine code kept from one program version to the next, so that an online change recompiles
 //! only the functions whose cranelift IR changed.
 //!
-//! A function is found by its statements first: their `Debug` text, valid while the program's
-//! declarations (offsets, types, presets, tick) and the translation settings are unchanged — then
-//! not even its cranelift IR is built. Otherwise the key is its complete cranelift IR, written out byte for byte by [`key`]
+//! The key of a function is its complete cranelift IR, written out byte for byte by [`key`]
 //! (signature, memory flags, every block with its parameters and their types, every instruction
 //! with its operands, immediates, branch targets and result types): code generation is
 //! deterministic, so equal IR under equal settings gives equal machine code. Keys are compared in
@@ -19,38 +17,6 @@ use std::hash::{BuildHasherDefault, Hash, Hasher};
 use cranelift_codegen::ir::Function;
 
 use super::{Code, JitOptions};
-use crate::ir::{Program, Stmt};
-
-/// The keys of one function: its statements (see [`stmts_key`]) and its IR (see [`key`]).
-#[derive(Debug, Clone, Default)]
-pub(super) struct Keys {
-    pub stmts: Option<String>,
-    pub ir: Option<Vec<u8>>,
-}
-
-/// Everything besides its statements that the translation of a function reads from the program
-/// and the options: while it is equal, equal statements give equal IR.
-pub(super) fn facts(p: &Program, opts: &JitOptions) -> String {
-    format!(
-        "{:?}",
-        (
-            p.tick_ms,
-            &p.vars,
-            &p.timers,
-            &p.counters,
-            &p.pulses,
-            p.image_len,
-            opts.if_convert_cost
-        )
-    )
-}
-
-/// The statements of a function as their `Debug` text; `None` when a constant is a NaN (whose
-/// payload the text does not show).
-pub(super) fn stmts_key(stmts: &[Stmt]) -> Option<String> {
-    let k = format!("{stmts:?}");
-    (!k.contains("NaN")).then_some(k)
-}
 
 /// A [`Hasher`] that keeps every byte written to it: `Hash` implementations then serialize.
 struct Recorder(Vec<u8>);
@@ -140,10 +106,6 @@ pub struct CodeCache {
     /// The code-generation settings the entries were made with (`opt_level`, `regalloc`).
     settings: Option<(&'static str, &'static str)>,
     by_ir: HashMap<Vec<u8>, Code, BuildHasherDefault<WordHasher>>,
-    /// [`facts`] of the program the entries of `by_stmts` belong to.
-    facts: String,
-    by_stmts: HashMap<String, Code, BuildHasherDefault<WordHasher>>,
-    functions: usize,
     reused: usize,
     compiled: usize,
 }
@@ -164,28 +126,14 @@ impl CodeCache {
         self.compiled
     }
 
-    /// Functions of the last program (whose code is held).
+    /// Distinct functions held (those of the last program).
     pub fn len(&self) -> usize {
-        self.functions
+        self.by_ir.len()
     }
 
     /// True when nothing is held.
     pub fn is_empty(&self) -> bool {
-        self.functions == 0
-    }
-
-    /// The code of a function with statements [`stmts_key`] `stmts` in a program with
-    /// [`facts`] `facts`, compiled under `opts`, if held.
-    pub(super) fn get_by_stmts(
-        &self,
-        opts: &JitOptions,
-        facts: &str,
-        stmts: &str,
-    ) -> Option<&Code> {
-        if self.settings != Some(settings(opts)) || self.facts != facts {
-            return None;
-        }
-        self.by_stmts.get(stmts)
+        self.by_ir.is_empty()
     }
 
     /// The code of a function with IR [`key`] `ir` compiled under `opts`, if held.
@@ -200,27 +148,19 @@ impl CodeCache {
     pub(super) fn replace(
         &mut self,
         opts: &JitOptions,
-        facts: String,
-        functions: impl IntoIterator<Item = (Keys, Code, bool)>,
+        functions: impl IntoIterator<Item = (Vec<u8>, Code, bool)>,
     ) {
         self.by_ir.clear();
-        self.by_stmts.clear();
         self.settings = Some(settings(opts));
-        self.facts = facts;
-        (self.functions, self.reused, self.compiled) = (0, 0, 0);
-        for (keys, code, reused) in functions {
-            self.functions += 1;
+        self.reused = 0;
+        self.compiled = 0;
+        for (ir, code, reused) in functions {
             if reused {
                 self.reused += 1;
             } else {
                 self.compiled += 1;
             }
-            if let Some(k) = keys.stmts {
-                self.by_stmts.insert(k, code.clone());
-            }
-            if let Some(k) = keys.ir {
-                self.by_ir.insert(k, code);
-            }
+            self.by_ir.insert(ir, code);
         }
     }
 }
