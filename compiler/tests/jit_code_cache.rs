@@ -150,3 +150,28 @@ fn a_changed_constant_recompiles_its_function() {
     let mut interp = Interpreter::new(new.clone());
     assert_same_behaviour(&new, &mut [&mut interp, &mut jit_new, &mut plain]);
 }
+
+#[test]
+fn a_new_initial_value_reuses_every_function() {
+    let src = synthetic_program(3000);
+    // A new initial value: the declarations differ, the layout and so every function's IR stay
+    // the same (the initial values are the image's, not the code's).
+    let edited = src.replacen("DEF V0 : DINT := 0\n", "DEF V0 : DINT := 77\n", 1);
+    let (old, new) = (program(&src), program(&edited));
+    assert_ne!(old.vars[0].init, new.vars[0].init);
+    let opts = JitOptions::default();
+    let mut cache = CodeCache::new();
+    jit::compile_cached(&old, &opts, &mut cache).expect("jit");
+    let mut jit_new = jit::compile_cached(&new, &opts, &mut cache).expect("jit");
+    let changed = function_texts(&new)
+        .difference(&function_texts(&old))
+        .count();
+    assert_eq!(
+        (cache.compiled(), cache.reused()),
+        (changed, jit_new.function_count() - changed)
+    );
+    assert_eq!(changed, 0);
+    let mut plain = jit::compile_with(&new, &opts).expect("jit");
+    let mut interp = Interpreter::new(new.clone());
+    assert_same_behaviour(&new, &mut [&mut interp, &mut jit_new, &mut plain]);
+}
