@@ -360,7 +360,7 @@ pub fn compile_cached(
 fn compile_program(
     p: &Program,
     opts: &JitOptions,
-    mut cache: Option<&mut CodeCache>,
+    cache: Option<&mut CodeCache>,
 ) -> Result<JitProgram, JitError> {
     check_len(p)?;
     let isa = isa(opts)?;
@@ -379,7 +379,7 @@ fn compile_program(
         }
         codes.push(code);
     }
-    if let Some(cache) = cache.as_deref_mut() {
+    if let Some(cache) = cache {
         cache.replace(opts, keys);
     }
     let (text, offsets, align) = link(&codes, isa.function_alignment().minimum.into());
