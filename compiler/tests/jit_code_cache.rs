@@ -70,9 +70,10 @@ fn recompiling_the_same_program_reuses_every_function() {
     let mut first = jit::compile_cached(&p, &opts, &mut cache).expect("jit");
     let n = first.function_count();
     assert_eq!((cache.reused(), cache.compiled()), (0, n));
-    assert_eq!(cache.len(), function_texts(&p).len());
+    assert_eq!(cache.len(), n);
     let mut second = jit::compile_cached(&p, &opts, &mut cache).expect("jit");
     assert_eq!((cache.reused(), cache.compiled()), (n, 0));
+    assert_eq!(cache.reused_by_statements(), n);
     // Other settings make other code: nothing is reused across them.
     let speed = JitOptions {
         opt_level: "speed",
@@ -110,6 +111,9 @@ fn an_edit_recompiles_only_the_functions_it_changes() {
     );
     assert_eq!(cache.compiled(), changed);
     assert_eq!(cache.reused(), jit_new.function_count() - changed);
+    // The declarations are unchanged (an inline timer's name moved with its line, but names do
+    // not count): every unchanged function is found by its statements.
+    assert_eq!(cache.reused_by_statements(), cache.reused());
     // Content-defined chunk boundaries resynchronise right after the edit.
     assert!(
         (1..=3).contains(&changed),
@@ -170,6 +174,8 @@ fn a_new_initial_value_reuses_every_function() {
         (cache.compiled(), cache.reused()),
         (changed, jit_new.function_count() - changed)
     );
+    // The declarations differ, so nothing is found by its statements, all by the IR.
+    assert_eq!(cache.reused_by_statements(), 0);
     assert_eq!(changed, 0);
     let mut plain = jit::compile_with(&new, &opts).expect("jit");
     let mut interp = Interpreter::new(new.clone());

@@ -1,7 +1,11 @@
 //! Machine code kept from one program version to the next, so that an online change recompiles
 //! only the functions whose cranelift IR changed.
 //!
-//! The key of a function is its complete cranelift IR, written out byte for byte by [`key`]
+//! A function is found by its statements first: their exact byte encoding
+//! ([`super::key_writer`]), valid while the program's declarations (offsets, types, presets, tick)
+//! and the translation settings are unchanged — then not even its cranelift IR is built.
+//! (A function found that way keeps only that key: after a later change of the declarations it is
+//! compiled again.) Otherwise the key is its complete cranelift IR, written out byte for byte by [`key`]
 //! (signature, memory flags, every block with its parameters and their types, every instruction
 //! with its operands, immediates, branch targets and result types): code generation is
 //! deterministic, so equal IR under equal settings gives equal machine code. Keys are compared in
@@ -17,6 +21,83 @@ use std::hash::{BuildHasherDefault, Hash, Hasher};
 use cranelift_codegen::ir::Function;
 
 use super::{Code, JitOptions};
+use crate::ir::{CounterDecl, Program, PulseDecl, Stmt, TimerDecl, VarDecl};
+
+/// The keys of one function: its statements (see [`stmts_key`]) and its IR (see [`key`]).
+#[derive(Debug, Clone, Default)]
+pub(super) struct Keys {
+    pub stmts: Option<Vec<u8>>,
+    pub ir: Option<Vec<u8>>,
+}
+
+/// Everything besides its statements that the translation of a function reads from the program
+/// and the options: while it is equal, equal statements give equal IR. Names are left out (an
+/// inline timer is named after its source line, which an edit above it moves); the patterns
+/// name every field, so a new field must be decided on here. `None` when it has no exact
+/// encoding (never for the IR's types).
+pub(super) fn facts(p: &Program, opts: &JitOptions) -> Option<Vec<u8>> {
+    let vars: Vec<_> = p
+        .vars
+        .iter()
+        .map(
+            |VarDecl {
+                 name: _,
+                 ty,
+                 init,
+                 retain,
+                 offset,
+             }| (ty, init, retain, offset),
+        )
+        .collect();
+    let timers: Vec<_> = p
+        .timers
+        .iter()
+        .map(
+            |TimerDecl {
+                 name: _,
+                 kind,
+                 preset_ms,
+                 offset,
+             }| (kind, preset_ms, offset),
+        )
+        .collect();
+    let counters: Vec<_> = p
+        .counters
+        .iter()
+        .map(
+            |CounterDecl {
+                 name: _,
+                 kind,
+                 preset,
+                 offset,
+             }| (kind, preset, offset),
+        )
+        .collect();
+    let pulses: Vec<_> = p
+        .pulses
+        .iter()
+        .map(|PulseDecl { n, offset }| (n, offset))
+        .collect();
+    let facts = (
+        p.tick_ms,
+        vars,
+        timers,
+        counters,
+        pulses,
+        p.image_len,
+        opts.if_convert_cost,
+    );
+    let mut out = Vec::new();
+    super::key_writer::append(&mut out, &facts)?;
+    Some(out)
+}
+
+/// The statements of a function, encoded exactly.
+pub(super) fn stmts_key(stmts: &[Stmt]) -> Option<Vec<u8>> {
+    let mut out = Vec::with_capacity(stmts.len() * 64);
+    super::key_writer::append(&mut out, stmts)?;
+    Some(out)
+}
 
 /// A [`Hasher`] that keeps every byte written to it: `Hash` implementations then serialize.
 struct Recorder(Vec<u8>);
@@ -106,7 +187,12 @@ pub struct CodeCache {
     /// The code-generation settings the entries were made with (`opt_level`, `regalloc`).
     settings: Option<(&'static str, &'static str)>,
     by_ir: HashMap<Vec<u8>, Code, BuildHasherDefault<WordHasher>>,
+    /// [`facts`] of the program the entries of `by_stmts` belong to.
+    facts: Option<Vec<u8>>,
+    by_stmts: HashMap<Vec<u8>, Code, BuildHasherDefault<WordHasher>>,
+    functions: usize,
     reused: usize,
+    by_statements: usize,
     compiled: usize,
 }
 
@@ -121,19 +207,39 @@ impl CodeCache {
         self.reused
     }
 
+    /// Functions of the last compile found by their statements, without building their IR (the
+    /// rest of [`CodeCache::reused`] was found by the IR).
+    pub fn reused_by_statements(&self) -> usize {
+        self.by_statements
+    }
+
     /// Functions of the last compile that cranelift compiled.
     pub fn compiled(&self) -> usize {
         self.compiled
     }
 
-    /// Distinct functions held (those of the last program).
+    /// Functions of the last program (whose code is held).
     pub fn len(&self) -> usize {
-        self.by_ir.len()
+        self.functions
     }
 
     /// True when nothing is held.
     pub fn is_empty(&self) -> bool {
-        self.by_ir.is_empty()
+        self.functions == 0
+    }
+
+    /// The code of a function with statements [`stmts_key`] `stmts` in a program with
+    /// [`facts`] `facts`, compiled under `opts`, if held.
+    pub(super) fn get_by_stmts(
+        &self,
+        opts: &JitOptions,
+        facts: &[u8],
+        stmts: &[u8],
+    ) -> Option<&Code> {
+        if self.settings != Some(settings(opts)) || self.facts.as_deref() != Some(facts) {
+            return None;
+        }
+        self.by_stmts.get(stmts)
     }
 
     /// The code of a function with IR [`key`] `ir` compiled under `opts`, if held.
@@ -148,19 +254,33 @@ impl CodeCache {
     pub(super) fn replace(
         &mut self,
         opts: &JitOptions,
-        functions: impl IntoIterator<Item = (Vec<u8>, Code, bool)>,
+        facts: Option<Vec<u8>>,
+        functions: impl IntoIterator<Item = (Keys, Code, bool)>,
     ) {
         self.by_ir.clear();
+        self.by_stmts.clear();
         self.settings = Some(settings(opts));
-        self.reused = 0;
-        self.compiled = 0;
-        for (ir, code, reused) in functions {
+        self.facts = facts;
+        (
+            self.functions,
+            self.reused,
+            self.compiled,
+            self.by_statements,
+        ) = (0, 0, 0, 0);
+        for (keys, code, reused) in functions {
+            self.functions += 1;
             if reused {
                 self.reused += 1;
+                self.by_statements += usize::from(keys.ir.is_none());
             } else {
                 self.compiled += 1;
             }
-            self.by_ir.insert(ir, code);
+            if let Some(k) = keys.stmts {
+                self.by_stmts.insert(k, code.clone());
+            }
+            if let Some(k) = keys.ir {
+                self.by_ir.insert(k, code);
+            }
         }
     }
 }

@@ -12,6 +12,7 @@
 mod bits;
 mod cache;
 mod code_cache;
+mod key_writer;
 mod memory;
 mod stateful;
 mod translate;
@@ -215,9 +216,9 @@ pub fn compile(p: &Program) -> Result<JitProgram, JitError> {
 /// Machine code of one function: bytes and required alignment.
 type Code = (Vec<u8>, u64);
 
-/// One compiled function: its code and, when compiling through a [`CodeCache`], its IR key and
+/// One compiled function: its code and, when compiling through a [`CodeCache`], its keys and
 /// whether the code came from the cache.
-type Compiled = (Code, Option<(Vec<u8>, bool)>);
+type Compiled = (Code, Option<(code_cache::Keys, bool)>);
 
 /// Builds and compiles one function for `stmts` (position-independent, no relocations); with a
 /// cache, a function whose IR the cache holds is not compiled again.
@@ -227,24 +228,33 @@ fn machine_code(
     target: (&OwnedTargetIsa, &Signature),
     opts: &JitOptions,
     s: &mut Scratch,
-    cache: Option<&CodeCache>,
+    cache: Option<(&CodeCache, &[u8])>,
 ) -> Result<Compiled, JitError> {
     let (isa, sig) = target;
+    let mut keys = code_cache::Keys {
+        stmts: cache.and_then(|_| code_cache::stmts_key(stmts)),
+        ir: None,
+    };
+    if let (Some((cache, facts)), Some(k)) = (cache, &keys.stmts)
+        && let Some(code) = cache.get_by_stmts(opts, facts, k)
+    {
+        return Ok((code.clone(), Some((keys, true))));
+    }
     let mut ctx = std::mem::replace(&mut s.ctx, cranelift_codegen::Context::new());
     ctx.clear();
     ctx.func.signature = sig.clone();
     build(&mut ctx.func, s, p, stmts, isa, opts);
-    let ir = cache.and_then(|_| code_cache::key(&mut ctx.func));
-    if let (Some(cache), Some(ir)) = (cache, &ir)
+    keys.ir = cache.and_then(|_| code_cache::key(&mut ctx.func));
+    if let (Some((cache, _)), Some(ir)) = (cache, &keys.ir)
         && let Some(code) = cache.get(opts, ir)
     {
         s.ctx = ctx;
-        return Ok((code.clone(), Some((ir.clone(), true))));
+        return Ok((code.clone(), Some((keys, true))));
     }
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
     let result = machine_code_of(&mut ctx, isa, &mut ctrl);
     s.ctx = ctx;
-    Ok((result?, ir.map(|k| (k, false))))
+    Ok((result?, cache.map(|_| (keys, false))))
 }
 
 /// Compiles the function in `ctx` and copies out its code.
@@ -292,7 +302,7 @@ fn compile_chunks(
     chunks: &[&[Stmt]],
     target: (&OwnedTargetIsa, &Signature),
     opts: &JitOptions,
-    cache: Option<&CodeCache>,
+    cache: Option<(&CodeCache, &[u8])>,
 ) -> Result<Vec<Compiled>, JitError> {
     let auto = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
@@ -370,17 +380,19 @@ fn compile_program(
         .map(|stmts| chunks(stmts, opts.chunk_cost))
         .collect();
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
-    let compiled = compile_chunks(p, &flat, (&isa, &sig), opts, cache.as_deref())?;
+    let facts = cache.as_ref().and_then(|_| code_cache::facts(p, opts));
+    let lookup = cache.as_deref().zip(facts.as_deref());
+    let compiled = compile_chunks(p, &flat, (&isa, &sig), opts, lookup)?;
     let mut codes = Vec::with_capacity(compiled.len());
     let mut keys = Vec::new();
     for (code, key) in compiled {
-        if let Some((ir, reused)) = key {
-            keys.push((ir, code.clone(), reused));
+        if let Some((k, reused)) = key {
+            keys.push((k, code.clone(), reused));
         }
         codes.push(code);
     }
     if let Some(cache) = cache {
-        cache.replace(opts, keys);
+        cache.replace(opts, facts, keys);
     }
     let (text, offsets, align) = link(&codes, isa.function_alignment().minimum.into());
     let mut module = JITModule::new(JITBuilder::with_isa(
