@@ -1,6 +1,6 @@
 //! Compile-time profile of the generated 10,000-statement program: front-end phases, CLIF size
 //! and JIT time at 1 and 2 threads. `cargo run --release -p compiler --example compile_profile
-//! -- [statements] [repeats] [what]` (`what`: all, front, front2, e2e, jit1, jit2, clif, source); also the callgrind target.
+//! -- [statements] [repeats] [what]` (`what`: all, front, front2, e2e, jit1, jit2, clif, source, edit); also the callgrind target.
 
 /// The allocator of the `ncplc` binary, so the figures are what the tool does.
 #[global_allocator]
@@ -100,6 +100,35 @@ fn main() {
             });
             println!("JIT {threads} thread(s) {t:.2} ms");
         }
+    }
+    if matches!(what, "all" | "edit") {
+        // An online change: one statement inserted a third into the source, front end and JIT on
+        // one thread, the JIT reusing the code of the unchanged functions (`CodeCache`).
+        let mut lines: Vec<&str> = src.lines().collect();
+        let at = lines.len() / 3;
+        lines.insert(at, "V7 = V7 + 1");
+        let edited = lines.join("\n") + "\n";
+        let opts = JitOptions::default();
+        let mut cache = jit::CodeCache::new();
+        let mut times: Vec<f64> = (0..reps)
+            .map(|_| {
+                // Every repetition starts from the unedited program's code.
+                cache = jit::CodeCache::new();
+                jit::compile_cached(&p, &opts, &mut cache).expect("jit");
+                let t = Instant::now();
+                let c = compile("bench", edited.as_bytes(), &ctx);
+                let p = c.program.expect("compiles");
+                std::hint::black_box(jit::compile_cached(&p, &opts, &mut cache).expect("jit"));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        times.sort_by(f64::total_cmp);
+        let t = times[times.len() / 2];
+        println!(
+            "online change (1 thread, cached): median {t:.2} ms, {} functions compiled, {} reused",
+            cache.compiled(),
+            cache.reused()
+        );
     }
     if matches!(what, "all" | "e2e") {
         for threads in [1, 2] {

@@ -8,11 +8,12 @@ use std::any::Any;
 use std::collections::HashMap;
 use std::hash::{Hash, Hasher};
 use std::ops::Range;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 use compiler::context::MachineContext;
 use compiler::interface_map::InterfaceMap;
 use compiler::ir::Program;
+use compiler::jit::CodeCache;
 use compiler::{Engine, Interpreter};
 use packets::Signal;
 
@@ -155,6 +156,18 @@ pub fn load_with_threads(
     engine: EngineKind,
     threads: usize,
 ) -> Result<Loaded, LoadError> {
+    load_cached(program, engine, threads, None)
+}
+
+/// [`load_with_threads`]; with `cache`, the JIT reuses the machine code of every function left
+/// unchanged since the last program loaded through the same cache (see
+/// [`compiler::jit::compile_cached`]) and leaves this program's code there.
+pub fn load_cached(
+    program: Program,
+    engine: EngineKind,
+    threads: usize,
+    cache: Option<&Mutex<CodeCache>>,
+) -> Result<Loaded, LoadError> {
     let program = Arc::new(program);
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
@@ -163,7 +176,15 @@ pub fn load_with_threads(
                 threads,
                 ..compiler::jit::JitOptions::default()
             };
-            Box::new(compiler::jit::compile_with(&program, &opts)?)
+            match cache {
+                Some(cache) => {
+                    // A poisoned lock only means an earlier compile panicked; the cache is
+                    // replaced as a whole by every compile, so its content is still consistent.
+                    let mut cache = cache.lock().unwrap_or_else(|e| e.into_inner());
+                    Box::new(compiler::jit::compile_cached(&program, &opts, &mut cache)?)
+                }
+                None => Box::new(compiler::jit::compile_with(&program, &opts)?),
+            }
         }
     };
     Ok(Loaded {
@@ -197,6 +218,47 @@ pub fn compile_with_threads(
     engine: EngineKind,
     threads: usize,
 ) -> Result<Loaded, LoadError> {
+    compile_cached(
+        file_name,
+        Source {
+            bytes: source,
+            cfg,
+            interface,
+            tick_ms,
+        },
+        engine,
+        threads,
+        None,
+    )
+}
+
+/// What [`compile_cached`] compiles: the source bytes and the machine they are for.
+pub struct Source<'a> {
+    /// The PLC source.
+    pub bytes: &'a [u8],
+    /// The machine's runtime settings.
+    pub cfg: &'a RunConfig,
+    /// The interface map.
+    pub interface: &'a InterfaceMap,
+    /// The logic tick in ms.
+    pub tick_ms: u32,
+}
+
+/// [`compile_with_threads`] with the JIT reusing unchanged functions' code through `cache`
+/// (see [`load_cached`]): an online change then recompiles only the functions it changed.
+pub fn compile_cached(
+    file_name: &str,
+    src: Source<'_>,
+    engine: EngineKind,
+    threads: usize,
+    cache: Option<&Mutex<CodeCache>>,
+) -> Result<Loaded, LoadError> {
+    let Source {
+        bytes: source,
+        cfg,
+        interface,
+        tick_ms,
+    } = src;
     let ctx = machine_context(cfg, tick_ms, interface.clone());
     let c = compiler::compile_with_threads(file_name, source, &ctx, threads);
     let mut sources = diag::Sources::new();
@@ -206,7 +268,7 @@ pub fn compile_with_threads(
             if !c.diagnostics.is_empty() {
                 eprint!("{}", diag::render_human(&c.diagnostics, &sources));
             }
-            load_with_threads(p, engine, threads)
+            load_cached(p, engine, threads, cache)
         }
         _ => Err(LoadError::Diagnostics {
             rendered: diag::render_human(&c.diagnostics, &sources),

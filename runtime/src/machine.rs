@@ -8,12 +8,13 @@ use std::path::{Path, PathBuf};
 use compiler::InterfaceMap;
 use compiler::interface_map::InterfaceMapError;
 
-use crate::compiled::{EngineKind, compile_with_threads};
+use crate::compiled::{EngineKind, Source, compile_cached, compile_with_threads};
 use crate::config::RunConfig;
 use crate::machine_facts::{Facts, MachineError};
 use crate::online::CompileFn;
 use crate::process_map::{self, MissingHandshakes};
 use crate::sim::{CncSignals, Script, Sim, SimError};
+use compiler::jit::CodeCache;
 
 /// Why a machine directory could not be opened for `run` or `replay`.
 #[derive(Debug, thiserror::Error)]
@@ -132,5 +133,30 @@ impl Machine {
         std::sync::Arc::new(move |src: &[u8]| {
             compile_with_threads(&name, src, &cfg, &map, tick_ms, engine, threads)
         })
+    }
+
+    /// The compile functions of a run: the first load on every core, online changes on one
+    /// thread; both share one JIT code cache, so an online change recompiles only the functions
+    /// whose code changed (the rest is reused from the program running before it).
+    pub fn compile_fns(&self, engine: EngineKind, tick_ms: u32) -> (CompileFn, CompileFn) {
+        let cache = std::sync::Arc::new(std::sync::Mutex::new(CodeCache::new()));
+        let make = |threads: usize| -> CompileFn {
+            let (cfg, name, map) = (
+                self.config.clone(),
+                self.source_name(),
+                self.interface.clone(),
+            );
+            let cache = cache.clone();
+            std::sync::Arc::new(move |src: &[u8]| {
+                let source = Source {
+                    bytes: src,
+                    cfg: &cfg,
+                    interface: &map,
+                    tick_ms,
+                };
+                compile_cached(&name, source, engine, threads, Some(&cache))
+            })
+        };
+        (make(0), make(1))
     }
 }

@@ -11,6 +11,8 @@
 
 mod bits;
 mod cache;
+mod code_cache;
+mod key_writer;
 mod memory;
 mod stateful;
 mod translate;
@@ -25,6 +27,7 @@ use cranelift_module::{Linkage, Module};
 use crate::engine::Engine;
 use crate::ir::{self, Program, Stmt};
 use cache::Caches;
+pub use code_cache::CodeCache;
 use translate::Translator;
 
 /// Why JIT compilation failed.
@@ -106,12 +109,20 @@ fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
 }
 
 /// Groups top-level statements into chunks of at most `budget` cost (at least one statement each).
+/// Past three quarters of the budget a chunk also ends where [`cut_here`] says so: the cut then
+/// depends on the statements around it, not on their position, so an edit that adds or removes
+/// statements moves the chunk boundaries after it only up to the next such cut, and the chunks
+/// behind keep their code (see [`CodeCache`]).
 fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
     let mut out = Vec::new();
-    let (mut start, mut cost) = (0, 0u32);
+    let soft = budget - budget / 4;
+    let (mut start, mut cost, mut prev) = (0, 0u32, 0u32);
     for (i, s) in stmts.iter().enumerate() {
         let c = s.cost();
-        if i > start && cost.saturating_add(c) > budget {
+        let full = cost.saturating_add(c) > budget;
+        let seam = cost >= soft && cut_here(prev, c);
+        prev = c;
+        if i > start && (full || seam) {
             out.push(&stmts[start..i]);
             start = i;
             cost = 0;
@@ -122,6 +133,13 @@ fn chunks(stmts: &[Stmt], budget: u32) -> Vec<&[Stmt]> {
         out.push(&stmts[start..]);
     }
     out
+}
+
+/// A content-defined chunk boundary between statements of costs `prev` and `next` (one pair in
+/// eight, by a multiplicative hash).
+fn cut_here(prev: u32, next: u32) -> bool {
+    let h = (prev.wrapping_mul(0x9E37_79B9) ^ next).wrapping_mul(0x85EB_CA6B);
+    h >> 29 == 0
 }
 
 /// Fills `func` with the body for `stmts`.
@@ -198,23 +216,45 @@ pub fn compile(p: &Program) -> Result<JitProgram, JitError> {
 /// Machine code of one function: bytes and required alignment.
 type Code = (Vec<u8>, u64);
 
-/// Builds and compiles one function for `stmts` (position-independent, no relocations).
+/// One compiled function: its code and, when compiling through a [`CodeCache`], its keys and
+/// whether the code came from the cache.
+type Compiled = (Code, Option<(code_cache::Keys, bool)>);
+
+/// Builds and compiles one function for `stmts` (position-independent, no relocations); with a
+/// cache, a function whose IR the cache holds is not compiled again.
 fn machine_code(
     p: &Program,
     stmts: &[Stmt],
-    isa: &OwnedTargetIsa,
-    sig: &Signature,
+    target: (&OwnedTargetIsa, &Signature),
     opts: &JitOptions,
     s: &mut Scratch,
-) -> Result<Code, JitError> {
+    cache: Option<(&CodeCache, &[u8])>,
+) -> Result<Compiled, JitError> {
+    let (isa, sig) = target;
+    let mut keys = code_cache::Keys {
+        stmts: cache.and_then(|_| code_cache::stmts_key(stmts)),
+        ir: None,
+    };
+    if let (Some((cache, facts)), Some(k)) = (cache, &keys.stmts)
+        && let Some(code) = cache.get_by_stmts(opts, facts, k)
+    {
+        return Ok((code.clone(), Some((keys, true))));
+    }
     let mut ctx = std::mem::replace(&mut s.ctx, cranelift_codegen::Context::new());
     ctx.clear();
     ctx.func.signature = sig.clone();
     build(&mut ctx.func, s, p, stmts, isa, opts);
+    keys.ir = cache.and_then(|_| code_cache::key(&mut ctx.func));
+    if let (Some((cache, _)), Some(ir)) = (cache, &keys.ir)
+        && let Some(code) = cache.get(opts, ir)
+    {
+        s.ctx = ctx;
+        return Ok((code.clone(), Some((keys, true))));
+    }
     let mut ctrl = cranelift_codegen::control::ControlPlane::default();
     let result = machine_code_of(&mut ctx, isa, &mut ctrl);
     s.ctx = ctx;
-    result
+    Ok((result?, cache.map(|_| (keys, false))))
 }
 
 /// Compiles the function in `ctx` and copies out its code.
@@ -235,16 +275,35 @@ fn machine_code_of(
     ))
 }
 
+/// Lays the functions' code end to end, each at an offset aligned as it needs (at least
+/// `min_align`), padding with `int3`. The code is position-independent (no relocations), so it
+/// runs wherever it lands. Returns the text, each function's offset and the text's alignment.
+fn link(codes: &[Code], min_align: u64) -> (Vec<u8>, Vec<usize>, u64) {
+    let align = codes
+        .iter()
+        .map(|(_, a)| *a)
+        .fold(min_align.max(1), u64::max);
+    let mut text = Vec::with_capacity(codes.iter().map(|(b, _)| b.len() + align as usize).sum());
+    let mut offsets = Vec::with_capacity(codes.len());
+    for (bytes, a) in codes {
+        let a = (*a).max(min_align).max(1) as usize;
+        text.resize(text.len().div_ceil(a) * a, 0xCC);
+        offsets.push(text.len());
+        text.extend_from_slice(bytes);
+    }
+    (text, offsets, align)
+}
+
 /// Compiles every chunk, on several threads when there is more than one chunk: each thread takes
 /// the next chunk not yet taken (so uneven chunks still share the work evenly); results keep the
 /// order of `chunks`, and the code does not depend on the thread that made it.
 fn compile_chunks(
     p: &Program,
     chunks: &[&[Stmt]],
-    isa: &OwnedTargetIsa,
-    sig: &Signature,
+    target: (&OwnedTargetIsa, &Signature),
     opts: &JitOptions,
-) -> Result<Vec<Code>, JitError> {
+    cache: Option<(&CodeCache, &[u8])>,
+) -> Result<Vec<Compiled>, JitError> {
     let auto = std::thread::available_parallelism()
         .map_or(1, |n| n.get())
         .min(4);
@@ -258,11 +317,11 @@ fn compile_chunks(
         let mut scratch = Scratch::default();
         return chunks
             .iter()
-            .map(|stmts| machine_code(p, stmts, isa, sig, opts, &mut scratch))
+            .map(|stmts| machine_code(p, stmts, target, opts, &mut scratch, cache))
             .collect();
     }
     let next = std::sync::atomic::AtomicUsize::new(0);
-    let work = || -> Result<Vec<(usize, Code)>, JitError> {
+    let work = || -> Result<Vec<(usize, Compiled)>, JitError> {
         let mut scratch = Scratch::default();
         let mut out = Vec::new();
         loop {
@@ -270,7 +329,10 @@ fn compile_chunks(
             let Some(stmts) = chunks.get(i) else {
                 return Ok(out);
             };
-            out.push((i, machine_code(p, stmts, isa, sig, opts, &mut scratch)?));
+            out.push((
+                i,
+                machine_code(p, stmts, target, opts, &mut scratch, cache)?,
+            ));
         }
     };
     std::thread::scope(|scope| {
@@ -290,6 +352,26 @@ fn compile_chunks(
 
 /// Compiles a program with explicit options.
 pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitError> {
+    compile_program(p, opts, None)
+}
+
+/// [`compile_with`] reusing the machine code of every function whose cranelift IR is unchanged
+/// since the last program compiled through `cache` (an online change of a few statements
+/// recompiles a few functions); afterwards `cache` holds this program's functions. The program
+/// behaves exactly as compiled by [`compile_with`].
+pub fn compile_cached(
+    p: &Program,
+    opts: &JitOptions,
+    cache: &mut CodeCache,
+) -> Result<JitProgram, JitError> {
+    compile_program(p, opts, Some(cache))
+}
+
+fn compile_program(
+    p: &Program,
+    opts: &JitOptions,
+    cache: Option<&mut CodeCache>,
+) -> Result<JitProgram, JitError> {
     check_len(p)?;
     let isa = isa(opts)?;
     let sig = signature(&isa, isa.default_call_conv());
@@ -298,28 +380,40 @@ pub fn compile_with(p: &Program, opts: &JitOptions) -> Result<JitProgram, JitErr
         .map(|stmts| chunks(stmts, opts.chunk_cost))
         .collect();
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
-    let codes = compile_chunks(p, &flat, &isa, &sig, opts)?;
+    let facts = cache.as_ref().and_then(|_| code_cache::facts(p, opts));
+    let lookup = cache.as_deref().zip(facts.as_deref());
+    let compiled = compile_chunks(p, &flat, (&isa, &sig), opts, lookup)?;
+    let mut codes = Vec::with_capacity(compiled.len());
+    let mut keys = Vec::new();
+    for (code, key) in compiled {
+        if let Some((k, reused)) = key {
+            keys.push((k, code.clone(), reused));
+        }
+        codes.push(code);
+    }
+    if let Some(cache) = cache {
+        cache.replace(opts, facts, keys);
+    }
+    let (text, offsets, align) = link(&codes, isa.function_alignment().minimum.into());
     let mut module = JITModule::new(JITBuilder::with_isa(
         isa.clone(),
         cranelift_module::default_libcall_names(),
     ));
     let codegen = |e: &dyn std::fmt::Display| JitError::Codegen(e.to_string());
-    let mut ids = Vec::with_capacity(codes.len());
-    for (n, (bytes, align)) in codes.iter().enumerate() {
-        let id = module
-            .declare_function(&format!("part{n}"), Linkage::Local, &sig)
-            .map_err(|e| codegen(&e))?;
-        module
-            .define_function_bytes(id, *align, bytes, &[])
-            .map_err(|e| codegen(&e))?;
-        ids.push(id);
-    }
+    // One definition holding every function: one mapping and one `mprotect` for the program
+    // instead of one per function.
+    let id = module
+        .declare_function("text", Linkage::Local, &sig)
+        .map_err(|e| codegen(&e))?;
+    module
+        .define_function_bytes(id, align, &text, &[])
+        .map_err(|e| codegen(&e))?;
     module.finalize_definitions().map_err(|e| codegen(&e))?;
-    let mut fns = ids.iter().map(|&id| {
-        let ptr = module.get_finalized_function(id);
-        // SAFETY: the function was compiled with signature `fn(*mut u8)` and the system
-        // calling convention, and is finalized.
-        unsafe { std::mem::transmute::<*const u8, ScanFn>(ptr) }
+    let base = module.get_finalized_function(id);
+    let mut fns = offsets.iter().map(|&at| {
+        // SAFETY: `at` is the start of one function inside the finalized text (see `link`); every
+        // function was compiled with signature `fn(*mut u8)` and the system calling convention.
+        unsafe { std::mem::transmute::<*const u8, ScanFn>(base.wrapping_add(at)) }
     });
     let mut take = |n: usize| fns.by_ref().take(n).collect::<Vec<ScanFn>>();
     let fast = take(parts[0].len());

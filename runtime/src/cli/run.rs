@@ -98,9 +98,8 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let machine = Machine::open(&args.machine, args.plc.as_deref()).map_err(|e| e.to_string())?;
     let tick_ms = args.tick_ms.unwrap_or(machine.config.tick_ms).max(1);
     // The first load compiles on every core (the scan is not running yet); online changes
-    // compile on one thread beside the scan.
-    let first = machine.compile_fn_with_threads(args.engine, tick_ms, 0);
-    let compile = machine.compile_fn(args.engine, tick_ms);
+    // compile on one thread beside the scan, reusing the code of unchanged functions.
+    let (first, compile) = machine.compile_fns(args.engine, tick_ms);
     let source = machine.read_source().map_err(|e| e.to_string())?;
     let loaded = match first(&source) {
         Ok(l) => l,
