@@ -385,6 +385,77 @@ proptest! {
     }
 }
 
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// The online-change code cache never changes what is compiled: after a cache was filled by
+    /// one program, compiling another (a random one, or the same one with its FAST statements
+    /// reordered and a SLOW slice dropped: same declarations, so functions are found by their
+    /// statements) gives machine code equal byte for byte to compiling it without the cache.
+    #[test]
+    fn the_code_cache_gives_the_code_of_an_uncached_compile(
+        a in program(),
+        b in program(),
+        chunk_cost in proptest::sample::select(vec![1u32, 3, 2000]),
+    ) {
+        use compiler::jit::{CodeCache, compile_cached, compile_with};
+        let opts = JitOptions { chunk_cost, threads: 1, ..JitOptions::default() };
+        let mut edited = a.clone();
+        edited.fast.reverse();
+        if edited.slow.len() > 1 {
+            edited.slow.pop();
+        }
+        for next in [&a, &b, &edited, &a] {
+            let mut cache = CodeCache::new();
+            compile_cached(&a, &opts, &mut cache).expect("first compile");
+            let cached = compile_cached(next, &opts, &mut cache).expect("cached compile");
+            let fresh = compile_with(next, &opts).expect("uncached compile");
+            prop_assert_eq!(cached.machine_code(), fresh.machine_code());
+            prop_assert_eq!(cached.function_count(), cache.len());
+            prop_assert_eq!(cache.reused() + cache.compiled(), cache.len());
+        }
+        // Recompiling the same program reuses every function.
+        let mut cache = CodeCache::new();
+        compile_cached(&edited, &opts, &mut cache).expect("first compile");
+        compile_cached(&edited, &opts, &mut cache).expect("second compile");
+        prop_assert_eq!(cache.compiled(), 0);
+    }
+}
+
+/// Equal statements over other declarations (here a timer preset) are not equal code: the cache
+/// must not hand out the code of the first program's function.
+#[test]
+fn the_code_cache_tells_equal_statements_over_other_declarations_apart() {
+    use compiler::jit::{CodeCache, compile_cached, compile_with};
+    let with_preset = |ms: u64| {
+        let mut pb = ProgramBuilder::new(10, 5);
+        let t = pb.timer("t", TimerKind::Ton, ms);
+        let fast = vec![
+            Stmt::Timer {
+                timer: t,
+                input: Expr::Load(Place::Signal(sig("I0A0"))),
+            },
+            Stmt::Assign {
+                place: Place::Signal(sig("U4A0")),
+                value: Expr::TimerQ(t),
+            },
+        ];
+        pb.finish(fast, vec![]).expect("valid")
+    };
+    let (a, b) = (with_preset(20), with_preset(50));
+    let opts = JitOptions::default();
+    let mut cache = CodeCache::new();
+    compile_cached(&a, &opts, &mut cache).expect("a");
+    let cached = compile_cached(&b, &opts, &mut cache).expect("b");
+    assert_eq!((cache.reused(), cache.compiled()), (0, 1));
+    let fresh = compile_with(&b, &opts).expect("b uncached");
+    assert_eq!(cached.machine_code(), fresh.machine_code());
+    assert_ne!(
+        cached.machine_code(),
+        compile_with(&a, &opts).expect("a uncached").machine_code()
+    );
+}
+
 #[test]
 fn short_images_are_left_untouched() {
     let mut pb = ProgramBuilder::new(10, 5);

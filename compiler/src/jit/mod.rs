@@ -82,6 +82,8 @@ pub struct JitProgram {
     fast: Vec<ScanFn>,
     slow: Vec<Vec<ScanFn>>,
     image_len: usize,
+    /// Address and length of the finalized text (all functions, see `link`).
+    text: (usize, usize),
 }
 
 fn isa(opts: &JitOptions) -> Result<OwnedTargetIsa, JitError> {
@@ -423,6 +425,7 @@ fn compile_program(
         fast,
         slow,
         image_len: p.image_len,
+        text: (base as usize, text.len()),
     })
 }
 
@@ -493,6 +496,19 @@ impl JitProgram {
     /// Number of machine-code functions (FAST chunks plus SLOW slice chunks).
     pub fn function_count(&self) -> usize {
         self.fast.len() + self.slow.iter().map(Vec::len).sum::<usize>()
+    }
+
+    /// The program's machine code: every function laid end to end. Code generation is
+    /// deterministic, so two compiles of one program give equal bytes, with or without a
+    /// [`CodeCache`] (what the cache's tests check).
+    pub fn machine_code(&self) -> &[u8] {
+        let (addr, len) = self.text;
+        if self.module.is_none() || len == 0 {
+            return &[];
+        }
+        // SAFETY: the text was finalized by `module`, which lives (and keeps it mapped, readable
+        // and executable) as long as `self`; `len` is the length defined.
+        unsafe { std::slice::from_raw_parts(addr as *const u8, len) }
     }
 }
 
