@@ -2,7 +2,7 @@
 //! only the functions whose cranelift IR changed.
 //!
 //! A function is found by its statements first: their exact byte encoding
-//! ([`super::key_writer`]), valid while the program's declarations (offsets, types, presets, tick)
+//! (postcard, see [`stmts_key`]), valid while the program's declarations (offsets, types, presets, tick)
 //! and the translation settings are unchanged — then not even its cranelift IR is built.
 //! (A function found that way keeps only that key: after a later change of the declarations it is
 //! compiled again.) Otherwise the key is its complete cranelift IR, written out byte for byte by [`key`]
@@ -87,16 +87,19 @@ pub(super) fn facts(p: &Program, opts: &JitOptions) -> Option<Vec<u8>> {
         p.image_len,
         opts.if_convert_cost,
     );
-    let mut out = Vec::new();
-    super::key_writer::append(&mut out, &facts)?;
-    Some(out)
+    exact_bytes(&facts)
 }
 
 /// The statements of a function, encoded exactly.
 pub(super) fn stmts_key(stmts: &[Stmt]) -> Option<Vec<u8>> {
-    let mut out = Vec::with_capacity(stmts.len() * 64);
-    super::key_writer::append(&mut out, stmts)?;
-    Some(out)
+    exact_bytes(stmts)
+}
+
+/// `value` in postcard, an exact encoding for keys: variants by index, sequences and strings with
+/// their length, floats by their bits (distinct NaNs, `0.0` and `-0.0` differ), and decodable, so
+/// equal bytes mean equal values of one type. `None` when the value has no such encoding.
+fn exact_bytes<T: serde::Serialize + ?Sized>(value: &T) -> Option<Vec<u8>> {
+    postcard::to_extend(value, Vec::with_capacity(256)).ok()
 }
 
 /// A [`Hasher`] that keeps every byte written to it: `Hash` implementations then serialize.

@@ -12,7 +12,6 @@
 mod bits;
 mod cache;
 mod code_cache;
-mod key_writer;
 mod memory;
 mod stateful;
 mod translate;
