@@ -159,6 +159,21 @@ fn a_missing_modbus_device_raises_its_alarm() {
 fn canopen_on_the_virtual_bus_runs_without_alarms() {
     let _serial = serial();
     let machine = lathe_with_device("127.0.0.1:5020");
+    // This test is about configuration and PDO exchange end to end; heartbeat loss has its own
+    // tests (fieldbus/tests/canopen.rs). The example's 100 ms consumer time (2.5 producer periods)
+    // tripped on a loaded CI machine, where the debug-built node simulation missed a period, so
+    // this copy gives the consumer 1 s.
+    let map = machine.path().join("io.toml");
+    let text = std::fs::read_to_string(&map).expect("io.toml");
+    assert!(
+        text.contains("heartbeat_ms = 100 "),
+        "the example's consumer time"
+    );
+    std::fs::write(
+        &map,
+        text.replace("heartbeat_ms = 100 ", "heartbeat_ms = 1000 "),
+    )
+    .expect("write");
     let out = spawn_run(machine.path(), "canopen", 100)
         .wait_with_output()
         .expect("ncplc ends");
