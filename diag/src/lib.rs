@@ -227,9 +227,19 @@ impl Sources {
 /// Renders diagnostics rustc-style, each with its source line and the span marked, followed by a
 /// summary line (`2 errors, 1 warning`). Files missing from `sources` are rendered without a snippet.
 pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
+    render_human_styled(diagnostics, sources, false)
+}
+
+/// [`render_human`] with ANSI colours (for a terminal; `ncplc --color`).
+pub fn render_human_colored(diagnostics: &[Diagnostic], sources: &Sources) -> String {
+    render_human_styled(diagnostics, sources, true)
+}
+
+fn render_human_styled(diagnostics: &[Diagnostic], sources: &Sources, color: bool) -> String {
     use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
     use codespan_reporting::files::SimpleFiles;
-    use codespan_reporting::term::{self, termcolor::NoColor};
+    use codespan_reporting::term::{self, termcolor::Buffer};
+    use std::io::Write as _;
 
     let mut files = SimpleFiles::new();
     let mut ids = BTreeMap::new();
@@ -237,7 +247,11 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         ids.insert(name.as_str(), files.add(name.clone(), text.clone()));
     }
     let config = term::Config::default();
-    let mut out = NoColor::new(Vec::new());
+    let mut out = if color {
+        Buffer::ansi()
+    } else {
+        Buffer::no_color()
+    };
     for d in diagnostics {
         let mut cs = match d.severity {
             Severity::Error => CsDiagnostic::error(),
@@ -280,7 +294,7 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         cs = cs.with_notes(notes);
         if term::emit_to_write_style(&mut out, &config, &files, &cs).is_err() {
             // Rendering into memory only fails on a bad span; fall back to the one-line form.
-            out.get_mut().extend_from_slice(format!("{d}\n").as_bytes());
+            let _ = writeln!(out, "{d}");
         }
     }
     let errors = diagnostics.iter().filter(|d| d.is_error()).count();

@@ -37,6 +37,10 @@ pub struct Args {
     /// Record a trace (text; `.ptrace` or `.bin`: binary). Starts from a fresh image (no retain).
     #[arg(long)]
     pub record: Option<PathBuf>,
+    /// With --record: sync the recording to disk at least every N ms (a crash or power loss
+    /// loses at most that much; `ncplc trace recover` reads the rest).
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub record_flush_ms: u64,
     /// The I/O.
     #[arg(long, value_enum, default_value = "sim")]
     pub io: IoKind,
@@ -161,7 +165,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     };
     let mut sched = Scheduler::new(image, loaded, io, clock, settings);
     if let Some(path) = &args.record {
-        let sink = crate::trace::create_sink(path, tick_ms)
+        let options = crate::trace::DurableOptions {
+            flush: Duration::from_millis(args.record_flush_ms),
+            wait_when_full: args.virtual_time,
+            ..crate::trace::DurableOptions::default()
+        };
+        let sink = crate::trace::create_sink_with(path, tick_ms, options)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         sched.record_to(sink);
     }
@@ -277,6 +286,15 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     );
     if args.stats {
         print!("{}", sched.stats.summary());
+        if let Some(first) = sched.first_tick_at() {
+            println!(
+                "start to first tick {:.1} ms",
+                first
+                    .saturating_duration_since(super::output::started())
+                    .as_secs_f64()
+                    * 1e3
+            );
+        }
         if let Some(h) = &handshakes {
             print!("{}", h.summary());
         }
