@@ -305,7 +305,8 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
             ),
             (
                 &serde_json::json!(2044),
-                &serde_json::json!("MP0/TAB0.KOR"),
+                // Named as the user can open it from the current directory (here: absolute).
+                &serde_json::json!(format!("{machine}/MP0/TAB0.KOR")),
                 &serde_json::json!(4),
                 &serde_json::json!(11)
             )
@@ -315,7 +316,10 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
     std::fs::rename(m.join("MP0/TAB0.KOR"), m.join("MP0/TAB2.KOR")).expect("rename");
     let out = ncplc(&["nc", "check", machine, "G81ROUGH", "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(json_lines(&out.stderr)[0]["file"], "MP0/TAB2.KOR");
+    assert_eq!(
+        json_lines(&out.stderr)[0]["file"],
+        format!("{machine}/MP0/TAB2.KOR")
+    );
     // The shipped lathe table is valid and keeps the roughing example's entry 01 without lengths.
     let ok = ncplc(&["nc", "check", "plc-programs/lathe", "G81ROUGH"]);
     assert!(

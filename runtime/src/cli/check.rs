@@ -4,8 +4,8 @@
 //! 1601–1608) and, when AXCFIL says NBP>1, every handshake signal a process 2..NBP lacks (1609).
 //!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
-//! (`--format json`), and exits 1 when there is any error, 0 otherwise. `--dump` prints the typed
-//! model as JSON on stdout instead (diagnostics then go to stderr).
+//! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
+//! does not exist, 0 otherwise. `--dump` prints the typed model as JSON on stdout.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -24,6 +24,7 @@ pub enum Format {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The machine directory (holding FCRSYS).
+    #[arg(value_name = "MACHINE")]
     pub machine_dir: PathBuf,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = Format::Human)]
@@ -44,7 +45,7 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
             }
             format!("{}: no problems found\n", files.join(", "))
         }
-        Format::Human => diag::render_human(&load.diagnostics, &load.sources),
+        Format::Human => super::output::render_diagnostics(&load.diagnostics, &load.sources),
         Format::Json => load
             .diagnostics
             .iter()
@@ -53,25 +54,45 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
     }
 }
 
+/// Renames the machine's files (named relative to the machine directory by the reader) as the
+/// user can open them from the current directory, in the diagnostics and the sources.
+fn relocate(load: &mut characterization::MachineLoad, dir: &std::path::Path) {
+    let shown = |name: &str| super::output::user_path(&dir.join(name)).display().to_string();
+    for d in &mut load.diagnostics {
+        d.file = shown(&d.file);
+    }
+    let mut sources = diag::Sources::new();
+    for name in load.sources.names() {
+        if let Some(text) = load.sources.get(name) {
+            sources.add(shown(name), text);
+        }
+    }
+    load.sources = sources;
+}
+
 /// Runs `ncplc check`.
 pub fn run(args: Args) -> ExitCode {
+    if !args.machine_dir.is_dir() {
+        return super::output::usage_error(format!(
+            "ncplc check: {}: not a machine directory (no such directory)",
+            args.machine_dir.display()
+        ));
+    }
     let mut load = characterization::load_machine(&args.machine_dir);
     if let Some(machine) = load.machine.clone() {
         let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(map);
     }
+    relocate(&mut load, &args.machine_dir);
     let report = render(&load, args.format);
-    let mut out = std::io::stdout().lock();
-    let written = if args.dump {
-        eprint!("{report}");
+    // Diagnostics on stderr; stdout holds only the --dump model.
+    eprint!("{report}");
+    if args.dump {
         let model = serde_json::to_string_pretty(&load.machine)
             .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"));
-        writeln!(out, "{model}")
-    } else {
-        write!(out, "{report}")
-    };
-    if written.is_err() {
-        return ExitCode::from(2);
+        if writeln!(std::io::stdout().lock(), "{model}").is_err() {
+            return ExitCode::from(2);
+        }
     }
     if load.has_errors() {
         ExitCode::from(1)

@@ -2,8 +2,8 @@
 //! how paths are shown.
 //!
 //! **stdout** carries what a command was asked to produce (the `--dump` model, `--emit` IR, a
-//! plan, trace text, `--stats`, diagnostics in `--format json`); **stderr** carries human-readable
-//! diagnostics, progress and summaries. Exit codes: [`OK`], [`PROBLEMS`], [`USAGE`].
+//! plan's blocks, trace text, `--stats`); **stderr** carries diagnostics (human or `--format
+//! json`), progress and summaries. Exit codes: [`OK`], [`PROBLEMS`], [`USAGE`].
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -20,7 +20,7 @@ pub const PROBLEMS: u8 = 1;
 pub const USAGE: u8 = 2;
 
 /// The exit-code table shown at the end of `--help`.
-pub const EXIT_CODES_HELP: &str = "Exit codes: 0 ok; 1 problems found in the input (errors, a diverging replay, a tripped run); 2 usage or environment error (bad arguments, missing machine directory or file).\nOutput: results on stdout; diagnostics, progress and summaries on stderr.";
+pub const EXIT_CODES_HELP: &str = "Exit codes: 0 ok; 1 problems found in the input (errors, a diverging replay, a tripped run); 2 usage or environment error (bad arguments, missing machine directory or file).\nOutput: results (--dump, --emit, plan blocks, trace text, --stats) on stdout; diagnostics (any --format), progress and summaries on stderr.";
 
 /// When to colour diagnostics.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, clap::ValueEnum)]
@@ -60,11 +60,59 @@ pub fn colored() -> bool {
 
 /// Renders human diagnostics, coloured per [`colored`].
 pub fn render_diagnostics(diagnostics: &[diag::Diagnostic], sources: &diag::Sources) -> String {
-    if colored() {
-        diag::render_human_colored(diagnostics, sources)
-    } else {
-        diag::render_human(diagnostics, sources)
+    let text = diag::render_human(diagnostics, sources);
+    if colored() { colorize(&text) } else { text }
+}
+
+const RED: &str = "\x1b[1;31m";
+const YELLOW: &str = "\x1b[1;33m";
+const BLUE: &str = "\x1b[1;34m";
+const BOLD: &str = "\x1b[1m";
+const RESET: &str = "\x1b[0m";
+
+/// Adds ANSI colours to rustc-style diagnostics, as rustc colours them: the severity and code of
+/// each header (red errors, yellow warnings) with a bold message, the gutter and notes in blue, the
+/// span markers in the header's colour. Applied to the rendered text so that the renderer (in the
+/// `diag` crate) stays one plain-text function.
+pub fn colorize(text: &str) -> String {
+    let mut out = String::with_capacity(text.len() + text.len() / 4);
+    let mut marker = RED;
+    for line in text.split_inclusive('\n') {
+        let (body, nl) = match line.strip_suffix('\n') {
+            Some(b) => (b, "\n"),
+            None => (line, ""),
+        };
+        let header = [("error", RED), ("warning", YELLOW)]
+            .into_iter()
+            .find(|(w, _)| body.starts_with(w) && body[w.len()..].starts_with(['[', ':']));
+        if let Some((_, color)) = header {
+            marker = color;
+            let (head, msg) = body.split_once(": ").unwrap_or((body, ""));
+            out.push_str(&format!("{color}{head}{RESET}"));
+            if !msg.is_empty() || body.contains(": ") {
+                out.push_str(&format!("{BOLD}: {msg}{RESET}"));
+            }
+        } else if let Some(bar) = body.find('│').or_else(|| body.find('|')).filter(|&i| {
+            body[..i].trim().chars().all(|c| c.is_ascii_digit())
+        }) {
+            let (gutter, rest) = body.split_at(bar);
+            let bar_len = rest.chars().next().map_or(1, char::len_utf8);
+            let (bar, rest) = rest.split_at(bar_len);
+            out.push_str(&format!("{BLUE}{gutter}{bar}{RESET}"));
+            if rest.contains('^') && rest.chars().all(|c| c == '^' || c == ' ' || c == '-') {
+                out.push_str(&format!("{marker}{rest}{RESET}"));
+            } else {
+                out.push_str(rest);
+            }
+        } else if body.trim_start().starts_with("┌─") || body.trim_start().starts_with("-->") || body.trim_start().starts_with('=') {
+            let indent = body.len() - body.trim_start().len();
+            out.push_str(&format!("{}{BLUE}{}{RESET}", &body[..indent], &body[indent..]));
+        } else {
+            out.push_str(body);
+        }
+        out.push_str(nl);
     }
+    out
 }
 
 /// Lets a write to a closed pipe end the process quietly (as `cat` does: killed by SIGPIPE, exit
@@ -126,6 +174,16 @@ pub fn usage_error(message: impl std::fmt::Display) -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn colour_marks_headers_gutters_and_spans() {
+        let plain = "error[E0101]: unknown signal\n  ┌─ MP0/PLCPRG:3:5\n  │\n3 │ LD I9A3\n  │    ^^^^\n";
+        assert_eq!(
+            colorize(plain),
+            "\x1b[1;31merror[E0101]\x1b[0m\x1b[1m: unknown signal\x1b[0m\n  \x1b[1;34m┌─ MP0/PLCPRG:3:5\x1b[0m\n\x1b[1;34m  │\x1b[0m\n\x1b[1;34m3 │\x1b[0m LD I9A3\n\x1b[1;34m  │\x1b[0m\x1b[1;31m    ^^^^\x1b[0m\n"
+        );
+        assert_eq!(colorize("1 error, 0 warnings\n"), "1 error, 0 warnings\n");
+    }
 
     #[test]
     fn paths_are_shown_relative_to_the_current_directory() {

@@ -114,7 +114,7 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
         );
         Ok(ExitCode::SUCCESS)
     } else {
-        print!("{}", result.report(&trace, args.context));
+        eprint!("{}", result.report(&trace, args.context));
         Ok(ExitCode::from(1))
     }
 }

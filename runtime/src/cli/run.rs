@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use crate::clock::{Clock, RealClock, VirtualClock, enable_realtime};
 use crate::compiled::EngineKind;
 use crate::image::Image;
-use crate::io::{IoKind, open_io_counted};
+use crate::io::{IoKind, open_io_with};
 use crate::machine::Machine;
 use crate::online::{self, Note};
 use crate::retain::{self, Restored, RetainLayout, RetainRecord};
@@ -21,6 +21,7 @@ use crate::scheduler::{Event, Scheduler, Settings};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The machine directory (e.g. plc-programs/lathe).
+    #[arg(value_name = "MACHINE")]
     pub machine: PathBuf,
     /// Use this PLC source instead of the machine's.
     #[arg(long)]
@@ -63,6 +64,10 @@ pub struct Args {
     /// Keep retained data in this file (default: `<machine>/retain.bin`).
     #[arg(long)]
     pub retain_file: Option<PathBuf>,
+    /// Serve the Modbus HMI on ADDR:PORT instead of io.toml's `[hmi] bind` (with --io modbus or
+    /// canopen).
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub modbus_hmi: Option<std::net::SocketAddr>,
     /// Pin the scan thread to this CPU (0-based); the fieldbus I/O threads take io.toml
     /// `[affinity] io_cpus`.
     #[arg(long)]
@@ -145,13 +150,19 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             Err(e) => eprintln!("warning: {e}; starting without retained data"),
         }
     }
-    let (io, handshakes) = open_io_counted(
+    if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
+        return Err(format!(
+            "error: --modbus-hmi {bind}: the HMI server runs with a fieldbus (--io modbus or canopen), not the simulated I/O"
+        ));
+    }
+    let (io, handshakes) = open_io_with(
         args.io,
         &machine.dir,
         &machine.declared_connectors(),
         machine.script.clone(),
         machine.signals.clone(),
         tick_ms,
+        args.modbus_hmi,
     )
     .map_err(|e| e.to_string())?;
     let clock: Box<dyn Clock> = if args.virtual_time {
