@@ -44,7 +44,10 @@ fn example_machines_check_clean() {
         let out = ncplc_in(&root, &["check", &format!("plc-programs/{name}")]);
         let text = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(0), "{name}: {text}");
-        assert!(out.stdout.is_empty(), "{name}: a check has no results on stdout");
+        assert!(
+            out.stdout.is_empty(),
+            "{name}: a check has no results on stdout"
+        );
         let m = format!("plc-programs/{name}");
         let extra = if extra {
             format!(", {m}/interface.toml")

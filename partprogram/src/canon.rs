@@ -229,12 +229,7 @@ impl Canon {
             s.push_str(" M-");
         }
         for m in &self.m {
-            let _ = write!(
-                s,
-                " M{}:{}",
-                m.m,
-                if m.before { "before" } else { "after" }
-            );
+            let _ = write!(s, " M{}:{}", m.m, if m.before { "before" } else { "after" });
         }
         let _ = write!(s, " S{}", opt(self.s.map(num)));
         let _ = write!(s, " T{}", opt(self.t.map(|t| t.to_string())));

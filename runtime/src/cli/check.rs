@@ -57,7 +57,11 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
 /// Renames the machine's files (named relative to the machine directory by the reader) as the
 /// user can open them from the current directory, in the diagnostics and the sources.
 fn relocate(load: &mut characterization::MachineLoad, dir: &std::path::Path) {
-    let shown = |name: &str| super::output::user_path(&dir.join(name)).display().to_string();
+    let shown = |name: &str| {
+        super::output::user_path(&dir.join(name))
+            .display()
+            .to_string()
+    };
     for d in &mut load.diagnostics {
         d.file = shown(&d.file);
     }

@@ -62,6 +62,7 @@ pub struct Common {
 #[derive(Debug, clap::Subcommand)]
 pub enum NcCommand {
     /// Compile a partprogram and report diagnostics.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Check {
         /// Machine and program.
         #[command(flatten)]
@@ -71,6 +72,7 @@ pub enum NcCommand {
         format: CheckFormat,
     },
     /// Run a partprogram and print its canonical blocks.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Plan {
         /// Machine and program.
         #[command(flatten)]

@@ -92,9 +92,11 @@ pub fn colorize(text: &str) -> String {
             if !msg.is_empty() || body.contains(": ") {
                 out.push_str(&format!("{BOLD}: {msg}{RESET}"));
             }
-        } else if let Some(bar) = body.find('│').or_else(|| body.find('|')).filter(|&i| {
-            body[..i].trim().chars().all(|c| c.is_ascii_digit())
-        }) {
+        } else if let Some(bar) = body
+            .find('│')
+            .or_else(|| body.find('|'))
+            .filter(|&i| body[..i].trim().chars().all(|c| c.is_ascii_digit()))
+        {
             let (gutter, rest) = body.split_at(bar);
             let bar_len = rest.chars().next().map_or(1, char::len_utf8);
             let (bar, rest) = rest.split_at(bar_len);
@@ -104,9 +106,16 @@ pub fn colorize(text: &str) -> String {
             } else {
                 out.push_str(rest);
             }
-        } else if body.trim_start().starts_with("┌─") || body.trim_start().starts_with("-->") || body.trim_start().starts_with('=') {
+        } else if body.trim_start().starts_with("┌─")
+            || body.trim_start().starts_with("-->")
+            || body.trim_start().starts_with('=')
+        {
             let indent = body.len() - body.trim_start().len();
-            out.push_str(&format!("{}{BLUE}{}{RESET}", &body[..indent], &body[indent..]));
+            out.push_str(&format!(
+                "{}{BLUE}{}{RESET}",
+                &body[..indent],
+                &body[indent..]
+            ));
         } else {
             out.push_str(body);
         }
@@ -177,7 +186,8 @@ mod tests {
 
     #[test]
     fn colour_marks_headers_gutters_and_spans() {
-        let plain = "error[E0101]: unknown signal\n  ┌─ MP0/PLCPRG:3:5\n  │\n3 │ LD I9A3\n  │    ^^^^\n";
+        let plain =
+            "error[E0101]: unknown signal\n  ┌─ MP0/PLCPRG:3:5\n  │\n3 │ LD I9A3\n  │    ^^^^\n";
         assert_eq!(
             colorize(plain),
             "\x1b[1;31merror[E0101]\x1b[0m\x1b[1m: unknown signal\x1b[0m\n  \x1b[1;34m┌─ MP0/PLCPRG:3:5\x1b[0m\n\x1b[1;34m  │\x1b[0m\n\x1b[1;34m3 │\x1b[0m LD I9A3\n\x1b[1;34m  │\x1b[0m\x1b[1;31m    ^^^^\x1b[0m\n"

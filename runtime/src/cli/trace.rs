@@ -18,11 +18,13 @@ pub struct Args {
 #[derive(Debug, clap::Subcommand)]
 pub enum TraceCommand {
     /// Print a trace (binary or text) in the text form.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Dump {
         /// The trace file.
         file: PathBuf,
     },
     /// Convert a trace to the binary form.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Pack {
         /// The trace file.
         file: PathBuf,
@@ -33,6 +35,7 @@ pub enum TraceCommand {
     ///
     /// Without OUT, prints the records in the text form; with OUT, writes them there (binary when
     /// OUT ends in `.ptrace` or `.bin`). What was kept and dropped goes to stderr.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Recover {
         /// The partial trace file.
         file: PathBuf,
