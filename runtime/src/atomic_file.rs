@@ -65,7 +65,7 @@ mod tests {
         unsafe { libc::umask(umask) };
         write(&path, b"x").expect("write");
         let mode = std::fs::metadata(&path).expect("meta").permissions().mode() & 0o777;
-        assert_eq!(mode, 0o666 & !u32::from(umask));
+        assert_eq!(mode, 0o666 & !umask);
     }
 
     #[test]

@@ -1,4 +1,4 @@
-//! The cyclic scheduler: per tick latch inputs, run the logic, publish outputs (plc-language.md §6).
+//! The cyclic scheduler: per tick latch inputs, run the logic, publish outputs (docs/plc-language.md §6).
 //!
 //! Tick `t` starts at `t × tick` after the start on the [`Clock`]. A tick that ends after the next
 //! tick's start is an overrun; `overrun_limit` consecutive overruns trip the safe state (physical
