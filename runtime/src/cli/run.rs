@@ -110,13 +110,39 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     // compile on one thread beside the scan, reusing the code of unchanged functions.
     let (first, compile) = machine.compile_fns(args.engine, tick_ms);
     let source = machine.read_source().map_err(|e| e.to_string())?;
-    let loaded = match first(&source) {
+    if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
+        return Err(format!(
+            "error: --modbus-hmi {bind}: the HMI server runs with a fieldbus (--io modbus or canopen), not the simulated I/O"
+        ));
+    }
+    // The I/O starts (connects, configures its nodes) on its own thread while the program
+    // compiles: the first tick waits for the slower of the two, not for their sum.
+    let declared = machine.declared_connectors();
+    let (compiled, opened) = std::thread::scope(|s| {
+        let io = s.spawn(|| {
+            open_io_with(
+                args.io,
+                &machine.dir,
+                &declared,
+                machine.script.clone(),
+                machine.signals.clone(),
+                tick_ms,
+                args.modbus_hmi,
+            )
+        });
+        let compiled = first(&source);
+        (compiled, io.join())
+    });
+    let loaded = match compiled {
         Ok(l) => l,
         Err(diags) => {
             eprintln!("{diags}");
             return Ok(ExitCode::from(1));
         }
     };
+    let (io, handshakes) = opened
+        .map_err(|_| "error: the I/O start-up thread panicked".to_string())?
+        .map_err(|e| e.to_string())?;
     let meta = loaded.meta.clone();
     let mut image = Image::new(meta.image_len(), &machine.config.t_init);
     meta.init_image(image.bytes_mut());
@@ -150,21 +176,6 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             Err(e) => eprintln!("warning: {e}; starting without retained data"),
         }
     }
-    if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
-        return Err(format!(
-            "error: --modbus-hmi {bind}: the HMI server runs with a fieldbus (--io modbus or canopen), not the simulated I/O"
-        ));
-    }
-    let (io, handshakes) = open_io_with(
-        args.io,
-        &machine.dir,
-        &machine.declared_connectors(),
-        machine.script.clone(),
-        machine.signals.clone(),
-        tick_ms,
-        args.modbus_hmi,
-    )
-    .map_err(|e| e.to_string())?;
     let clock: Box<dyn Clock> = if args.virtual_time {
         Box::new(VirtualClock::new())
     } else {
