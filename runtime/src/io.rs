@@ -97,7 +97,7 @@ pub fn open_io_with(
             }
         }
         IoOpenError::Fieldbus {
-            rendered: diag::render_human(&diagnostics, &sources),
+            rendered: crate::cli::output::render_diagnostics(&diagnostics, &sources),
             diagnostics,
         }
     };

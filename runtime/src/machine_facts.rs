@@ -60,7 +60,7 @@ impl Facts {
                 .collect();
             return Err(MachineError::Invalid {
                 dir: shown,
-                report: diag::render_human(&errors, &load.sources),
+                report: crate::cli::output::render_diagnostics(&errors, &load.sources),
             });
         }
         match load.machine {
