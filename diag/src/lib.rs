@@ -28,6 +28,14 @@ use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
 
+mod cap;
+mod lines;
+mod suggest;
+
+pub use cap::{DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, render_human_capped};
+pub use lines::LineIndex;
+pub use suggest::{did_you_mean, nearest};
+
 /// How serious a diagnostic is: errors fail a check or a build, warnings do not.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -140,6 +148,13 @@ impl Diagnostic {
         self
     }
 
+    /// Fills `line` and `column` from `span.start` with the prebuilt `index` of `source`; the same
+    /// result as [`Diagnostic::locate`] without scanning the text.
+    pub fn locate_in(mut self, source: &str, index: &LineIndex) -> Self {
+        (self.line, self.column) = index.line_column(source, self.span.start);
+        self
+    }
+
     /// True for errors.
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
@@ -175,7 +190,8 @@ impl fmt::Display for Diagnostic {
 }
 
 /// 1-based line and column (in characters) of byte `offset` in `source`; offsets past the end or
-/// inside a character are clamped to the nearest earlier character boundary.
+/// inside a character are clamped to the nearest earlier character boundary. Scans `source` up to
+/// `offset`: use a [`LineIndex`] for more than a few lookups in one text.
 pub fn line_column(source: &str, offset: usize) -> (u32, u32) {
     let mut offset = offset.min(source.len());
     while !source.is_char_boundary(offset) {
@@ -227,6 +243,27 @@ impl Sources {
 /// Renders diagnostics rustc-style, each with its source line and the span marked, followed by a
 /// summary line (`2 errors, 1 warning`). Files missing from `sources` are rendered without a snippet.
 pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
+    let mut text = render_body(diagnostics, sources);
+    text.push_str(&summary(diagnostics));
+    text
+}
+
+/// The summary line `2 errors, 1 warning` (empty when there are no diagnostics).
+fn summary(diagnostics: &[Diagnostic]) -> String {
+    if diagnostics.is_empty() {
+        return String::new();
+    }
+    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    let warnings = diagnostics.len() - errors;
+    format!(
+        "{}, {}\n",
+        plural(errors, "error"),
+        plural(warnings, "warning")
+    )
+}
+
+/// The rustc-style blocks of `diagnostics`, without the summary line.
+fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
     use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
     use codespan_reporting::files::SimpleFiles;
     use codespan_reporting::term::{self, termcolor::NoColor};
@@ -234,7 +271,10 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
     let mut files = SimpleFiles::new();
     let mut ids = BTreeMap::new();
     for (name, text) in &sources.files {
-        ids.insert(name.as_str(), files.add(name.clone(), text.clone()));
+        // Only the files diagnostics point into: line starts are computed per added file.
+        if diagnostics.iter().any(|d| d.file == *name) {
+            ids.insert(name.as_str(), files.add(name.as_str(), text.as_str()));
+        }
     }
     let config = term::Config::default();
     let mut out = NoColor::new(Vec::new());
@@ -283,17 +323,7 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
             out.get_mut().extend_from_slice(format!("{d}\n").as_bytes());
         }
     }
-    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
-    let warnings = diagnostics.len() - errors;
-    let mut text = String::from_utf8_lossy(&out.into_inner()).into_owned();
-    if !diagnostics.is_empty() {
-        text.push_str(&format!(
-            "{}, {}\n",
-            plural(errors, "error"),
-            plural(warnings, "warning")
-        ));
-    }
-    text
+    String::from_utf8_lossy(&out.into_inner()).into_owned()
 }
 
 fn plural(n: usize, word: &str) -> String {
