@@ -24,7 +24,7 @@
 
 use std::ops::Range;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, LineIndex};
 use serde::{Deserialize, Serialize};
 
 use crate::codes;
@@ -100,12 +100,20 @@ pub struct ParsedFile {
     pub header: Option<Param>,
     /// Span of the lone `*` that ends an FCRSYS file, when present.
     pub end_marker: Option<Range<usize>>,
+    /// Line index of `text`, so that locating a diagnostic does not rescan the file.
+    #[serde(skip)]
+    pub lines: LineIndex,
 }
 
 impl ParsedFile {
     /// The first section numbered `n`, if any.
     pub fn section(&self, n: u32) -> Option<&Section> {
         self.sections.iter().find(|s| s.number == n)
+    }
+
+    /// Fills line and column of `d` (a diagnostic about this file) from its span.
+    pub fn locate(&self, d: Diagnostic) -> Diagnostic {
+        d.locate_in(&self.text, &self.lines)
     }
 
     /// Empty span at the end of the text, for "missing …" diagnostics about the whole file.
@@ -150,9 +158,11 @@ pub fn read(name: &str, bytes: &[u8]) -> (ParsedFile, Vec<Diagnostic>) {
 /// Reads a file with the given grammar; never panics, whatever the bytes.
 pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec<Diagnostic>) {
     let text = decode(bytes);
+    let lines = LineIndex::new(&text);
     let mut reader = Reader {
         name,
         text: &text,
+        lines: &lines,
         grammar,
         diags: Vec::new(),
         sections: Vec::new(),
@@ -170,10 +180,11 @@ pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec
     } = reader;
     let file = ParsedFile {
         name: name.to_string(),
-        text: text.clone(),
+        text,
         sections,
         header,
         end_marker,
+        lines,
     };
     (file, diags)
 }
@@ -181,6 +192,7 @@ pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec
 struct Reader<'a> {
     name: &'a str,
     text: &'a str,
+    lines: &'a LineIndex,
     grammar: Grammar,
     diags: Vec<Diagnostic>,
     sections: Vec<Section>,
@@ -193,7 +205,7 @@ impl Reader<'_> {
     fn error(&mut self, code: u32, span: Range<usize>, message: String, hint: &str) {
         let mut d = Diagnostic::error(code, self.name, span, message)
             .with_hint(hint)
-            .locate(self.text);
+            .locate_in(self.text, self.lines);
         if let Some(s) = self.sections.last() {
             d = d.with_section(s.number);
         }
@@ -517,7 +529,7 @@ pub fn check_section_count(file: &ParsedFile, required: u32, max: u32) -> Vec<Di
                 "remove the section or merge its instructions into sections *1..*{max}"
             ))
             .with_section(s.number)
-            .locate(&file.text),
+            .locate_in(&file.text, &file.lines),
         );
     }
     let present = file
@@ -534,7 +546,7 @@ pub fn check_section_count(file: &ParsedFile, required: u32, max: u32) -> Vec<Di
         diags.push(
             Diagnostic::error(codes::MISSING_SECTIONS, file.name.as_str(), file.end_span(), format!("{} lacks section(s) {}", file.name, missing.join(", ")))
                 .with_hint(format!("the file needs sections *1..*{required}; an unused section is written as its marker alone"))
-                .locate(&file.text),
+                .locate_in(&file.text, &file.lines),
         );
     }
     diags

@@ -87,7 +87,7 @@ impl<'a> Ctx<'a> {
     fn place(&self, mut d: Diagnostic) -> Diagnostic {
         d.section = self.section;
         d.process = self.process;
-        d.locate(&self.file.text)
+        self.file.locate(d)
     }
 
     /// Checks that `record` has between `min` and `max` parameters (errors 10 and 11).

@@ -33,7 +33,7 @@ mod lines;
 mod suggest;
 
 pub use cap::{DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, render_human_capped};
-pub use lines::LineIndex;
+pub use lines::{Indexed, LineIndex};
 pub use suggest::{did_you_mean, nearest};
 
 /// How serious a diagnostic is: errors fail a check or a build, warnings do not.
@@ -191,8 +191,17 @@ impl fmt::Display for Diagnostic {
 
 /// 1-based line and column (in characters) of byte `offset` in `source`; offsets past the end or
 /// inside a character are clamped to the nearest earlier character boundary. Scans `source` up to
-/// `offset`: use a [`LineIndex`] for more than a few lookups in one text.
+/// `offset` unless a live [`Indexed`] guard holds `source`: use one (or a [`LineIndex`]) for more
+/// than a few lookups in one text.
 pub fn line_column(source: &str, offset: usize) -> (u32, u32) {
+    if let Some(index) = lines::active(source) {
+        return index.line_column(source, offset);
+    }
+    scan_line_column(source, offset)
+}
+
+/// [`line_column`] by scanning `source` from its start.
+fn scan_line_column(source: &str, offset: usize) -> (u32, u32) {
     let mut offset = offset.min(source.len());
     while !source.is_char_boundary(offset) {
         offset -= 1;

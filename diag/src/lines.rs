@@ -57,6 +57,10 @@ impl LineIndex {
     /// 1-based line and column (in characters) of byte `offset` of `text` (the text this index was
     /// built from), exactly as [`crate::line_column`] gives them.
     pub fn line_column(&self, text: &str, offset: usize) -> (u32, u32) {
+        if self.starts.is_empty() {
+            // A default (never built) index: fall back to scanning.
+            return crate::scan_line_column(text, offset);
+        }
         let mut offset = offset.min(text.len());
         while !text.is_char_boundary(offset) {
             offset -= 1;
@@ -69,6 +73,58 @@ impl LineIndex {
             u32::try_from(column).unwrap_or(u32::MAX),
         )
     }
+}
+
+thread_local! {
+    /// Indexes of the texts borrowed by live [`Indexed`] guards: (address, length, index).
+    static ACTIVE: std::cell::RefCell<Vec<(usize, usize, std::rc::Rc<LineIndex>)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// While alive, makes [`crate::line_column`] and [`crate::Diagnostic::locate`] on exactly this
+/// text (same address and length) use a prebuilt [`LineIndex`] instead of scanning: front ends that
+/// locate diagnostics one by one wrap their work in a guard and become linear without threading an
+/// index through every function. Sound because the guard borrows the text: it can be neither
+/// changed nor freed while the index is registered.
+#[derive(Debug)]
+pub struct Indexed<'a> {
+    text: &'a str,
+}
+
+impl<'a> Indexed<'a> {
+    /// Indexes `text` and registers the index for this thread until the guard is dropped.
+    pub fn new(text: &'a str) -> Self {
+        let index = std::rc::Rc::new(LineIndex::new(text));
+        ACTIVE.with(|a| {
+            a.borrow_mut()
+                .push((text.as_ptr() as usize, text.len(), index))
+        });
+        Indexed { text }
+    }
+}
+
+impl Drop for Indexed<'_> {
+    fn drop(&mut self) {
+        let key = (self.text.as_ptr() as usize, self.text.len());
+        ACTIVE.with(|a| {
+            let mut a = a.borrow_mut();
+            if let Some(i) = a.iter().rposition(|(p, l, _)| (*p, *l) == key) {
+                a.remove(i);
+            }
+        });
+    }
+}
+
+/// The registered index of `text`, if a live [`Indexed`] guard holds this very text.
+pub(crate) fn active(text: &str) -> Option<std::rc::Rc<LineIndex>> {
+    let key = (text.as_ptr() as usize, text.len());
+    ACTIVE.with(|a| {
+        a.borrow()
+            .iter()
+            .rev()
+            .find(|(p, l, _)| (*p, *l) == key)
+            .map(|(_, _, i)| i.clone())
+    })
 }
 
 /// Offsets just after every `\n` of `bytes`.
@@ -94,11 +150,25 @@ mod tests {
         for offset in 0..=text.len() + 3 {
             assert_eq!(
                 index.line_column(&text, offset),
-                crate::line_column(&text, offset),
+                crate::scan_line_column(&text, offset),
                 "offset {offset}"
             );
         }
         assert_eq!(index.lines(), 6);
+    }
+
+    #[test]
+    fn a_live_guard_serves_lookups_of_its_text_only() {
+        let text = String::from("a\nbc\nd");
+        let other = text.clone();
+        {
+            let _g = Indexed::new(&text);
+            assert!(active(&text).is_some());
+            assert!(active(&other).is_none());
+            assert!(active(&text[1..]).is_none());
+            assert_eq!(crate::line_column(&text, 4), (2, 3));
+        }
+        assert!(active(&text).is_none());
     }
 
     #[test]
