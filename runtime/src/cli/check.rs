@@ -31,10 +31,14 @@ pub struct Args {
     /// Print the typed model as JSON (diagnostics go to stderr).
     #[arg(long)]
     pub dump: bool,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
-/// Renders the diagnostics of `load` in `format`.
-pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
+/// Renders the diagnostics of `load` in `format`, at most `max_errors` per file (0: all).
+pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: usize) -> String {
     match format {
         Format::Human if load.diagnostics.is_empty() => {
             // Say what was checked, so a clean run is distinguishable from one that read nothing.
@@ -44,12 +48,8 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
             }
             format!("{}: no problems found\n", files.join(", "))
         }
-        Format::Human => diag::render_human(&load.diagnostics, &load.sources),
-        Format::Json => load
-            .diagnostics
-            .iter()
-            .map(|d| d.to_json_line() + "\n")
-            .collect(),
+        Format::Human => diag::render_human_capped(&load.diagnostics, &load.sources, max_errors),
+        Format::Json => diag::json_lines_capped(&load.diagnostics, max_errors),
     }
 }
 
@@ -60,7 +60,7 @@ pub fn run(args: Args) -> ExitCode {
         let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(map);
     }
-    let report = render(&load, args.format);
+    let report = render(&load, args.format, args.max_errors);
     let mut out = std::io::stdout().lock();
     let written = if args.dump {
         eprint!("{report}");

@@ -37,6 +37,10 @@ pub struct Common {
     /// Correction table file, instead of the machine's MP0/TAB0.KOR (or MP0/TAB2.KOR).
     #[arg(long, value_name = "FILE")]
     pub kor: Option<PathBuf>,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
 /// `ncplc nc` subcommands.
@@ -302,16 +306,15 @@ pub fn run(args: Args) -> ExitCode {
             sources.add(f.name.clone(), f.text.clone());
         }
     }
+    let max_errors = common.max_errors;
     let print_diags = |diags: &[diag::Diagnostic], json: bool| {
         if diags.is_empty() {
             return;
         }
         if json {
-            for d in diags {
-                eprintln!("{}", d.to_json_line());
-            }
+            eprint!("{}", diag::json_lines_capped(diags, max_errors));
         } else {
-            eprint!("{}", diag::render_human(diags, &sources));
+            eprint!("{}", diag::render_human_capped(diags, &sources, max_errors));
         }
     };
     let json = format == "json";
