@@ -307,8 +307,14 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         if !d.hint.is_empty() {
             notes.push(format!("help: {}", d.hint));
         }
+        let mut excerpt = None;
         let snippet = ids.get(d.file.as_str()).and_then(|&id| {
             let text = files.get(id).ok()?.source();
+            if let Some(e) = long_line_excerpt(text, d.span.start) {
+                // Printing a line of megabytes for each diagnostic would flood the output.
+                excerpt = Some(e);
+                return None;
+            }
             (d.line > 0 && d.span.start <= text.len()).then(|| {
                 let end = d.span.end.clamp(d.span.start, text.len());
                 let mut start = d.span.start;
@@ -324,7 +330,13 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         });
         match snippet {
             Some(label) => cs = cs.with_labels(vec![label]),
-            None => notes.insert(0, format!("in {}:{}:{}", d.file, d.line, d.column)),
+            None => {
+                let mut at = format!("in {}:{}:{}", d.file, d.line, d.column);
+                if let Some(e) = excerpt {
+                    at.push_str(&format!(" (a long line): {e}"));
+                }
+                notes.insert(0, at);
+            }
         }
         cs = cs.with_notes(notes);
         if term::emit_to_write_style(&mut out, &config, &files, &cs).is_err() {
@@ -333,6 +345,38 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         }
     }
     String::from_utf8_lossy(&out.into_inner()).into_owned()
+}
+
+/// Source lines longer than this (in bytes) are not printed under a diagnostic; an excerpt
+/// around the offending text is given instead.
+pub const MAX_SNIPPET_LINE: usize = 300;
+
+/// `…text around offset…` when the line holding `offset` is longer than [`MAX_SNIPPET_LINE`].
+fn long_line_excerpt(text: &str, offset: usize) -> Option<String> {
+    let offset = offset.min(text.len());
+    let bytes = text.as_bytes();
+    let start = bytes[..offset]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let end = bytes[offset..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(text.len(), |i| offset + i);
+    if end - start <= MAX_SNIPPET_LINE {
+        return None;
+    }
+    let mut from = offset.saturating_sub(30).max(start);
+    while !text.is_char_boundary(from) {
+        from -= 1;
+    }
+    let mut to = (offset + 30).min(end);
+    while !text.is_char_boundary(to) {
+        to += 1;
+    }
+    let lead = if from > start { "…" } else { "" };
+    let tail = if to < end { "…" } else { "" };
+    Some(format!("`{lead}{}{tail}`", &text[from..to]))
 }
 
 fn plural(n: usize, word: &str) -> String {
@@ -374,6 +418,24 @@ mod tests {
         assert_eq!(v["code"], 61);
         assert_eq!(v["severity"], "error");
         assert_eq!(v["message"], "connector out of range");
+    }
+
+    #[test]
+    fn a_long_line_is_shown_as_an_excerpt() {
+        let src = format!("N1{}Q9{}\n", " X1".repeat(100), " X1".repeat(100));
+        let at = src.find('Q').expect("Q is in the text");
+        // 30 bytes either side of `Q`: ten ` X1` before; `Q9`, nine ` X1` and a blank after.
+        let mut sources = Sources::new();
+        sources.add("P", src.as_str());
+        let d = Diagnostic::error(2001, "P", at..at + 2, "unknown address `Q`").locate(&src);
+        let text = render_human(&[d], &sources);
+        assert!(
+            text.contains(
+                "= in P:1:303 (a long line): `… X1 X1 X1 X1 X1 X1 X1 X1 X1 X1Q9 X1 X1 X1 X1 X1 X1 X1 X1 X1 …`"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("N1 X1"), "{text}");
     }
 
     #[test]
