@@ -3,6 +3,10 @@
 //! The machine's interface map is checked too: the errors of `<machine>/interface.toml` (codes
 //! 1601–1608) and, when AXCFIL says NBP>1, every handshake signal a process 2..NBP lacks (1609).
 //!
+//! The I/O map `<machine>/io.toml` is checked too when the machine has one (the fieldbus crate's
+//! located validation, codes 3000–3499, against the connectors IOCFIL declares); a machine without
+//! io.toml runs with `--io sim` only, which is not a problem of the machine.
+//!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
 //! (`--format json`), and exits 1 when there is any error, 0 otherwise. `--dump` prints the typed
 //! model as JSON on stdout instead (diagnostics then go to stderr).
@@ -43,7 +47,7 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
         Format::Human if load.diagnostics.is_empty() => {
             // Say what was checked, so a clean run is distinguishable from one that read nothing.
             let mut files: Vec<&str> = Vec::new();
-            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL", "interface.toml"] {
+            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL", "interface.toml", "io.toml"] {
                 files.extend(load.sources.names().filter(|f| f.ends_with(name)));
             }
             format!("{}: no problems found\n", files.join(", "))
@@ -53,12 +57,40 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
     }
 }
 
+/// The diagnostics of `<machine_dir>/io.toml` (none when the file does not exist), its text
+/// added to `sources` for rendering.
+pub fn check_io_map(
+    machine_dir: &std::path::Path,
+    machine: &characterization::Machine,
+    sources: &mut diag::Sources,
+) -> Vec<diag::Diagnostic> {
+    let path = machine_dir.join("io.toml");
+    if !path.exists() {
+        return Vec::new();
+    }
+    let declared = match &machine.iocfil {
+        Some(io) => fieldbus::DeclaredConnectors {
+            inputs: io.input_connectors(),
+            outputs: io.output_connectors(),
+        },
+        // No IOCFIL (its own error is reported): check the map without connector rules.
+        None => fieldbus::DeclaredConnectors::default(),
+    };
+    let (_, diags) = fieldbus::load_map(machine_dir, &declared);
+    if let Ok(text) = std::fs::read_to_string(&path) {
+        sources.add("io.toml", text);
+    }
+    diags
+}
+
 /// Runs `ncplc check`.
 pub fn run(args: Args) -> ExitCode {
     let mut load = characterization::load_machine(&args.machine_dir);
     if let Some(machine) = load.machine.clone() {
         let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(map);
+        let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
+        load.diagnostics.extend(io);
     }
     let report = render(&load, args.format, args.max_errors);
     let mut out = std::io::stdout().lock();
