@@ -30,7 +30,10 @@ fn ncplc_prints_help() {
 fn example_machines_check_clean() {
     // The mill's interface.toml (process 2's handshake signals) is checked and named too.
     // Both have an io.toml, which `check` validates too.
-    for (name, extra) in [("lathe", ", io.toml"), ("mill", ", interface.toml, io.toml")] {
+    for (name, extra) in [
+        ("lathe", ", io.toml"),
+        ("mill", ", interface.toml, io.toml"),
+    ] {
         let out = ncplc(&["check", &machine(name)]);
         let text = String::from_utf8_lossy(&out.stdout);
         assert_eq!(out.status.code(), Some(0), "{name}: {text}");

@@ -47,7 +47,14 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
         Format::Human if load.diagnostics.is_empty() => {
             // Say what was checked, so a clean run is distinguishable from one that read nothing.
             let mut files: Vec<&str> = Vec::new();
-            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL", "interface.toml", "io.toml"] {
+            for name in [
+                "FCRSYS",
+                "AXCFIL",
+                "PGCFIL",
+                "IOCFIL",
+                "interface.toml",
+                "io.toml",
+            ] {
                 files.extend(load.sources.names().filter(|f| f.ends_with(name)));
             }
             format!("{}: no problems found\n", files.join(", "))

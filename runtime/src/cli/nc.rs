@@ -323,6 +323,14 @@ pub fn run(args: Args) -> ExitCode {
         return ExitCode::from(1);
     };
     let Some(opts) = plan_opts else {
+        // The geometric checks need the program executed: an arc whose end point is not on its
+        // circle is a mistake of the text, so `check` refuses it as `plan` does (issue 12).
+        if let Err((_, d)) = partprogram::plan(&prog, PlanOptions::default())
+            && partprogram::codes::is_geometric(d.code)
+        {
+            print_diags(&[d], json);
+            return ExitCode::from(1);
+        }
         if !json {
             println!(
                 "{name}: ok ({} blocks, {} units)",
