@@ -866,7 +866,8 @@ case!(
     [("NBP=1,", "NBP=6,")],
     183,
     [("NBP=^6", 0)],
-    [922]
+    // No follow-on 922 for processes 2..5: the file's one PRO settles the number (issue 12).
+    []
 );
 case!(
     e184_pro_above_nbp,
@@ -1592,4 +1593,29 @@ fn diagnostics_name_section_and_process() {
             (139, Some(2), Some(1))
         ]
     );
+}
+
+/// NBP=7 on a file that opens one process: one error, the real cause, with the likely intent in
+/// its hint; no follow-on errors about processes 2..5 (issue 12: 25 errors and 8 warnings before).
+#[test]
+fn nbp_too_many_is_one_error_with_the_processes_of_the_file_as_hint() {
+    let src = edit(BASE, &[("NBP=1,", "NBP=7,")]);
+    let (f, mut d) = read("AXCFIL", src.as_bytes());
+    let (model, v) = axcfil::validate(&f);
+    d.extend(v);
+    let got: Vec<_> = d
+        .iter()
+        .map(|d| (d.code, d.line, d.column, d.message.as_str(), d.hint.as_str()))
+        .collect();
+    assert_eq!(
+        got,
+        [(
+            183,
+            2,
+            5,
+            "NBP declares 7 processes",
+            "at most 5 processes are allowed; section 1 opens processes up to PRO=1: write NBP=1"
+        )]
+    );
+    assert_eq!(model.nbp, 1);
 }
