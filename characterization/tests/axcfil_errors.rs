@@ -1605,7 +1605,15 @@ fn nbp_too_many_is_one_error_with_the_processes_of_the_file_as_hint() {
     d.extend(v);
     let got: Vec<_> = d
         .iter()
-        .map(|d| (d.code, d.line, d.column, d.message.as_str(), d.hint.as_str()))
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
         .collect();
     assert_eq!(
         got,
