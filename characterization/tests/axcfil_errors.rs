@@ -1627,3 +1627,43 @@ fn nbp_too_many_is_one_error_with_the_processes_of_the_file_as_hint() {
     );
     assert_eq!(model.nbp, 1);
 }
+
+/// A misspelled instruction gets "did you mean" with the nearest instruction of its section (the
+/// axis then lacks RAP: 137 is the consequence, reported at the axis).
+#[test]
+fn misspelled_instruction_suggests_the_nearest_name() {
+    let src = edit(BASE, &[("RAP=10000,800", "RPA=10000,800")]);
+    let (f, mut d) = read("AXCFIL", src.as_bytes());
+    d.extend(axcfil::validate(&f).1);
+    let got: Vec<_> = d
+        .iter()
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (
+                6,
+                12,
+                1,
+                "instruction RPA is not allowed in AXCFIL section 2",
+                "did you mean `RAP`? section 2 allows TPA NTC RAP GAS VGAS PAS SKW MCZ POS SRV MAN MSS GMxx FRC LOP LOx MFC AFC CUB SWx TSM ASM POM ADP ZNO FBF HWC ATR GRA FOPP FTP ADG LAS FQF"
+            ),
+            (
+                137,
+                9,
+                1,
+                "axis X has no RAP",
+                "declare rapid speed and acceleration, e.g. `RAP=12000,800`"
+            )
+        ]
+    );
+}

@@ -38,7 +38,8 @@ fn distance(a: &str, b: &str, limit: usize) -> usize {
     prev[b.len()]
 }
 
-/// The candidate nearest to `word` (first of equals, in the candidates' order), if it is within
+/// The candidate nearest to `word` (among equals, one with the same first letter, else the first
+/// in the candidates' order: `RPA` → `RAP` rather than `TPA`), if it is within
 /// one edit for words of up to four characters and a third of the word's length beyond; an exact
 /// (case-blind) match is not a suggestion. Words over 64 characters get none (bounded work).
 pub fn nearest<'a, I>(word: &str, candidates: I) -> Option<&'a str>
@@ -50,14 +51,17 @@ where
         return None;
     }
     let limit = (len / 3).max(1);
-    let mut best: Option<(usize, &str)> = None;
+    let first = word.chars().next().map(|c| c.to_ascii_uppercase());
+    // Rank: distance, then "first letter differs" (false sorts first).
+    let mut best: Option<((usize, bool), &str)> = None;
     for c in candidates {
         let d = distance(word, c, limit);
         if d == 0 || d > limit {
             continue;
         }
-        if best.is_none_or(|(bd, _)| d < bd) {
-            best = Some((d, c));
+        let rank = (d, c.chars().next().map(|c| c.to_ascii_uppercase()) != first);
+        if best.is_none_or(|(br, _)| rank < br) {
+            best = Some((rank, c));
         }
     }
     best.map(|(_, c)| c)
@@ -81,6 +85,7 @@ mod tests {
         assert_eq!(nearest("NPB", keys), Some("NBP"));
         assert_eq!(nearest("endprq", keys), Some("ENDPRG"));
         assert_eq!(nearest("XYZ", keys), None);
+        assert_eq!(nearest("RPA", ["TPA", "NTC", "RAP"]), Some("RAP"));
         assert_eq!(nearest("NBP", keys), None);
         assert_eq!(
             did_you_mean("GRB", keys).as_deref(),

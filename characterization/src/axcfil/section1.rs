@@ -126,7 +126,8 @@ impl<'a> State<'a, '_> {
                 }
             }
             k => {
-                let hint = "section 1 allows NBP, TIM, PRO, COM, INx, CAS and ACC";
+                let allowed = "section 1 allows NBP, TIM, PRO, COM, INx, CAS and ACC";
+                let hint = values::suggest_key(k, allowed, allowed);
                 self.push(
                     codes::NOT_ALLOWED,
                     r.key_span.clone(),
