@@ -302,3 +302,43 @@ fn timer_shorter_than_the_tick_warns() {
     );
     assert!(c.program.is_some(), "a warning does not stop the build");
 }
+
+/// An undefined name gets "did you mean" with the nearest defined, predeclared or function name.
+#[test]
+fn undefined_name_suggests_the_nearest_one() {
+    let src = "DEF START_PB = I0A3\nU4A0 = STRAT_PB\nSTART_BP = 1";
+    let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+    let got: Vec<_> = c
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (
+                1207,
+                2,
+                8,
+                "`STRAT_PB` is not defined",
+                "did you mean `START_PB`? define it (`DEF STRAT_PB = <signal>` or `DEF STRAT_PB : <type>`) or use a predeclared interface name"
+            ),
+            (
+                1207,
+                3,
+                1,
+                "`START_BP` is not defined",
+                "did you mean `START_PB`? define it first: `DEF START_BP = <signal>` or `DEF START_BP : <type>`"
+            ),
+        ]
+    );
+}
