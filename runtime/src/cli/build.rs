@@ -51,6 +51,10 @@ pub struct Args {
     /// Print the IR or the cranelift IR instead of only checking.
     #[arg(long, value_enum)]
     pub emit: Option<Emit>,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
 /// The compiler's view of the machine in `dir` and its default PLC source (FCRSYS `PLCSRC`, else
@@ -131,11 +135,8 @@ pub fn run(args: Args) -> ExitCode {
     let mut sources = diag::Sources::new();
     sources.add(name.clone(), c.text.clone());
     let report = match args.format {
-        Format::Human => super::output::render_diagnostics(&diagnostics, &sources),
-        Format::Json => diagnostics
-            .iter()
-            .map(|d| d.to_json_line() + "\n")
-            .collect(),
+        Format::Human => super::output::render_diagnostics_capped(&diagnostics, &sources, args.max_errors),
+        Format::Json => diag::json_lines_capped(&diagnostics, args.max_errors),
     };
     let ok = c.program.is_some() && !diag::has_errors(&diagnostics);
     let summary = if ok {

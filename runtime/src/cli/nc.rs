@@ -56,6 +56,10 @@ pub struct Common {
     /// Correction table file, instead of the machine's MP0/TAB0.KOR (or MP0/TAB2.KOR).
     #[arg(long, value_name = "FILE")]
     pub kor: Option<PathBuf>,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
 /// `ncplc nc` subcommands.
@@ -324,16 +328,15 @@ pub fn run(args: Args) -> ExitCode {
             sources.add(f.name.clone(), f.text.clone());
         }
     }
+    let max_errors = common.max_errors;
     let print_diags = |diags: &[diag::Diagnostic], json: bool| {
         if diags.is_empty() {
             return;
         }
         if json {
-            for d in diags {
-                eprintln!("{}", d.to_json_line());
-            }
+            eprint!("{}", diag::json_lines_capped(diags, max_errors));
         } else {
-            eprint!("{}", super::output::render_diagnostics(diags, &sources));
+            eprint!("{}", super::output::render_diagnostics_capped(diags, &sources, max_errors));
         }
     };
     print_diags(&diags, json);
@@ -341,6 +344,14 @@ pub fn run(args: Args) -> ExitCode {
         return ExitCode::from(1);
     };
     let Some(opts) = plan_opts else {
+        // The geometric checks need the program executed: an arc whose end point is not on its
+        // circle is a mistake of the text, so `check` refuses it as `plan` does (issue 12).
+        if let Err((_, d)) = partprogram::plan(&prog, PlanOptions::default())
+            && partprogram::codes::is_geometric(d.code)
+        {
+            print_diags(&[d], json);
+            return ExitCode::from(1);
+        }
         if !json {
             eprintln!(
                 "{name}: ok ({} blocks, {} units)",

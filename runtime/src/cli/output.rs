@@ -60,7 +60,16 @@ pub fn colored() -> bool {
 
 /// Renders human diagnostics, coloured per [`colored`].
 pub fn render_diagnostics(diagnostics: &[diag::Diagnostic], sources: &diag::Sources) -> String {
-    let text = diag::render_human(diagnostics, sources);
+    render_diagnostics_capped(diagnostics, sources, diag::DEFAULT_MAX_PER_FILE)
+}
+
+/// [`render_diagnostics`] showing at most `max` diagnostics per file (0: all; `--max-errors`).
+pub fn render_diagnostics_capped(
+    diagnostics: &[diag::Diagnostic],
+    sources: &diag::Sources,
+    max: usize,
+) -> String {
+    let text = diag::render_human_capped(diagnostics, sources, max);
     if colored() { colorize(&text) } else { text }
 }
 
