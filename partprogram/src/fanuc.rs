@@ -10,7 +10,7 @@ use std::collections::HashMap;
 
 use diag::Diagnostic;
 
-use crate::ast::{ParsedFile, Val};
+use crate::ast::{Block, ParsedFile, Val};
 use crate::codes;
 use crate::groups::fanuc_g_group;
 use crate::machine::Dialect;
@@ -29,10 +29,10 @@ fn err(
         .locate(&f.text)
 }
 
-fn push_file(
+fn push_unit(
     prog: &mut Program,
     file: usize,
-    parsed: ParsedFile,
+    blocks: Vec<Block>,
     kind: UnitKind,
     number: u32,
     diags: &mut Vec<Diagnostic>,
@@ -40,7 +40,7 @@ fn push_file(
     let start = prog.blocks.len();
     let unit = prog.units.len();
     let mut index = HashMap::new();
-    for b in parsed.blocks {
+    for b in blocks {
         if let Some(n) = b.n
             && index.insert(n, prog.blocks.len()).is_some()
         {
@@ -77,10 +77,62 @@ fn push_file(
     });
 }
 
-/// Builds the units of a Fanuc main file and loads `O<n>` programs of the macro folder for M98.
+/// Pushes the programs of one parsed file: the blocks before the second `O<n>` form the first unit
+/// (`first`: the main program, or the library program of a macro file), every further `O<n>` of
+/// the file a library unit that M98 P<n> calls.
+fn push_file(
+    prog: &mut Program,
+    file: usize,
+    parsed: ParsedFile,
+    first: Option<(UnitKind, u32)>,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let mut blocks = parsed.blocks;
+    let mut rest = Vec::new();
+    for &(num, at) in parsed.programs.iter().rev() {
+        let tail = blocks.split_off(at.min(blocks.len()));
+        rest.push((num, tail));
+    }
+    rest.reverse();
+    if let Some((kind, number)) = first {
+        if kind == UnitKind::Library {
+            register(prog, file, number, diags);
+        }
+        push_unit(prog, file, blocks, kind, number, diags);
+    }
+    for (num, tail) in rest {
+        register(prog, file, num, diags);
+        push_unit(prog, file, tail, UnitKind::Library, num, diags);
+    }
+}
+
+/// Registers the next unit as program O`num`; a number already loaded keeps its first program.
+fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Vec<Diagnostic>) {
+    let unit = prog.units.len();
+    if prog.library.contains_key(&num)
+        || (prog.units.first().is_some_and(|u| u.l == num && num != 0))
+    {
+        let f = &prog.files[file];
+        diags.push(
+            Diagnostic::warning(
+                codes::DUPLICATE_N,
+                f.name.clone(),
+                0..0,
+                format!("program O{num} is loaded twice: the first one is called"),
+            )
+            .with_hint("every O number names one program (the main file's programs load first)")
+            .locate(&f.text),
+        );
+        return;
+    }
+    prog.library.insert(num, unit);
+}
+
+/// Builds the units of a Fanuc main file (its main program and every further `O<n>` program of the
+/// file) and loads the `O<n>` programs of the macro folder for M98.
 pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagnostic>) {
     let number = parsed.number.unwrap_or(0);
-    push_file(prog, 0, parsed, UnitKind::Main, number, diags);
+    push_file(prog, 0, parsed, Some((UnitKind::Main, number)), diags);
     let dir = prog.machine.macro_dir.clone();
     if dir.as_os_str().is_empty() {
         return;
@@ -112,8 +164,7 @@ pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagn
         diags.extend(d);
         prog.files.push(SourceFile { name, text });
         let file = prog.files.len() - 1;
-        prog.library.insert(num, prog.units.len());
-        push_file(prog, file, parsed, UnitKind::Library, num, diags);
+        push_file(prog, file, parsed, Some((UnitKind::Library, num)), diags);
     }
 }
 
