@@ -499,8 +499,12 @@ impl Ex<'_> {
                 self.canned(b, cyc, new_cycle, &vals, &mf)?;
                 moved = true;
             }
-        } else if any || (matches!(self.motion, 20 | 30) && self.has_centre_words(b)) {
-            // An arc with I/J/K and no end point is a full circle (HAAS 002:1450).
+        } else if any
+            || (matches!(self.motion, 20 | 30)
+                && (self.has_centre_words(b) || b.word('R').is_some()))
+        {
+            // An arc with I/J/K and no end point is a full circle (HAAS 002:1450); with R it is an
+            // error the arc reports (a 360° arc cannot be defined with R).
             let t = target(self, &vals);
             match self.motion {
                 20 | 30 => {

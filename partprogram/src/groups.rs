@@ -37,6 +37,10 @@ pub fn mefi_m_group(m: u16) -> u8 {
 
 /// The G group of a Fanuc/HAAS G code (code × 10 + sub-code, so G7.1 is 71 and G1 is 10), or None.
 pub fn fanuc_g_group(g10: u16) -> Option<u8> {
+    // Sub-codes exist only for G7.1: every other code is a whole number.
+    if g10 % 10 != 0 && g10 != 71 {
+        return None;
+    }
     Some(match g10 {
         0 | 10 | 20 | 30 => 1,
         170 | 180 | 190 => 2,
@@ -47,7 +51,7 @@ pub fn fanuc_g_group(g10: u16) -> Option<u8> {
         430 | 440 | 490 => 8,
         730 | 740 | 760 | 800..=890 => 9,
         980 | 990 => 10,
-        540..=590 => 12,
+        540..=590 | 1100..=1290 | 1540 => 12,
         71 => 16,
         40 | 90 | 120 | 130 | 280 | 290 | 520 | 530 | 920 | 100 | 650 => 0,
         610 | 640 => 15,
