@@ -5,6 +5,7 @@ mod comp;
 mod cycles;
 mod offsets;
 mod tlo;
+mod words;
 
 use crate::ast::Val;
 use crate::canon::{Canon, Kind, MFunc, Plane};
@@ -315,7 +316,13 @@ impl Ex<'_> {
             self.inch
         };
         let g64_p = if gs.contains(&640) {
-            num('P').map(|p| p * if inch_now { 25.4 } else { 1.0 })
+            val('P').map(|l| {
+                if inch_now {
+                    l.value4() * 25.4
+                } else {
+                    l.value()
+                }
+            })
         } else {
             None
         };
@@ -335,7 +342,9 @@ impl Ex<'_> {
                 210 => self.inch = false,
                 900 => self.abs = true,
                 910 => self.abs = false,
-                940 | 960 | 970 => {}
+                // G94 feed per minute, G97 constant rpm: the planner's only modes. G50, G69 and
+                // G100 cancel scaling, rotation and mirroring, which are refused: nothing to cancel.
+                940 | 970 | 500 | 690 | 1000 => {}
                 90 => self.exact_once = true,
                 610 => {
                     self.exact_modal = true;
@@ -353,7 +362,7 @@ impl Ex<'_> {
                 980 => self.g99 = false,
                 990 => self.g99 = true,
                 800 => self.cycle = None,
-                730 | 740 | 760 | 810..=890 => {
+                730 | 740 | 810..=860 | 890 => {
                     self.cycle = Some(g);
                     new_cycle = true;
                 }
@@ -431,6 +440,24 @@ impl Ex<'_> {
             }
         }
         let any = vals.iter().any(Option::is_some);
+        let non_motion = g92 || g52 || g28 || g53;
+        let uses = words::Uses {
+            dwell,
+            g10: if g10 {
+                num('L').map(|l| l as i64)
+            } else {
+                None
+            },
+            pocket: pocket.is_some() && !g10 && !non_motion,
+            p_value: g154 || gs.contains(&640),
+            cycle: self
+                .cycle
+                .filter(|_| !g10 && !non_motion && pocket.is_none() && (new_cycle || any)),
+            non_motion,
+            call: ms.contains(&97) || ms.contains(&98),
+            ret: ms.contains(&99),
+        };
+        self.check_words(b, &uses)?;
         self.tool_length(b, tlo_g, g28)?;
         let target = |ex: &Self, vals: &[Option<f64>; 6]| -> [Option<f64>; 6] {
             let mut t = [None; 6];

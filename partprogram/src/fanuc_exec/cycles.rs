@@ -1,5 +1,6 @@
-//! Fanuc/HAAS canned drilling cycles (G73, G74, G76, G81–G89 with G98/G99) and circular pockets
-//! (G12/G13).
+//! Fanuc/HAAS canned drilling cycles (G73, G74, G81–G86, G89 with G98/G99 and L repeats) and
+//! circular pockets (G12/G13). G76 (orient and shift), G77 (back boring) and G87/G88 (manual retract)
+//! are refused by the static check: their sequences need spindle orientation or the operator.
 
 use super::{Ex, PECK_CLEARANCE, run_err};
 use crate::ast::Val;
@@ -165,6 +166,13 @@ impl Ex<'_> {
                 if !self.g99 {
                     zto(self, Kind::Rapid, top);
                 }
+            }
+            860 => {
+                // Boring, spindle stop at the bottom, rapid out, spindle on again (M05 … M03).
+                let stop = |m| [MFunc { m, before: true }];
+                self.emit(b, Kind::Aux, Vec::new(), &stop(5), None);
+                zto(self, Kind::Rapid, top);
+                self.emit(b, Kind::Aux, Vec::new(), &stop(3), None);
             }
             850 | 890 => {
                 zto(self, Kind::Linear, r);
