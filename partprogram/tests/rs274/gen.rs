@@ -25,7 +25,16 @@ pub enum Stmt {
     /// G00/G01 to an absolute point, or by an increment.
     Line { rapid: bool, abs: bool, p: [i32; 3] },
     /// Arc in plane 0/1/2 with centre words, sweep between two points of a triple circle.
-    Arc { plane: u8, cw: bool, tri: u8, from: u8, to: u8, k: i32, helix: i32, full: bool },
+    Arc {
+        plane: u8,
+        cw: bool,
+        tri: u8,
+        from: u8,
+        to: u8,
+        k: i32,
+        helix: i32,
+        full: bool,
+    },
     /// G10 L2 P<p> then select it.
     Offset { p: u8, v: [i32; 3] },
     /// G52 (all three axes) or its cancellation.
@@ -35,7 +44,17 @@ pub enum Stmt {
     /// G28 without axes, or G91 G28 Z0.
     Home { all: bool },
     /// A canned cycle.
-    Cycle { g: u8, g99: bool, inc: bool, xy: [i32; 2], depth: i32, r: i32, q: i32, l: u8, second: Option<[i32; 2]> },
+    Cycle {
+        g: u8,
+        g99: bool,
+        inc: bool,
+        xy: [i32; 2],
+        depth: i32,
+        r: i32,
+        q: i32,
+        l: u8,
+        second: Option<[i32; 2]>,
+    },
     /// G43 H<h> Z (h 1 or 2) or G49 Z.
     Length { h: u8, z: i32 },
     /// G41/G42 D on a rectangle in G91.
@@ -69,7 +88,10 @@ pub fn stmt() -> impl Strategy<Value = Stmt> {
 
 /// Strategy of a whole program: statements and the subprogram's increments.
 pub fn program() -> impl Strategy<Value = (Vec<Stmt>, [i32; 2])> {
-    (proptest::collection::vec(stmt(), 3..14), [-20..20i32, -20..20i32])
+    (
+        proptest::collection::vec(stmt(), 3..14),
+        [-20..20i32, -20..20i32],
+    )
 }
 
 fn mm(v: i32) -> String {
@@ -100,7 +122,11 @@ impl W {
 
 /// Renders a program: header, the statements, M30, then the subprogram O2000.
 pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
-    let mut w = W { out: "O1000\n".into(), n: 0, pecks: Vec::new() };
+    let mut w = W {
+        out: "O1000\n".into(),
+        n: 0,
+        pecks: Vec::new(),
+    };
     w.b("G21 G17 G90 G94 G40 G49 G80 G54 G98");
     w.b("F200.");
     w.b("G00 X0 Y0 Z20.");
@@ -110,15 +136,43 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
             Stmt::Line { rapid, abs, p } => {
                 let g = if *rapid { "G00" } else { "G01" };
                 if *abs {
-                    w.b(&format!("G90 {g} X{} Y{} Z{}", mm(p[0]), mm(p[1]), mm(p[2])));
+                    w.b(&format!(
+                        "G90 {g} X{} Y{} Z{}",
+                        mm(p[0]),
+                        mm(p[1]),
+                        mm(p[2])
+                    ));
                 } else {
-                    w.b(&format!("G91 {g} X{} Y{} Z{}", mm(p[0]), mm(p[1]), mm(p[2] / 2)));
+                    w.b(&format!(
+                        "G91 {g} X{} Y{} Z{}",
+                        mm(p[0]),
+                        mm(p[1]),
+                        mm(p[2] / 2)
+                    ));
                     w.b("G90");
                 }
             }
-            Stmt::Arc { plane, cw, tri, from, to, k, helix, full } => {
+            Stmt::Arc {
+                plane,
+                cw,
+                tri,
+                from,
+                to,
+                k,
+                helix,
+                full,
+            } => {
                 let (a, b, _) = TRIPLES[usize::from(*tri) % TRIPLES.len()];
-                let pts = [(a, b), (b, a), (-a, b), (-b, a), (-a, -b), (-b, -a), (a, -b), (b, -a)];
+                let pts = [
+                    (a, b),
+                    (b, a),
+                    (-a, b),
+                    (-b, a),
+                    (-a, -b),
+                    (-b, -a),
+                    (a, -b),
+                    (b, -a),
+                ];
                 let s = pts[usize::from(*from)];
                 let e = pts[usize::from(*to)];
                 let (g, axes, cw_) = (["G17", "G18", "G19"][usize::from(*plane)], *plane, *cw);
@@ -146,14 +200,24 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
                 w.b("G17 G90");
             }
             Stmt::Offset { p, v } => {
-                w.b(&format!("G10 L2 P{p} X{} Y{} Z{}", mm(v[0]), mm(v[1]), mm(v[2] / 4)));
+                w.b(&format!(
+                    "G10 L2 P{p} X{} Y{} Z{}",
+                    mm(v[0]),
+                    mm(v[1]),
+                    mm(v[2] / 4)
+                ));
                 w.b(&format!("G{} G00 X0 Y0", 53 + p));
             }
             Stmt::Local { v, cancel } if !g92 => {
                 if *cancel {
                     w.b("G52 X0 Y0 Z0");
                 } else {
-                    w.b(&format!("G52 X{} Y{} Z{}", mm(v[0] / 2), mm(v[1] / 2), mm(v[2] / 4)));
+                    w.b(&format!(
+                        "G52 X{} Y{} Z{}",
+                        mm(v[0] / 2),
+                        mm(v[1] / 2),
+                        mm(v[2] / 4)
+                    ));
                 }
             }
             Stmt::Local { .. } => {}
@@ -173,12 +237,26 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
                     w.b("G90");
                 }
             }
-            Stmt::Cycle { g, g99, inc, xy, depth, r, q, l, second } => {
+            Stmt::Cycle {
+                g,
+                g99,
+                inc,
+                xy,
+                depth,
+                r,
+                q,
+                l,
+                second,
+            } => {
                 let code = [73, 81, 82, 83, 85, 89][usize::from(*g)];
                 let peck = matches!(code, 73 | 83);
                 // G85/G89 feed out to the R plane (Fanuc), LinuxCNC to the clearance level: under
                 // G99 the two are the same.
-                let ret = if *g99 || matches!(code, 85 | 89) { "G99" } else { "G98" };
+                let ret = if *g99 || matches!(code, 85 | 89) {
+                    "G99"
+                } else {
+                    "G98"
+                };
                 let extra = match code {
                     73 | 83 => format!(" Q{}", mm(*q)),
                     82 | 89 => " P0.5".into(),
@@ -187,7 +265,11 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
                 let init = r + 4;
                 w.b(&format!("G90 G00 Z{}", mm(init)));
                 // One hole per peck block: L repeats are compared on the other cycles.
-                let lw = if peck { String::new() } else { format!(" L{l}") };
+                let lw = if peck {
+                    String::new()
+                } else {
+                    format!(" L{l}")
+                };
                 if *inc {
                     let n = w.b(&format!(
                         "G91 {ret} G{code} X{} Y{} Z{} R{}{extra}{lw}",
@@ -251,5 +333,8 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
     w.b(&format!("G91 G01 X{} Y{}", mm(sub[0]), mm(sub[1])));
     w.b("G90");
     w.b("M99");
-    Rendered { text: w.out, pecks: w.pecks }
+    Rendered {
+        text: w.out,
+        pecks: w.pecks,
+    }
 }
