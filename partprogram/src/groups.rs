@@ -38,7 +38,7 @@ pub fn mefi_m_group(m: u16) -> u8 {
 /// The G group of a Fanuc/HAAS G code (code × 10 + sub-code, so G7.1 is 71 and G1 is 10), or None.
 pub fn fanuc_g_group(g10: u16) -> Option<u8> {
     // Sub-codes exist only for G7.1: every other code is a whole number.
-    if g10 % 10 != 0 && g10 != 71 {
+    if !g10.is_multiple_of(10) && g10 != 71 {
         return None;
     }
     Some(match g10 {

@@ -45,9 +45,9 @@ fn a_full_circle_in_g18_takes_k_and_i() {
 #[test]
 fn a_full_circle_with_r_is_refused() {
     let (prog, _) = compile(&haas(), "t", "O1\nG00 X10.\nG02 R5. F100.\nM30\n");
-    let err = partprogram::plan(&prog.expect("compiles"), PlanOptions::default())
-        .err()
-        .expect("R cannot make a full circle");
+    let Err(err) = partprogram::plan(&prog.expect("compiles"), PlanOptions::default()) else {
+        panic!("R cannot make a full circle");
+    };
     assert_eq!(err.1.code, 2503);
 }
 
@@ -72,9 +72,9 @@ fn g10_l20_writes_the_g154_offsets_that_g110_and_g154_select() {
 #[test]
 fn g10_with_an_unsupported_l_is_a_located_error() {
     let (prog, _) = compile(&haas(), "t", "O1\nG10 L3 P1 R2.\nM30\n");
-    let err = partprogram::plan(&prog.expect("compiles"), PlanOptions::default())
-        .err()
-        .expect("L3 is refused");
+    let Err(err) = partprogram::plan(&prog.expect("compiles"), PlanOptions::default()) else {
+        panic!("L3 is refused");
+    };
     assert_eq!((err.1.code, err.1.line), (2507, 2));
 }
 
@@ -198,4 +198,17 @@ fn rotary_axes_stay_in_degrees_under_g20() {
     let m = MachineSpec::new(Dialect::Fanuc, &['X', 'Y', 'Z', 'A']);
     let p = run(&m, "O1\nG20 G00 X1. A90.\nM30\n", PlanOptions::default()).blocks;
     assert_eq!((end(&p[0], 'X'), end(&p[0], 'A')), (25.4, 90.0));
+}
+
+#[test]
+fn a_repeat_count_beyond_32767_is_refused_not_run() {
+    let (prog, _) = compile(
+        &haas(),
+        "t",
+        "O1\nG00 Z10.\nG81 X1. Z-1. R2. L99999999 F100.\nM30\n",
+    );
+    let Err(err) = partprogram::plan(&prog.expect("compiles"), PlanOptions::default()) else {
+        panic!("L99999999 is refused");
+    };
+    assert_eq!((err.1.code, err.1.line), (2502, 3));
 }

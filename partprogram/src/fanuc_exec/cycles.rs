@@ -62,7 +62,7 @@ impl Ex<'_> {
         // L repeats the hole: at the same place under G90, each time shifted by the increments under
         // G91 (HAAS 002:221, L = "counter for repeated cycles"); L0 stores the data without drilling.
         let reps = match num('L') {
-            Some(l) if l < 0.0 || l.fract() != 0.0 => {
+            Some(l) if !(0.0..=32767.0).contains(&l) || l.fract() != 0.0 => {
                 return Err(run_err(
                     b,
                     codes::RUN_RANGE,
