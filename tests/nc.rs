@@ -702,7 +702,7 @@ fn fanuc_issue_14_classes_plan_end_to_end_and_an_unexecuted_word_is_refused() {
         ),
         (Some("rapid"), Some(0.0), Some(0.0), Some(0.0))
     );
-    std::fs::write(&prog, "O1\nG01 X1. E0.1 F100.\nM30\n").expect("program");
+    std::fs::write(&prog, "O1\nG01 X1. R5. F100.\nM30\n").expect("program");
     let out = ncplc(&[
         "nc",
         "plan",

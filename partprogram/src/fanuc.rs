@@ -203,23 +203,19 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
             let v = lit(&w.val).unwrap_or(0.0);
             let known = matches!(
                 w.addr,
-                'G' | 'M'
-                    | 'I'
-                    | 'J'
-                    | 'K'
-                    | 'R'
-                    | 'F'
-                    | 'S'
-                    | 'T'
-                    | 'D'
-                    | 'H'
-                    | 'P'
-                    | 'Q'
-                    | 'L'
-                    | 'E'
-                    | 'U'
-                    | 'W'
-            ) || axes.contains(&w.addr);
+                'G' | 'M' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'H' | 'P' | 'Q' | 'L'
+            ) || (lathe && matches!(w.addr, 'U' | 'W'))
+                || axes.contains(&w.addr);
+            if w.addr == 'E' {
+                diags.push(err(
+                    codes::UNKNOWN_ADDRESS,
+                    f,
+                    w.span,
+                    "address E (G187 corner accuracy) is not supported",
+                    "see docs/fanuc-conformance.md",
+                ));
+                continue;
+            }
             if !known {
                 diags.push(err(
                     codes::UNKNOWN_ADDRESS,

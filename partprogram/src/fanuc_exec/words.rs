@@ -5,7 +5,8 @@
 //! in the functions that define them (HAAS spec §6): I/J/K in an arc of their plane or a G12/G13
 //! pocket, R in an arc, a canned cycle or `G10 L10/L12`, P in G04, G10, G64, G154, M97/M98, the
 //! dwell of G82/G89, Q in the pecks of G73/G83 and the G12/G13 steps, L in M97/M98, G10, canned
-//! cycles and G12/G13. E (G187 accuracy) and M99 P are not executed and therefore always refused.
+//! cycles and G12/G13. M99 P is not executed and therefore always refused (E, and U/W on a mill,
+//! are refused by the static check already).
 
 use super::Ex;
 use crate::canon::Plane;
