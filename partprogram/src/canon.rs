@@ -119,6 +119,12 @@ pub struct Canon {
     pub dwell: Option<f64>,
     /// True for a G33 thread block.
     pub thread: bool,
+    /// True when the motion stops exactly at the block's end point before the next block starts:
+    /// Fanuc G09 (this block) or G61 (modal); MEFI G98 (standard block connection) or G24 (firm
+    /// connection), false under MEFI G23 (smooth connection) and Fanuc G64.
+    pub exact_stop: bool,
+    /// Path blending tolerance in mm set by Fanuc `G64 P<tol>` (None: the machine's default).
+    pub tolerance: Option<f64>,
 }
 
 /// Formats a coordinate: rounded to 1 nm, shortest decimal form, no `-0`.
@@ -193,6 +199,12 @@ impl Canon {
         }
         if self.thread {
             s.push_str(",\"thread\":true");
+        }
+        if self.exact_stop {
+            s.push_str(",\"exact_stop\":true");
+        }
+        if let Some(t) = self.tolerance {
+            let _ = write!(s, ",\"tolerance\":{}", num(t));
         }
         s.push('}');
         s
