@@ -114,6 +114,9 @@ impl ProgramMeta for CompiledMeta {
             }
         }
     }
+    fn idle_facts(&self) -> Option<compiler::ir::IdleFacts> {
+        Some(self.program.idle_facts())
+    }
     fn as_any(&self) -> &dyn Any {
         self
     }
