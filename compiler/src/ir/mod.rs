@@ -58,10 +58,12 @@
 //!   stores `(i + 1) mod slices`. A program without SLOW part leaves the header untouched.
 
 mod builder;
+mod idle;
 mod program;
 mod validate;
 
 pub use builder::{COST_UNITS_PER_MS, ProgramBuilder, slice_cost, split_slices};
+pub use idle::{IdleFacts, SteadyTimer};
 pub use program::{
     CounterDecl, CounterKind, Program, PulseDecl, SlotKind, StateSlot, TimerDecl, TimerKind,
     VarDecl,

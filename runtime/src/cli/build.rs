@@ -113,7 +113,9 @@ pub fn run(args: Args) -> ExitCode {
             threads: 0,
             ..compiler::jit::JitOptions::default()
         };
-        match compiler::jit::compile_with(p, &opts) {
+        // Through the on-disk code cache: a later `ncplc run`/`replay` of it maps this code.
+        let disk = compiler::jit::disk_cache::DiskCache::from_env();
+        match compiler::jit::disk_cache::compile(p, &opts, disk.as_ref()) {
             Ok(_) => jit_ms = Some(jit_started.elapsed().as_secs_f64() * 1000.0),
             Err(e) => diagnostics.push(jit_failed(&name, &e)),
         }

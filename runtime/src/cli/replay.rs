@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 use crate::compiled::EngineKind;
 use crate::machine::Machine;
-use crate::replay::replay;
+use crate::replay::{ReplayOptions, replay_with};
 use crate::trace::recover::recover;
 use crate::trace::{Trace, binary};
 
@@ -29,6 +29,10 @@ pub struct Args {
     /// Rewrite the trace's outputs with the replay's.
     #[arg(long)]
     pub update: bool,
+    /// Run every tick, also those in which nothing can change (idle ticks are skipped by default;
+    /// the result is the same either way).
+    #[arg(long)]
+    pub no_skip: bool,
     /// Ticks of context shown around the first divergence.
     #[arg(long, default_value_t = 3)]
     pub context: u64,
@@ -76,7 +80,12 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
         bar
     });
     let start = std::time::Instant::now();
-    let result = replay(&trace, loaded, &machine.config.t_init, |done| {
+    let options = ReplayOptions {
+        skip_idle: !args.no_skip,
+        // Traces carry no CNC kernel yet; a trace naming a partprogram must set this.
+        drives_kernel: false,
+    };
+    let result = replay_with(&trace, loaded, &machine.config.t_init, options, |done| {
         if let Some(b) = &bar {
             b.set_position(done);
         }
@@ -107,8 +116,9 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
     }
     if result.identical() {
         eprintln!(
-            "{}: {total} ticks replayed, outputs identical ({:.1?}, {:.0}x real time)",
+            "{}: {total} ticks replayed ({} skipped as idle), outputs identical ({:.1?}, {:.0}x real time)",
             args.trace.display(),
+            result.skipped,
             elapsed,
             (total as f64 * f64::from(trace.tick_ms) / 1e3) / elapsed.as_secs_f64().max(1e-9)
         );
