@@ -54,26 +54,6 @@ pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
     }
 }
 
-/// Renames the machine's files (named relative to the machine directory by the reader) as the
-/// user can open them from the current directory, in the diagnostics and the sources.
-fn relocate(load: &mut characterization::MachineLoad, dir: &std::path::Path) {
-    let shown = |name: &str| {
-        super::output::user_path(&dir.join(name))
-            .display()
-            .to_string()
-    };
-    for d in &mut load.diagnostics {
-        d.file = shown(&d.file);
-    }
-    let mut sources = diag::Sources::new();
-    for name in load.sources.names() {
-        if let Some(text) = load.sources.get(name) {
-            sources.add(shown(name), text);
-        }
-    }
-    load.sources = sources;
-}
-
 /// Runs `ncplc check`.
 pub fn run(args: Args) -> ExitCode {
     if !args.machine_dir.is_dir() {
@@ -87,7 +67,7 @@ pub fn run(args: Args) -> ExitCode {
         let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(map);
     }
-    relocate(&mut load, &args.machine_dir);
+    super::output::relocate(&mut load, &args.machine_dir);
     let report = render(&load, args.format);
     // Diagnostics on stderr; stdout holds only the --dump model.
     eprint!("{report}");
