@@ -49,9 +49,10 @@ impl Facts {
         if !dir.is_dir() {
             return Err(MachineError::NotADirectory(dir.to_path_buf()));
         }
-        let load = characterization::load_machine(dir);
+        let mut load = characterization::load_machine(dir);
         let shown = dir.display().to_string();
         if load.has_errors() || load.machine.is_none() {
+            crate::cli::output::relocate(&mut load, dir);
             let errors: Vec<_> = load
                 .diagnostics
                 .iter()

@@ -69,26 +69,6 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
     }
 }
 
-/// Renames the machine's files (named relative to the machine directory by the reader) as the
-/// user can open them from the current directory, in the diagnostics and the sources.
-fn relocate(load: &mut characterization::MachineLoad, dir: &std::path::Path) {
-    let shown = |name: &str| {
-        super::output::user_path(&dir.join(name))
-            .display()
-            .to_string()
-    };
-    for d in &mut load.diagnostics {
-        d.file = shown(&d.file);
-    }
-    let mut sources = diag::Sources::new();
-    for name in load.sources.names() {
-        if let Some(text) = load.sources.get(name) {
-            sources.add(shown(name), text);
-        }
-    }
-    load.sources = sources;
-}
-
 /// The diagnostics of `<machine_dir>/io.toml` (none when the file does not exist), its text
 /// added to `sources` for rendering.
 pub fn check_io_map(
@@ -130,7 +110,7 @@ pub fn run(args: Args) -> ExitCode {
         let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(io);
     }
-    relocate(&mut load, &args.machine_dir);
+    super::output::relocate(&mut load, &args.machine_dir);
     let report = render(&load, args.format, args.max_errors);
     // Diagnostics on stderr; stdout holds only the --dump model.
     eprint!("{report}");

@@ -165,6 +165,22 @@ pub fn user_path(path: &Path) -> PathBuf {
     }
 }
 
+/// Renames the machine's files (named relative to the machine directory by the reader) as the
+/// user can open them from the current directory, in the diagnostics and the sources.
+pub fn relocate(load: &mut characterization::MachineLoad, dir: &std::path::Path) {
+    let shown = |name: &str| user_path(&dir.join(name)).display().to_string();
+    for d in &mut load.diagnostics {
+        d.file = shown(&d.file);
+    }
+    let mut sources = diag::Sources::new();
+    for name in load.sources.names() {
+        if let Some(text) = load.sources.get(name) {
+            sources.add(shown(name), text);
+        }
+    }
+    load.sources = sources;
+}
+
 /// Removes `.` and resolves `..` lexically.
 fn normalize(p: &Path) -> PathBuf {
     use std::path::Component;
