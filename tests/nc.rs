@@ -721,6 +721,8 @@ fn check_caps_the_errors_of_a_one_block_program() {
             "note: 19999 more errors in nc/ONE (--max-errors 0 shows all)\n20000 errors, 1 warning\n"
         ),
         "{err}"
+    );
+}
 
 #[test]
 fn fanuc_issue_14_classes_plan_end_to_end_and_an_unexecuted_word_is_refused() {
