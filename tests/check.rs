@@ -159,7 +159,11 @@ fn json_check(args: &[&str]) -> (Option<i32>, Vec<serde_json::Value>) {
     all.extend_from_slice(args);
     all.extend_from_slice(&["--format", "json"]);
     let out = ncplc(&all);
-    let lines = String::from_utf8_lossy(&out.stdout)
+    // Diagnostics go to stderr, files named as the user can open them: the machine directory
+    // (the first argument) is taken off so that the expectations name the file in the machine.
+    let prefix = format!("{}/", args[0]);
+    let lines = String::from_utf8_lossy(&out.stderr)
+        .replace(&prefix, "")
         .lines()
         .map(|l| serde_json::from_str(l).expect("JSON line"))
         .collect();
@@ -276,7 +280,7 @@ fn max_errors_caps_the_diagnostics_of_a_file() {
         r#"{"file":"MP0/AXCFIL","more_errors":48,"more_warnings":0}"#
     );
     let out = ncplc(&["check", &d, "--max-errors", "3"]);
-    let text = String::from_utf8_lossy(&out.stdout);
+    let text = String::from_utf8_lossy(&out.stderr).replace(&format!("{d}/"), "");
     assert!(
         text.ends_with(
             "note: 48 more errors in MP0/AXCFIL (--max-errors 0 shows all)\n51 errors, 0 warnings\n"
