@@ -210,6 +210,50 @@ impl Canon {
         s
     }
 
+    /// The one-line text form written by `ncplc nc plan --format text`: every field of the JSON
+    /// form, `-` for an absent value (`N20 rapid X-20 Y-20 Z50 plane XY F- M3:before S1000 T-`).
+    pub fn to_text_line(&self) -> String {
+        let mut s = String::with_capacity(96);
+        match self.n {
+            Some(n) => {
+                let _ = write!(s, "N{n}");
+            }
+            None => s.push_str("N-"),
+        }
+        if let Some(u) = &self.unit {
+            let _ = write!(s, " unit {u}");
+        }
+        let _ = write!(s, " {}", self.kind.name());
+        for (a, v) in &self.end {
+            let _ = write!(s, " {a}{}", num(*v));
+        }
+        if !self.center.is_empty() {
+            s.push_str(" center");
+            for (a, v) in &self.center {
+                let _ = write!(s, " {a}{}", num(*v));
+            }
+        }
+        let (p1, p2) = self.plane.axes();
+        let _ = write!(s, " plane {p1}{p2}");
+        let opt = |v: Option<String>| v.unwrap_or_else(|| "-".into());
+        let _ = write!(s, " F{}", opt(self.feed.map(num)));
+        if self.m.is_empty() {
+            s.push_str(" M-");
+        }
+        for m in &self.m {
+            let _ = write!(s, " M{}:{}", m.m, if m.before { "before" } else { "after" });
+        }
+        let _ = write!(s, " S{}", opt(self.s.map(num)));
+        let _ = write!(s, " T{}", opt(self.t.map(|t| t.to_string())));
+        if let Some(d) = self.dwell {
+            let _ = write!(s, " dwell {}", num(d));
+        }
+        if self.thread {
+            s.push_str(" thread");
+        }
+        s
+    }
+
     /// The end coordinate of axis `a`.
     pub fn end_of(&self, a: char) -> Option<f64> {
         self.end.iter().find(|(c, _)| *c == a).map(|(_, v)| *v)

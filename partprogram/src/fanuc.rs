@@ -27,9 +27,7 @@ fn err(
     msg: impl Into<String>,
     hint: &str,
 ) -> Diagnostic {
-    Diagnostic::error(code, f.name.clone(), span.0..span.1, msg)
-        .with_hint(hint)
-        .locate(&f.text)
+    crate::program::err(code, &f.name, &f.text, span, msg, hint)
 }
 
 fn push_unit(
@@ -48,15 +46,12 @@ fn push_unit(
             && index.insert(n, prog.blocks.len()).is_some()
         {
             let f = &prog.files[file];
-            diags.push(
-                Diagnostic::warning(
-                    codes::DUPLICATE_N,
-                    f.name.clone(),
-                    b.span.0..b.span.1,
-                    format!("block number N{n} is used twice"),
-                )
-                .locate(&f.text),
-            );
+            diags.push(crate::program::to_locate(Diagnostic::warning(
+                codes::DUPLICATE_N,
+                f.name.clone(),
+                b.span.0..b.span.1,
+                format!("block number N{n} is used twice"),
+            )));
         }
         prog.blocks.push(CBlock {
             n: b.n,
