@@ -417,6 +417,10 @@ impl Ex<'_> {
             if *a == 'C' && cyl_cmd {
                 continue;
             }
+            // `G04 X<s>`: X is the dwell time, not a position.
+            if *a == 'X' && dwell && b.word('P').is_none() {
+                continue;
+            }
             // Rotary axes are in degrees whatever G20/G21 say.
             if matches!(*a, 'A' | 'B' | 'C') {
                 if let Some(v) = num(*a) {

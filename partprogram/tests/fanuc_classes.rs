@@ -212,3 +212,11 @@ fn a_repeat_count_beyond_32767_is_refused_not_run() {
     };
     assert_eq!((err.1.code, err.1.line), (2502, 3));
 }
+
+#[test]
+fn g04_x_is_a_dwell_in_seconds_not_a_move() {
+    let p = plan("O1\nG00 X5.\nG04 X1.5\nG04 P250\nM30\n");
+    assert_eq!(p[1].kind, Kind::Dwell);
+    assert_eq!((end(&p[1], 'X'), p[1].dwell), (5.0, Some(1.5)));
+    assert_eq!(p[2].dwell, Some(0.25));
+}
