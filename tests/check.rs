@@ -266,3 +266,24 @@ fn max_errors_caps_the_diagnostics_of_a_file() {
     let (_, lines) = json_check(&[&d, "--max-errors", "0"]);
     assert_eq!(lines.len(), 51);
 }
+
+/// An empty AXCFIL is one error saying so (972), not missing sections and the cross-file rules of
+/// PGCFIL and IOCFIL against NBP=0 and TIM=0 (12 errors before).
+#[test]
+fn empty_characterization_file_is_one_error() {
+    let dir = copy_machine("mill");
+    std::fs::write(dir.path().join("MP0/AXCFIL"), "").expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [(
+            972,
+            "MP0/AXCFIL".to_string(),
+            1,
+            1,
+            "MP0/AXCFIL is empty".to_string()
+        )]
+    );
+}

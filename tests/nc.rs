@@ -719,3 +719,35 @@ fn check_caps_the_errors_of_a_one_block_program() {
         "{err}"
     );
 }
+
+/// An empty partprogram is one error saying so, without the "no M02/M30" warning.
+#[test]
+fn check_of_an_empty_partprogram_is_one_error() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_machine("mill", dir.path());
+    std::fs::write(dir.path().join("nc/EMPTY"), "\n").expect("write");
+    let d = dir.path().display().to_string();
+    let out = ncplc(&["nc", "check", &d, "EMPTY", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let lines = json_lines(&out.stderr);
+    let got: Vec<_> = lines
+        .iter()
+        .map(|e| {
+            (
+                e["code"].as_u64(),
+                e["line"].as_u64(),
+                e["column"].as_u64(),
+                e["message"].as_str().map(str::to_string),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [(
+            Some(2003),
+            Some(1),
+            Some(1),
+            Some("the partprogram is empty".to_string())
+        )]
+    );
+}

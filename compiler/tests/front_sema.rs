@@ -342,3 +342,30 @@ fn undefined_name_suggests_the_nearest_one() {
         ]
     );
 }
+
+/// An empty or comment-only program compiles with one warning saying so (every output stays 0).
+#[test]
+fn empty_program_warns() {
+    for (src, what) in [
+        ("", "is empty"),
+        ("; only a comment\n", "has no statements"),
+    ] {
+        let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+        let got: Vec<_> = c
+            .diagnostics
+            .iter()
+            .map(|d| (d.code, d.line, d.column, d.message.clone(), d.is_error()))
+            .collect();
+        assert_eq!(
+            got,
+            vec![(
+                1505,
+                1,
+                1,
+                format!("the PLC program {what}: every output stays 0"),
+                false
+            )]
+        );
+        assert!(c.program.is_some());
+    }
+}
