@@ -10,6 +10,15 @@ fn ncplc(args: &[&str]) -> std::process::Output {
         .expect("ncplc runs")
 }
 
+/// Runs ncplc with `dir` as the current directory (paths in diagnostics are relative to it).
+fn ncplc_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
 fn machine(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../plc-programs")
@@ -29,17 +38,28 @@ fn ncplc_prints_help() {
 #[test]
 fn example_machines_check_clean() {
     // The mill's interface.toml (process 2's handshake signals) is checked and named too.
-    // Both have an io.toml, which `check` validates too.
-    for (name, extra) in [
-        ("lathe", ", io.toml"),
-        ("mill", ", interface.toml, io.toml"),
-    ] {
-        let out = ncplc(&["check", &machine(name)]);
-        let text = String::from_utf8_lossy(&out.stdout);
+    // Run from the workspace root: the files are named as the user can open them from there.
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    for (name, extra) in [("lathe", false), ("mill", true)] {
+        let out = ncplc_in(&root, &["check", &format!("plc-programs/{name}")]);
+        let text = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(0), "{name}: {text}");
+        assert!(
+            out.stdout.is_empty(),
+            "{name}: a check has no results on stdout"
+        );
+        let m = format!("plc-programs/{name}");
+        // Both have an io.toml, which `check` validates too.
+        let extra = if extra {
+            format!(", {m}/interface.toml, {m}/io.toml")
+        } else {
+            format!(", {m}/io.toml")
+        };
         assert_eq!(
             text,
-            format!("FCRSYS, MP0/AXCFIL, MP0/PGCFIL, MP0/IOCFIL{extra}: no problems found\n"),
+            format!(
+                "{m}/FCRSYS, {m}/MP0/AXCFIL, {m}/MP0/PGCFIL, {m}/MP0/IOCFIL{extra}: no problems found\n"
+            ),
             "{name}"
         );
     }
@@ -59,11 +79,9 @@ fn broken_machine_exits_1_with_located_diagnostics() {
     let bytes = std::fs::read(&ax).expect("read");
     let text = String::from_utf8_lossy(&bytes).replacen("TIM=1,0,0,0,0", "TIM=64,0,0,0,0", 1);
     std::fs::write(&ax, text).expect("write");
-    let d = dir.path().display().to_string();
-
-    let out = ncplc(&["check", &d]);
+    let out = ncplc_in(dir.path(), &["check", "."]);
     assert_eq!(out.status.code(), Some(1));
-    let human = String::from_utf8_lossy(&out.stdout);
+    let human = String::from_utf8_lossy(&out.stderr);
     assert!(
         human.contains("error[E0101]: CPU tick 64 ms is too large"),
         "{human}"
@@ -72,9 +90,9 @@ fn broken_machine_exits_1_with_located_diagnostics() {
     assert!(human.contains("TIM=64,0,0,0,0"), "{human}");
     assert!(human.contains("^^"), "{human}");
 
-    let out = ncplc(&["check", &d, "--format", "json"]);
+    let out = ncplc_in(dir.path(), &["check", ".", "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stderr)
         .lines()
         .map(|l| serde_json::from_str(l).expect("JSON line"))
         .collect();
@@ -107,11 +125,13 @@ fn dump_prints_the_typed_model() {
 }
 
 #[test]
-fn missing_machine_directory_is_an_error() {
+fn missing_machine_directory_is_a_usage_error() {
     let out = ncplc(&["check", "/nonexistent/machine", "--format", "json"]);
-    assert_eq!(out.status.code(), Some(1));
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("\"code\":902"), "{text}");
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "ncplc check: /nonexistent/machine: not a machine directory (no such directory)\n"
+    );
 }
 
 /// A copy of the bundled machine `name` in a temporary directory.

@@ -305,7 +305,8 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
             ),
             (
                 &serde_json::json!(2044),
-                &serde_json::json!("MP0/TAB0.KOR"),
+                // Named as the user can open it from the current directory (here: absolute).
+                &serde_json::json!(format!("{machine}/MP0/TAB0.KOR")),
                 &serde_json::json!(4),
                 &serde_json::json!(11)
             )
@@ -315,7 +316,10 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
     std::fs::rename(m.join("MP0/TAB0.KOR"), m.join("MP0/TAB2.KOR")).expect("rename");
     let out = ncplc(&["nc", "check", machine, "G81ROUGH", "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(json_lines(&out.stderr)[0]["file"], "MP0/TAB2.KOR");
+    assert_eq!(
+        json_lines(&out.stderr)[0]["file"],
+        format!("{machine}/MP0/TAB2.KOR")
+    );
     // The shipped lathe table is valid and keeps the roughing example's entry 01 without lengths.
     let ok = ncplc(&["nc", "check", "plc-programs/lathe", "G81ROUGH"]);
     assert!(
@@ -749,5 +753,84 @@ fn check_of_an_empty_partprogram_is_one_error() {
             Some(1),
             Some("the partprogram is empty".to_string())
         )]
+    );
+}
+
+#[test]
+fn fanuc_issue_14_classes_plan_end_to_end_and_an_unexecuted_word_is_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("O1234.nc");
+    std::fs::write(
+        &prog,
+        "O1234\nG21 G90 G17 G54\nG10 L2 P2 X100. Y50. Z0\nG55 G00 X10. Y0 Z5.\nG01 Z-1. F200.\n\
+         G02 I-10.\nG61 G01 X20.\nG64 P0.02 X25.\nG00 Z10.\nG91 G98 G81 X10. Y0 Z-6. R-4. L3 F100.\n\
+         G80 G90\nM98 P2001 L2\nG28\nM30\nO2001\nG91 G01 Y1.2345 F300.\nG90\nM99\n",
+    )
+    .expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        prog.to_str().unwrap_or_default(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let l = json_lines(&out.stdout);
+    // G10 L2 P2 + G55: X10 Y0 is machine X110 Y50; the full circle G02 I-10 ends where it starts.
+    assert_eq!(
+        (l[0]["end"]["X"].as_f64(), l[0]["end"]["Y"].as_f64()),
+        (Some(110.0), Some(50.0))
+    );
+    assert_eq!(l[2]["kind"], "arc_cw");
+    assert_eq!(l[2]["end"]["X"], 110.0);
+    assert_eq!(l[2]["center"]["X"], 100.0);
+    assert_eq!(l[3]["exact_stop"], true);
+    assert_eq!(l[4]["tolerance"], 0.02);
+    // L3 in G91: three holes at X120, 130, 140 (machine 135, 145, 155), bottom Z0.
+    let holes: Vec<f64> = l
+        .iter()
+        .filter(|v| v["kind"] == "linear" && v["end"]["Z"] == 0.0)
+        .filter_map(|v| v["end"]["X"].as_f64())
+        .collect();
+    assert_eq!(holes, vec![135.0, 145.0, 155.0]);
+    // O2001 after M30 runs twice: Y1.2345 rounds to 1.235.
+    let sub: Vec<f64> = l
+        .iter()
+        .filter(|v| v["unit"] == "O2001")
+        .filter_map(|v| v["end"]["Y"].as_f64())
+        .collect();
+    assert_eq!(sub, vec![51.235, 52.47]);
+    // G28 without axes: every axis to machine zero.
+    let home = &l[l.len() - 2];
+    assert_eq!(
+        (
+            home["kind"].as_str(),
+            home["end"]["X"].as_f64(),
+            home["end"]["Y"].as_f64(),
+            home["end"]["Z"].as_f64()
+        ),
+        (Some("rapid"), Some(0.0), Some(0.0), Some(0.0))
+    );
+    std::fs::write(&prog, "O1\nG01 X1. R5. F100.\nM30\n").expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        prog.to_str().unwrap_or_default(),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let d = json_lines(&out.stderr);
+    assert_eq!(
+        (
+            d[0]["code"].as_u64(),
+            d[0]["line"].as_u64(),
+            d[0]["column"].as_u64()
+        ),
+        (Some(2530), Some(2), Some(9))
     );
 }

@@ -6,7 +6,7 @@
 //! like). Every span and every diagnostic refers to that decoded text, and because a legacy byte
 //! becomes exactly one character, columns still count the file's bytes.
 //!
-//! [`tokenize`] runs the logos DFA and applies the line rules of plc-language.md §2: a newline ends a
+//! [`tokenize`] runs the logos DFA and applies the line rules of docs/plc-language.md §2: a newline ends a
 //! statement unless a `(` or `[` is open or the line ends with a binary operator, `/`, `=`, `,` or
 //! `:=`. Blank lines disappear. Lexer errors become [`Tok::Error`] tokens (so the parser's `!`
 //! recovery can resynchronise) and are also returned as [`LexError`]s.

@@ -227,7 +227,7 @@ fn every_code_is_documented_in_the_table() {
 
 #[test]
 fn constant_expressions_take_the_targets_type() {
-    // Two literals fold to one, which then takes the target's type (plc-language.md §4.2).
+    // Two literals fold to one, which then takes the target's type (docs/plc-language.md §4.2).
     let p =
         program("W100K0 = 0 + 0\nW100K1 = 200 + 55\nW100K2 = 0FH & 3CH\nU100K0 = TRUE * /FALSE\n");
     let consts: Vec<&Expr> = p

@@ -277,7 +277,8 @@ fn summary(diagnostics: &[Diagnostic]) -> String {
 fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
     use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
     use codespan_reporting::files::SimpleFiles;
-    use codespan_reporting::term::{self, termcolor::NoColor};
+    use codespan_reporting::term::{self, termcolor::Buffer};
+    use std::io::Write as _;
 
     let mut files = SimpleFiles::new();
     let mut ids = BTreeMap::new();
@@ -288,7 +289,7 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         }
     }
     let config = term::Config::default();
-    let mut out = NoColor::new(Vec::new());
+    let mut out = Buffer::no_color();
     for d in diagnostics {
         let mut cs = match d.severity {
             Severity::Error => CsDiagnostic::error(),
@@ -343,7 +344,7 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         cs = cs.with_notes(notes);
         if term::emit_to_write_style(&mut out, &config, &files, &cs).is_err() {
             // Rendering into memory only fails on a bad span; fall back to the one-line form.
-            out.get_mut().extend_from_slice(format!("{d}\n").as_bytes());
+            let _ = writeln!(out, "{d}");
         }
     }
     String::from_utf8_lossy(&out.into_inner()).into_owned()

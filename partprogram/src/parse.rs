@@ -422,8 +422,13 @@ fn group_fanuc(file: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec
             Item::Word('O', val, sp) => {
                 match val {
                     Val::Lit(l) if !l.point && !l.signed && (0..=99_999).contains(&l.int) => {
-                        if out.number.is_none() {
+                        // An O word starts a program: the first names the main program, each later one
+                        // a further program of the file (it must open its own block).
+                        flush(&mut cur, &mut started, out);
+                        if out.number.is_none() && out.blocks.is_empty() && out.programs.is_empty() {
                             out.number = Some(l.int as u32);
+                        } else {
+                            out.programs.push((l.int as u32, out.blocks.len()));
                         }
                     }
                     _ => diags.push(

@@ -8,8 +8,8 @@
 //! io.toml runs with `--io sim` only, which is not a problem of the machine.
 //!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
-//! (`--format json`), and exits 1 when there is any error, 0 otherwise. `--dump` prints the typed
-//! model as JSON on stdout instead (diagnostics then go to stderr).
+//! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
+//! does not exist, 0 otherwise. `--dump` prints the typed model as JSON on stdout.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -28,6 +28,7 @@ pub enum Format {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The machine directory (holding FCRSYS).
+    #[arg(value_name = "MACHINE")]
     pub machine_dir: PathBuf,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = Format::Human)]
@@ -59,7 +60,11 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
             }
             format!("{}: no problems found\n", files.join(", "))
         }
-        Format::Human => diag::render_human_capped(&load.diagnostics, &load.sources, max_errors),
+        Format::Human => super::output::render_diagnostics_capped(
+            &load.diagnostics,
+            &load.sources,
+            max_errors,
+        ),
         Format::Json => diag::json_lines_capped(&load.diagnostics, max_errors),
     }
 }
@@ -92,6 +97,12 @@ pub fn check_io_map(
 
 /// Runs `ncplc check`.
 pub fn run(args: Args) -> ExitCode {
+    if !args.machine_dir.is_dir() {
+        return super::output::usage_error(format!(
+            "ncplc check: {}: not a machine directory (no such directory)",
+            args.machine_dir.display()
+        ));
+    }
     let mut load = characterization::load_machine(&args.machine_dir);
     if let Some(machine) = load.machine.clone() {
         let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
@@ -99,18 +110,16 @@ pub fn run(args: Args) -> ExitCode {
         let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(io);
     }
+    super::output::relocate(&mut load, &args.machine_dir);
     let report = render(&load, args.format, args.max_errors);
-    let mut out = std::io::stdout().lock();
-    let written = if args.dump {
-        eprint!("{report}");
+    // Diagnostics on stderr; stdout holds only the --dump model.
+    eprint!("{report}");
+    if args.dump {
         let model = serde_json::to_string_pretty(&load.machine)
             .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"));
-        writeln!(out, "{model}")
-    } else {
-        write!(out, "{report}")
-    };
-    if written.is_err() {
-        return ExitCode::from(2);
+        if writeln!(std::io::stdout().lock(), "{model}").is_err() {
+            return ExitCode::from(2);
+        }
     }
     if load.has_errors() {
         ExitCode::from(1)
