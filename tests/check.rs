@@ -159,13 +159,18 @@ fn json_check(args: &[&str]) -> (Option<i32>, Vec<serde_json::Value>) {
     all.extend_from_slice(args);
     all.extend_from_slice(&["--format", "json"]);
     let out = ncplc(&all);
-    // Diagnostics go to stderr, files named as the user can open them: the machine directory
-    // (the first argument) is taken off so that the expectations name the file in the machine.
+    // Diagnostics go to stderr, files named as from the current directory: the machine's path
+    // is taken off again so that the tests compare the names inside the machine.
     let prefix = format!("{}/", args[0]);
     let lines = String::from_utf8_lossy(&out.stderr)
-        .replace(&prefix, "")
         .lines()
-        .map(|l| serde_json::from_str(l).expect("JSON line"))
+        .map(|l| {
+            let mut v: serde_json::Value = serde_json::from_str(l).expect("JSON line");
+            if let Some(f) = v["file"].as_str().and_then(|f| f.strip_prefix(&prefix)) {
+                v["file"] = serde_json::Value::from(f);
+            }
+            v
+        })
         .collect();
     (out.status.code(), lines)
 }
@@ -279,14 +284,35 @@ fn max_errors_caps_the_diagnostics_of_a_file() {
         lines[3].to_string(),
         r#"{"file":"MP0/AXCFIL","more_errors":48,"more_warnings":0}"#
     );
-    let out = ncplc(&["check", &d, "--max-errors", "3"]);
-    let text = String::from_utf8_lossy(&out.stderr).replace(&format!("{d}/"), "");
+    let out = ncplc(&["check", &d, "--max-errors", "3", "--color", "never"]);
+    let text = String::from_utf8_lossy(&out.stderr);
     assert!(
-        text.ends_with(
-            "note: 48 more errors in MP0/AXCFIL (--max-errors 0 shows all)\n51 errors, 0 warnings\n"
-        ),
+        text.ends_with(&format!(
+            "note: 48 more errors in {d}/MP0/AXCFIL (--max-errors 0 shows all)\n51 errors, 0 warnings\n"
+        )),
         "{text}"
     );
     let (_, lines) = json_check(&[&d, "--max-errors", "0"]);
     assert_eq!(lines.len(), 51);
+}
+
+/// An empty AXCFIL is one error saying so (972), not missing sections and the cross-file rules of
+/// PGCFIL and IOCFIL against NBP=0 and TIM=0 (12 errors before).
+#[test]
+fn empty_characterization_file_is_one_error() {
+    let dir = copy_machine("mill");
+    std::fs::write(dir.path().join("MP0/AXCFIL"), "").expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [(
+            972,
+            "MP0/AXCFIL".to_string(),
+            1,
+            1,
+            "MP0/AXCFIL is empty".to_string()
+        )]
+    );
 }

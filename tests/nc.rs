@@ -680,7 +680,7 @@ fn check_refuses_an_arc_whose_end_point_is_off_its_circle() {
             ),
             (
                 Some(2503),
-                Some("nc/ARC"),
+                Some(format!("{d}/nc/ARC").as_str()),
                 Some(3),
                 Some(1),
                 Some(
@@ -705,7 +705,16 @@ fn check_caps_the_errors_of_a_one_block_program() {
     let text = format!("%1\nN1{}\nN2 M30\n", " U1".repeat(20_000));
     std::fs::write(dir.path().join("nc/ONE"), text).expect("write");
     let d = dir.path().display().to_string();
-    let out = ncplc(&["nc", "check", &d, "ONE", "--max-errors", "2"]);
+    let out = ncplc(&[
+        "nc",
+        "check",
+        &d,
+        "ONE",
+        "--max-errors",
+        "2",
+        "--color",
+        "never",
+    ]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr).replace(&format!("{d}/"), "");
     assert_eq!(
@@ -715,14 +724,48 @@ fn check_caps_the_errors_of_a_one_block_program() {
         "{err}"
     );
     assert!(
-        err.contains("= in nc/ONE:2:4 (a long line): `N1 U1 U1 U1 U1 U1 U1 U1 U1 U1 U1 …`"),
+        err.contains(&format!(
+            "= in {d}/nc/ONE:2:4 (a long line): `N1 U1 U1 U1 U1 U1 U1 U1 U1 U1 U1 …`"
+        )),
         "{err}"
     );
     assert!(
-        err.ends_with(
-            "note: 19999 more errors in nc/ONE (--max-errors 0 shows all)\n20000 errors, 1 warning\n"
-        ),
+        err.ends_with(&format!(
+            "note: 19999 more errors in {d}/nc/ONE (--max-errors 0 shows all)\n20000 errors, 1 warning\n"
+        )),
         "{err}"
+    );
+}
+
+/// An empty partprogram is one error saying so, without the "no M02/M30" warning.
+#[test]
+fn check_of_an_empty_partprogram_is_one_error() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_machine("mill", dir.path());
+    std::fs::write(dir.path().join("nc/EMPTY"), "\n").expect("write");
+    let d = dir.path().display().to_string();
+    let out = ncplc(&["nc", "check", &d, "EMPTY", "--format", "json"]);
+    assert_eq!(out.status.code(), Some(1));
+    let lines = json_lines(&out.stderr);
+    let got: Vec<_> = lines
+        .iter()
+        .map(|e| {
+            (
+                e["code"].as_u64(),
+                e["line"].as_u64(),
+                e["column"].as_u64(),
+                e["message"].as_str().map(str::to_string),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [(
+            Some(2003),
+            Some(1),
+            Some(1),
+            Some("the partprogram is empty".to_string())
+        )]
     );
 }
 

@@ -402,3 +402,5 @@ pub const ATR_MISSING: u32 = 228;
 pub const NOT_TEXT: u32 = 970;
 /// Project 971: too many consecutive lines that are not records (reading stops).
 pub const GAVE_UP: u32 = 971;
+/// Project 972: the file is empty or holds only comments (not validated further).
+pub const EMPTY_FILE: u32 = 972;

@@ -166,7 +166,8 @@ pub const MAX_BAD_LINES: usize = 50;
 
 /// Reads a file with the given grammar; never panics, whatever the bytes. A file with a NUL byte
 /// (error 970) or with [`MAX_BAD_LINES`] bad lines in a row (error 971) is read no further and
-/// comes back [`ParsedFile::abandoned`].
+/// comes back [`ParsedFile::abandoned`], as does an empty or comment-only file (error 972, one
+/// error instead of the missing sections and every cross-file rule that follows from them).
 pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec<Diagnostic>) {
     let nul = bytes.iter().position(|&b| b == 0);
     let text = decode(&bytes[..nul.unwrap_or(bytes.len())]);
@@ -184,6 +185,24 @@ pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec
         abandoned: false,
     };
     reader.run();
+    let blank = |l: &str| {
+        let t = l.trim();
+        t.is_empty() || t.starts_with(';')
+    };
+    if nul.is_none() && reader.diags.is_empty() && text.lines().all(blank) {
+        let what = if text.trim().is_empty() {
+            "is empty"
+        } else {
+            "holds only comments"
+        };
+        reader.error(
+            codes::EMPTY_FILE,
+            0..0,
+            format!("{name} {what}"),
+            "a characterization file starts with its section marker `*1`, followed by its records `NAME=p1,p2,…`; the machines in plc-programs/ are complete examples",
+        );
+        reader.abandoned = true;
+    }
     if let Some(at) = nul
         && !reader.abandoned
     {

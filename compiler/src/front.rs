@@ -65,6 +65,23 @@ pub fn compile_with_threads(
     let mut program = None;
     // A program with syntax errors is never handed out, even if the recovered lines check.
     if let Some(checked) = checked.filter(|_| !diag::has_errors(&diagnostics)) {
+        if checked.statements == 0 && checked.symbolic_names == 0 {
+            let what = if text.trim().is_empty() {
+                "is empty"
+            } else {
+                "has no statements"
+            };
+            diagnostics.push(
+                diag::Diagnostic::warning(
+                    sema::codes::EMPTY_PROGRAM,
+                    file_name,
+                    0..0,
+                    format!("the PLC program {what}: every output stays 0"),
+                )
+                .with_hint("write statements such as `U4A0 = I0A0 * I0A1`; plc-programs/mill/MP0/PLCPRG is a complete example")
+                .locate(&text),
+            );
+        }
         stats.statements = checked.statements;
         stats.symbolic_names = checked.symbolic_names;
         match lower::lower(file_name, checked) {

@@ -241,6 +241,34 @@ fn friendly(expected: &[String]) -> String {
     quoted.join(", ")
 }
 
+/// The keywords of the language, for "did you mean" on a misspelled one (`ENDIF` → `END_IF`).
+const KEYWORDS: &[&str] = &[
+    "DEF", "AT", "RETAIN", "SET", "RES", "IF", "THEN", "ELSE", "END_IF", "OR", "AND", "NOT", "XOR",
+    "MOD", "TRUE", "FALSE",
+];
+
+/// "did you mean `END_IF`?" when the unexpected token is a name close to a keyword, or ends a
+/// line that is one such word alone (`ENDIF` reads as the start of an assignment).
+fn keyword_suggestion(text: &str, at: usize, t: &Tok) -> Option<String> {
+    let word = match t {
+        Tok::Ident(w) => w.to_string(),
+        Tok::Newline => {
+            let at = at.min(text.len());
+            let start = text.get(..at)?.rfind('\n').map_or(0, |i| i + 1);
+            let line = text.get(start..at)?.trim();
+            let single = !line.is_empty()
+                && line.len() <= 64
+                && line.bytes().all(|b| b.is_ascii_alphanumeric() || b == b'_');
+            if !single {
+                return None;
+            }
+            line.to_string()
+        }
+        _ => return None,
+    };
+    diag::did_you_mean(&word, KEYWORDS.iter().copied())
+}
+
 fn syntax_diagnostic(
     file: &str,
     text: &str,
@@ -277,8 +305,12 @@ fn syntax_diagnostic(
                         .with_hint("a name is letters, digits and `_`, starts with a letter and must not look like a signal (U10K5), a one-shot (P2) or a keyword"),
                 );
             }
+            let mut hint = format!("expected {}", friendly(&expected));
+            if let Some(s) = keyword_suggestion(text, l, &t) {
+                hint = format!("{s} {hint}");
+            }
             Diagnostic::error(codes::SYNTAX, file, span, format!("unexpected {what}"))
-                .with_hint(format!("expected {}", friendly(&expected)))
+                .with_hint(hint)
         }
         ParseError::UnrecognizedEof { location, expected } => {
             let start = location.min(text.len());

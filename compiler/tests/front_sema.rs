@@ -342,3 +342,62 @@ fn undefined_name_suggests_the_nearest_one() {
         ]
     );
 }
+
+/// An empty or comment-only program compiles with one warning saying so (every output stays 0).
+#[test]
+fn empty_program_warns() {
+    for (src, what) in [
+        ("", "is empty"),
+        ("; only a comment\n", "has no statements"),
+    ] {
+        let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+        let got: Vec<_> = c
+            .diagnostics
+            .iter()
+            .map(|d| (d.code, d.line, d.column, d.message.clone(), d.is_error()))
+            .collect();
+        assert_eq!(
+            got,
+            vec![(
+                1505,
+                1,
+                1,
+                format!("the PLC program {what}: every output stays 0"),
+                false
+            )]
+        );
+        assert!(c.program.is_some());
+    }
+}
+
+/// A misspelled keyword gets "did you mean" (`ENDIF` alone on its line reads as the start of an
+/// assignment, so the parser stops at the end of that line).
+#[test]
+fn misspelled_keyword_suggests_the_keyword() {
+    let src = "IF I0A0 THEN\nU4A0 = 1\nENDIF\n";
+    let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+    let got: Vec<_> = c
+        .diagnostics
+        .iter()
+        .map(|d| (d.code, d.line, d.column, d.message.clone(), d.hint.clone()))
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (
+                1008,
+                1,
+                1,
+                "`IF` without `END_IF`".to_string(),
+                "add an `END_IF` line after the block".to_string()
+            ),
+            (
+                1003,
+                3,
+                6,
+                "unexpected end of line".to_string(),
+                "did you mean `END_IF`? expected `=`, `.`".to_string()
+            ),
+        ]
+    );
+}

@@ -30,10 +30,12 @@ use serde::{Deserialize, Serialize};
 
 mod cap;
 mod lines;
+mod random_text;
 mod suggest;
 
 pub use cap::{DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, render_human_capped};
 pub use lines::{Indexed, LineIndex};
+pub use random_text::random_text;
 pub use suggest::{did_you_mean, nearest};
 
 /// How serious a diagnostic is: errors fail a check or a build, warnings do not.

@@ -1,7 +1,10 @@
 #![no_main]
 //! Arbitrary bytes read as FCRSYS and as AXCFIL never panic the reader, the FCRSYS validator or
 //! the AXCFIL validator, and every diagnostic they report lies inside the decoded text.
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
+//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let started = std::time::Instant::now();
     use characterization::reader::{Grammar, read, read_with};
     let (fc, mut d) = read_with("FCRSYS", data, Grammar::FCRSYS);
     d.extend(characterization::fcrsys::validate(&fc).1);
@@ -11,4 +14,6 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     for x in &d {
         assert!(x.span.end <= fc.text.len().max(ax.text.len()));
     }
+    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
+    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
 });

@@ -1,6 +1,9 @@
 #![no_main]
 //! I/O maps from arbitrary text never panic the reader; a map comes back exactly when there is no error.
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
+//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let started = std::time::Instant::now();
     if let Ok(s) = std::str::from_utf8(data) {
         let declared = fieldbus::DeclaredConnectors {
             inputs: vec![0, 1, 2],
@@ -9,4 +12,6 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         let (map, diags) = fieldbus::parse_map(s, "io.toml", &declared);
         assert_eq!(map.is_some(), !diags.iter().any(|d| d.is_error()));
     }
+    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
+    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
 });

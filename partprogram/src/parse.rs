@@ -65,6 +65,13 @@ fn parse_unlocated(
                 (Some(p), None) => p,
                 (None, Some(c)) => c,
                 (None, None) if !require_header => 0,
+                (None, None) if src.trim().is_empty() => {
+                    diags.push(
+                        Diagnostic::error(codes::HEADER, file, 0..0, "the partprogram is empty")
+                            .with_hint("a MEFI partprogram is `%<number>` on its first line, then blocks such as `N1 G0 X0 Y0`, ended by a block with M02 or M30"),
+                    );
+                    return (out, diags);
+                }
                 (None, None) => {
                     diags.push(
                         Diagnostic::error(

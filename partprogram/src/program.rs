@@ -430,7 +430,8 @@ fn build_main_units(
             ));
         }
     }
-    if !library && !main_ended {
+    // An empty file has one error saying so; "no M02/M30" would only repeat it.
+    if !library && !main_ended && !src.trim().is_empty() {
         diags.push(
             Diagnostic::warning(
                 codes::NO_END,

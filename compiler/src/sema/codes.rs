@@ -105,6 +105,8 @@ pub const NEVER_USED: u32 = 1502;
 pub const PULSE_NEVER_SET: u32 = 1503;
 /// Warning: a timer preset shorter than the logic tick (it runs out at the first tick).
 pub const SHORT_TIMER: u32 = 1504;
+/// Warning: the program has no statements (an empty or comment-only file).
+pub const EMPTY_PROGRAM: u32 = 1505;
 
 /// Interface map: the TOML text does not have the map's shape.
 pub const MAP_TOML: u32 = 1601;
@@ -181,6 +183,7 @@ pub const ALL: &[(u32, &str)] = &[
     (NEVER_USED, "never used"),
     (PULSE_NEVER_SET, "one-shot never assigned"),
     (SHORT_TIMER, "timer shorter than the tick"),
+    (EMPTY_PROGRAM, "no statements"),
     (MAP_TOML, "interface map: bad TOML"),
     (MAP_ENTRY, "interface map: bad entry"),
     (MAP_IO, "interface map: unreadable file"),

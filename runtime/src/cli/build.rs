@@ -137,7 +137,9 @@ pub fn run(args: Args) -> ExitCode {
     let mut sources = diag::Sources::new();
     sources.add(name.clone(), c.text.clone());
     let report = match args.format {
-        Format::Human => super::output::render_diagnostics_capped(&diagnostics, &sources, args.max_errors),
+        Format::Human => {
+            super::output::render_diagnostics_capped(&diagnostics, &sources, args.max_errors)
+        }
         Format::Json => diag::json_lines_capped(&diagnostics, args.max_errors),
     };
     let ok = c.program.is_some() && !diag::has_errors(&diagnostics);

@@ -60,11 +60,9 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
             }
             format!("{}: no problems found\n", files.join(", "))
         }
-        Format::Human => super::output::render_diagnostics_capped(
-            &load.diagnostics,
-            &load.sources,
-            max_errors,
-        ),
+        Format::Human => {
+            super::output::render_diagnostics_capped(&load.diagnostics, &load.sources, max_errors)
+        }
         Format::Json => diag::json_lines_capped(&load.diagnostics, max_errors),
     }
 }

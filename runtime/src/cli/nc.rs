@@ -336,7 +336,10 @@ pub fn run(args: Args) -> ExitCode {
         if json {
             eprint!("{}", diag::json_lines_capped(diags, max_errors));
         } else {
-            eprint!("{}", super::output::render_diagnostics_capped(diags, &sources, max_errors));
+            eprint!(
+                "{}",
+                super::output::render_diagnostics_capped(diags, &sources, max_errors)
+            );
         }
     };
     print_diags(&diags, json);
