@@ -286,12 +286,15 @@ pub fn compile_cached(
     match c.program {
         Some(p) if !diag::has_errors(&c.diagnostics) => {
             if !c.diagnostics.is_empty() {
-                eprint!("{}", diag::render_human(&c.diagnostics, &sources));
+                eprint!(
+                    "{}",
+                    crate::cli::output::render_diagnostics(&c.diagnostics, &sources)
+                );
             }
             load_cached(p, engine, threads, cache)
         }
         _ => Err(LoadError::Diagnostics {
-            rendered: diag::render_human(&c.diagnostics, &sources),
+            rendered: crate::cli::output::render_diagnostics(&c.diagnostics, &sources),
             diagnostics: c.diagnostics,
         }),
     }

@@ -10,6 +10,7 @@ use std::process::ExitCode;
 use crate::compiled::EngineKind;
 use crate::machine::Machine;
 use crate::replay::{ReplayOptions, replay_with};
+use crate::trace::recover::recover;
 use crate::trace::{Trace, binary};
 
 /// Arguments of `ncplc replay`.
@@ -51,7 +52,14 @@ pub fn run(args: Args) -> ExitCode {
 fn run_inner(args: &Args) -> Result<ExitCode, String> {
     let machine = Machine::open(&args.machine, args.plc.as_deref()).map_err(|e| e.to_string())?;
     let bytes = std::fs::read(&args.trace).map_err(|e| format!("{}: {e}", args.trace.display()))?;
-    let trace = Trace::from_bytes(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?;
+    let trace = if args.trace.extension().is_some_and(|e| e == "partial") {
+        // What a crashed recording left: its complete records.
+        let r = recover(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?;
+        eprintln!("{}: {}", args.trace.display(), r.summary());
+        r.trace
+    } else {
+        Trace::from_bytes(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?
+    };
     let compile = machine.compile_fn_with_threads(args.engine, trace.tick_ms, 0);
     let loaded = match compile(&machine.read_source().map_err(|e| e.to_string())?) {
         Ok(l) => l,
@@ -116,7 +124,7 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
         );
         Ok(ExitCode::SUCCESS)
     } else {
-        print!("{}", result.report(&trace, args.context));
+        eprint!("{}", result.report(&trace, args.context));
         Ok(ExitCode::from(1))
     }
 }
