@@ -98,11 +98,11 @@ fn scan_vs_replay_tick(c: &mut Criterion) {
             |(mut l, mut image)| {
                 for t in 0..TICKS {
                     // The same input writes as the replay, so both run the same logic.
-                    if t % 16 == 0 {
-                        if let Some(r) = trace.ticks.get((t / 16) as usize) {
-                            for (s, v) in &r.inputs {
-                                s.write(&mut image, *v);
-                            }
+                    if t % 16 == 0
+                        && let Some(r) = trace.ticks.get((t / 16) as usize)
+                    {
+                        for (s, v) in &r.inputs {
+                            s.write(&mut image, *v);
                         }
                     }
                     l.logic.tick(black_box(&mut image));

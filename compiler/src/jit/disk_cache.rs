@@ -135,8 +135,9 @@ pub fn compile(
     let target = isa(opts)?;
     let entry = cache.entry(p, opts, &target);
     if let Some(text) = entry.as_ref().and_then(Entry::load) {
-        if let Ok(program) = load_text(target, &text, p.image_len) {
-            return Ok((program, true));
+        match load_text(target, &text, p.image_len) {
+            Ok(program) => return Ok((program, true)),
+            Err(_) => return Ok((compile_program_to(p, opts, None, entry.as_ref())?, false)),
         }
     }
     Ok((compile_program_to(p, opts, None, entry.as_ref())?, false))
