@@ -2,7 +2,8 @@
 //!
 //! Replay starts from a fresh image (packet T from the configuration, no retained data), writes
 //! each record's inputs at the start of its tick, scans, and diffs the written signals, exactly as
-//! `ncplc run --record` produced them.
+//! `ncplc run --record` produced them. Values an HMI force put back after the scan (`forced`) are
+//! written after the replay's scan too.
 
 use crate::image::Image;
 use crate::program::Loaded;
@@ -65,16 +66,21 @@ pub fn replay(
             }
         }
         loaded.logic.tick(image.bytes_mut());
+        let forced = rec.map_or(none, |r| r.forced.as_slice());
+        for (s, v) in forced {
+            s.write(image.bytes_mut(), *v);
+        }
         outs.clear();
         tracker.diff(image.bytes(), &mut outs);
         let expected = rec.map_or(none, |r| r.outputs.as_slice());
         cmp.tick(t, expected, &outs);
         let inputs = rec.map_or(none, |r| r.inputs.as_slice());
-        if !outs.is_empty() || !inputs.is_empty() || t + 1 == total {
+        if !outs.is_empty() || !inputs.is_empty() || !forced.is_empty() || t + 1 == total {
             actual.ticks.push(TickRecord {
                 t,
                 inputs: inputs.to_vec(),
                 outputs: outs.clone(),
+                forced: forced.to_vec(),
             });
         }
         if t & 0xffff == 0xffff {
