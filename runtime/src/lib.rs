@@ -32,6 +32,7 @@ pub mod io;
 pub mod machine;
 pub mod machine_facts;
 pub mod online;
+pub mod plot;
 pub mod process_map;
 pub mod program;
 pub mod replay;
