@@ -41,7 +41,7 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
         ("POST", "/api/force", r#"{"signal":"U5A2","value":2}"#, 400, "U5A2: value 2 is out of range (0..1)"),
         ("POST", "/api/write", r#"{"signal":"W0T2","value":1}"#, 400, "W0T2: packet T holds the machine's constants (IOCFIL section 4); it is not written from the HMI"),
         ("POST", "/api/write", r#"{"signal":"NOPE","value":1}"#, 404, "`NOPE` is neither a signal address (I0A3, U4A0, W3K0) nor a name of this machine"),
-        ("POST", "/api/write", r#"{"signal":"I0A3","value":1,"extra":0}"#, 400, "request body: unknown field `extra`, expected `signal` or `value` at line 1 column 38"),
+        ("POST", "/api/write", r#"{"signal":"I0A3","value":1,"extra":0}"#, 400, "request body: unknown field `extra`, expected `signal` or `value` at line 1 column 34"),
         ("POST", "/api/command", r#"{"process":1,"command":"jump"}"#, 400, "unknown command \"jump\" (expected start, hold, reset, mode, mdi)"),
         ("POST", "/api/command", r#"{"process":9,"command":"start"}"#, 400, "process 9 does not exist (processes are 1..5)"),
         ("POST", "/api/command", r#"{"process":1,"command":"start"}"#, 409, "start for process 1: operator commands need the CNC kernel, which is not wired into this build yet"),
@@ -109,7 +109,7 @@ fn a_non_loopback_bind_needs_the_printed_token() {
     // hmi: http://0.0.0.0:PORT/?token=T  (access token T)
     let port = line
         .split(':')
-        .nth(2)
+        .nth(3)
         .and_then(|p| p.split('/').next())
         .expect("port");
     let token = line.rsplit(' ').next().expect("token").trim_end_matches(')');
