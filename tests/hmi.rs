@@ -23,33 +23,102 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
     let (code, body) = hmi.http("GET", "/api/signal/I0A0", None);
     assert_eq!(code, 200);
     let v = json(&body);
-    assert_eq!((v["signal"].as_str(), v["value"].as_u64(), v["forced"].as_bool()), (Some("I0A0"), Some(1), Some(false)));
+    assert_eq!(
+        (
+            v["signal"].as_str(),
+            v["value"].as_u64(),
+            v["forced"].as_bool()
+        ),
+        (Some("I0A0"), Some(1), Some(false))
+    );
     // LUBE_LAMP (U5A2) is off while the lube level is fine: force it on by its program name.
-    let (code, body) = hmi.http("POST", "/api/force", Some(r#"{"signal":"LUBE_LAMP","value":1}"#));
+    let (code, body) = hmi.http(
+        "POST",
+        "/api/force",
+        Some(r#"{"signal":"LUBE_LAMP","value":1}"#),
+    );
     assert_eq!(code, 200, "{body}");
     let applied = json(&body)["tick"].as_u64().expect("tick");
     hmi.wait_tick(applied + 3);
     let v = json(&hmi.http("GET", "/api/signal/U5A2", None).1);
-    assert_eq!((v["value"].as_u64(), v["forced"].as_bool()), (Some(1), Some(true)));
+    assert_eq!(
+        (v["value"].as_u64(), v["forced"].as_bool()),
+        (Some(1), Some(true))
+    );
     let v = json(&hmi.http("GET", "/api/force", None).1);
-    assert_eq!(v["forced"], serde_json::json!([{"signal": "U5A2", "value": 1}]));
+    assert_eq!(
+        v["forced"],
+        serde_json::json!([{"signal": "U5A2", "value": 1}])
+    );
     // A write once: CYCLE START pressed for one scan (the sim releases it again at its next latch).
     let (code, _) = hmi.http("POST", "/api/write", Some(r#"{"signal":"I0A3","value":1}"#));
     assert_eq!(code, 200);
     // Refusals: JSON with a 4xx and the reason.
     for (method, path, body, want_code, want) in [
-        ("POST", "/api/force", r#"{"signal":"U5A2","value":2}"#, 400, "U5A2: value 2 is out of range (0..1)"),
-        ("POST", "/api/write", r#"{"signal":"W0T2","value":1}"#, 400, "W0T2: packet T holds the machine's constants (IOCFIL section 4); it is not written from the HMI"),
-        ("POST", "/api/write", r#"{"signal":"NOPE","value":1}"#, 404, "`NOPE` is neither a signal address (I0A3, U4A0, W3K0) nor a name of this machine"),
-        ("POST", "/api/write", r#"{"signal":"I0A3","value":1,"extra":0}"#, 400, "request body: unknown field `extra`, expected `signal` or `value` at line 1 column 34"),
-        ("POST", "/api/command", r#"{"process":1,"command":"jump"}"#, 400, "unknown command \"jump\" (expected start, hold, reset, mode, mdi)"),
-        ("POST", "/api/command", r#"{"process":9,"command":"start"}"#, 400, "process 9 does not exist (processes are 1..5)"),
-        ("POST", "/api/command", r#"{"process":1,"command":"start"}"#, 409, "start for process 1: operator commands need the CNC kernel, which is not wired into this build yet"),
+        (
+            "POST",
+            "/api/force",
+            r#"{"signal":"U5A2","value":2}"#,
+            400,
+            "U5A2: value 2 is out of range (0..1)",
+        ),
+        (
+            "POST",
+            "/api/write",
+            r#"{"signal":"W0T2","value":1}"#,
+            400,
+            "W0T2: packet T holds the machine's constants (IOCFIL section 4); it is not written from the HMI",
+        ),
+        (
+            "POST",
+            "/api/write",
+            r#"{"signal":"NOPE","value":1}"#,
+            404,
+            "`NOPE` is neither a signal address (I0A3, U4A0, W3K0) nor a name of this machine",
+        ),
+        (
+            "POST",
+            "/api/write",
+            r#"{"signal":"I0A3","value":1,"extra":0}"#,
+            400,
+            "request body: unknown field `extra`, expected `signal` or `value` at line 1 column 34",
+        ),
+        (
+            "POST",
+            "/api/command",
+            r#"{"process":1,"command":"jump"}"#,
+            400,
+            "unknown command \"jump\" (expected start, hold, reset, mode, mdi)",
+        ),
+        (
+            "POST",
+            "/api/command",
+            r#"{"process":9,"command":"start"}"#,
+            400,
+            "process 9 does not exist (processes are 1..5)",
+        ),
+        (
+            "POST",
+            "/api/command",
+            r#"{"process":1,"command":"start"}"#,
+            409,
+            "start for process 1: operator commands need the CNC kernel, which is not wired into this build yet",
+        ),
         ("DELETE", "/api/force/U4A0", "", 409, "U4A0 is not forced"),
-        ("GET", "/api/nothing", "", 404, "no such page or API route: /api/nothing"),
+        (
+            "GET",
+            "/api/nothing",
+            "",
+            404,
+            "no such page or API route: /api/nothing",
+        ),
     ] {
         let (code, got) = hmi.http(method, path, (!body.is_empty()).then_some(body));
-        assert_eq!((code, json(&got)["error"].as_str()), (want_code, Some(want)), "{method} {path} {body}");
+        assert_eq!(
+            (code, json(&got)["error"].as_str()),
+            (want_code, Some(want)),
+            "{method} {path} {body}"
+        );
     }
     let (code, _) = hmi.http("DELETE", "/api/force/U5A2", None);
     assert_eq!(code, 200);
@@ -60,7 +129,10 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
         text.lines().any(|l| l.contains(r#""forced":{"U5A2":1}"#)),
         "the force is in the trace:\n{text}"
     );
-    assert!(text.lines().any(|l| l.contains(r#""I0A3":1"#)), "the write is in the trace");
+    assert!(
+        text.lines().any(|l| l.contains(r#""I0A3":1"#)),
+        "the write is in the trace"
+    );
     let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
         .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
         .output()
@@ -80,7 +152,11 @@ fn a_readonly_hmi_refuses_writes_forces_and_commands() {
         ("POST", "/api/write", Some(r#"{"signal":"I0A3","value":1}"#)),
         ("POST", "/api/force", Some(r#"{"signal":"I0A3","value":1}"#)),
         ("DELETE", "/api/force", None),
-        ("POST", "/api/command", Some(r#"{"process":1,"command":"hold"}"#)),
+        (
+            "POST",
+            "/api/command",
+            Some(r#"{"process":1,"command":"hold"}"#),
+        ),
     ] {
         let (code, got) = hmi.http(method, path, body);
         assert_eq!(code, 403, "{method} {path}");
@@ -96,7 +172,10 @@ fn a_readonly_hmi_refuses_writes_forces_and_commands() {
 #[test]
 fn a_non_loopback_bind_needs_the_printed_token() {
     let mut child = Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(["run".as_ref(), root().join("plc-programs/lathe").as_os_str()])
+        .args([
+            "run".as_ref(),
+            root().join("plc-programs/lathe").as_os_str(),
+        ])
         .args(["--hmi", "0.0.0.0:0", "--no-watch", "--ticks", "3000"])
         .stderr(std::process::Stdio::piped())
         .spawn()
@@ -112,14 +191,24 @@ fn a_non_loopback_bind_needs_the_printed_token() {
         .nth(3)
         .and_then(|p| p.split('/').next())
         .expect("port");
-    let token = line.rsplit(' ').next().expect("token").trim_end_matches(')');
+    let token = line
+        .rsplit(' ')
+        .next()
+        .expect("token")
+        .trim_end_matches(')');
     assert_eq!(token.len(), 32, "{line}");
     let addr = format!("127.0.0.1:{port}");
     let (code, body) = http(&addr, "GET", "/api/status", None, None);
     assert_eq!(code, 401, "{body}");
-    assert_eq!(http(&addr, "GET", "/api/status", None, Some("wrong")).0, 401);
+    assert_eq!(
+        http(&addr, "GET", "/api/status", None, Some("wrong")).0,
+        401
+    );
     assert_eq!(http(&addr, "GET", "/api/status", None, Some(token)).0, 200);
-    assert_eq!(http(&addr, "GET", &format!("/?token={token}"), None, None).0, 200);
+    assert_eq!(
+        http(&addr, "GET", &format!("/?token={token}"), None, None).0,
+        200
+    );
     // The scripts are public (they hold no data).
     assert_eq!(http(&addr, "GET", "/static/app.js", None, None).0, 200);
     let _ = child.kill();

@@ -81,7 +81,9 @@ where
 }
 
 async fn js(c: &Client, script: &str) -> Result<serde_json::Value, String> {
-    c.execute(script, vec![]).await.map_err(|e| format!("{script}: {e}"))
+    c.execute(script, vec![])
+        .await
+        .map_err(|e| format!("{script}: {e}"))
 }
 
 async fn text(c: &Client, css: &str) -> Option<String> {
@@ -96,7 +98,10 @@ async fn shot(c: &Client, dir: &Path, name: &str) {
 }
 
 async fn search(c: &Client, q: &str) -> Result<(), String> {
-    let el = c.find(Locator::Id("search")).await.map_err(|e| e.to_string())?;
+    let el = c
+        .find(Locator::Id("search"))
+        .await
+        .map_err(|e| e.to_string())?;
     el.clear().await.map_err(|e| e.to_string())?;
     el.send_keys(q).await.map_err(|e| e.to_string())
 }
@@ -111,7 +116,9 @@ async fn page(c: &Client, name: &str) -> Result<(), String> {
 }
 
 async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
-    c.goto(&format!("http://{}/", hmi.addr)).await.map_err(|e| e.to_string())?;
+    c.goto(&format!("http://{}/", hmi.addr))
+        .await
+        .map_err(|e| e.to_string())?;
     until("the first live frame", 20, || async {
         text(c, "#status").await.filter(|t| t.starts_with("tick"))
     })
@@ -149,7 +156,9 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
     })
     .await?;
     until("the page's force marker", 5, || async {
-        text(c, &format!("{row} .forced")).await.filter(|t| t == "F=1")
+        text(c, &format!("{row} .forced"))
+            .await
+            .filter(|t| t == "F=1")
     })
     .await?;
     if let Some(d) = keep {
@@ -158,7 +167,9 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
     // Program page: source lines with live values.
     page(c, "program").await?;
     until("live values on the source", 5, || async {
-        text(c, "#source").await.filter(|t| t.contains("SPINDLE_CW") && t.contains("U4A0="))
+        text(c, "#source")
+            .await
+            .filter(|t| t.contains("SPINDLE_CW") && t.contains("U4A0="))
     })
     .await?;
     if let Some(d) = keep {
@@ -172,7 +183,11 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
         (n.as_u64()? > 20).then_some(())
     })
     .await?;
-    let canvases = js(c, "return document.querySelectorAll('#chart canvas').length").await?;
+    let canvases = js(
+        c,
+        "return document.querySelectorAll('#chart canvas').length",
+    )
+    .await?;
     if canvases.as_u64() < Some(1) {
         return Err("uPlot drew no canvas".into());
     }
@@ -182,7 +197,9 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
     // Machine page: the status interface (overrides from the image, handshake counts).
     page(c, "machine").await?;
     until("process 1 on the Machine page", 5, || async {
-        text(c, "#proc-1 .info").await.filter(|t| t.contains("F 100%"))
+        text(c, "#proc-1 .info")
+            .await
+            .filter(|t| t.contains("F 100%"))
     })
     .await?;
     if let Some(d) = keep {

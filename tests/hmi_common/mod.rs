@@ -89,7 +89,11 @@ impl Hmi {
         }
         let status = self.child.wait().expect("wait");
         let rest: Vec<String> = self.stderr.try_iter().collect();
-        assert!(status.success(), "ncplc failed: {status}\n{}", rest.join("\n"));
+        assert!(
+            status.success(),
+            "ncplc failed: {status}\n{}",
+            rest.join("\n")
+        );
         rest.join("\n")
     }
 }

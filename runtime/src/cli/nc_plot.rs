@@ -72,8 +72,7 @@ fn run_inner(common: &Common, args: &PlotArgs) -> Result<ExitCode, String> {
     };
     let trajectory = match &args.trajectory {
         Some(t) => {
-            let text =
-                std::fs::read_to_string(t).map_err(|e| format!("{}: {e}", t.display()))?;
+            let text = std::fs::read_to_string(t).map_err(|e| format!("{}: {e}", t.display()))?;
             toolpath::trajectory(&text, args.view).map_err(|e| format!("{}: {e}", t.display()))?
         }
         None => Vec::new(),

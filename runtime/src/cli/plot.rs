@@ -97,8 +97,12 @@ fn run_inner(args: Args) -> Result<(), String> {
             None => name.parse().ok(),
         }
         .ok_or_else(|| match &catalog {
-            Some(_) => format!("--signals: `{name}` is neither a signal address nor a name of the machine"),
-            None => format!("--signals: `{name}` is not a signal address (give --machine to use names)"),
+            Some(_) => {
+                format!("--signals: `{name}` is neither a signal address nor a name of the machine")
+            }
+            None => {
+                format!("--signals: `{name}` is not a signal address (give --machine to use names)")
+            }
         })?;
         let label = match catalog
             .as_ref()
@@ -121,9 +125,10 @@ fn run_inner(args: Args) -> Result<(), String> {
     if from > to {
         return Err(format!("--from {from} is after --to {to}"));
     }
-    let title = file
-        .file_name()
-        .map_or_else(|| file.display().to_string(), |n| n.to_string_lossy().into_owned());
+    let title = file.file_name().map_or_else(
+        || file.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
     let chart = TimingDiagram::new(title, &trace, &lanes, from, to);
     plot::write(&chart, &output).map_err(|e| e.to_string())?;
     eprintln!(

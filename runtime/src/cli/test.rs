@@ -279,7 +279,10 @@ mod tests {
                     "traces/b.jsonl",
                     Verdict::Diverged("first at tick 3".into(), "U4A0 <1> & more".into()),
                 ),
-                o("traces/c.jsonl", Verdict::Error("line 2: \"t\" missing".into())),
+                o(
+                    "traces/c.jsonl",
+                    Verdict::Error("line 2: \"t\" missing".into()),
+                ),
             ],
         );
         assert_eq!(

@@ -1,9 +1,9 @@
 //! The timing diagram of a trace: one lane per signal, bits as 0/1 steps, bytes as steps scaled to
 //! the lane with their values written at each change.
 
+use packets::Signal;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use packets::Signal;
 
 use super::{Chart, FAMILY};
 use crate::trace::Trace;
@@ -66,7 +66,8 @@ impl TimingDiagram {
             if r.t > to {
                 break;
             }
-            if r.t >= from && !started {
+            // The window starts with the image at the end of tick `from`.
+            if r.t > from && !started {
                 start(&image, &mut lanes);
                 started = true;
             }
@@ -215,7 +216,11 @@ mod tests {
         let steps: Vec<Vec<(u64, u8)>> = d.lanes.iter().map(|l| l.steps.clone()).collect();
         assert_eq!(
             steps,
-            vec![vec![(2, 1), (5, 0)], vec![(2, 0), (5, 80)], vec![(2, 0), (9, 1)]]
+            vec![
+                vec![(2, 1), (5, 0)],
+                vec![(2, 0), (5, 80)],
+                vec![(2, 0), (9, 1)]
+            ]
         );
     }
 }

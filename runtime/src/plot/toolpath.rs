@@ -57,7 +57,9 @@ pub struct Toolpath {
 const ARC_STEP: f64 = std::f64::consts::PI / 36.0;
 
 fn coord(pos: &[(char, f64)], axis: char) -> f64 {
-    pos.iter().find(|(a, _)| *a == axis).map_or(0.0, |(_, v)| *v)
+    pos.iter()
+        .find(|(a, _)| *a == axis)
+        .map_or(0.0, |(_, v)| *v)
 }
 
 /// The pieces of `blocks` in `view`. The path starts at the first motion block's end point.
@@ -66,7 +68,10 @@ pub fn pieces(blocks: &[Canon], view: View) -> Vec<Piece> {
     let mut out = Vec::new();
     let mut pos: Option<Vec<(char, f64)>> = None;
     for b in blocks {
-        if !matches!(b.kind, Kind::Rapid | Kind::Linear | Kind::ArcCw | Kind::ArcCcw) {
+        if !matches!(
+            b.kind,
+            Kind::Rapid | Kind::Linear | Kind::ArcCw | Kind::ArcCcw
+        ) {
             continue;
         }
         let Some(start) = pos.replace(b.end.clone()) else {
