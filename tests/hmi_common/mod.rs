@@ -57,6 +57,7 @@ impl Hmi {
                 }
                 Err(_) => {
                     let _ = child.kill();
+                    let _ = child.wait();
                     panic!("ncplc did not start the HMI:\n{}", seen.join("\n"));
                 }
             }
@@ -95,6 +96,14 @@ impl Hmi {
             rest.join("\n")
         );
         rest.join("\n")
+    }
+}
+
+impl Drop for Hmi {
+    /// A test that fails midway leaves no `ncplc run` behind.
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
     }
 }
 
