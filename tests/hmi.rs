@@ -176,7 +176,15 @@ fn a_non_loopback_bind_needs_the_printed_token() {
             "run".as_ref(),
             root().join("plc-programs/lathe").as_os_str(),
         ])
-        .args(["--hmi", "0.0.0.0:0", "--no-watch", "--ticks", "3000"])
+        .args([
+            "--hmi",
+            "0.0.0.0:0",
+            "--no-watch",
+            "--ticks",
+            "3000",
+            "--overrun-limit",
+            "0",
+        ])
         .stderr(std::process::Stdio::piped())
         .spawn()
         .expect("ncplc");
