@@ -5,6 +5,8 @@
 //! `ncplc run --record` produced them. With [`ReplayOptions::skip_idle`] the stretches in which
 //! nothing can happen are jumped over ([`crate::idle_skip`]) with the same records as a
 //! tick-by-tick replay; the outputs are diffed through [`crate::output_watch`].
+//! Values an HMI force put back after the scan (`forced`) are written after the replay's scan
+//! too; a tick with forces is never skipped.
 
 use crate::idle_skip::IdleSkipper;
 use crate::image::Image;
@@ -108,22 +110,30 @@ pub fn replay_with(
             }
         }
         loaded.logic.tick(image.bytes_mut());
+        let forced = rec.map_or(none, |r| r.forced.as_slice());
+        for (s, v) in forced {
+            s.write(image.bytes_mut(), *v);
+        }
+        if let (Some(sk), false) = (skipper.as_mut(), forced.is_empty()) {
+            sk.disturbed();
+        }
         outs.clear();
         watch.diff(image.bytes(), &mut outs);
         let expected = rec.map_or(none, |r| r.outputs.as_slice());
         cmp.tick(t, expected, &outs);
-        if !outs.is_empty() || !inputs.is_empty() || t + 1 == total {
+        if !outs.is_empty() || !inputs.is_empty() || !forced.is_empty() || t + 1 == total {
             actual.ticks.push(TickRecord {
                 t,
                 inputs: inputs.to_vec(),
                 outputs: outs.clone(),
+                forced: forced.to_vec(),
             });
         }
         let mut step = 1;
         if let Some(sk) = skipper.as_mut() {
             if !outs.is_empty() {
                 sk.disturbed();
-            } else if inputs.is_empty() {
+            } else if inputs.is_empty() && forced.is_empty() {
                 // The ticks before the next record (the last tick always has one) carry nothing.
                 let until = next.peek().map_or(total, |r| r.t);
                 step += sk.after_quiet_tick(image.bytes_mut(), until.saturating_sub(t + 1));

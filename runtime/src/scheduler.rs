@@ -2,7 +2,9 @@
 //!
 //! Tick `t` starts at `t × tick` after the start on the [`Clock`]. A tick that ends after the next
 //! tick's start is an overrun; `overrun_limit` consecutive overruns trip the safe state (physical
-//! outputs to 0, logic halted, alarm). Online change swaps the program at a tick boundary.
+//! outputs to 0, logic halted, alarm). Online change swaps the program at a tick boundary. HMI
+//! writes and forces ([`Forces`]) go into the image after the latch and (forces) again after the
+//! logic; the trace records both.
 
 use std::sync::mpsc::Receiver;
 use std::time::{Duration, Instant};
@@ -10,6 +12,7 @@ use std::time::{Duration, Instant};
 use packets::PacketIo;
 
 use crate::clock::Clock;
+use crate::force::Forces;
 use crate::image::Image;
 use crate::program::Loaded;
 use crate::retain::{RetainLayout, RetainRecord};
@@ -80,6 +83,8 @@ pub struct Scheduler {
     swaps: Option<Receiver<Swap>>,
     retain: Option<RetainState>,
     last_io_error: Option<TraceError>,
+    forces: Forces,
+    forced_scratch: Vec<crate::trace::SignalValue>,
 }
 
 impl Scheduler {
@@ -114,6 +119,8 @@ impl Scheduler {
             swaps: None,
             retain: None,
             last_io_error: None,
+            forces: Forces::default(),
+            forced_scratch: Vec::new(),
         }
     }
 
@@ -176,6 +183,16 @@ impl Scheduler {
         self.loaded.logic.name()
     }
 
+    /// The HMI's writes and forces (applied from the next tick on).
+    pub fn forces_mut(&mut self) -> &mut Forces {
+        &mut self.forces
+    }
+
+    /// The active forces and pending writes.
+    pub fn forces(&self) -> &Forces {
+        &self.forces
+    }
+
     /// Events since the last call.
     pub fn take_events(&mut self) -> Vec<Event> {
         std::mem::take(&mut self.events)
@@ -198,19 +215,27 @@ impl Scheduler {
             rec.t = t;
             rec.inputs.clear();
             rec.outputs.clear();
+            rec.forced.clear();
         }
         self.io.latch_inputs(t, self.image.packets_mut());
+        self.forces.apply_before(self.image.bytes_mut());
         if let Some((diff, _, rec)) = &mut self.recording {
             diff.after_latch(self.image.bytes(), &mut rec.inputs);
         }
         if !self.tripped {
             self.loaded.logic.tick(self.image.bytes_mut());
+            let changed = match &mut self.recording {
+                Some((_, _, rec)) => &mut rec.forced,
+                None => &mut self.forced_scratch,
+            };
+            self.forces.apply_after(self.image.bytes_mut(), changed);
+            self.forced_scratch.clear();
         } else {
             self.image.clear_physical_outputs();
         }
         if let Some((_, sink, rec)) = &mut self.recording {
             self.tracker.diff(self.image.bytes(), &mut rec.outputs);
-            if !(rec.inputs.is_empty() && rec.outputs.is_empty())
+            if !(rec.inputs.is_empty() && rec.outputs.is_empty() && rec.forced.is_empty())
                 && let Err(e) = sink.record(rec)
             {
                 self.last_io_error = Some(e);
@@ -318,7 +343,11 @@ impl Scheduler {
         self.io.safe_state();
         if let Some((_, sink, rec)) = &mut self.recording {
             // A record with no changes marks how many ticks ran, unless the last tick had changes.
-            if self.tick > 0 && rec.inputs.is_empty() && rec.outputs.is_empty() {
+            if self.tick > 0
+                && rec.inputs.is_empty()
+                && rec.outputs.is_empty()
+                && rec.forced.is_empty()
+            {
                 let end = TickRecord {
                     t: self.tick - 1,
                     ..TickRecord::default()

@@ -6,10 +6,14 @@ use clap::{Parser, Subcommand};
 
 pub mod build;
 pub mod check;
+pub mod hmi_args;
 pub mod nc;
+pub mod nc_plot;
+pub mod plot;
 pub mod output;
 pub mod replay;
 pub mod run;
+pub mod test;
 pub mod trace;
 
 /// ncplc: a soft CNC logic controller for NC-xxx style machines.
@@ -45,6 +49,10 @@ pub enum Command {
     /// Check and plan partprograms.
     #[command(after_help = output::EXIT_CODES_HELP)]
     Nc(nc::Args),
+    /// Draw plots (timing diagrams of traces) as SVG or PNG.
+    Plot(plot::Args),
+    /// Replay every golden trace of a machine (CI): one line per trace, JUnit XML, exit 1 on divergence.
+    Test(test::Args),
 }
 
 /// Runs the parsed command line and returns the process exit code.
@@ -60,5 +68,7 @@ pub fn main(cli: Cli) -> ExitCode {
         Command::Replay(a) => replay::run(a),
         Command::Trace(a) => trace::run(a),
         Command::Nc(a) => nc::run(a),
+        Command::Plot(a) => plot::run(a),
+        Command::Test(a) => test::run(a),
     }
 }

@@ -95,6 +95,15 @@ pub enum NcCommand {
         #[arg(long, default_value = "arc")]
         corners: partprogram::radius::Corners,
     },
+    /// Draw a partprogram's tool path (rapids dashed, feeds solid) as SVG or PNG.
+    Plot {
+        /// Machine and program.
+        #[command(flatten)]
+        common: Common,
+        /// Plot options.
+        #[command(flatten)]
+        plot: super::nc_plot::PlotArgs,
+    },
 }
 
 /// Errors building the machine description.
@@ -259,7 +268,8 @@ fn detect_dialect(text: &str) -> Dialect {
     Dialect::Mefi
 }
 
-fn program_path(machine: &Path, program: &Path) -> PathBuf {
+/// The program file: `program` itself when it exists, else `<machine>/nc/<program>`.
+pub fn program_path(machine: &Path, program: &Path) -> PathBuf {
     if program.exists() {
         program.to_path_buf()
     } else {
@@ -270,6 +280,7 @@ fn program_path(machine: &Path, program: &Path) -> PathBuf {
 /// Runs `ncplc nc`.
 pub fn run(args: Args) -> ExitCode {
     let (common, plan_opts, json) = match &args.command {
+        NcCommand::Plot { common, plot } => return super::nc_plot::run(common, plot),
         NcCommand::Check { common, format } => (common, None, *format == CheckFormat::Json),
         NcCommand::Plan {
             common,

@@ -72,6 +72,9 @@ pub struct Args {
     /// `[affinity] io_cpus`.
     #[arg(long)]
     pub scan_cpu: Option<usize>,
+    /// The web HMI.
+    #[command(flatten)]
+    pub hmi: super::hmi_args::HmiArgs,
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -110,6 +113,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     // compile on one thread beside the scan, reusing the code of unchanged functions.
     let (first, compile) = machine.compile_fns(args.engine, tick_ms);
     let source = machine.read_source().map_err(|e| e.to_string())?;
+    let hmi_source = source.clone();
     if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
         return Err(format!(
             "error: --modbus-hmi {bind}: the HMI server runs with a fieldbus (--io modbus or canopen), not the simulated I/O"
@@ -185,6 +189,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         tick_ns: u64::from(tick_ms) * 1_000_000,
         overrun_limit: args.overrun_limit,
     };
+    let mut hmi = args
+        .hmi
+        .start(&machine, &hmi_source, tick_ms, handshakes.clone())?;
     let mut sched = Scheduler::new(image, loaded, io, clock, settings);
     if let Some(path) = &args.record {
         let options = crate::trace::DurableOptions {
@@ -247,6 +254,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let mut last_alarm = String::new();
     sched.run(args.ticks, |s| {
         for ev in s.take_events() {
+            if let Some(h) = &mut hmi {
+                h.on_event(&ev);
+            }
             match ev {
                 Event::Alarm(a) => {
                     alarms += 1;
@@ -260,6 +270,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             }
         }
         for note in notes_rx.try_iter() {
+            if let Some(h) = &mut hmi {
+                h.on_note(&note);
+            }
             match note {
                 Note::Compiled { compile } => eprintln!("{clear}online change: compiled in {compile:.1?}"),
                 Note::Rejected { diagnostics } => {
@@ -280,6 +293,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
                 if last_alarm.is_empty() { "" } else { " — " },
                 last_alarm
             );
+        }
+        if let Some(h) = &mut hmi {
+            h.service(s);
         }
         !STOP.load(Ordering::Relaxed)
     });

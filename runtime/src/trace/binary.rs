@@ -31,6 +31,9 @@ pub enum Frame {
     },
     /// One tick's changes.
     Tick(CompactTick),
+    /// The `forced` values of the [`Frame::Tick`] that follows (written only when there are any,
+    /// so traces without HMI forces keep their encoding).
+    Forced(Vec<(u32, u8)>),
 }
 
 /// A [`TickRecord`] in compact form.
@@ -92,6 +95,7 @@ impl CompactTick {
             t: prev_t.checked_add(self.dt)?,
             inputs: unpack(&self.inputs, Dir::In)?,
             outputs: unpack(&self.outputs, Dir::Out)?,
+            forced: Vec::new(),
         })
     }
 }
@@ -131,6 +135,10 @@ fn write_frame(out: &mut dyn Write, frame: &Frame) -> Result<(), TraceError> {
 
 impl<W: Write> TraceSink for BinaryWriter<W> {
     fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
+        if !rec.forced.is_empty() {
+            let forced = rec.forced.iter().map(|(s, v)| (key(s), *v)).collect();
+            write_frame(&mut self.out, &Frame::Forced(forced))?;
+        }
         let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
         self.prev_t = rec.t;
         write_frame(&mut self.out, &frame)
@@ -180,16 +188,32 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 format!("not a version-{VERSION} ncplc trace header (version {version})"),
             ));
         }
-        Frame::Tick(_) => return Err(bad(i, "the first frame must be the header".into())),
+        Frame::Tick(_) | Frame::Forced(_) => {
+            return Err(bad(i, "the first frame must be the header".into()));
+        }
     };
     let mut ticks: Vec<TickRecord> = Vec::new();
+    let mut forced: Option<(usize, Vec<(u32, u8)>)> = None;
     for (i, raw) in frames {
         match decode_one(i, raw)? {
+            Frame::Forced(list) => {
+                if forced.is_some() {
+                    return Err(bad(i, "two forced frames without a tick between".into()));
+                }
+                forced = Some((i, list));
+            }
             Frame::Tick(c) => {
                 let prev_t = ticks.last().map_or(0, |r| r.t);
-                let r = c
+                let mut r = c
                     .expand(prev_t)
                     .ok_or_else(|| bad(i, "a signal outside the packets".into()))?;
+                if let Some((_, list)) = forced.take() {
+                    r.forced = list
+                        .iter()
+                        .map(|&(k, v)| from_key(k, Dir::Out).map(|s| (s, v)))
+                        .collect::<Option<_>>()
+                        .ok_or_else(|| bad(i, "a forced signal outside the packets".into()))?;
+                }
                 if let Some(prev) = ticks.last()
                     && c.dt == 0
                 {
@@ -202,6 +226,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
             }
             Frame::Header { .. } => return Err(bad(i, "a second header".into())),
         }
+    }
+    if let Some((i, _)) = forced {
+        return Err(bad(i, "truncated: a forced frame without its tick".into()));
     }
     Ok(Trace { tick_ms, ticks })
 }
@@ -223,16 +250,18 @@ mod tests {
                     t: 0,
                     inputs: vec![(sig("W3K0"), 0)],
                     outputs: vec![(sig("U4A0"), 1)],
+                    forced: vec![],
                 },
                 TickRecord {
                     t: 300,
                     inputs: vec![(sig("I0A0"), 1)],
                     outputs: vec![],
+                    forced: vec![(sig("U4A1"), 0)],
                 },
             ],
         };
         let bytes = encode(&trace).expect("encode");
-        assert_eq!(bytes.iter().filter(|&&b| b == 0).count(), 3);
+        assert_eq!(bytes.iter().filter(|&&b| b == 0).count(), 4);
         assert_eq!(decode(&bytes).expect("decode"), trace);
         assert_eq!(Trace::from_bytes(&bytes).expect("detect"), trace);
     }
@@ -243,8 +272,7 @@ mod tests {
             tick_ms: 1,
             ticks: vec![TickRecord {
                 t: 4,
-                inputs: vec![],
-                outputs: vec![],
+                ..TickRecord::default()
             }],
         };
         let bytes = encode(&trace).expect("encode");
@@ -297,7 +325,8 @@ mod tests {
                 inputs.dedup_by_key(|(s, _)| *s);
                 outputs.sort_by_key(|(s, _)| crate::trace::text::canonical_key(s));
                 outputs.dedup_by_key(|(s, _)| *s);
-                ticks.push(TickRecord { t, inputs, outputs });
+                let forced = if i % 2 == 1 { outputs.clone() } else { Vec::new() };
+                ticks.push(TickRecord { t, inputs, outputs, forced });
                 t += g;
             }
             let trace = Trace { tick_ms: 3, ticks };

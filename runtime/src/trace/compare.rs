@@ -196,11 +196,13 @@ mod tests {
             t: 2,
             inputs: vec![(sig("I0A0"), 1)],
             outputs: vec![(sig("U4A0"), 1)],
+            forced: vec![],
         }];
         let act = vec![TickRecord {
             t: 3,
             inputs: vec![],
             outputs: vec![(sig("U4A0"), 1)],
+            forced: vec![],
         }];
         c.tick(2, &exp[0].outputs, &[]);
         c.tick(3, &[], &act[0].outputs);

@@ -35,6 +35,10 @@ pub struct TickRecord {
     pub inputs: Vec<SignalValue>,
     /// Written signals whose value at the end of the tick differs from the end of the previous one.
     pub outputs: Vec<SignalValue>,
+    /// Values an HMI force put back into the image after the scan (where the logic had changed
+    /// them); a replay writes them after its scan, so a session with forces replays exactly.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub forced: Vec<SignalValue>,
 }
 
 /// A whole trace in memory.

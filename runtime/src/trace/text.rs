@@ -4,7 +4,8 @@
 //! {"format":"ncplc-trace","version":1,"tick_ms":10}
 //! {"t":0,"in":{"I0A5":1,"W3K0":145},"out":{"U4A0":1}}
 //! ```
-//! Empty `in`/`out` objects are left out when writing and accepted when reading.
+//! Empty `in`/`out` objects are left out when writing and accepted when reading. A tick where an
+//! HMI force overrode the logic's result also has `"forced":{"U4A0":1}` (written after the scan).
 
 use std::io::Write;
 
@@ -43,7 +44,11 @@ pub fn format_record(r: &TickRecord, line: &mut String) {
     use std::fmt::Write as _;
     line.clear();
     let _ = write!(line, "{{\"t\":{}", r.t);
-    for (key, list) in [("in", &r.inputs), ("out", &r.outputs)] {
+    for (key, list) in [
+        ("in", &r.inputs),
+        ("out", &r.outputs),
+        ("forced", &r.forced),
+    ] {
         if list.is_empty() {
             continue;
         }
@@ -136,23 +141,31 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
             return Err(err(n, format!("tick {t} does not follow tick {}", prev.t)));
         }
         for key in obj.keys() {
-            if !matches!(key.as_str(), "t" | "in" | "out") {
+            if !matches!(key.as_str(), "t" | "in" | "out" | "forced") {
                 return Err(err(
                     n,
-                    format!("unknown key \"{key}\" (expected t, in, out)"),
+                    format!("unknown key \"{key}\" (expected t, in, out, forced)"),
                 ));
             }
         }
         let inputs = parse_map(obj.get("in")).map_err(|m| err(n, m))?;
         let outputs = parse_map(obj.get("out")).map_err(|m| err(n, m))?;
-        ticks.push(TickRecord { t, inputs, outputs });
+        let forced = parse_map(obj.get("forced")).map_err(|m| err(n, m))?;
+        ticks.push(TickRecord {
+            t,
+            inputs,
+            outputs,
+            forced,
+        });
     }
     Ok(Trace { tick_ms, ticks })
 }
 
 fn parse_map(v: Option<&Value>) -> Result<Vec<SignalValue>, String> {
     let Some(v) = v else { return Ok(Vec::new()) };
-    let obj = v.as_object().ok_or("\"in\" and \"out\" must be objects")?;
+    let obj = v
+        .as_object()
+        .ok_or("\"in\", \"out\" and \"forced\" must be objects")?;
     let mut out = Vec::with_capacity(obj.len());
     for (name, value) in obj {
         let sig: Signal = name.parse().map_err(|e| format!("{e}"))?;
@@ -187,11 +200,13 @@ mod tests {
                     t: 0,
                     inputs: vec![(sig("I0A5"), 1), (sig("W3K0"), 145)],
                     outputs: vec![(sig("U4A0"), 1)],
+                    forced: vec![],
                 },
                 TickRecord {
                     t: 7,
                     inputs: vec![],
                     outputs: vec![(sig("U4A0"), 0)],
+                    forced: vec![],
                 },
             ],
         };

@@ -1,0 +1,258 @@
+//! The JSON API (documented in `hmi/API.md`): status, signals, writes, forces and commands.
+
+use std::time::Duration;
+
+use axum::Json;
+use axum::body::Bytes;
+use axum::extract::{Path, State};
+use axum::response::{IntoResponse, Response};
+use packets::{Packet, Signal};
+use serde::Deserialize;
+use serde_json::{Value, json};
+
+use crate::error::ApiError;
+use crate::model::{Command, Envelope, Request};
+use crate::server::AppState;
+
+/// How long a handler waits for the scan to apply a request.
+const REPLY_TIMEOUT: Duration = Duration::from_secs(3);
+
+/// `GET /api/status`: the latest snapshot without the raw image.
+pub async fn status(State(state): State<AppState>) -> Response {
+    let snap = state.snapshots.borrow().clone();
+    let mut v = serde_json::to_value(&*snap).unwrap_or(Value::Null);
+    if let Some(o) = v.as_object_mut() {
+        o.remove("image");
+        o.insert("readonly".into(), Value::Bool(state.config.readonly));
+        o.insert(
+            "machine_name".into(),
+            Value::String(state.catalog.machine.clone()),
+        );
+    }
+    Json(v).into_response()
+}
+
+/// `GET /api/signals`: interface-map names and program aliases.
+pub async fn signals(State(state): State<AppState>) -> Response {
+    Json(json!({ "names": state.catalog.names })).into_response()
+}
+
+/// `GET /api/program`: the PLC source with the signals each line reads and writes.
+pub async fn program(State(state): State<AppState>) -> Response {
+    let online = state.snapshots.borrow().online.clone();
+    Json(json!({
+        "file": state.catalog.source_name,
+        "lines": state.catalog.source,
+        "online": online,
+    }))
+    .into_response()
+}
+
+/// `GET /api/signal/<ADDR>`: one signal's value and whether it is forced.
+pub async fn signal(
+    State(state): State<AppState>,
+    Path(addr): Path<String>,
+) -> Result<Response, ApiError> {
+    let sig = resolve(&state, &addr)?;
+    let snap = state.snapshots.borrow().clone();
+    let forced = snap.forced.iter().any(|(s, _)| same_storage(s, &sig));
+    Ok(Json(json!({
+        "signal": sig.to_string(),
+        "value": sig.read(&snap.image),
+        "forced": forced,
+        "tick": snap.tick,
+    }))
+    .into_response())
+}
+
+/// `GET /api/force`: the force table.
+pub async fn forces(State(state): State<AppState>) -> Response {
+    let snap = state.snapshots.borrow().clone();
+    let list: Vec<Value> = snap
+        .forced
+        .iter()
+        .map(|(s, v)| json!({"signal": s.to_string(), "value": v}))
+        .collect();
+    Json(json!({ "forced": list })).into_response()
+}
+
+/// The body of `POST /api/write` and `POST /api/force`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SetBody {
+    signal: String,
+    value: u64,
+}
+
+/// `POST /api/write`: write a value once, before the next scan.
+pub async fn write(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+    let (sig, value) = set_body(&state, &body)?;
+    let tick = ask(&state, Request::Write(sig, value)).await?;
+    Ok(Json(json!({"signal": sig.to_string(), "value": value, "tick": tick})).into_response())
+}
+
+/// `POST /api/force`: force a value before and after every scan until unforced.
+pub async fn force(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+    let (sig, value) = set_body(&state, &body)?;
+    let tick = ask(&state, Request::Force(sig, value)).await?;
+    Ok(
+        Json(json!({"signal": sig.to_string(), "value": value, "forced": true, "tick": tick}))
+            .into_response(),
+    )
+}
+
+/// `DELETE /api/force/<ADDR>`: remove one force.
+pub async fn unforce(
+    State(state): State<AppState>,
+    Path(addr): Path<String>,
+) -> Result<Response, ApiError> {
+    writable(&state)?;
+    let sig = resolve(&state, &addr)?;
+    let tick = ask(&state, Request::Unforce(sig)).await?;
+    Ok(Json(json!({"signal": sig.to_string(), "forced": false, "tick": tick})).into_response())
+}
+
+/// `DELETE /api/force`: remove every force.
+pub async fn unforce_all(State(state): State<AppState>) -> Result<Response, ApiError> {
+    writable(&state)?;
+    let tick = ask(&state, Request::UnforceAll).await?;
+    Ok(Json(json!({"forced": [], "tick": tick})).into_response())
+}
+
+/// The body of `POST /api/command`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CommandBody {
+    process: u8,
+    command: String,
+    mode: Option<String>,
+    line: Option<String>,
+}
+
+/// `POST /api/command`: an operator command for a process.
+pub async fn command(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+    writable(&state)?;
+    let b: CommandBody = parse_json(&body)?;
+    if !(1..=5).contains(&b.process) {
+        return Err(ApiError::bad_request(format!(
+            "process {} does not exist (processes are 1..5)",
+            b.process
+        )));
+    }
+    let extra = |field: &str, v: &Option<String>| -> Result<(), ApiError> {
+        match v {
+            Some(_) => Err(ApiError::bad_request(format!(
+                "\"{field}\" does not belong to command \"{}\"",
+                b.command
+            ))),
+            None => Ok(()),
+        }
+    };
+    let command = match b.command.as_str() {
+        "start" | "hold" | "reset" => {
+            extra("mode", &b.mode)?;
+            extra("line", &b.line)?;
+            match b.command.as_str() {
+                "start" => Command::Start,
+                "hold" => Command::Hold,
+                _ => Command::Reset,
+            }
+        }
+        "mode" => {
+            extra("line", &b.line)?;
+            let mode = b
+                .mode
+                .clone()
+                .ok_or_else(|| ApiError::bad_request("command \"mode\" needs \"mode\""))?;
+            Command::Mode { mode }
+        }
+        "mdi" => {
+            extra("mode", &b.mode)?;
+            let line = b
+                .line
+                .clone()
+                .ok_or_else(|| ApiError::bad_request("command \"mdi\" needs \"line\""))?;
+            Command::Mdi { line }
+        }
+        other => {
+            return Err(ApiError::bad_request(format!(
+                "unknown command \"{other}\" (expected start, hold, reset, mode, mdi)"
+            )));
+        }
+    };
+    let tick = ask(
+        &state,
+        Request::Command {
+            process: b.process,
+            command: command.clone(),
+        },
+    )
+    .await?;
+    Ok(Json(json!({"process": b.process, "command": command, "tick": tick})).into_response())
+}
+
+/// Anything else: a JSON 404.
+pub async fn not_found(uri: axum::http::Uri) -> ApiError {
+    ApiError::not_found(format!("no such page or API route: {}", uri.path()))
+}
+
+fn writable(state: &AppState) -> Result<(), ApiError> {
+    if state.config.readonly {
+        Err(ApiError::readonly())
+    } else {
+        Ok(())
+    }
+}
+
+fn parse_json<T: serde::de::DeserializeOwned>(body: &[u8]) -> Result<T, ApiError> {
+    serde_json::from_slice(body).map_err(|e| ApiError::bad_request(format!("request body: {e}")))
+}
+
+fn set_body(state: &AppState, body: &[u8]) -> Result<(Signal, u8), ApiError> {
+    writable(state)?;
+    let b: SetBody = parse_json(body)?;
+    let sig = resolve(state, &b.signal)?;
+    if sig.packet() == Packet::T {
+        return Err(ApiError::bad_request(format!(
+            "{}: packet T holds the machine's constants (IOCFIL section 4); it is not written from the HMI",
+            b.signal
+        )));
+    }
+    let max = if sig.bit().is_some() { 1 } else { 255 };
+    if b.value > max {
+        return Err(ApiError::bad_request(format!(
+            "{}: value {} is out of range (0..{max})",
+            b.signal, b.value
+        )));
+    }
+    Ok((sig, b.value as u8))
+}
+
+fn resolve(state: &AppState, text: &str) -> Result<Signal, ApiError> {
+    state.catalog.resolve(text).ok_or_else(|| {
+        ApiError::not_found(format!(
+            "`{text}` is neither a signal address (I0A3, U4A0, W3K0) nor a name of this machine"
+        ))
+    })
+}
+
+/// Two addresses of the same storage (`I4A0` and `U4A0`).
+pub fn same_storage(a: &Signal, b: &Signal) -> bool {
+    a.image_byte() == b.image_byte() && a.bit() == b.bit()
+}
+
+async fn ask(state: &AppState, request: Request) -> Result<u64, ApiError> {
+    let (tx, rx) = tokio::sync::oneshot::channel();
+    state
+        .requests
+        .send(Envelope { request, reply: tx })
+        .map_err(|_| ApiError::unavailable("the scan has stopped"))?;
+    match tokio::time::timeout(REPLY_TIMEOUT, rx).await {
+        Ok(Ok(Ok(tick))) => Ok(tick),
+        Ok(Ok(Err(refusal))) => Err(ApiError::refused(refusal)),
+        Ok(Err(_)) => Err(ApiError::unavailable("the scan has stopped")),
+        Err(_) => Err(ApiError::unavailable(
+            "the scan did not take the request within 3 s",
+        )),
+    }
+}

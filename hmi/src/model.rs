@@ -1,0 +1,251 @@
+//! What the HMI shows and what it asks for: the published [`Snapshot`], the static [`Catalog`] of
+//! names and source, the [`MachineStatus`] interface the runtime fills, and the [`Request`]s that
+//! travel back to the scan.
+
+use std::sync::Arc;
+
+use packets::Signal;
+use serde::{Serialize, Serializer};
+
+/// One published state of the running controller (the latest value of the live channel).
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Snapshot {
+    /// Ticks run so far.
+    pub tick: u64,
+    /// The running engine (`jit`, `interp`).
+    pub engine: String,
+    /// The logic tick in ms.
+    pub tick_ms: u32,
+    /// Scan timing.
+    pub scan: ScanStats,
+    /// Packets A, K, N and T as hex (two digits per image byte, packet order).
+    #[serde(serialize_with = "hex")]
+    pub image: Vec<u8>,
+    /// Active forces, in image order.
+    #[serde(serialize_with = "signal_values")]
+    pub forced: Vec<(Signal, u8)>,
+    /// Alarms currently raised.
+    pub alarms: Vec<String>,
+    /// Online change: compiling, running since tick N, or the diagnostics of a refused edit.
+    pub online: String,
+    /// Per-process CNC state.
+    pub machine: MachineStatus,
+    /// True after the overrun limit tripped the safe state.
+    pub tripped: bool,
+}
+
+/// Scan timing figures.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ScanStats {
+    /// Median scan time in µs.
+    pub scan_p50_us: f64,
+    /// Longest scan time in µs.
+    pub scan_max_us: f64,
+    /// Overruns so far.
+    pub overruns: u64,
+}
+
+/// The CNC side as the Machine page shows it; the runtime fills what it knows.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct MachineStatus {
+    /// One entry per process 1..NBP.
+    pub processes: Vec<ProcessStatus>,
+}
+
+/// One process (channel) of the CNC.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct ProcessStatus {
+    /// Process number, 1-based.
+    pub process: u8,
+    /// Operating mode (`auto`, `mdi`, `jog`, … or the raw MODE byte as `code N`).
+    pub mode: Option<String>,
+    /// The running partprogram's name.
+    pub program: Option<String>,
+    /// The current block number.
+    pub block: Option<u64>,
+    /// The current block's source line.
+    pub block_source: Option<String>,
+    /// Axes with command, actual and following error.
+    pub axes: Vec<AxisStatus>,
+    /// Feed override in %.
+    pub feed_override: Option<u32>,
+    /// Spindle override in %.
+    pub spindle_override: Option<u32>,
+    /// Rapid override in %.
+    pub rapid_override: Option<u32>,
+    /// Spindle speed (programmed S).
+    pub spindle_speed: Option<f64>,
+    /// Active G and M codes.
+    pub active_codes: Vec<String>,
+    /// This process's alarms.
+    pub alarms: Vec<String>,
+    /// Completed M/S/T handshakes and strobe timeouts of this process.
+    pub handshakes: Option<HandshakeCounts>,
+    /// Which commands this process accepts now (empty: commands are not wired).
+    pub commands: Vec<String>,
+}
+
+/// One axis' position readout.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct AxisStatus {
+    /// Axis name (`X`, `Z`, …).
+    pub name: String,
+    /// Commanded position.
+    pub command: f64,
+    /// Actual position.
+    pub actual: f64,
+    /// Command minus actual.
+    pub following_error: f64,
+}
+
+/// M/S/T handshake counts of a process.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct HandshakeCounts {
+    /// M functions completed.
+    pub m: u64,
+    /// S functions completed.
+    pub s: u64,
+    /// T functions completed.
+    pub t: u64,
+    /// Strobe timeouts.
+    pub timeouts: u64,
+}
+
+/// A named signal of the Signals page.
+#[derive(Debug, Clone, Serialize)]
+pub struct NamedSignal {
+    /// The name.
+    pub name: String,
+    /// The address.
+    #[serde(serialize_with = "display")]
+    pub signal: Signal,
+    /// Where the name comes from: `interface` (the interface map) or `program` (a `DEF` alias).
+    pub origin: &'static str,
+    /// What it means (interface map), or empty.
+    pub meaning: String,
+}
+
+/// One line of the PLC source with the signal its statement writes (the Program page).
+#[derive(Debug, Clone, Serialize)]
+pub struct SourceLine {
+    /// 1-based line number.
+    pub line: usize,
+    /// The text.
+    pub text: String,
+    /// Packet signals written on this line (their value after the scan is the rung's result).
+    pub writes: Vec<String>,
+    /// Packet signals read on this line.
+    pub reads: Vec<String>,
+}
+
+/// Static facts of the running machine: names and the PLC source.
+#[derive(Debug, Clone, Default, Serialize)]
+pub struct Catalog {
+    /// The machine directory's name.
+    pub machine: String,
+    /// Interface-map names and program aliases.
+    pub names: Vec<NamedSignal>,
+    /// The PLC source file name.
+    pub source_name: String,
+    /// The PLC source, line by line.
+    pub source: Vec<SourceLine>,
+}
+
+impl Catalog {
+    /// The signal named `text`: an address (`I0A3`) or a name of the catalog.
+    pub fn resolve(&self, text: &str) -> Option<Signal> {
+        if let Ok(s) = text.parse::<Signal>() {
+            return Some(s);
+        }
+        self.names.iter().find(|n| n.name == text).map(|n| n.signal)
+    }
+}
+
+/// An operator command for a CNC process (the same channel the CLI uses).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+#[serde(tag = "command", rename_all = "lowercase")]
+pub enum Command {
+    /// CYCLE START.
+    Start,
+    /// FEED HOLD.
+    Hold,
+    /// RESET.
+    Reset,
+    /// Select an operating mode.
+    Mode {
+        /// The mode's name.
+        mode: String,
+    },
+    /// Run one MDI line.
+    Mdi {
+        /// The line.
+        line: String,
+    },
+}
+
+/// A request from the HMI to the scan, applied at the next tick boundary.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Request {
+    /// Write a value once (the program may overwrite it).
+    Write(Signal, u8),
+    /// Force a value before and after every scan.
+    Force(Signal, u8),
+    /// Remove one force.
+    Unforce(Signal),
+    /// Remove every force.
+    UnforceAll,
+    /// An operator command for process `process`.
+    Command {
+        /// 1-based process number.
+        process: u8,
+        /// What to do.
+        command: Command,
+    },
+}
+
+/// What the scan answers: the tick that applied the request, or why it refused it.
+pub type Reply = Result<u64, String>;
+
+/// A request with the channel its reply goes back on.
+#[derive(Debug)]
+pub struct Envelope {
+    /// The request.
+    pub request: Request,
+    /// Where the scan sends its answer.
+    pub reply: tokio::sync::oneshot::Sender<Reply>,
+}
+
+/// The shared, immutable part of a snapshot stream.
+pub type SharedSnapshot = Arc<Snapshot>;
+
+fn hex<S: Serializer>(bytes: &[u8], s: S) -> Result<S::Ok, S::Error> {
+    const DIGITS: &[u8; 16] = b"0123456789abcdef";
+    let mut out = String::with_capacity(bytes.len() * 2);
+    for b in bytes {
+        out.push(char::from(DIGITS[usize::from(b >> 4)]));
+        out.push(char::from(DIGITS[usize::from(b & 15)]));
+    }
+    s.serialize_str(&out)
+}
+
+fn display<S: Serializer>(sig: &Signal, s: S) -> Result<S::Ok, S::Error> {
+    s.collect_str(sig)
+}
+
+fn signal_values<S: Serializer>(list: &[(Signal, u8)], s: S) -> Result<S::Ok, S::Error> {
+    use serde::ser::SerializeSeq;
+    let mut seq = s.serialize_seq(Some(list.len()))?;
+    for (sig, v) in list {
+        seq.serialize_element(&serde_json::json!({"signal": sig.to_string(), "value": v}))?;
+    }
+    seq.end()
+}
+
+/// The CNC kernel as the HMI sees it: the runtime implements it over whatever drives the
+/// processes (today the image and the simulated handshakes; the kernel once it is wired in).
+pub trait Cnc: Send {
+    /// The per-process state after the scan that left `image`.
+    fn status(&self, image: &[u8]) -> MachineStatus;
+    /// Carries out an operator command for `process` at a tick boundary, or says why not.
+    fn command(&mut self, process: u8, command: &Command) -> Result<(), String>;
+}

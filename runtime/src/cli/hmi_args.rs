@@ -1,0 +1,90 @@
+//! The `--hmi` options of `ncplc run` and starting the web HMI from them.
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+
+use crate::hmi_link::{HmiLink, catalog, image_cnc::ImageCnc};
+use crate::machine::Machine;
+use crate::sim::HandshakeCounts;
+
+/// The web HMI options.
+#[derive(Debug, Clone, clap::Args)]
+pub struct HmiArgs {
+    /// Serve the web HMI (default 127.0.0.1:8080; a non-loopback address needs the access token).
+    #[arg(long, value_name = "ADDR:PORT", num_args = 0..=1, default_missing_value = "127.0.0.1:8080")]
+    pub hmi: Option<SocketAddr>,
+    /// The HMI only watches: writes, forces and commands are refused.
+    #[arg(long, requires = "hmi")]
+    pub hmi_readonly: bool,
+    /// Read the HMI access token from this file (otherwise one is generated and printed for a
+    /// non-loopback address).
+    #[arg(long, value_name = "FILE", requires = "hmi")]
+    pub hmi_token_file: Option<PathBuf>,
+}
+
+impl HmiArgs {
+    /// Starts the HMI when `--hmi` was given.
+    pub fn start(
+        &self,
+        machine: &Machine,
+        source: &[u8],
+        tick_ms: u32,
+        counts: Option<HandshakeCounts>,
+    ) -> Result<Option<HmiLink>, String> {
+        let Some(addr) = self.hmi else {
+            return Ok(None);
+        };
+        let token = match &self.hmi_token_file {
+            Some(path) => {
+                let t = std::fs::read_to_string(path)
+                    .map_err(|e| format!("error: --hmi-token-file {}: {e}", path.display()))?;
+                let t = t.trim().to_string();
+                if t.is_empty() {
+                    return Err(format!(
+                        "error: --hmi-token-file {}: the file is empty",
+                        path.display()
+                    ));
+                }
+                Some(t)
+            }
+            None if !hmi::auth::is_loopback(&addr) => {
+                Some(hmi::auth::generate_token().map_err(|e| format!("error: HMI token: {e}"))?)
+            }
+            None => None,
+        };
+        let processes: Vec<u8> = if machine.signals.processes.is_empty() {
+            vec![1]
+        } else {
+            machine
+                .signals
+                .processes
+                .iter()
+                .map(|p| p.process)
+                .collect()
+        };
+        let cnc = ImageCnc::new(&machine.interface, &processes, counts);
+        let config = hmi::ServerConfig {
+            addr,
+            token: token.clone(),
+            readonly: self.hmi_readonly,
+        };
+        let link = HmiLink::start(
+            config,
+            catalog::build(machine, source),
+            Box::new(cnc),
+            tick_ms,
+        )
+        .map_err(|e| format!("error: {e}"))?;
+        let bound = link.running.addr;
+        match &token {
+            Some(t) if self.hmi_token_file.is_none() => {
+                eprintln!("hmi: http://{bound}/?token={t}  (access token {t})")
+            }
+            _ => eprintln!("hmi: http://{bound}/"),
+        }
+        if self.hmi_readonly {
+            eprintln!("hmi: read-only");
+        }
+        Ok(Some(link))
+    }
+}

@@ -1,0 +1,247 @@
+//! The web HMI in a real browser (Debian `chromium` + `chromium-driver`, driven by fantoccini):
+//! the pages load without errors, a signal the sim changes changes on the page, a force set from
+//! the page reaches the image and the recorded trace, the timing diagram draws. A failing step
+//! leaves a screenshot in `target/browser-failures/`. Without `/usr/bin/chromedriver` the test is
+//! skipped with a loud message, except under `CI=true`, where it fails.
+//! `HMI_SCREENSHOTS=DIR` keeps a screenshot of every page.
+
+mod hmi_common;
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use fantoccini::{Client, ClientBuilder, Locator};
+use hmi_common::{Hmi, root};
+
+const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
+
+/// Kills chromedriver when the test ends, however it ends.
+struct Driver(Child);
+
+impl Drop for Driver {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn free_port() -> u16 {
+    std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .map(|a| a.port())
+        .expect("a free port")
+}
+
+async fn browser() -> (Driver, Client) {
+    let port = free_port();
+    let driver = Driver(
+        Command::new(CHROMEDRIVER)
+            .arg(format!("--port={port}"))
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("chromedriver starts"),
+    );
+    let caps = serde_json::json!({"goog:chromeOptions": {"args": [
+        "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync",
+        "--no-first-run", "--window-size=1280,900"]}});
+    let caps = caps.as_object().cloned().unwrap_or_default();
+    let deadline = Instant::now() + Duration::from_secs(30);
+    loop {
+        match ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
+            .capabilities(caps.clone())
+            .connect(&format!("http://127.0.0.1:{port}"))
+            .await
+        {
+            Ok(c) => return (driver, c),
+            Err(e) if Instant::now() > deadline => panic!("no WebDriver session: {e}"),
+            Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
+        }
+    }
+}
+
+/// Polls `probe` every 50 ms until it returns `Some` or `secs` pass.
+async fn until<T, F, Fut>(what: &str, secs: u64, mut probe: F) -> Result<T, String>
+where
+    F: FnMut() -> Fut,
+    Fut: std::future::Future<Output = Option<T>>,
+{
+    let deadline = Instant::now() + Duration::from_secs(secs);
+    loop {
+        if let Some(v) = probe().await {
+            return Ok(v);
+        }
+        if Instant::now() > deadline {
+            return Err(format!("timed out waiting for {what}"));
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+}
+
+async fn js(c: &Client, script: &str) -> Result<serde_json::Value, String> {
+    c.execute(script, vec![])
+        .await
+        .map_err(|e| format!("{script}: {e}"))
+}
+
+async fn text(c: &Client, css: &str) -> Option<String> {
+    c.find(Locator::Css(css)).await.ok()?.text().await.ok()
+}
+
+async fn shot(c: &Client, dir: &Path, name: &str) {
+    if let Ok(png) = c.screenshot().await {
+        let _ = std::fs::create_dir_all(dir);
+        let _ = std::fs::write(dir.join(format!("{name}.png")), png);
+    }
+}
+
+async fn search(c: &Client, q: &str) -> Result<(), String> {
+    let el = c
+        .find(Locator::Id("search"))
+        .await
+        .map_err(|e| e.to_string())?;
+    el.clear().await.map_err(|e| e.to_string())?;
+    el.send_keys(q).await.map_err(|e| e.to_string())
+}
+
+async fn page(c: &Client, name: &str) -> Result<(), String> {
+    c.find(Locator::Css(&format!("nav button[data-page={name}]")))
+        .await
+        .map_err(|e| e.to_string())?
+        .click()
+        .await
+        .map_err(|e| e.to_string())
+}
+
+async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
+    c.goto(&format!("http://{}/", hmi.addr))
+        .await
+        .map_err(|e| e.to_string())?;
+    until("the first live frame", 20, || async {
+        text(c, "#status").await.filter(|t| t.starts_with("tick"))
+    })
+    .await?;
+    // A signal the sim changes (I1K5: on from tick 155 to 600 of each 2000) changes on the page.
+    search(c, "I1K5").await?;
+    let seen = std::cell::RefCell::new(std::collections::BTreeSet::new());
+    until("I1K5 to show both 0 and 1", 30, || async {
+        if let Some(v) = text(c, "tr[data-signal=I1K5] .val").await {
+            seen.borrow_mut().insert(v);
+        }
+        let s = seen.borrow();
+        (s.contains("0") && s.contains("1")).then_some(())
+    })
+    .await?;
+    // Force LUBE_LAMP (U5A2) from the page; the image shows it forced.
+    search(c, "U5A2").await?;
+    let row = "tr[data-signal=U5A2]";
+    let input = c
+        .find(Locator::Css(&format!("{row} input")))
+        .await
+        .map_err(|e| e.to_string())?;
+    input.clear().await.map_err(|e| e.to_string())?;
+    input.send_keys("1").await.map_err(|e| e.to_string())?;
+    c.find(Locator::Css(&format!("{row} button.force")))
+        .await
+        .map_err(|e| e.to_string())?
+        .click()
+        .await
+        .map_err(|e| e.to_string())?;
+    until("U5A2 forced in the image", 10, || async {
+        let v: serde_json::Value =
+            serde_json::from_str(&hmi.http("GET", "/api/signal/U5A2", None).1).ok()?;
+        (v["value"] == 1 && v["forced"] == true).then_some(())
+    })
+    .await?;
+    until("the page's force marker", 5, || async {
+        text(c, &format!("{row} .forced"))
+            .await
+            .filter(|t| t == "F=1")
+    })
+    .await?;
+    if let Some(d) = keep {
+        shot(c, d, "signals").await;
+    }
+    // Program page: source lines with live values.
+    page(c, "program").await?;
+    until("live values on the source", 5, || async {
+        text(c, "#source")
+            .await
+            .filter(|t| t.contains("SPINDLE_CW") && t.contains("U4A0="))
+    })
+    .await?;
+    if let Some(d) = keep {
+        shot(c, d, "program").await;
+    }
+    // Trace page: the timing diagram draws.
+    page(c, "trace").await?;
+    js(c, "const e = document.getElementById('trace-signals'); e.value = 'I1K5,U5A2,U4A0,W14K0'; e.dispatchEvent(new Event('change'));").await?;
+    until("samples on the timing diagram", 10, || async {
+        let n = js(c, "return trace.ticks.length").await.ok()?;
+        (n.as_u64()? > 20).then_some(())
+    })
+    .await?;
+    let canvases = js(
+        c,
+        "return document.querySelectorAll('#chart canvas').length",
+    )
+    .await?;
+    if canvases.as_u64() < Some(1) {
+        return Err("uPlot drew no canvas".into());
+    }
+    if let Some(d) = keep {
+        shot(c, d, "trace").await;
+    }
+    // Machine page: the status interface (overrides from the image, handshake counts).
+    page(c, "machine").await?;
+    until("process 1 on the Machine page", 5, || async {
+        text(c, "#proc-1 .info")
+            .await
+            .filter(|t| t.contains("F 100%"))
+    })
+    .await?;
+    if let Some(d) = keep {
+        shot(c, d, "machine").await;
+    }
+    let errors = js(c, "return window.__errors").await?;
+    if errors != serde_json::json!([]) {
+        return Err(format!("errors on the page: {errors}"));
+    }
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_pages_show_live_values_and_a_force_from_the_page_reaches_the_image_and_the_trace() {
+    if !Path::new(CHROMEDRIVER).exists() {
+        let msg = "!!! SKIPPED: the browser tests need Debian chromium and chromium-driver \
+                   (apt-get install -y --no-install-recommends chromium chromium-driver) !!!";
+        assert!(std::env::var("CI").as_deref() != Ok("true"), "{msg}");
+        eprintln!("{msg}");
+        return;
+    }
+    let dir = tempfile::tempdir().expect("tempdir");
+    let trace = dir.path().join("browser.jsonl");
+    let hmi = Hmi::start(
+        &root().join("plc-programs/lathe"),
+        &["--record", trace.to_str().expect("utf8")],
+    );
+    let (_driver, client) = browser().await;
+    let keep = std::env::var_os("HMI_SCREENSHOTS").map(PathBuf::from);
+    let result = steps(&client, &hmi, keep.as_deref()).await;
+    if let Err(e) = &result {
+        let failures = root().join("target/browser-failures");
+        shot(&client, &failures, "hmi").await;
+        let _ = client.close().await;
+        hmi.stop();
+        panic!("{e} (screenshot: {}/hmi.png)", failures.display());
+    }
+    let _ = client.close().await;
+    hmi.stop();
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    assert!(
+        text.lines().any(|l| l.contains(r#""forced":{"U5A2":1}"#)),
+        "the page's force is in the trace"
+    );
+}

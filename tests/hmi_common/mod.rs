@@ -1,0 +1,138 @@
+//! Shared by the HMI end-to-end tests: start `ncplc run --hmi 127.0.0.1:0`, find the bound
+//! address in its stderr, talk HTTP/1.1 to it, stop it with SIGTERM (it then finishes its trace).
+
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::mpsc;
+use std::time::Duration;
+
+/// The workspace root.
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// A running `ncplc run --hmi`.
+pub struct Hmi {
+    pub child: Child,
+    pub addr: String,
+    pub stderr: mpsc::Receiver<String>,
+}
+
+impl Hmi {
+    /// Starts the lathe with the HMI on a free loopback port; `extra` are more `run` arguments.
+    pub fn start(machine: &Path, extra: &[&str]) -> Hmi {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_ncplc"))
+            .arg("run")
+            .arg(machine)
+            // A loaded CI machine overruns now and then; these tests are not about timing.
+            .args(["--hmi", "127.0.0.1:0", "--no-watch", "--overrun-limit", "0"])
+            .args(extra)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("ncplc starts");
+        let err = child.stderr.take().expect("stderr");
+        let (tx, rx) = mpsc::channel();
+        std::thread::spawn(move || {
+            for line in BufReader::new(err).lines().map_while(Result::ok) {
+                let _ = tx.send(line);
+            }
+        });
+        let mut seen = Vec::new();
+        loop {
+            match rx.recv_timeout(Duration::from_secs(60)) {
+                Ok(line) => {
+                    if let Some(rest) = line.strip_prefix("hmi: http://") {
+                        let addr = rest.split('/').next().unwrap_or_default().to_string();
+                        return Hmi {
+                            child,
+                            addr,
+                            stderr: rx,
+                        };
+                    }
+                    seen.push(line);
+                }
+                Err(_) => {
+                    let _ = child.kill();
+                    let _ = child.wait();
+                    panic!("ncplc did not start the HMI:\n{}", seen.join("\n"));
+                }
+            }
+        }
+    }
+
+    /// One HTTP request; returns (status, body).
+    pub fn http(&self, method: &str, path: &str, body: Option<&str>) -> (u16, String) {
+        http(&self.addr, method, path, body, None)
+    }
+
+    /// Waits until `GET /api/status` reports at least `tick`.
+    pub fn wait_tick(&self, tick: u64) {
+        for _ in 0..600 {
+            let (_, body) = self.http("GET", "/api/status", None);
+            let v: serde_json::Value = serde_json::from_str(&body).unwrap_or_default();
+            if v["tick"].as_u64().unwrap_or(0) >= tick {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(50));
+        }
+        panic!("the scan did not reach tick {tick}");
+    }
+
+    /// Stops the run with SIGTERM and returns its remaining stderr.
+    pub fn stop(mut self) -> String {
+        // SAFETY: kill(2) on our own child's pid.
+        unsafe {
+            libc::kill(self.child.id() as libc::pid_t, libc::SIGTERM);
+        }
+        let status = self.child.wait().expect("wait");
+        let rest: Vec<String> = self.stderr.try_iter().collect();
+        assert!(
+            status.success(),
+            "ncplc failed: {status}\n{}",
+            rest.join("\n")
+        );
+        rest.join("\n")
+    }
+}
+
+impl Drop for Hmi {
+    /// A test that fails midway leaves no `ncplc run` behind.
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// One HTTP/1.1 request with `Connection: close`; returns (status, body).
+pub fn http(
+    addr: &str,
+    method: &str,
+    path: &str,
+    body: Option<&str>,
+    token: Option<&str>,
+) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).expect("connect");
+    s.set_read_timeout(Some(Duration::from_secs(10))).ok();
+    let body = body.unwrap_or("");
+    let auth = token.map_or(String::new(), |t| format!("Authorization: Bearer {t}\r\n"));
+    write!(
+        s,
+        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n{auth}Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+        body.len()
+    )
+    .expect("send");
+    let mut resp = String::new();
+    s.read_to_string(&mut resp).expect("read");
+    let status = resp
+        .split(' ')
+        .nth(1)
+        .and_then(|c| c.parse().ok())
+        .unwrap_or(0);
+    let body = resp.split_once("\r\n\r\n").map_or("", |(_, b)| b);
+    (status, body.to_string())
+}
