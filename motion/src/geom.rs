@@ -239,6 +239,45 @@ impl Seg {
     }
 }
 
+impl Seg {
+    /// The distance from `p` to the segment (exact for lines and planar circular arcs; for
+    /// helices and spirals the distance to the point at the same angle, an upper bound).
+    pub fn distance(&self, p: &Vector) -> f64 {
+        let ends = (p - self.start).norm().min((p - self.end).norm());
+        match &self.shape {
+            Shape::Line { dir } => {
+                let s = (p - self.start).dot(dir);
+                if s <= 0.0 || s >= self.len {
+                    ends
+                } else {
+                    (p - self.start - dir * s).norm()
+                }
+            }
+            Shape::Arc {
+                center,
+                e1,
+                e2,
+                sweep,
+                ..
+            } => {
+                let d = p - center;
+                let mut psi = d.dot(e2).atan2(d.dot(e1));
+                if psi < 0.0 {
+                    psi += std::f64::consts::TAU;
+                }
+                let mut best = ends;
+                // Every turn of the sweep that contains the angle.
+                let mut a = psi;
+                while a <= *sweep {
+                    best = best.min((p - self.at(a / sweep * self.len)).norm());
+                    a += std::f64::consts::TAU;
+                }
+                best
+            }
+        }
+    }
+}
+
 /// The angle between two unit vectors, rad (0 when either is zero).
 pub fn turn_angle(a: &Vector, b: &Vector) -> f64 {
     let c = a.dot(b).clamp(-1.0, 1.0);

@@ -141,7 +141,14 @@ impl Kernel {
         };
         self.check_soft(m.tag, &seg)?;
         let rapid = motion == Motion::Rapid;
-        let (v_hard, dynm) = plan::dynamics(&self.cfg.axes, &seg, rapid, self.law, &self.cfg.acc);
+        let (v_hard, dynm) = plan::dynamics(
+            &self.cfg.axes,
+            &seg,
+            rapid,
+            self.law,
+            &self.cfg.acc,
+            self.cfg.tick_s,
+        );
         let len = seg.len;
         let mut piece = Piece {
             seg,
@@ -191,7 +198,8 @@ impl Kernel {
         {
             prev.den = false;
             prev.v_junction = f64::INFINITY;
-            let (v_hard, dynm) = plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc);
+            let (v_hard, dynm) =
+                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt);
             let len = arc.len;
             let piece = Piece {
                 seg: arc,

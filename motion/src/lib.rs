@@ -40,6 +40,7 @@
 pub mod config;
 pub mod geom;
 pub mod kernel;
+pub mod monitor;
 pub mod moves;
 pub mod plan;
 pub mod profile;

@@ -15,6 +15,16 @@ pub const CENTRIPETAL_SHARE: f64 = 0.7;
 /// Share of an axis's acceleration (and jerk) reserved for the direction change at an unblended
 /// junction between pieces whose tangents differ slightly.
 pub const KINK_SHARE: f64 = 0.02;
+/// S law: share of an axis's jerk for the path's tangential jerk (the rest covers the steps of
+/// centripetal acceleration where the curvature changes, and the rotation of the acceleration on
+/// arcs).
+pub const JERK_TANGENT_LINE: f64 = 0.68;
+/// S law on arcs: share of an axis's jerk for the tangential jerk.
+pub const JERK_TANGENT_ARC: f64 = 0.4;
+/// S law: share of an axis's jerk × tick for the centripetal-acceleration step at a curvature change.
+pub const JERK_STEP: f64 = 0.3;
+/// S law: share of an axis's jerk for the rotation of the centripetal acceleration (v³κ²).
+pub const JERK_ROTATION: f64 = 0.28;
 /// Turns sharper than this (rad) are not blended: the tool stops at the corner.
 pub const MAX_BLEND_TURN: f64 = PI * (179.0 / 180.0);
 
@@ -80,19 +90,30 @@ pub fn dynamics(
     rapid: bool,
     law: Law,
     acc: &AccParams,
+    dt: f64,
 ) -> (f64, Dyn) {
     let share = seg.max_share();
     let curv = seg.curvature_share();
+    let kappa = curv.max();
+    let tangent = if kappa > 0.0 {
+        JERK_TANGENT_ARC
+    } else {
+        JERK_TANGENT_LINE
+    };
     let mut v_hard = f64::INFINITY;
     let mut jmin = f64::INFINITY;
     for (i, ax) in axes.iter().enumerate() {
         let (v, a, j) = axis_vaj(ax, rapid, law, acc);
         if share[i] > 0.0 {
             v_hard = v_hard.min(v / share[i]);
-            jmin = jmin.min(j / share[i]);
+            jmin = jmin.min(tangent * j / share[i]);
         }
         if curv[i] > 0.0 {
             v_hard = v_hard.min((CENTRIPETAL_SHARE * a / curv[i]).sqrt());
+            if j.is_finite() {
+                v_hard = v_hard.min((JERK_STEP * j * dt / curv[i]).sqrt());
+                v_hard = v_hard.min((JERK_ROTATION * j / (curv[i] * kappa)).cbrt());
+            }
         }
     }
     let mut amin = f64::INFINITY;
