@@ -141,7 +141,7 @@ impl Kernel {
         };
         self.check_soft(m.tag, &seg)?;
         let rapid = motion == Motion::Rapid;
-        let (v_hard, dynm) = plan::dynamics(
+        let (v_hard, dynm, axis) = plan::dynamics(
             &self.cfg.axes,
             &seg,
             rapid,
@@ -158,6 +158,7 @@ impl Kernel {
             feed,
             v_hard,
             dynm,
+            axis,
             v_junction: f64::INFINITY,
             v_end: 0.0,
             len_orig: len,
@@ -167,6 +168,7 @@ impl Kernel {
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
         }
+        plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
         let keep_to = self.join(&mut piece);
         self.q.push_back(piece);
         self.moves += 1;
@@ -198,10 +200,10 @@ impl Kernel {
         {
             prev.den = false;
             prev.v_junction = f64::INFINITY;
-            let (v_hard, dynm) =
+            let (v_hard, dynm, axis) =
                 plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt);
             let len = arc.len;
-            let piece = Piece {
+            let mut piece = Piece {
                 seg: arc,
                 tag: prev.tag,
                 den: true,
@@ -209,12 +211,14 @@ impl Kernel {
                 feed: prev.feed.min(next.feed),
                 v_hard,
                 dynm,
+                axis,
                 v_junction: f64::INFINITY,
                 v_end: 0.0,
                 len_orig: len,
                 tol: prev.tol,
                 exact: false,
             };
+            plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
             self.q.push_back(piece);
             return n - 1;
         }
@@ -313,6 +317,18 @@ impl Kernel {
     pub fn abort(&mut self) {
         self.abort = true;
         self.replan = self.exec.is_some();
+    }
+
+    /// Debug view of the first queued pieces and the executing profile (diagnostics).
+    pub fn debug_front(&self) -> String {
+        format!(
+            "v {} exec {:?}\n{:#?}",
+            self.v,
+            self.exec
+                .as_ref()
+                .map(|e| (e.t, e.s0, e.prof.duration, e.prof.dist, e.prof.v_end)),
+            self.q.iter().take(3).collect::<Vec<_>>()
+        )
     }
 
     /// Current set point.
@@ -416,6 +432,10 @@ impl Kernel {
             self.pos = front.seg.end;
             self.exec = None;
             self.q.pop_front();
+            if self.q.is_empty() {
+                // The queue ends at rest (its last end speed is 0); drop rounding residue.
+                self.v = 0.0;
+            }
             if den {
                 self.moves -= 1;
                 self.out.finished.push(tag);

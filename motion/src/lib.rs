@@ -37,6 +37,7 @@
 //! once under the linear law; under the S and exponential laws at the next instant of zero
 //! acceleration (inside a cruise or at the boundary of a change), so no acceleration step occurs.
 
+pub mod bound;
 pub mod config;
 pub mod geom;
 pub mod kernel;
@@ -45,6 +46,7 @@ pub mod moves;
 pub mod plan;
 pub mod profile;
 pub mod ptp;
+pub mod samples;
 
 pub use config::{AccParams, AxisLimits, Config, ConfigError, Law, config_from_axcfil};
 pub use kernel::{Kernel, Tick};

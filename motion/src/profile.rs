@@ -92,7 +92,8 @@ impl Dyn {
 
     /// The lowest speed reachable from `hi` within `len` by decelerating.
     pub fn reach_down(&self, hi: f64, len: f64) -> f64 {
-        if self.change_dist(0.0, hi) <= len {
+        // A relative slack of 1e-9 absorbs the rounding of distances planned to end at rest.
+        if self.change_dist(0.0, hi) <= len * (1.0 + 1e-9) {
             return 0.0;
         }
         if matches!(self.law, Law::Linear) {

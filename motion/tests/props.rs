@@ -86,7 +86,7 @@ fn check(law: Law, steps: &[(u8, [f64; 3], f64, bool)], feed: f64, raw: &[(usize
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig { cases: 16, ..ProptestConfig::default() })]
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
 
     #[test]
     fn random_paths_linear_law(steps in path(), feed in 1200.0f64..9000.0,
