@@ -164,6 +164,7 @@ impl Kernel {
             len_orig: len,
             tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
             exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
+            corner: None,
         };
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
@@ -196,7 +197,7 @@ impl Kernel {
         if lines
             && !executing
             && prev.den
-            && let Some(arc) = plan::blend(prev, next, theta)
+            && let Some((arc, corner)) = plan::blend(prev, next, theta)
         {
             prev.den = false;
             prev.v_junction = f64::INFINITY;
@@ -217,6 +218,7 @@ impl Kernel {
                 len_orig: len,
                 tol: prev.tol,
                 exact: false,
+                corner: Some(corner),
             };
             plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
             self.q.push_back(piece);
@@ -306,8 +308,24 @@ impl Kernel {
         let Some(tag) = self.q.front().map(|p| p.tag) else {
             return;
         };
-        if let Some(p) = self.q.iter_mut().find(|p| p.tag == tag && p.den) {
-            p.v_junction = 0.0;
+        let Some(i) = self.q.iter().position(|p| p.tag == tag && p.den) else {
+            return;
+        };
+        // A corner blend not yet entered is undone, so the stop is at the programmed end point.
+        if i >= 1
+            && i + 1 < self.q.len()
+            && let Some(c) = self.q[i].corner
+        {
+            self.q.remove(i);
+            let (prev, next) = (i - 1, i);
+            let d1 = self.q[prev].seg.tangent(true);
+            let d2 = self.q[next].seg.tangent(false);
+            self.q[prev].seg = Seg::line_along(self.q[prev].seg.start, c, d1);
+            self.q[prev].den = true;
+            self.q[next].seg = Seg::line_along(c, self.q[next].seg.end, d2);
+            self.q[prev].v_junction = 0.0;
+        } else {
+            self.q[i].v_junction = 0.0;
         }
         self.stop_after = Some(tag);
         self.replan_all();

@@ -71,6 +71,8 @@ pub struct Piece {
     pub tol: f64,
     /// Exact stop requested at its end.
     pub exact: bool,
+    /// For a corner-blend arc: the programmed corner it replaces.
+    pub corner: Option<Vector>,
 }
 
 /// The per-law limits of every axis for feed or rapid moves: (v, a, j) in mm/s, mm/s², mm/s³.
@@ -250,8 +252,8 @@ pub fn segment(m: &Move, start: &Vector, end: &Vector) -> Result<Option<Seg>, Mo
 }
 
 /// Blends the corner between `prev` (a line, not started) and `next` (a line) with a circular arc
-/// that passes within `tol` of the corner; shortens both lines and returns the arc piece.
-pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<Seg> {
+/// that passes within `tol` of the corner; shortens both lines and returns the arc and the corner.
+pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<(Seg, Vector)> {
     let tol = prev.tol.min(next.tol);
     if tol <= 0.0 || theta <= 1e-9 || theta >= MAX_BLEND_TURN {
         return None;
@@ -279,7 +281,7 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<Seg> {
     let arc = Seg::arc(a, b, center, e1, u1, r, r, theta, Vector::zeros());
     prev.seg = Seg::line_along(prev.seg.start, a, u1);
     next.seg = Seg::line_along(b, next.seg.end, u2);
-    Some(arc)
+    Some((arc, corner))
 }
 
 /// The piece's speed cap under the overrides (percent).
