@@ -116,6 +116,13 @@ fn virtual_time(c: &mut Criterion) {
 criterion_group!(benches, virtual_time);
 
 fn main() {
+    // Instruction counts: `valgrind --tool=callgrind <bench binary>` with this set runs one
+    // 10,025-segment CAM program and nothing else.
+    if std::env::var_os("MOTION_BENCH_ONE_RUN").is_some() {
+        let moves = samples::cam(25);
+        println!("ticks {}", run(&moves, samples::start("cam")));
+        return;
+    }
     ratios();
     per_tick_cost();
     benches();

@@ -9,7 +9,6 @@ use crate::plan;
 
 /// The lower bound, s, for feed moves from `start` under `cfg` (linear law limits).
 pub fn lower_bound(cfg: &Config, start: &[f64], moves: &[Move]) -> f64 {
-    let n = cfg.axes.len();
     let tol = cfg.tolerance_mm;
     let mut p = vector(start);
     let mut segs = Vec::new();
@@ -56,9 +55,9 @@ pub fn lower_bound(cfg: &Config, start: &[f64], moves: &[Move]) -> f64 {
     }
     // (b) the axis bound over monotone runs (sampled finely on arcs).
     let mut b: f64 = 0.0;
-    for i in 0..n {
-        let (v, acc) = (cfg.axes[i].v_max, cfg.axes[i].a_max);
-        let mut pts: Vec<f64> = vec![start[i]];
+    for (i, (ax, &s0)) in cfg.axes.iter().zip(start).enumerate() {
+        let (v, acc) = (ax.v_max, ax.a_max);
+        let mut pts: Vec<f64> = vec![s0];
         for (s, _, _) in &segs {
             let steps = match s.shape {
                 Shape::Line { .. } => 1,
