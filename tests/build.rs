@@ -19,10 +19,13 @@ fn machine(plc: &[u8]) -> tempfile::TempDir {
     dir
 }
 
+/// Runs `ncplc build . ARGS` in `dir` (so that paths in diagnostics are relative to it, as the user
+/// sees them); returns the exit code, stdout and stderr.
 fn ncplc(args: &[&str], dir: &Path) -> (i32, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(dir)
         .arg("build")
-        .arg(dir)
+        .arg(".")
         .args(args)
         .output()
         .expect("ncplc runs");
@@ -38,7 +41,8 @@ fn the_example_lathe_program_builds_with_a_summary() {
     let dir = machine(include_bytes!("../plc-programs/lathe/MP0/PLCPRG"));
     let (code, out, err) = ncplc(&[], dir.path());
     assert_eq!(code, 0, "{out}{err}");
-    let summary = out.lines().last().expect("summary line");
+    assert_eq!(out, "", "results only on stdout, and a build has none");
+    let summary = err.lines().last().expect("summary line");
     assert!(summary.starts_with("MP0/PLCPRG: "), "{summary}");
     assert!(
         summary.contains(" statements, ") && summary.contains("image ") && summary.contains(" ms"),
@@ -54,7 +58,7 @@ fn the_example_lathe_program_builds_with_a_summary() {
 #[test]
 fn errors_are_printed_with_the_source_line_and_exit_1() {
     let dir = machine(b"U4A0 = I0A0\nU4A1 = I2A0\n");
-    let (code, out, _) = ncplc(&[], dir.path());
+    let (code, _, out) = ncplc(&[], dir.path());
     assert_eq!(code, 1);
     assert!(out.contains("error[E1104]"), "{out}");
     assert!(
@@ -67,10 +71,12 @@ fn errors_are_printed_with_the_source_line_and_exit_1() {
 #[test]
 fn json_format_has_the_check_fields() {
     let dir = machine(b"U4A0 = I0A0\nU4A1 = I2A0\n");
-    let (code, out, _) = ncplc(&["--format", "json"], dir.path());
+    let (code, out, err) = ncplc(&["--format", "json"], dir.path());
     assert_eq!(code, 1);
-    let lines: Vec<serde_json::Value> = out
+    assert_eq!(out, "", "diagnostics go to stderr in every format");
+    let lines: Vec<serde_json::Value> = err
         .lines()
+        .filter(|l| l.starts_with('{'))
         .map(|l| serde_json::from_str(l).expect("JSON line"))
         .collect();
     assert_eq!(lines.len(), 1);
@@ -111,7 +117,7 @@ fn a_missing_machine_is_exit_2() {
 fn legacy_comment_bytes_are_shown_decoded_in_the_source_line() {
     // "Привет" in CP1251 in a comment on the erroneous line.
     let dir = machine(b"U4A0 = I2A0 ; \xcf\xf0\xe8\xe2\xe5\xf2\r\n");
-    let (code, out, _) = ncplc(&[], dir.path());
+    let (code, _, out) = ncplc(&[], dir.path());
     assert_eq!(code, 1);
     assert!(out.contains("U4A0 = I2A0 ; Привет"), "{out}");
     assert!(out.contains("MP0/PLCPRG:1:8"), "{out}");

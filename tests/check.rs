@@ -10,6 +10,15 @@ fn ncplc(args: &[&str]) -> std::process::Output {
         .expect("ncplc runs")
 }
 
+/// Runs ncplc with `dir` as the current directory (paths in diagnostics are relative to it).
+fn ncplc_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
 fn machine(name: &str) -> String {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("../plc-programs")
@@ -29,13 +38,28 @@ fn ncplc_prints_help() {
 #[test]
 fn example_machines_check_clean() {
     // The mill's interface.toml (process 2's handshake signals) is checked and named too.
-    for (name, extra) in [("lathe", ""), ("mill", ", interface.toml")] {
-        let out = ncplc(&["check", &machine(name)]);
-        let text = String::from_utf8_lossy(&out.stdout);
+    // Run from the workspace root: the files are named as the user can open them from there.
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    for (name, extra) in [("lathe", false), ("mill", true)] {
+        let out = ncplc_in(&root, &["check", &format!("plc-programs/{name}")]);
+        let text = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(0), "{name}: {text}");
+        assert!(
+            out.stdout.is_empty(),
+            "{name}: a check has no results on stdout"
+        );
+        let m = format!("plc-programs/{name}");
+        // Both have an io.toml, which `check` validates too.
+        let extra = if extra {
+            format!(", {m}/interface.toml, {m}/io.toml")
+        } else {
+            format!(", {m}/io.toml")
+        };
         assert_eq!(
             text,
-            format!("FCRSYS, MP0/AXCFIL, MP0/PGCFIL, MP0/IOCFIL{extra}: no problems found\n"),
+            format!(
+                "{m}/FCRSYS, {m}/MP0/AXCFIL, {m}/MP0/PGCFIL, {m}/MP0/IOCFIL{extra}: no problems found\n"
+            ),
             "{name}"
         );
     }
@@ -55,11 +79,9 @@ fn broken_machine_exits_1_with_located_diagnostics() {
     let bytes = std::fs::read(&ax).expect("read");
     let text = String::from_utf8_lossy(&bytes).replacen("TIM=1,0,0,0,0", "TIM=64,0,0,0,0", 1);
     std::fs::write(&ax, text).expect("write");
-    let d = dir.path().display().to_string();
-
-    let out = ncplc(&["check", &d]);
+    let out = ncplc_in(dir.path(), &["check", "."]);
     assert_eq!(out.status.code(), Some(1));
-    let human = String::from_utf8_lossy(&out.stdout);
+    let human = String::from_utf8_lossy(&out.stderr);
     assert!(
         human.contains("error[E0101]: CPU tick 64 ms is too large"),
         "{human}"
@@ -68,9 +90,9 @@ fn broken_machine_exits_1_with_located_diagnostics() {
     assert!(human.contains("TIM=64,0,0,0,0"), "{human}");
     assert!(human.contains("^^"), "{human}");
 
-    let out = ncplc(&["check", &d, "--format", "json"]);
+    let out = ncplc_in(dir.path(), &["check", ".", "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stdout)
+    let lines: Vec<serde_json::Value> = String::from_utf8_lossy(&out.stderr)
         .lines()
         .map(|l| serde_json::from_str(l).expect("JSON line"))
         .collect();
@@ -103,9 +125,164 @@ fn dump_prints_the_typed_model() {
 }
 
 #[test]
-fn missing_machine_directory_is_an_error() {
+fn missing_machine_directory_is_a_usage_error() {
     let out = ncplc(&["check", "/nonexistent/machine", "--format", "json"]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "ncplc check: /nonexistent/machine: not a machine directory (no such directory)\n"
+    );
+}
+
+/// A copy of the bundled machine `name` in a temporary directory.
+fn copy_machine(name: &str) -> tempfile::TempDir {
+    fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+        std::fs::create_dir_all(to).expect("mkdir");
+        for entry in std::fs::read_dir(from).expect("read dir") {
+            let entry = entry.expect("entry");
+            let target = to.join(entry.file_name());
+            if entry.path().is_dir() {
+                copy_dir(&entry.path(), &target);
+            } else {
+                std::fs::copy(entry.path(), &target).expect("copy");
+            }
+        }
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_dir(&PathBuf::from(machine(name)), dir.path());
+    dir
+}
+
+/// The JSON lines of `ncplc check <args>` as (code, file, line, column, message).
+fn json_check(args: &[&str]) -> (Option<i32>, Vec<serde_json::Value>) {
+    let mut all = vec!["check"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--format", "json"]);
+    let out = ncplc(&all);
+    let lines = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON line"))
+        .collect();
+    (out.status.code(), lines)
+}
+
+fn brief(v: &serde_json::Value) -> (u64, String, u64, u64, String) {
+    (
+        v["code"].as_u64().unwrap_or(0),
+        v["file"].as_str().unwrap_or("").to_string(),
+        v["line"].as_u64().unwrap_or(0),
+        v["column"].as_u64().unwrap_or(0),
+        v["message"].as_str().unwrap_or("").to_string(),
+    )
+}
+
+/// `check` validates io.toml with the fieldbus crate's located codes (issue 12, item 5).
+#[test]
+fn check_validates_the_io_map() {
+    let dir = copy_machine("mill");
+    let io = dir.path().join("io.toml");
+    let text = std::fs::read_to_string(&io).expect("io.toml");
+    // The first device's timeout (line 14) and the second's healthy bit (line 25).
+    let text = text
+        .replacen("timeout_ms = 20", "timeout_ms = 0", 1)
+        .replacen("healthy = \"I100K1\"", "healthy = \"I9A3\"", 1);
+    std::fs::write(&io, text).expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [
+            (
+                3033,
+                "io.toml".to_string(),
+                14,
+                14,
+                "timeout_ms 0 ms is out of range".to_string()
+            ),
+            (
+                3023,
+                "io.toml".to_string(),
+                25,
+                11,
+                "healthy bit `I9A3` is on connector 9, which IOCFIL does not declare as IN9"
+                    .to_string()
+            ),
+        ]
+    );
+}
+
+/// A file of lines that are not records: the reader stops after 50 of them (971) and the file is
+/// not validated further; a NUL byte stops it at once (970).
+#[test]
+fn reader_gives_up_on_a_file_that_is_not_a_characterization_file() {
+    let dir = copy_machine("mill");
+    let ax = dir.path().join("MP0/AXCFIL");
+    // 200 lines `1+1`: each is error 2 (a line cannot start with `1`).
+    std::fs::write(&ax, "1+1\n".repeat(200)).expect("write");
+    let d = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&d]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(got.len(), 51, "{got:?}");
+    assert_eq!(
+        got[0],
+        (
+            2,
+            "MP0/AXCFIL".to_string(),
+            1,
+            1,
+            "a line cannot start with `1`".to_string()
+        )
+    );
+    assert_eq!(
+        got[50],
+        (
+            971,
+            "MP0/AXCFIL".to_string(),
+            50,
+            1,
+            "50 lines in a row are not valid records; reading of MP0/AXCFIL stopped here"
+                .to_string()
+        )
+    );
+
+    std::fs::write(&ax, b"*1\nTIM=1\0\0garbage").expect("write");
+    let (code, lines) = json_check(&[&d]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [(
+            970,
+            "MP0/AXCFIL".to_string(),
+            2,
+            6,
+            "NUL byte at byte 8: MP0/AXCFIL is not a text file".to_string()
+        )]
+    );
+}
+
+/// At most `--max-errors` diagnostics per file (default 100), then one note with the count.
+#[test]
+fn max_errors_caps_the_diagnostics_of_a_file() {
+    let dir = copy_machine("mill");
+    std::fs::write(dir.path().join("MP0/AXCFIL"), "1+1\n".repeat(200)).expect("write");
+    let d = dir.path().display().to_string();
+    let (_, lines) = json_check(&[&d, "--max-errors", "3"]);
+    assert_eq!(lines.len(), 4);
+    assert_eq!(
+        lines[3].to_string(),
+        r#"{"file":"MP0/AXCFIL","more_errors":48,"more_warnings":0}"#
+    );
+    let out = ncplc(&["check", &d, "--max-errors", "3"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("\"code\":902"), "{text}");
+    assert!(
+        text.ends_with(
+            "note: 48 more errors in MP0/AXCFIL (--max-errors 0 shows all)\n51 errors, 0 warnings\n"
+        ),
+        "{text}"
+    );
+    let (_, lines) = json_check(&[&d, "--max-errors", "0"]);
+    assert_eq!(lines.len(), 51);
 }

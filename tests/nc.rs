@@ -305,7 +305,8 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
             ),
             (
                 &serde_json::json!(2044),
-                &serde_json::json!("MP0/TAB0.KOR"),
+                // Named as the user can open it from the current directory (here: absolute).
+                &serde_json::json!(format!("{machine}/MP0/TAB0.KOR")),
                 &serde_json::json!(4),
                 &serde_json::json!(11)
             )
@@ -315,7 +316,10 @@ fn errors_in_the_correction_table_fail_check_and_plan() {
     std::fs::rename(m.join("MP0/TAB0.KOR"), m.join("MP0/TAB2.KOR")).expect("rename");
     let out = ncplc(&["nc", "check", machine, "G81ROUGH", "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(json_lines(&out.stderr)[0]["file"], "MP0/TAB2.KOR");
+    assert_eq!(
+        json_lines(&out.stderr)[0]["file"],
+        format!("{machine}/MP0/TAB2.KOR")
+    );
     // The shipped lathe table is valid and keeps the roughing example's entry 01 without lengths.
     let ok = ncplc(&["nc", "check", "plc-programs/lathe", "G81ROUGH"]);
     assert!(
@@ -642,4 +646,159 @@ fn a_bad_or_unreadable_constants_file_is_an_error_not_ignored() {
         assert!(err.contains(want), "{err}");
         assert!(out.stdout.is_empty());
     }
+}
+
+/// `nc check` runs the geometric checks of `nc plan`: an arc whose end point is not on its circle
+/// is refused by both, as E2503 with a hint (issue 12, item 5).
+#[test]
+fn check_refuses_an_arc_whose_end_point_is_off_its_circle() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_machine("mill", dir.path());
+    // Start (0,0), centre (3,0): radius 3 at the start, 7 at the end point (10,0).
+    std::fs::write(
+        dir.path().join("nc/ARC"),
+        "%1\nN1 G0 X0 Y0\nN2 G2 X10 Y0 I3 J0 F100\nN3 M30\n",
+    )
+    .expect("write");
+    let d = dir.path().display().to_string();
+    for cmd in ["check", "plan"] {
+        let out = ncplc(&["nc", cmd, &d, "ARC", "--format", "json"]);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        let lines = json_lines(&out.stderr);
+        assert_eq!(lines.len(), 1, "{cmd}: {lines:?}");
+        let e = &lines[0];
+        assert_eq!(
+            (
+                e["code"].as_u64(),
+                e["file"].as_str(),
+                e["line"].as_u64(),
+                e["column"].as_u64(),
+                e["message"].as_str(),
+                e["hint"].as_str(),
+            ),
+            (
+                Some(2503),
+                Some("nc/ARC"),
+                Some(3),
+                Some(1),
+                Some(
+                    "end point is not on the circle (error 7.56): start radius 3.0000, end radius 7.0000"
+                ),
+                Some(
+                    "the end point must be as far from the centre (I, J, K, relative to the start \
+                     point) as the start point is, within 0.002 mm; correct the end point or the centre"
+                ),
+            ),
+            "{cmd}"
+        );
+    }
+}
+
+/// A one-block program with 20,000 errors: `--max-errors 2` prints two diagnostics of the file
+/// (the long-line warning sorts first, then one error, its line as an excerpt), then one note.
+#[test]
+fn check_caps_the_errors_of_a_one_block_program() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_machine("mill", dir.path());
+    let text = format!("%1\nN1{}\nN2 M30\n", " U1".repeat(20_000));
+    std::fs::write(dir.path().join("nc/ONE"), text).expect("write");
+    let d = dir.path().display().to_string();
+    let out = ncplc(&["nc", "check", &d, "ONE", "--max-errors", "2"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        err.matches("error[E2008]: the machine has no axis U")
+            .count(),
+        1,
+        "{err}"
+    );
+    assert!(
+        err.contains("= in nc/ONE:2:4 (a long line): `N1 U1 U1 U1 U1 U1 U1 U1 U1 U1 U1 …`"),
+        "{err}"
+    );
+    assert!(
+        err.ends_with(
+            "note: 19999 more errors in nc/ONE (--max-errors 0 shows all)\n20000 errors, 1 warning\n"
+        ),
+        "{err}"
+    );
+}
+
+#[test]
+fn fanuc_issue_14_classes_plan_end_to_end_and_an_unexecuted_word_is_refused() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("O1234.nc");
+    std::fs::write(
+        &prog,
+        "O1234\nG21 G90 G17 G54\nG10 L2 P2 X100. Y50. Z0\nG55 G00 X10. Y0 Z5.\nG01 Z-1. F200.\n\
+         G02 I-10.\nG61 G01 X20.\nG64 P0.02 X25.\nG00 Z10.\nG91 G98 G81 X10. Y0 Z-6. R-4. L3 F100.\n\
+         G80 G90\nM98 P2001 L2\nG28\nM30\nO2001\nG91 G01 Y1.2345 F300.\nG90\nM99\n",
+    )
+    .expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        prog.to_str().unwrap_or_default(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let l = json_lines(&out.stdout);
+    // G10 L2 P2 + G55: X10 Y0 is machine X110 Y50; the full circle G02 I-10 ends where it starts.
+    assert_eq!(
+        (l[0]["end"]["X"].as_f64(), l[0]["end"]["Y"].as_f64()),
+        (Some(110.0), Some(50.0))
+    );
+    assert_eq!(l[2]["kind"], "arc_cw");
+    assert_eq!(l[2]["end"]["X"], 110.0);
+    assert_eq!(l[2]["center"]["X"], 100.0);
+    assert_eq!(l[3]["exact_stop"], true);
+    assert_eq!(l[4]["tolerance"], 0.02);
+    // L3 in G91: three holes at X120, 130, 140 (machine 135, 145, 155), bottom Z0.
+    let holes: Vec<f64> = l
+        .iter()
+        .filter(|v| v["kind"] == "linear" && v["end"]["Z"] == 0.0)
+        .filter_map(|v| v["end"]["X"].as_f64())
+        .collect();
+    assert_eq!(holes, vec![135.0, 145.0, 155.0]);
+    // O2001 after M30 runs twice: Y1.2345 rounds to 1.235.
+    let sub: Vec<f64> = l
+        .iter()
+        .filter(|v| v["unit"] == "O2001")
+        .filter_map(|v| v["end"]["Y"].as_f64())
+        .collect();
+    assert_eq!(sub, vec![51.235, 52.47]);
+    // G28 without axes: every axis to machine zero.
+    let home = &l[l.len() - 2];
+    assert_eq!(
+        (
+            home["kind"].as_str(),
+            home["end"]["X"].as_f64(),
+            home["end"]["Y"].as_f64(),
+            home["end"]["Z"].as_f64()
+        ),
+        (Some("rapid"), Some(0.0), Some(0.0), Some(0.0))
+    );
+    std::fs::write(&prog, "O1\nG01 X1. R5. F100.\nM30\n").expect("program");
+    let out = ncplc(&[
+        "nc",
+        "plan",
+        "plc-programs/mill",
+        prog.to_str().unwrap_or_default(),
+        "--format",
+        "json",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    let d = json_lines(&out.stderr);
+    assert_eq!(
+        (
+            d[0]["code"].as_u64(),
+            d[0]["line"].as_u64(),
+            d[0]["column"].as_u64()
+        ),
+        (Some(2530), Some(2), Some(9))
+    );
 }

@@ -48,7 +48,7 @@ fn soft_limit_refuses_the_block_before_motion() {
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         text(&out.stderr),
-        "error: nc/CONTOUR (N20): block 0: axis Z would reach 50.0000 mm, beyond its soft limit 0.0000 mm\n"
+        "error: plc-programs/mill/nc/CONTOUR (N20): block 0: axis Z would reach 50.0000 mm, beyond its soft limit 0.0000 mm\n"
     );
     assert!(out.stdout.is_empty());
 }
@@ -187,6 +187,6 @@ fn a_linear_move_without_feed_is_refused_with_its_block() {
     assert_eq!(out.status.code(), Some(1));
     assert_eq!(
         text(&out.stderr),
-        "error: nc/THREAD (N20): block 1: linear move without a feed (F)\n"
+        "error: plc-programs/lathe/nc/THREAD (N20): block 1: linear move without a feed (F)\n"
     );
 }

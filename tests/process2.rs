@@ -60,9 +60,10 @@ fn check_names_every_missing_process_2_role_at_its_pro_record() {
     let m = mill_copy(dir.path(), None);
     let out = ncplc(&["check", &m, "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    let diags = json(&out.stdout);
+    let diags = json(&out.stderr);
     let got: Vec<_> = diags.iter().map(fields).collect();
-    let at = |_| (1609, "MP0/AXCFIL".to_string(), 2, 9, 1);
+    // Files are named as the user can open them from the current directory (here: absolute).
+    let at = |_| (1609, format!("{m}/MP0/AXCFIL"), 2, 9, 1);
     assert_eq!(got, (0..3).map(at).collect::<Vec<_>>());
     let messages: Vec<&str> = diags
         .iter()
@@ -78,7 +79,7 @@ fn check_names_every_missing_process_2_role_at_its_pro_record() {
     );
     let human = ncplc(&["check", &m]);
     assert_eq!(human.status.code(), Some(1));
-    let text = String::from_utf8_lossy(&human.stdout);
+    let text = String::from_utf8_lossy(&human.stderr);
     assert!(
         text.contains("error[E1609]: process 2 has no MCODE in the interface map (AXCFIL NBP=2)"),
         "{text}"
@@ -118,7 +119,7 @@ fn map_errors_are_located_in_interface_toml() {
     let m = mill_copy(dir.path(), Some(text));
     let out = ncplc(&["check", &m, "--format", "json"]);
     assert_eq!(out.status.code(), Some(1));
-    let got: Vec<(u64, String, u64, u64)> = json(&out.stdout)
+    let got: Vec<(u64, String, u64, u64)> = json(&out.stderr)
         .iter()
         .map(|d| {
             let (code, file, _, line, column) = fields(d);
@@ -128,8 +129,8 @@ fn map_errors_are_located_in_interface_toml() {
     assert_eq!(
         got,
         vec![
-            (1605, "interface.toml".to_string(), 11, 11),
-            (1608, "interface.toml".to_string(), 21, 7),
+            (1605, format!("{m}/interface.toml"), 11, 11),
+            (1608, format!("{m}/interface.toml"), 21, 7),
         ]
     );
     // Fixed, the clash with process 1's MSTB (I1K0) remains.
@@ -140,11 +141,11 @@ fn map_errors_are_located_in_interface_toml() {
     std::fs::write(Path::new(&m).join("interface.toml"), fixed).expect("write");
     let out = ncplc(&["check", &m]);
     assert_eq!(out.status.code(), Some(1));
-    let human = String::from_utf8_lossy(&out.stdout);
+    let human = String::from_utf8_lossy(&out.stderr);
     assert!(
-        human.contains(
-            "error[E1607]: entry `MSTB_T`: address I1K0 overlaps entry `MSTB` (I1K0)\n  ┌─ interface.toml:5:11"
-        ),
+        human.contains(&format!(
+            "error[E1607]: entry `MSTB_T`: address I1K0 overlaps entry `MSTB` (I1K0)\n  ┌─ {m}/interface.toml:5:11"
+        )),
         "{human}"
     );
 }

@@ -85,7 +85,7 @@ fn a_changed_program_fails_with_a_divergence_report() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
-        let report = String::from_utf8_lossy(&out.stdout);
+        let report = String::from_utf8_lossy(&out.stderr);
         let lines: Vec<&str> = report.lines().collect();
         assert_eq!(
             lines[0],

@@ -398,3 +398,7 @@ pub const ADG_SIGNALS: u32 = 225;
 pub const ATR_TYPE: u32 = 227;
 /// AXCFIL 228: SSI type bit without ATR.
 pub const ATR_MISSING: u32 = 228;
+/// Project 970: NUL byte in a characterization file (not a text file; reading stops there).
+pub const NOT_TEXT: u32 = 970;
+/// Project 971: too many consecutive lines that are not records (reading stops).
+pub const GAVE_UP: u32 = 971;

@@ -153,7 +153,7 @@ pub fn validate(file: &ParsedFile) -> (Fcrsys, Vec<Diagnostic>) {
                 .or_insert_with(|| r.span.clone())
                 .clone();
             if first != r.span {
-                let (line, _) = diag::line_column(&file.text, first.start);
+                let (line, _) = file.lines.line_column(&file.text, first.start);
                 diags.push(ctx.error(
                     codes::FCRSYS_DUPLICATE,
                     r.key_span.clone(),

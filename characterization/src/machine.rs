@@ -101,6 +101,11 @@ impl Loader<'_> {
             Ok(bytes) => {
                 let (file, diags) = reader::read_with(&name, &bytes, grammar);
                 self.sources.add(name, file.text.clone());
+                if file.abandoned {
+                    // Not a characterization file: validating it would only add follow-on errors.
+                    self.add(diags);
+                    return None;
+                }
                 Some((file, diags))
             }
             Err(e) => {

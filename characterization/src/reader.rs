@@ -24,7 +24,7 @@
 
 use std::ops::Range;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, LineIndex};
 use serde::{Deserialize, Serialize};
 
 use crate::codes;
@@ -100,12 +100,24 @@ pub struct ParsedFile {
     pub header: Option<Param>,
     /// Span of the lone `*` that ends an FCRSYS file, when present.
     pub end_marker: Option<Range<usize>>,
+    /// Line index of `text`, so that locating a diagnostic does not rescan the file.
+    #[serde(skip)]
+    pub lines: LineIndex,
+    /// The reader gave up on the file (error 970 or 971): it is not validated further, since every
+    /// further diagnostic would be a follow-on of it not being a characterization file.
+    #[serde(default)]
+    pub abandoned: bool,
 }
 
 impl ParsedFile {
     /// The first section numbered `n`, if any.
     pub fn section(&self, n: u32) -> Option<&Section> {
         self.sections.iter().find(|s| s.number == n)
+    }
+
+    /// Fills line and column of `d` (a diagnostic about this file) from its span.
+    pub fn locate(&self, d: Diagnostic) -> Diagnostic {
+        d.locate_in(&self.text, &self.lines)
     }
 
     /// Empty span at the end of the text, for "missing …" diagnostics about the whole file.
@@ -147,33 +159,60 @@ pub fn read(name: &str, bytes: &[u8]) -> (ParsedFile, Vec<Diagnostic>) {
     read_with(name, bytes, Grammar::FUNCTIONAL)
 }
 
-/// Reads a file with the given grammar; never panics, whatever the bytes.
+/// Consecutive lines with an error (blank and comment lines do not count either way) after which
+/// the reader decides the file is not a characterization file and stops (error 971): random text
+/// or a file of another kind then costs a few dozen diagnostics, not one per line.
+pub const MAX_BAD_LINES: usize = 50;
+
+/// Reads a file with the given grammar; never panics, whatever the bytes. A file with a NUL byte
+/// (error 970) or with [`MAX_BAD_LINES`] bad lines in a row (error 971) is read no further and
+/// comes back [`ParsedFile::abandoned`].
 pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec<Diagnostic>) {
-    let text = decode(bytes);
+    let nul = bytes.iter().position(|&b| b == 0);
+    let text = decode(&bytes[..nul.unwrap_or(bytes.len())]);
+    let lines = LineIndex::new(&text);
     let mut reader = Reader {
         name,
         text: &text,
+        lines: &lines,
         grammar,
         diags: Vec::new(),
         sections: Vec::new(),
         header: None,
         end_marker: None,
         stray_reported: false,
+        abandoned: false,
     };
     reader.run();
+    if let Some(at) = nul
+        && !reader.abandoned
+    {
+        // The decoded text ends at the NUL: the error points just past the last text read.
+        let end = text.len();
+        reader.error(
+            codes::NOT_TEXT,
+            end..end,
+            format!("NUL byte at byte {at}: {name} is not a text file"),
+            "characterization files are plain text; check that the right file is named",
+        );
+        reader.abandoned = true;
+    }
     let Reader {
         diags,
         sections,
         header,
         end_marker,
+        abandoned,
         ..
     } = reader;
     let file = ParsedFile {
         name: name.to_string(),
-        text: text.clone(),
+        text,
         sections,
         header,
         end_marker,
+        lines,
+        abandoned,
     };
     (file, diags)
 }
@@ -181,19 +220,21 @@ pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec
 struct Reader<'a> {
     name: &'a str,
     text: &'a str,
+    lines: &'a LineIndex,
     grammar: Grammar,
     diags: Vec<Diagnostic>,
     sections: Vec<Section>,
     header: Option<Param>,
     end_marker: Option<Range<usize>>,
     stray_reported: bool,
+    abandoned: bool,
 }
 
 impl Reader<'_> {
     fn error(&mut self, code: u32, span: Range<usize>, message: String, hint: &str) {
         let mut d = Diagnostic::error(code, self.name, span, message)
             .with_hint(hint)
-            .locate(self.text);
+            .locate_in(self.text, self.lines);
         if let Some(s) = self.sections.last() {
             d = d.with_section(s.number);
         }
@@ -203,25 +244,46 @@ impl Reader<'_> {
     fn run(&mut self) {
         let text = self.text;
         let mut start = 0;
+        let mut bad_run = 0;
         while start < text.len() {
             let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
-            self.line(start, end);
+            let before = self.diags.len();
+            let neutral = self.line(start, end);
+            if self.diags.len() > before {
+                bad_run += 1;
+            } else if !neutral {
+                bad_run = 0;
+            }
+            if bad_run >= MAX_BAD_LINES {
+                self.error(
+                    codes::GAVE_UP,
+                    start..start,
+                    format!(
+                        "{MAX_BAD_LINES} lines in a row are not valid records; reading of {} stopped here",
+                        self.name
+                    ),
+                    "is this the right file? A characterization file is `*<n>` section markers, `NAME=p1,p2,…` records and `;` comments",
+                );
+                self.abandoned = true;
+                return;
+            }
             start = end + 1;
         }
     }
 
-    /// Handles the line `text[start..end]` (without its `\n`).
-    fn line(&mut self, start: usize, end: usize) {
+    /// Handles the line `text[start..end]` (without its `\n`); returns true for a blank or
+    /// comment-only line, which says nothing about whether the file is a characterization file.
+    fn line(&mut self, start: usize, end: usize) -> bool {
         let line = &self.text[start..end];
         let content = line.strip_suffix('\r').unwrap_or(line);
         let lead = content.len() - content.trim_start().len();
         let body = &content[lead..];
         let at = start + lead;
         let Some(first) = body.chars().next() else {
-            return;
+            return true;
         };
         match first {
-            ';' => {}
+            ';' => return true,
             '*' => self.section_marker(at, body),
             c if c.is_ascii_alphabetic() => self.instruction(at, body),
             c => {
@@ -233,6 +295,7 @@ impl Reader<'_> {
                 }
             }
         }
+        false
     }
 
     fn non_ascii(&mut self, span: Range<usize>, c: char) {
@@ -517,7 +580,7 @@ pub fn check_section_count(file: &ParsedFile, required: u32, max: u32) -> Vec<Di
                 "remove the section or merge its instructions into sections *1..*{max}"
             ))
             .with_section(s.number)
-            .locate(&file.text),
+            .locate_in(&file.text, &file.lines),
         );
     }
     let present = file
@@ -534,7 +597,7 @@ pub fn check_section_count(file: &ParsedFile, required: u32, max: u32) -> Vec<Di
         diags.push(
             Diagnostic::error(codes::MISSING_SECTIONS, file.name.as_str(), file.end_span(), format!("{} lacks section(s) {}", file.name, missing.join(", ")))
                 .with_hint(format!("the file needs sections *1..*{required}; an unused section is written as its marker alone"))
-                .locate(&file.text),
+                .locate_in(&file.text, &file.lines),
         );
     }
     diags

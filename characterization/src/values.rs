@@ -26,6 +26,23 @@ use packets::{Dir, Packet, Signal};
 use crate::codes;
 use crate::reader::{Param, ParsedFile, Record};
 
+/// `hint` prefixed with "did you mean `X`? " when one of the upper-case instruction names listed in
+/// `allowed` (a hint text such as "section 1 allows NBP, TIM, PRO") is one edit or so from `key`.
+pub fn suggest_key(key: &str, allowed: &str, hint: &str) -> String {
+    let names = allowed
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|t| {
+            !t.is_empty()
+                && t.bytes()
+                    .all(|b| b.is_ascii_uppercase() || b.is_ascii_digit())
+        })
+        .filter(|t| t.bytes().any(|b| b.is_ascii_uppercase()));
+    match diag::did_you_mean(key, names) {
+        Some(s) => format!("{s} {hint}"),
+        None => hint.to_string(),
+    }
+}
+
 /// Where a check happens: the file (for its name and text), the section and the process.
 #[derive(Debug, Clone, Copy)]
 pub struct Ctx<'a> {
@@ -87,7 +104,7 @@ impl<'a> Ctx<'a> {
     fn place(&self, mut d: Diagnostic) -> Diagnostic {
         d.section = self.section;
         d.process = self.process;
-        d.locate(&self.file.text)
+        self.file.locate(d)
     }
 
     /// Checks that `record` has between `min` and `max` parameters (errors 10 and 11).

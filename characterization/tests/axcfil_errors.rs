@@ -866,7 +866,8 @@ case!(
     [("NBP=1,", "NBP=6,")],
     183,
     [("NBP=^6", 0)],
-    [922]
+    // No follow-on 922 for processes 2..5: the file's one PRO settles the number (issue 12).
+    []
 );
 case!(
     e184_pro_above_nbp,
@@ -1590,6 +1591,79 @@ fn diagnostics_name_section_and_process() {
             (174, Some(3), Some(1)),
             (175, Some(3), Some(1)),
             (139, Some(2), Some(1))
+        ]
+    );
+}
+
+/// NBP=7 on a file that opens one process: one error, the real cause, with the likely intent in
+/// its hint; no follow-on errors about processes 2..5 (issue 12: 25 errors and 8 warnings before).
+#[test]
+fn nbp_too_many_is_one_error_with_the_processes_of_the_file_as_hint() {
+    let src = edit(BASE, &[("NBP=1,", "NBP=7,")]);
+    let (f, mut d) = read("AXCFIL", src.as_bytes());
+    let (model, v) = axcfil::validate(&f);
+    d.extend(v);
+    let got: Vec<_> = d
+        .iter()
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [(
+            183,
+            2,
+            5,
+            "NBP declares 7 processes",
+            "at most 5 processes are allowed; section 1 opens processes up to PRO=1: write NBP=1"
+        )]
+    );
+    assert_eq!(model.nbp, 1);
+}
+
+/// A misspelled instruction gets "did you mean" with the nearest instruction of its section (the
+/// axis then lacks RAP: 137 is the consequence, reported at the axis).
+#[test]
+fn misspelled_instruction_suggests_the_nearest_name() {
+    let src = edit(BASE, &[("RAP=10000,800", "RPA=10000,800")]);
+    let (f, mut d) = read("AXCFIL", src.as_bytes());
+    d.extend(axcfil::validate(&f).1);
+    let got: Vec<_> = d
+        .iter()
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        [
+            (
+                6,
+                12,
+                1,
+                "instruction RPA is not allowed in AXCFIL section 2",
+                "did you mean `RAP`? section 2 allows TPA NTC RAP GAS VGAS PAS SKW MCZ POS SRV MAN MSS GMxx FRC LOP LOx MFC AFC CUB SWx TSM ASM POM ADP ZNO FBF HWC ATR GRA FOPP FTP ADG LAS FQF"
+            ),
+            (
+                137,
+                9,
+                1,
+                "axis X has no RAP",
+                "declare rapid speed and acceleration, e.g. `RAP=12000,800`"
+            )
         ]
     );
 }

@@ -1,5 +1,9 @@
 //! Scan-time and compile-time benchmarks on a generated 10,000-statement program: the JIT's tick
-//! against the interpreter's, the front end, and JIT compile time under several cranelift settings.
+//! against the interpreter's and against gcc -O2 on the same program emitted as C
+//! ([`compiler::cgen`]), the front end, and JIT compile time under several cranelift settings.
+
+#[path = "support/gcc_scan.rs"]
+mod gcc_scan;
 
 /// The allocator of the `ncplc` binary, so the figures are what the tool does.
 #[global_allocator]
@@ -97,7 +101,41 @@ fn scan(c: &mut Criterion) {
             })
         });
     }
+    match gcc_scan::GccScan::build(&compiler::cgen::emit_c(&p), &["-O2"]) {
+        Ok(native) => {
+            same_images_as_the_interpreter(&p, &native);
+            let mut image = p.new_image();
+            let mut t = 0u8;
+            g.bench_function("gcc_O2", |b| {
+                b.iter(|| {
+                    t = t.wrapping_add(1);
+                    image[0] = t;
+                    image[128 + 12] = t & 0x9F;
+                    native.tick(black_box(&mut image));
+                })
+            });
+        }
+        Err(e) => eprintln!("scan_10k/gcc_O2 skipped: {e}"),
+    }
     g.finish();
+}
+
+/// The gcc build must produce the interpreter's images, tick for tick, under the benchmark's inputs.
+fn same_images_as_the_interpreter(p: &Arc<compiler::ir::Program>, native: &gcc_scan::GccScan) {
+    let mut interp = Interpreter::new(p.clone());
+    let (mut a, mut c) = (p.new_image(), p.new_image());
+    for t in 1..=600u32 {
+        for image in [&mut a, &mut c] {
+            image[0] = t as u8;
+            image[128 + 12] = t as u8 & 0x9F;
+        }
+        interp.tick(&mut a);
+        native.tick(&mut c);
+        assert!(
+            a == c,
+            "tick {t}: the gcc build departs from the interpreter"
+        );
+    }
 }
 
 fn compile_time(c: &mut Criterion) {

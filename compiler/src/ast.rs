@@ -1,7 +1,7 @@
 //! The syntax tree of a PLC program, exactly as written, with byte spans into the decoded text.
 //!
 //! The parser keeps syntactic distinctions that sema needs to judge (e.g. `+` vs `OR`, `/` vs
-//! `NOT`), so that the meaning of an operator can follow the operand types (plc-language.md §5).
+//! `NOT`), so that the meaning of an operator can follow the operand types (docs/plc-language.md §5).
 //! Names are stored upper-cased (the language is case-insensitive).
 
 use std::ops::Range;

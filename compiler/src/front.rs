@@ -55,6 +55,11 @@ pub fn compile_with_threads(
     let text = lexer::decode_source(source);
     let (ast, mut diagnostics) = parser::parse_with_threads(file_name, &text, threads);
     let (checked, mut sema_diags) = sema::check(file_name, &text, &ast, ctx);
+    if diag::has_errors(&diagnostics) {
+        // Usage is not known after a syntax error: the lines that would use or write a name may
+        // be the ones the parser could not read, so "never used/written" would mislead.
+        sema_diags.retain(|d| !sema::codes::is_usage_warning(d.code));
+    }
     diagnostics.append(&mut sema_diags);
     let mut stats = CompileStats::default();
     let mut program = None;

@@ -6,7 +6,7 @@
 //! like). Every span and every diagnostic refers to that decoded text, and because a legacy byte
 //! becomes exactly one character, columns still count the file's bytes.
 //!
-//! [`tokenize`] runs the logos DFA and applies the line rules of plc-language.md §2: a newline ends a
+//! [`tokenize`] runs the logos DFA and applies the line rules of docs/plc-language.md §2: a newline ends a
 //! statement unless a `(` or `[` is open or the line ends with a binary operator, `/`, `=`, `,` or
 //! `:=`. Blank lines disappear. Lexer errors become [`Tok::Error`] tokens (so the parser's `!`
 //! recovery can resynchronise) and are also returned as [`LexError`]s.
@@ -46,46 +46,31 @@ pub fn decode_source(bytes: &[u8]) -> String {
         .collect()
 }
 
-/// Line starts of a text, for turning byte offsets into 1-based line and column quickly
-/// (`diag::line_column` scans from the start of the text, too slow for thousands of lookups).
+/// A text with its [`diag::LineIndex`], for turning byte offsets into 1-based line and column
+/// quickly (`diag::line_column` scans from the start of the text, too slow for thousands of lookups).
 #[derive(Debug, Clone)]
 pub struct LineIndex<'a> {
     text: &'a str,
-    starts: Vec<usize>,
+    index: diag::LineIndex,
 }
 
 impl<'a> LineIndex<'a> {
     /// Indexes `text`.
     pub fn new(text: &'a str) -> Self {
-        let mut starts = vec![0];
-        starts.extend(
-            text.bytes()
-                .enumerate()
-                .filter(|&(_, b)| b == b'\n')
-                .map(|(i, _)| i + 1),
-        );
-        LineIndex { text, starts }
+        LineIndex {
+            text,
+            index: diag::LineIndex::new(text),
+        }
     }
 
     /// 1-based line and column (in characters) of byte `offset`, as `diag::line_column` gives them.
     pub fn line_column(&self, offset: usize) -> (u32, u32) {
-        let mut offset = offset.min(self.text.len());
-        while !self.text.is_char_boundary(offset) {
-            offset -= 1;
-        }
-        let line = self.starts.partition_point(|&s| s <= offset);
-        let start = self.starts[line - 1];
-        let column = self.text[start..offset].chars().count() + 1;
-        (
-            u32::try_from(line).unwrap_or(u32::MAX),
-            u32::try_from(column).unwrap_or(u32::MAX),
-        )
+        self.index.line_column(self.text, offset)
     }
 
     /// Fills a diagnostic's line and column from its span.
-    pub fn locate(&self, mut d: diag::Diagnostic) -> diag::Diagnostic {
-        (d.line, d.column) = self.line_column(d.span.start);
-        d
+    pub fn locate(&self, d: diag::Diagnostic) -> diag::Diagnostic {
+        d.locate_in(self.text, &self.index)
     }
 }
 

@@ -1,6 +1,7 @@
 //! The PLC-interface language: logos/lalrpop front end, typed IR, reference interpreter, cranelift JIT.
 
 pub mod ast;
+pub mod cgen;
 pub mod context;
 pub mod engine;
 pub mod front;

@@ -513,3 +513,80 @@ fn emit_clif_lists_one_function_per_part() {
     assert!(clif.contains("; SLOW slice 1, function part2"));
     assert!(clif.contains("load.i8 notrap little"));
 }
+
+#[path = "../benches/support/gcc_scan.rs"]
+mod gcc_scan;
+
+/// The C back end compiled by gcc, or `None` (with a message) when gcc is not installed.
+fn gcc(p: &Program) -> Option<gcc_scan::GccScan> {
+    match gcc_scan::GccScan::build(&compiler::cgen::emit_c(p), &["-O2"]) {
+        Ok(g) => Some(g),
+        Err(e) if e.starts_with("gcc not available") => {
+            eprintln!("skipped: {e}");
+            None
+        }
+        Err(e) => panic!("{e}\n{}", compiler::cgen::emit_c(p)),
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 12, ..ProptestConfig::default() })]
+
+    #[test]
+    fn the_c_back_end_agrees_with_the_interpreter_bit_for_bit(p in program(), ticks in inputs()) {
+        let Some(native) = gcc(&p) else { return Ok(()) };
+        let p = Arc::new(p);
+        let mut interp = Interpreter::new(p.clone());
+        let mut a = p.new_image();
+        let mut c = p.new_image();
+        for (t, pokes) in ticks.iter().enumerate() {
+            for &(at, v) in pokes {
+                a[at] = v;
+                c[at] = v;
+            }
+            interp.tick(&mut a);
+            native.tick(&mut c);
+            if a != c {
+                let diff: Vec<_> = (0..a.len()).filter(|&i| a[i] != c[i]).map(|i| (i, a[i], c[i])).collect();
+                prop_assert!(false, "tick {t}: (offset, interp, C) {diff:?}\n{}", compiler::cgen::emit_c(&p));
+            }
+        }
+    }
+}
+
+#[test]
+fn the_c_back_end_runs_the_synthetic_program_like_the_interpreter() {
+    let ctx = compiler::MachineContext {
+        spl: 256,
+        ..compiler::MachineContext::lathe_like()
+    };
+    let src = compiler::synth::synthetic_program(400);
+    let p = compiler::compile("synth", src.as_bytes(), &ctx)
+        .program
+        .expect("the synthetic program compiles");
+    let Some(native) = gcc(&p) else { return };
+    let p = Arc::new(p);
+    let mut interp = Interpreter::new(p.clone());
+    let mut a = p.new_image();
+    let mut c = p.new_image();
+    let mut x: u32 = 7;
+    for t in 0..300 {
+        // Pseudo-random input bytes of packets A and K (CNC→PLC) every third tick.
+        if t % 3 == 0 {
+            x ^= x << 13;
+            x ^= x >> 17;
+            x ^= x << 5;
+            let at = (x % 1152) as usize;
+            a[at] = (x >> 16) as u8;
+            c[at] = (x >> 16) as u8;
+        }
+        interp.tick(&mut a);
+        native.tick(&mut c);
+        assert!(
+            a == c,
+            "tick {t}: the C back end departs from the interpreter"
+        );
+    }
+    // The program did something: some output bytes are set.
+    assert!(a[..packets::PACKETS_LEN].iter().any(|&b| b != 0));
+}

@@ -1,4 +1,4 @@
-//! The seed fragments (plc-language.md §1) compile unchanged, each with its ladder meaning.
+//! The seed fragments (docs/plc-language.md §1) compile unchanged, each with its ladder meaning.
 
 use compiler::ir::{BinOp, CmpOp, Expr, Place, Stmt, Ty, Value};
 use compiler::{MachineContext, compile};

@@ -227,7 +227,7 @@ fn every_code_is_documented_in_the_table() {
 
 #[test]
 fn constant_expressions_take_the_targets_type() {
-    // Two literals fold to one, which then takes the target's type (plc-language.md §4.2).
+    // Two literals fold to one, which then takes the target's type (docs/plc-language.md §4.2).
     let p =
         program("W100K0 = 0 + 0\nW100K1 = 200 + 55\nW100K2 = 0FH & 3CH\nU100K0 = TRUE * /FALSE\n");
     let consts: Vec<&Expr> = p
@@ -254,5 +254,91 @@ fn constant_expressions_take_the_targets_type() {
         diags("DEF D : DINT\nD = 7 / 0\nW100K0 = BYTE(D)\n")
             .iter()
             .all(|&(c, _, _)| c != 1302)
+    );
+}
+
+/// After a syntax error, usage is unknown: no "never used" for a name the unreadable line uses.
+#[test]
+fn no_usage_warnings_after_a_syntax_error() {
+    let src = "DEF SPARE = I0A5\nU4A1 = SPARE +\n";
+    let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+    let got: Vec<_> = c
+        .diagnostics
+        .iter()
+        .map(|d| (d.code, d.line, d.column, d.is_error()))
+        .collect();
+    assert_eq!(got, vec![(1003, 3, 1, true)]);
+    // The same name really unused, in a program without syntax errors, is still reported.
+    assert_eq!(diags("DEF SPARE = I0A5\nU4A1 = I0A0\n"), vec![(1502, 1, 5)]);
+}
+
+/// A timer preset below the logic tick (10 ms in `lathe_like`) runs out at the first tick: 1504.
+#[test]
+fn timer_shorter_than_the_tick_warns() {
+    let src = "DEF T1 : TON(5ms)\nDEF T2 : TOF(10ms)\nT1 = I0A0\nT2 = I0A1\nU4A0 = T1 + T2";
+    let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+    let got: Vec<_> = c
+        .diagnostics
+        .iter()
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        vec![(
+            1504,
+            1,
+            14,
+            "TON preset 5 ms is shorter than the logic tick of 10 ms: it runs out at the first tick",
+            "timers count whole ticks; use a preset of at least 10 ms"
+        )]
+    );
+    assert!(c.program.is_some(), "a warning does not stop the build");
+}
+
+/// An undefined name gets "did you mean" with the nearest defined, predeclared or function name.
+#[test]
+fn undefined_name_suggests_the_nearest_one() {
+    let src = "DEF START_PB = I0A3\nU4A0 = STRAT_PB\nSTART_BP = 1";
+    let c = compile("t.plc", src.as_bytes(), &MachineContext::lathe_like());
+    let got: Vec<_> = c
+        .diagnostics
+        .iter()
+        .filter(|d| d.is_error())
+        .map(|d| {
+            (
+                d.code,
+                d.line,
+                d.column,
+                d.message.as_str(),
+                d.hint.as_str(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        got,
+        vec![
+            (
+                1207,
+                2,
+                8,
+                "`STRAT_PB` is not defined",
+                "did you mean `START_PB`? define it (`DEF STRAT_PB = <signal>` or `DEF STRAT_PB : <type>`) or use a predeclared interface name"
+            ),
+            (
+                1207,
+                3,
+                1,
+                "`START_BP` is not defined",
+                "did you mean `START_PB`? define it first: `DEF START_BP = <signal>` or `DEF START_BP : <type>`"
+            ),
+        ]
     );
 }

@@ -1,6 +1,6 @@
 //! Source-level golden tests: PLC statement text is compiled by the front end and run on both
 //! engines; hand-computed expectations give the exact tick at which every element switches
-//! (plc-language.md §4.1) and the images must agree bit for bit after every tick.
+//! (docs/plc-language.md §4.1) and the images must agree bit for bit after every tick.
 
 use std::sync::Arc;
 

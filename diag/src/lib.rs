@@ -28,6 +28,14 @@ use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
 
+mod cap;
+mod lines;
+mod suggest;
+
+pub use cap::{DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, render_human_capped};
+pub use lines::{Indexed, LineIndex};
+pub use suggest::{did_you_mean, nearest};
+
 /// How serious a diagnostic is: errors fail a check or a build, warnings do not.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -140,6 +148,13 @@ impl Diagnostic {
         self
     }
 
+    /// Fills `line` and `column` from `span.start` with the prebuilt `index` of `source`; the same
+    /// result as [`Diagnostic::locate`] without scanning the text.
+    pub fn locate_in(mut self, source: &str, index: &LineIndex) -> Self {
+        (self.line, self.column) = index.line_column(source, self.span.start);
+        self
+    }
+
     /// True for errors.
     pub fn is_error(&self) -> bool {
         self.severity == Severity::Error
@@ -175,8 +190,18 @@ impl fmt::Display for Diagnostic {
 }
 
 /// 1-based line and column (in characters) of byte `offset` in `source`; offsets past the end or
-/// inside a character are clamped to the nearest earlier character boundary.
+/// inside a character are clamped to the nearest earlier character boundary. Scans `source` up to
+/// `offset` unless a live [`Indexed`] guard holds `source`: use one (or a [`LineIndex`]) for more
+/// than a few lookups in one text.
 pub fn line_column(source: &str, offset: usize) -> (u32, u32) {
+    if let Some(index) = lines::active(source) {
+        return index.line_column(source, offset);
+    }
+    scan_line_column(source, offset)
+}
+
+/// [`line_column`] by scanning `source` from its start.
+fn scan_line_column(source: &str, offset: usize) -> (u32, u32) {
     let mut offset = offset.min(source.len());
     while !source.is_char_boundary(offset) {
         offset -= 1;
@@ -227,17 +252,42 @@ impl Sources {
 /// Renders diagnostics rustc-style, each with its source line and the span marked, followed by a
 /// summary line (`2 errors, 1 warning`). Files missing from `sources` are rendered without a snippet.
 pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
+    let mut text = render_body(diagnostics, sources);
+    text.push_str(&summary(diagnostics));
+    text
+}
+
+/// The summary line `2 errors, 1 warning` (empty when there are no diagnostics).
+fn summary(diagnostics: &[Diagnostic]) -> String {
+    if diagnostics.is_empty() {
+        return String::new();
+    }
+    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    let warnings = diagnostics.len() - errors;
+    format!(
+        "{}, {}\n",
+        plural(errors, "error"),
+        plural(warnings, "warning")
+    )
+}
+
+/// The rustc-style blocks of `diagnostics`, without the summary line.
+fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
     use codespan_reporting::diagnostic::{Diagnostic as CsDiagnostic, Label};
     use codespan_reporting::files::SimpleFiles;
-    use codespan_reporting::term::{self, termcolor::NoColor};
+    use codespan_reporting::term::{self, termcolor::Buffer};
+    use std::io::Write as _;
 
     let mut files = SimpleFiles::new();
     let mut ids = BTreeMap::new();
     for (name, text) in &sources.files {
-        ids.insert(name.as_str(), files.add(name.clone(), text.clone()));
+        // Only the files diagnostics point into: line starts are computed per added file.
+        if diagnostics.iter().any(|d| d.file == *name) {
+            ids.insert(name.as_str(), files.add(name.as_str(), text.as_str()));
+        }
     }
     let config = term::Config::default();
-    let mut out = NoColor::new(Vec::new());
+    let mut out = Buffer::no_color();
     for d in diagnostics {
         let mut cs = match d.severity {
             Severity::Error => CsDiagnostic::error(),
@@ -258,8 +308,14 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         if !d.hint.is_empty() {
             notes.push(format!("help: {}", d.hint));
         }
+        let mut excerpt = None;
         let snippet = ids.get(d.file.as_str()).and_then(|&id| {
             let text = files.get(id).ok()?.source();
+            if let Some(e) = long_line_excerpt(text, d.span.start) {
+                // Printing a line of megabytes for each diagnostic would flood the output.
+                excerpt = Some(e);
+                return None;
+            }
             (d.line > 0 && d.span.start <= text.len()).then(|| {
                 let end = d.span.end.clamp(d.span.start, text.len());
                 let mut start = d.span.start;
@@ -275,25 +331,53 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         });
         match snippet {
             Some(label) => cs = cs.with_labels(vec![label]),
-            None => notes.insert(0, format!("in {}:{}:{}", d.file, d.line, d.column)),
+            None => {
+                let mut at = format!("in {}:{}:{}", d.file, d.line, d.column);
+                if let Some(e) = excerpt {
+                    at.push_str(&format!(" (a long line): {e}"));
+                }
+                notes.insert(0, at);
+            }
         }
         cs = cs.with_notes(notes);
         if term::emit_to_write_style(&mut out, &config, &files, &cs).is_err() {
             // Rendering into memory only fails on a bad span; fall back to the one-line form.
-            out.get_mut().extend_from_slice(format!("{d}\n").as_bytes());
+            let _ = writeln!(out, "{d}");
         }
     }
-    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
-    let warnings = diagnostics.len() - errors;
-    let mut text = String::from_utf8_lossy(&out.into_inner()).into_owned();
-    if !diagnostics.is_empty() {
-        text.push_str(&format!(
-            "{}, {}\n",
-            plural(errors, "error"),
-            plural(warnings, "warning")
-        ));
+    String::from_utf8_lossy(&out.into_inner()).into_owned()
+}
+
+/// Source lines longer than this (in bytes) are not printed under a diagnostic; an excerpt
+/// around the offending text is given instead.
+pub const MAX_SNIPPET_LINE: usize = 300;
+
+/// `…text around offset…` when the line holding `offset` is longer than [`MAX_SNIPPET_LINE`].
+fn long_line_excerpt(text: &str, offset: usize) -> Option<String> {
+    let offset = offset.min(text.len());
+    let bytes = text.as_bytes();
+    let start = bytes[..offset]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let end = bytes[offset..]
+        .iter()
+        .position(|&b| b == b'\n')
+        .map_or(text.len(), |i| offset + i);
+    if end - start <= MAX_SNIPPET_LINE {
+        return None;
     }
-    text
+    let mut from = offset.saturating_sub(30).max(start);
+    while !text.is_char_boundary(from) {
+        from -= 1;
+    }
+    let mut to = (offset + 30).min(end);
+    while !text.is_char_boundary(to) {
+        to += 1;
+    }
+    let lead = if from > start { "…" } else { "" };
+    let tail = if to < end { "…" } else { "" };
+    Some(format!("`{lead}{}{tail}`", &text[from..to]))
 }
 
 fn plural(n: usize, word: &str) -> String {
@@ -335,6 +419,24 @@ mod tests {
         assert_eq!(v["code"], 61);
         assert_eq!(v["severity"], "error");
         assert_eq!(v["message"], "connector out of range");
+    }
+
+    #[test]
+    fn a_long_line_is_shown_as_an_excerpt() {
+        let src = format!("N1{}Q9{}\n", " X1".repeat(100), " X1".repeat(100));
+        let at = src.find('Q').expect("Q is in the text");
+        // 30 bytes either side of `Q`: ten ` X1` before; `Q9`, nine ` X1` and a blank after.
+        let mut sources = Sources::new();
+        sources.add("P", src.as_str());
+        let d = Diagnostic::error(2001, "P", at..at + 2, "unknown address `Q`").locate(&src);
+        let text = render_human(&[d], &sources);
+        assert!(
+            text.contains(
+                "= in P:1:303 (a long line): `… X1 X1 X1 X1 X1 X1 X1 X1 X1 X1Q9 X1 X1 X1 X1 X1 X1 X1 X1 X1 …`"
+            ),
+            "{text}"
+        );
+        assert!(!text.contains("N1 X1"), "{text}");
     }
 
     #[test]

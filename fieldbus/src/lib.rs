@@ -210,18 +210,42 @@ pub fn start_hmi(
     declared: &DeclaredConnectors,
     inner: Box<dyn PacketIo>,
 ) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+    start_hmi_at(machine_dir, declared, inner, None)
+}
+
+/// [`start_hmi`], listening on `bind` instead of the `[hmi] bind` of io.toml when given
+/// (`ncplc run --modbus-hmi ADDR:PORT`); `bind` without an `[hmi]` table is an error (3060).
+pub fn start_hmi_at(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+    inner: Box<dyn PacketIo>,
+    bind: Option<std::net::SocketAddr>,
+) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+    let no_hmi = |bind: Option<std::net::SocketAddr>, inner| match bind {
+        None => Ok(inner),
+        Some(b) => Err(whole_file(
+            codes::START,
+            format!("--modbus-hmi {b}: io.toml has no [hmi] table to serve"),
+            "add an [hmi] table with the holding-register windows the HMI may write",
+        )),
+    };
     if !machine_dir.join("io.toml").is_file() {
-        return Ok(inner);
+        return no_hmi(bind, inner);
     }
     let (map, diags) = load_map(machine_dir, declared);
     let Some(map) = map else { return Err(diags) };
-    let Some(cfg) = map.hmi else { return Ok(inner) };
+    let Some(mut cfg) = map.hmi else {
+        return no_hmi(bind, inner);
+    };
+    if let Some(b) = bind {
+        cfg.bind = b;
+    }
     match modbus::server::HmiIo::start(inner, &cfg) {
         Ok(h) => Ok(Box::new(h)),
         Err(e) => Err(whole_file(
             codes::START,
             format!("the HMI server cannot listen on {}: {e}", cfg.bind),
-            "choose a free address with [hmi] bind = \"127.0.0.1:1502\"",
+            "choose a free address with [hmi] bind = \"127.0.0.1:1502\" or --modbus-hmi 127.0.0.1:1503",
         )),
     }
 }

@@ -93,9 +93,7 @@ impl Move {
     /// Converts a canonical block: `axes` are the kernel's axes in Config order (every one must be
     /// in `c.end`). Aux blocks become zero-length dwells (their M/S/T functions are the caller's).
     ///
-    /// `exact_stop` is false and `tolerance` None: the G09/G61/G64 P fields of `Canon` are being
-    /// added by the Fanuc conformance work; the integrator wires them here after that merge. A G33
-    /// block's pitch is its feed per revolution, recovered as feed (mm/min) ÷ S (rev/min).
+    /// `exact_stop` and `tolerance` come from Canon (Fanuc G09/G61, G64 P). A G33 block's pitch is its feed per revolution, recovered as feed (mm/min) ÷ S (rev/min).
     pub fn from_canon(tag: u64, c: &Canon, axes: &[char]) -> Result<Move, MotionError> {
         let mut end = Vec::with_capacity(axes.len());
         for &a in axes {
@@ -170,9 +168,8 @@ impl Move {
             path,
             end,
             feed_mm_min: c.feed,
-            // Wired by the integrator from Canon's G09/G61/G64 P fields after the Fanuc merge.
-            exact_stop: false,
-            tolerance: None,
+            exact_stop: c.exact_stop,
+            tolerance: c.tolerance,
             thread_pitch,
         })
     }

@@ -1,6 +1,6 @@
 //! The NC-xxx signal packets and the addresses of the signals in them.
 //!
-//! The logic exchanges signals with the world through four packets (plc-language.md §3.1):
+//! The logic exchanges signals with the world through four packets (docs/plc-language.md §3.1):
 //!
 //! | packet | connectors | bytes | what it holds |
 //! |---|---|---|---|

@@ -84,4 +84,7 @@ pub struct ParsedFile {
     pub cycle_file: bool,
     /// The blocks in file order.
     pub blocks: Vec<Block>,
+    /// Fanuc: every further `O<n>` of the file after the first program, with the index of its first
+    /// block in [`ParsedFile::blocks`] (Fanuc loads every O-program of a file into memory).
+    pub programs: Vec<(u32, usize)>,
 }

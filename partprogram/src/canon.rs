@@ -119,6 +119,12 @@ pub struct Canon {
     pub dwell: Option<f64>,
     /// True for a G33 thread block.
     pub thread: bool,
+    /// True when the motion stops exactly at the block's end point before the next block starts:
+    /// Fanuc G09 (this block) or G61 (modal); MEFI G98 (standard block connection) or G24 (firm
+    /// connection), false under MEFI G23 (smooth connection) and Fanuc G64.
+    pub exact_stop: bool,
+    /// Path blending tolerance in mm set by Fanuc `G64 P<tol>` (None: the machine's default).
+    pub tolerance: Option<f64>,
 }
 
 /// Formats a coordinate: rounded to 1 nm, shortest decimal form, no `-0`.
@@ -194,7 +200,57 @@ impl Canon {
         if self.thread {
             s.push_str(",\"thread\":true");
         }
+        if self.exact_stop {
+            s.push_str(",\"exact_stop\":true");
+        }
+        if let Some(t) = self.tolerance {
+            let _ = write!(s, ",\"tolerance\":{}", num(t));
+        }
         s.push('}');
+        s
+    }
+
+    /// The one-line text form written by `ncplc nc plan --format text`: every field of the JSON
+    /// form, `-` for an absent value (`N20 rapid X-20 Y-20 Z50 plane XY F- M3:before S1000 T-`).
+    pub fn to_text_line(&self) -> String {
+        let mut s = String::with_capacity(96);
+        match self.n {
+            Some(n) => {
+                let _ = write!(s, "N{n}");
+            }
+            None => s.push_str("N-"),
+        }
+        if let Some(u) = &self.unit {
+            let _ = write!(s, " unit {u}");
+        }
+        let _ = write!(s, " {}", self.kind.name());
+        for (a, v) in &self.end {
+            let _ = write!(s, " {a}{}", num(*v));
+        }
+        if !self.center.is_empty() {
+            s.push_str(" center");
+            for (a, v) in &self.center {
+                let _ = write!(s, " {a}{}", num(*v));
+            }
+        }
+        let (p1, p2) = self.plane.axes();
+        let _ = write!(s, " plane {p1}{p2}");
+        let opt = |v: Option<String>| v.unwrap_or_else(|| "-".into());
+        let _ = write!(s, " F{}", opt(self.feed.map(num)));
+        if self.m.is_empty() {
+            s.push_str(" M-");
+        }
+        for m in &self.m {
+            let _ = write!(s, " M{}:{}", m.m, if m.before { "before" } else { "after" });
+        }
+        let _ = write!(s, " S{}", opt(self.s.map(num)));
+        let _ = write!(s, " T{}", opt(self.t.map(|t| t.to_string())));
+        if let Some(d) = self.dwell {
+            let _ = write!(s, " dwell {}", num(d));
+        }
+        if self.thread {
+            s.push_str(" thread");
+        }
         s
     }
 

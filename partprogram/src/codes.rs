@@ -116,5 +116,15 @@ pub const RUN_COMP_RULE: u32 = 2511;
 pub const RUN_GOUGE: u32 = 2512;
 /// Run time: G14/G15/G16 (also computed through `GR<n>`) name an axis the process does not have.
 pub const RUN_PLANE_AXIS: u32 = 2513;
+/// Run time (Fanuc/HAAS): a word the block does not execute in the current modal state (no silent
+/// word), located at the word.
+pub const RUN_BAD_WORD: u32 = 2530;
 /// G14/G15/G16 written while the process has no axis of the machine-constant-341 plane they select.
 pub const PLANE_AXIS: u32 = 2036;
+
+/// True for the run-time errors of the motion geometry (circle 2503, G43/G44 tool axis 2508, G33
+/// run-in/run-out 2509, radius compensation 2510–2512, G14–G16 plane 2513), which `ncplc nc check`
+/// reports too: they are mistakes of the program text, found by executing it, not of one run.
+pub fn is_geometric(code: u32) -> bool {
+    matches!(code, RUN_CIRCLE | 2508..=2513)
+}

@@ -37,6 +37,9 @@ pub(crate) struct Modal {
     pub amp: i64,
     /// Helix on (G09) until G98.
     pub helix: bool,
+    /// Smooth block connection G23 (group 2) until G24, G98 or G09: off means every block ends
+    /// with a stop ramp ([`Canon::exact_stop`]).
+    pub smooth: bool,
     /// Helix lift (G10): towed axis index and travel per full circle.
     pub lift: Option<(usize, f64)>,
     /// Thread lead (G33), mm per revolution.
@@ -173,6 +176,7 @@ impl<'p> Exec<'p> {
                 d: 0,
                 amp: 0,
                 helix: false,
+                smooth: false,
                 lift: None,
                 lead: None,
             },
@@ -345,6 +349,8 @@ impl<'p> Exec<'p> {
             t: self.modal.t,
             dwell: None,
             thread,
+            exact_stop: !self.modal.smooth,
+            tolerance: None,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
@@ -367,6 +373,8 @@ impl<'p> Exec<'p> {
             t: self.modal.t,
             dwell: Some(secs),
             thread: false,
+            exact_stop: !self.modal.smooth,
+            tolerance: None,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);

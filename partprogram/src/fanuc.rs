@@ -1,16 +1,19 @@
 //! The Fanuc/HAAS dialect: units, static checks and the executor.
 //!
-//! Blocks end at the line end or `;`; `( … )` are comments; `O<n>` names the program. Supported: G00–G03
-//! (I/J/K or R arcs), G04 P (seconds), G17–G19, G20/G21, G28 (via the intermediate point), G40–G42 D,
-//! G43/G44/G49 H, G52, G53, G54–G59, G90/G91, G92, G94, G98/G99 with the canned cycles G73, G74, G76,
-//! G81–G89 (G80, G00/G01 cancel), G12/G13 circular pockets, G7.1 cylinder interpolation, M97/M98 P L,
-//! M99. The manual gives no peck retract amount for G73: 0.5 mm is used (documented in DIAGNOSTICS.md).
+//! Blocks end at the line end or `;`; `( … )` are comments; `O<n>` names a program (the first the
+//! main program, every further one a program M98 can call). Supported: G00–G03 (I/J/K or R arcs, full
+//! circles with I/J/K), G04 P, G09/G61/G64 P, G10 L2/L10/L12/L20, G17–G19, G20/G21, G28, G40–G42 D,
+//! G43/G44/G49 H, G52, G53, G54–G59, G110–G129, G154 P, G90/G91, G92, G94, G97, G98/G99 with the
+//! canned cycles G73, G74, G81–G86, G89 and L repeats (G80, G00/G01 cancel), G12/G13 circular pockets,
+//! G7.1 cylinder interpolation, M97/M98 P L, M99; G50/G69/G100 are no-ops (their functions are
+//! refused). Everything else is refused with a located error; the table is docs/fanuc-conformance.md.
+//! The manual gives no peck retract amount for G73: 0.5 mm is used (documented in DIAGNOSTICS.md).
 
 use std::collections::HashMap;
 
 use diag::Diagnostic;
 
-use crate::ast::{ParsedFile, Val};
+use crate::ast::{Block, ParsedFile, Val};
 use crate::codes;
 use crate::groups::fanuc_g_group;
 use crate::machine::Dialect;
@@ -24,15 +27,13 @@ fn err(
     msg: impl Into<String>,
     hint: &str,
 ) -> Diagnostic {
-    Diagnostic::error(code, f.name.clone(), span.0..span.1, msg)
-        .with_hint(hint)
-        .locate(&f.text)
+    crate::program::err(code, &f.name, &f.text, span, msg, hint)
 }
 
-fn push_file(
+fn push_unit(
     prog: &mut Program,
     file: usize,
-    parsed: ParsedFile,
+    blocks: Vec<Block>,
     kind: UnitKind,
     number: u32,
     diags: &mut Vec<Diagnostic>,
@@ -40,20 +41,17 @@ fn push_file(
     let start = prog.blocks.len();
     let unit = prog.units.len();
     let mut index = HashMap::new();
-    for b in parsed.blocks {
+    for b in blocks {
         if let Some(n) = b.n
             && index.insert(n, prog.blocks.len()).is_some()
         {
             let f = &prog.files[file];
-            diags.push(
-                Diagnostic::warning(
-                    codes::DUPLICATE_N,
-                    f.name.clone(),
-                    b.span.0..b.span.1,
-                    format!("block number N{n} is used twice"),
-                )
-                .locate(&f.text),
-            );
+            diags.push(crate::program::to_locate(Diagnostic::warning(
+                codes::DUPLICATE_N,
+                f.name.clone(),
+                b.span.0..b.span.1,
+                format!("block number N{n} is used twice"),
+            )));
         }
         prog.blocks.push(CBlock {
             n: b.n,
@@ -77,10 +75,62 @@ fn push_file(
     });
 }
 
-/// Builds the units of a Fanuc main file and loads `O<n>` programs of the macro folder for M98.
+/// Pushes the programs of one parsed file: the blocks before the second `O<n>` form the first unit
+/// (`first`: the main program, or the library program of a macro file), every further `O<n>` of
+/// the file a library unit that M98 P<n> calls.
+fn push_file(
+    prog: &mut Program,
+    file: usize,
+    parsed: ParsedFile,
+    first: Option<(UnitKind, u32)>,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let mut blocks = parsed.blocks;
+    let mut rest = Vec::new();
+    for &(num, at) in parsed.programs.iter().rev() {
+        let tail = blocks.split_off(at.min(blocks.len()));
+        rest.push((num, tail));
+    }
+    rest.reverse();
+    if let Some((kind, number)) = first {
+        if kind == UnitKind::Library {
+            register(prog, file, number, diags);
+        }
+        push_unit(prog, file, blocks, kind, number, diags);
+    }
+    for (num, tail) in rest {
+        register(prog, file, num, diags);
+        push_unit(prog, file, tail, UnitKind::Library, num, diags);
+    }
+}
+
+/// Registers the next unit as program O`num`; a number already loaded keeps its first program.
+fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Vec<Diagnostic>) {
+    let unit = prog.units.len();
+    if prog.library.contains_key(&num)
+        || (prog.units.first().is_some_and(|u| u.l == num && num != 0))
+    {
+        let f = &prog.files[file];
+        diags.push(
+            Diagnostic::warning(
+                codes::DUPLICATE_N,
+                f.name.clone(),
+                0..0,
+                format!("program O{num} is loaded twice: the first one is called"),
+            )
+            .with_hint("every O number names one program (the main file's programs load first)")
+            .locate(&f.text),
+        );
+        return;
+    }
+    prog.library.insert(num, unit);
+}
+
+/// Builds the units of a Fanuc main file (its main program and every further `O<n>` program of the
+/// file) and loads the `O<n>` programs of the macro folder for M98.
 pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagnostic>) {
     let number = parsed.number.unwrap_or(0);
-    push_file(prog, 0, parsed, UnitKind::Main, number, diags);
+    push_file(prog, 0, parsed, Some((UnitKind::Main, number)), diags);
     let dir = prog.machine.macro_dir.clone();
     if dir.as_os_str().is_empty() {
         return;
@@ -112,8 +162,7 @@ pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagn
         diags.extend(d);
         prog.files.push(SourceFile { name, text });
         let file = prog.files.len() - 1;
-        prog.library.insert(num, prog.units.len());
-        push_file(prog, file, parsed, UnitKind::Library, num, diags);
+        push_file(prog, file, parsed, Some((UnitKind::Library, num)), diags);
     }
 }
 
@@ -149,23 +198,19 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
             let v = lit(&w.val).unwrap_or(0.0);
             let known = matches!(
                 w.addr,
-                'G' | 'M'
-                    | 'I'
-                    | 'J'
-                    | 'K'
-                    | 'R'
-                    | 'F'
-                    | 'S'
-                    | 'T'
-                    | 'D'
-                    | 'H'
-                    | 'P'
-                    | 'Q'
-                    | 'L'
-                    | 'E'
-                    | 'U'
-                    | 'W'
-            ) || axes.contains(&w.addr);
+                'G' | 'M' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'H' | 'P' | 'Q' | 'L'
+            ) || (lathe && matches!(w.addr, 'U' | 'W'))
+                || axes.contains(&w.addr);
+            if w.addr == 'E' {
+                diags.push(err(
+                    codes::UNKNOWN_ADDRESS,
+                    f,
+                    w.span,
+                    "address E (G187 corner accuracy) is not supported",
+                    "see docs/fanuc-conformance.md",
+                ));
+                continue;
+            }
             if !known {
                 diags.push(err(
                     codes::UNKNOWN_ADDRESS,
@@ -209,6 +254,14 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                             w.span,
                             "M code out of range",
                             "M0..M199",
+                        ));
+                    } else if m == 96 {
+                        diags.push(err(
+                            codes::UNKNOWN_G,
+                            f,
+                            w.span,
+                            "M96 (jump if no input) is not supported: a plan cannot read inputs",
+                            "see docs/fanuc-conformance.md",
                         ));
                     } else {
                         if prog.machine.check_m_declared

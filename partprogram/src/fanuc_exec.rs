@@ -3,7 +3,9 @@
 
 mod comp;
 mod cycles;
+mod offsets;
 mod tlo;
+mod words;
 
 use crate::ast::Val;
 use crate::canon::{Canon, Kind, MFunc, Plane};
@@ -27,7 +29,8 @@ struct Ex<'p> {
     opts: PlanOptions,
     axes: Vec<char>,
     machine: [f64; 6],
-    work: [[f64; 6]; 6],
+    /// Work offsets: G54–G59, then G154 P1–P99 ([`offsets::WORK_ROWS`]).
+    work: Vec<[f64; 6]>,
     wsel: usize,
     local: [f64; 6],
     g92: [f64; 6],
@@ -63,6 +66,12 @@ struct Ex<'p> {
     rc: Compensator,
     executed: u64,
     ended: bool,
+    /// G61 exact stop (modal, group 13) until G64.
+    exact_modal: bool,
+    /// G09 in the current block.
+    exact_once: bool,
+    /// `G64 P<tol>` blending tolerance (mm) until G61 or a G64 without P.
+    tolerance: Option<f64>,
 }
 
 fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
@@ -83,7 +92,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         opts,
         axes: axes.iter().copied().take(6).collect(),
         machine: [0.0; 6],
-        work: [[0.0; 6]; 6],
+        work: vec![[0.0; 6]; offsets::WORK_ROWS],
         wsel: 0,
         local: [0.0; 6],
         g92: [0.0; 6],
@@ -113,9 +122,16 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
             rows.resize(comp::REGISTERS, [0.0; 5]);
             rows
         },
-        rc: Compensator::new(opts.radius),
+        // Fanuc keeps the programmed feed at the tool centre on compensated arcs (no F·R'/R).
+        rc: Compensator::new(crate::radius::RadiusOptions {
+            adapt_arc_feed: false,
+            ..opts.radius
+        }),
         executed: 0,
         ended: false,
+        exact_modal: false,
+        exact_once: false,
+        tolerance: None,
     };
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
     match done {
@@ -130,6 +146,16 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
 }
 
 impl Ex<'_> {
+    /// A length word of block `b` in mm: the written value rounded to the resolution of the active
+    /// unit (0.001 mm, or 0.0001 in converted to mm).
+    pub(crate) fn dim(&self, b: &CBlock, a: char) -> Option<f64> {
+        match b.word(a)?.val {
+            Val::Lit(l) if self.inch => Some(l.value4() * 25.4),
+            Val::Lit(l) => Some(l.value()),
+            Val::Param(_) => None,
+        }
+    }
+
     fn idx(&self, a: char) -> Option<usize> {
         self.axes.iter().position(|c| *c == a)
     }
@@ -224,6 +250,8 @@ impl Ex<'_> {
             t: self.t,
             dwell,
             thread: false,
+            exact_stop: self.exact_modal || self.exact_once,
+            tolerance: self.tolerance,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
@@ -278,7 +306,28 @@ impl Ex<'_> {
             (false, false, false, false, false, None, false);
         let mut new_cycle = false;
         let mut tlo_g = None;
+        self.exact_once = false;
+        // G64 P<tol>: the blending tolerance, in the program unit (G20/G21 of this block included).
+        let inch_now = if gs.contains(&200) {
+            true
+        } else if gs.contains(&210) {
+            false
+        } else {
+            self.inch
+        };
+        let g64_p = if gs.contains(&640) {
+            val('P').map(|l| {
+                if inch_now {
+                    l.value4() * 25.4
+                } else {
+                    l.value()
+                }
+            })
+        } else {
+            None
+        };
         let mut g10 = false;
+        let mut g154 = false;
         for &g in &gs {
             match g {
                 430 | 440 | 490 => tlo_g = Some(g),
@@ -293,14 +342,27 @@ impl Ex<'_> {
                 210 => self.inch = false,
                 900 => self.abs = true,
                 910 => self.abs = false,
-                940 | 960 | 970 | 610 | 640 => {}
+                // G94 feed per minute, G97 constant rpm: the planner's only modes. G50, G69 and
+                // G100 cancel scaling, rotation and mirroring, which are refused: nothing to cancel.
+                940 | 970 | 500 | 690 | 1000 => {}
+                90 => self.exact_once = true,
+                610 => {
+                    self.exact_modal = true;
+                    self.tolerance = None;
+                }
+                640 => {
+                    self.exact_modal = false;
+                    self.tolerance = g64_p;
+                }
                 400 | 410 | 420 => self.comp = g / 10,
                 100 => g10 = true,
                 540..=590 => self.wsel = usize::from((g - 540) / 10),
+                1100..=1290 => self.wsel = usize::from((g - 1100) / 10) + 6,
+                1540 => g154 = true,
                 980 => self.g99 = false,
                 990 => self.g99 = true,
                 800 => self.cycle = None,
-                730 | 740 | 760 | 810..=890 => {
+                730 | 740 | 810..=860 | 890 => {
                     self.cycle = Some(g);
                     new_cycle = true;
                 }
@@ -320,6 +382,9 @@ impl Ex<'_> {
                 }
             }
         }
+        if g154 {
+            self.g154(b, num('P'))?;
+        }
         if let Some(s) = num('S') {
             self.s = Some(s);
         }
@@ -329,9 +394,8 @@ impl Ex<'_> {
         if let Some(d) = num('D') {
             self.d = d as i64;
         }
-        let unit = if self.inch { 25.4 } else { 1.0 };
-        if let Some(f) = num('F') {
-            self.feed = Some(f * unit);
+        if let Some(f) = self.dim(b, 'F') {
+            self.feed = Some(f);
         }
         let mut mf: Vec<MFunc> = Vec::new();
         for &m in &ms {
@@ -353,8 +417,13 @@ impl Ex<'_> {
             if *a == 'C' && cyl_cmd {
                 continue;
             }
-            if let Some(v) = num(*a) {
-                vals[i] = Some(if *a == 'C' { v } else { v * unit });
+            // Rotary axes are in degrees whatever G20/G21 say.
+            if matches!(*a, 'A' | 'B' | 'C') {
+                if let Some(v) = num(*a) {
+                    vals[i] = Some(v);
+                }
+            } else if let Some(v) = self.dim(b, *a) {
+                vals[i] = Some(v);
             }
             let inc_letter = match a {
                 'X' if lathe => Some('U'),
@@ -362,12 +431,33 @@ impl Ex<'_> {
                 'C' if lathe => Some('H'),
                 _ => None,
             };
-            if let Some(v) = inc_letter.and_then(num) {
-                vals[i] = Some(v * unit);
-                incr[i] = true;
+            if let Some(l) = inc_letter {
+                let v = if *a == 'C' { num(l) } else { self.dim(b, l) };
+                if let Some(v) = v {
+                    vals[i] = Some(v);
+                    incr[i] = true;
+                }
             }
         }
         let any = vals.iter().any(Option::is_some);
+        let non_motion = g92 || g52 || g28 || g53;
+        let uses = words::Uses {
+            dwell,
+            g10: if g10 {
+                num('L').map(|l| l as i64)
+            } else {
+                None
+            },
+            pocket: pocket.is_some() && !g10 && !non_motion,
+            p_value: g154 || gs.contains(&640),
+            cycle: self
+                .cycle
+                .filter(|_| !g10 && !non_motion && pocket.is_none() && (new_cycle || any)),
+            non_motion,
+            call: ms.contains(&97) || ms.contains(&98),
+            ret: ms.contains(&99),
+        };
+        self.check_words(b, &uses)?;
         self.tool_length(b, tlo_g, g28)?;
         let target = |ex: &Self, vals: &[Option<f64>; 6]| -> [Option<f64>; 6] {
             let mut t = [None; 6];
@@ -388,18 +478,27 @@ impl Ex<'_> {
         }
         let mut moved = false;
         if g10 {
-            self.g10(b);
+            self.g10(b, &vals)?;
         } else if g92 {
-            for (i, v) in vals.iter().enumerate().take(self.axes.len()) {
-                if let Some(v) = v {
-                    self.g92[i] =
-                        self.machine[i] - self.work[self.wsel][i] - self.local[i] - self.tlo[i] - v;
-                }
-            }
+            self.g92(&vals);
         } else if g52 {
-            for (local, v) in self.local.iter_mut().zip(vals.iter()).take(self.axes.len()) {
-                *local = v.unwrap_or(0.0);
+            self.g52(&vals);
+        } else if g28 && !any {
+            // G28 without axis words: every axis returns to machine zero at rapid, the additional
+            // rotary axes B and C after the others (HAAS 002:1747).
+            let (main, extra): (Vec<usize>, Vec<usize>) =
+                (0..self.axes.len()).partition(|&i| !matches!(self.axes[i], 'B' | 'C'));
+            for (set, m) in [(main, &mf[..]), (extra, &[][..])] {
+                if set.is_empty() {
+                    continue;
+                }
+                let mut zero = [None; 6];
+                for i in set {
+                    zero[i] = Some(0.0);
+                }
+                self.move_to(b, Kind::Rapid, zero, m);
             }
+            moved = true;
         } else if g28 {
             let mid = target(self, &vals);
             self.move_to(b, Kind::Rapid, mid, &mf);
@@ -427,7 +526,12 @@ impl Ex<'_> {
                 self.canned(b, cyc, new_cycle, &vals, &mf)?;
                 moved = true;
             }
-        } else if any {
+        } else if any
+            || (matches!(self.motion, 20 | 30)
+                && (self.has_centre_words(b) || b.word('R').is_some()))
+        {
+            // An arc with I/J/K and no end point is a full circle (HAAS 002:1450); with R it is an
+            // error the arc reports (a 360° arc cannot be defined with R).
             let t = target(self, &vals);
             match self.motion {
                 20 | 30 => {
@@ -517,11 +621,23 @@ impl Ex<'_> {
         }
         if ms.contains(&30) || ms.contains(&2) {
             self.cancel_tlo();
+            // The FANUC-style G52 shift ends with the program (HAAS spec §9.4).
+            self.local = [0.0; 6];
         }
         if (ms.contains(&30) || ms.contains(&2)) && self.frames.len() == 1 {
             self.ended = true;
         }
         Ok(())
+    }
+
+    /// True when the block writes a centre word (I, J or K) of the active arc plane.
+    fn has_centre_words(&self, b: &CBlock) -> bool {
+        let (_, _, w1, w2) = if self.cyl.is_some() {
+            ('C', 'Z', 'J', 'K')
+        } else {
+            self.plane_axes()
+        };
+        b.word(w1).is_some() || b.word(w2).is_some()
     }
 
     fn plane_axes(&self) -> (char, char, char, char) {
@@ -536,16 +652,6 @@ impl Ex<'_> {
     }
 
     fn arc(&self, b: &CBlock, t: &[Option<f64>; 6]) -> Result<Vec<(char, f64)>, RunError> {
-        let num = |a: char| {
-            b.word(a).and_then(|w| {
-                if let Val::Lit(l) = w.val {
-                    Some(l.value())
-                } else {
-                    None
-                }
-            })
-        };
-        let unit = if self.inch { 25.4 } else { 1.0 };
         let (a1, a2, w1, w2) = if self.cyl.is_some() {
             ('C', 'Z', 'J', 'K')
         } else {
@@ -573,8 +679,7 @@ impl Ex<'_> {
             t[i2].unwrap_or(self.machine[i2]) * k2,
         );
         let cw = self.motion == 20;
-        let c = if let Some(r) = num('R') {
-            let r = r * unit;
+        let c = if let Some(r) = self.dim(b, 'R') {
             let (dx, dy) = (e.0 - s.0, e.1 - s.1);
             let d = dx.hypot(dy);
             if d == 0.0 || d > 2.0 * r.abs() + 1e-6 {
@@ -594,8 +699,8 @@ impl Ex<'_> {
             )
         } else {
             let c = (
-                s.0 + num(w1).unwrap_or(0.0) * unit,
-                s.1 + num(w2).unwrap_or(0.0) * unit,
+                s.0 + self.dim(b, w1).unwrap_or(0.0),
+                s.1 + self.dim(b, w2).unwrap_or(0.0),
             );
             let r0 = (s.0 - c.0).hypot(s.1 - c.1);
             let r1 = (e.0 - c.0).hypot(e.1 - c.1);

@@ -276,6 +276,8 @@ fn number_of(text: &str) -> Option<Num> {
 /// Reads a `TAB*.KOR` text named `file` for a machine whose axes (in order) are `axes`; returns the
 /// table it could read and the diagnostics (any error means the file is not usable).
 pub fn parse_kor(file: &str, text: &str, axes: &[char]) -> (CorrectionTable, Vec<Diagnostic>) {
+    // Diagnostics are located one by one: index the text once for all of them.
+    let _lines = diag::Indexed::new(text);
     let mut r = Reader {
         file,
         text,

@@ -15,8 +15,11 @@ use crate::machine::Dialect;
 /// A number as written: sign, digits and whether it had a decimal point.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lit {
-    /// The value times 1000, fraction truncated to three digits (`36.12` → 36120, `100` → 100000).
+    /// The value times 1000, fraction rounded half away from zero to three digits (`36.12` → 36120,
+    /// `100` → 100000, `1.2345` → 1235).
     pub milli: i64,
+    /// The value times 10 000, rounded half away from zero (the 0.0001 in resolution of inch values).
+    pub e4: i64,
     /// The integer as written without a point (`100` → 100); for a number with a point, the digits
     /// before the point.
     pub int: i64,
@@ -41,9 +44,14 @@ impl Lit {
         if self.point { self.milli } else { self.int }
     }
 
-    /// The value as a float in the written unit.
+    /// The value as a float in the written unit, rounded to 0.001.
     pub fn value(&self) -> f64 {
         self.milli as f64 / 1000.0
+    }
+
+    /// The value rounded to 0.0001 (inch programs, resolution 0.0001 in).
+    pub fn value4(&self) -> f64 {
+        self.e4 as f64 / 10_000.0
     }
 }
 
@@ -66,15 +74,16 @@ fn parse_number(s: &str) -> Option<Lit> {
     } else {
         ip_trim.parse().ok()?
     };
-    let mut frac: i64 = 0;
-    for i in 0..3 {
-        let d = fp.as_bytes().get(i).map_or(0, |c| i64::from(c - b'0'));
-        frac = frac * 10 + d;
-    }
-    let milli = int.checked_mul(1000)?.checked_add(frac)?;
+    // Fraction digits rounded half away from zero to 3 (mm resolution) and 4 (inch) decimals.
+    let digit = |i: usize| fp.as_bytes().get(i).map_or(0, |c| i64::from(c - b'0'));
+    let frac3 = (0..3).fold(0, |f, i| f * 10 + digit(i)) + i64::from(digit(3) >= 5);
+    let frac4 = (0..4).fold(0, |f, i| f * 10 + digit(i)) + i64::from(digit(4) >= 5);
+    let milli = int.checked_mul(1000)?.checked_add(frac3)?;
+    let e4 = int.checked_mul(10_000)?.checked_add(frac4)?;
     let sign = if negative { -1 } else { 1 };
     Some(Lit {
         milli: sign * milli,
+        e4: sign * e4,
         int: sign * int,
         point,
         signed,

@@ -37,6 +37,23 @@ fn parse_with(
     src: &str,
     require_header: bool,
 ) -> (ParsedFile, Vec<Diagnostic>) {
+    let (out, diags) = parse_unlocated(dialect, file, src, require_header);
+    // Located in one pass at the end: scanning the text per diagnostic is quadratic (issue 12).
+    let lines = diag::LineIndex::new(src);
+    let diags = diags
+        .into_iter()
+        .map(|d| d.locate_in(src, &lines))
+        .collect();
+    (out, diags)
+}
+
+/// [`parse_with`] with line and column of the diagnostics not yet filled in.
+fn parse_unlocated(
+    dialect: Dialect,
+    file: &str,
+    src: &str,
+    require_header: bool,
+) -> (ParsedFile, Vec<Diagnostic>) {
     let mut diags = Vec::new();
     let mut out = ParsedFile::default();
     let start = match dialect {
@@ -56,8 +73,7 @@ fn parse_with(
                             0..0,
                             "the partprogram has no `%` header",
                         )
-                        .with_hint("start the program with `%<number>` (1..999999)")
-                        .locate(src),
+                        .with_hint("start the program with `%<number>` (1..999999)"),
                     );
                     return (out, diags);
                 }
@@ -65,13 +81,14 @@ fn parse_with(
         }
         Dialect::Fanuc => 0,
     };
-    for (i, line) in src.split('\n').enumerate() {
-        if line.trim_end_matches('\r').chars().count() > 80 && dialect == Dialect::Mefi {
-            let off: usize = src.split('\n').take(i).map(|l| l.len() + 1).sum();
+    let mut next_line = 0;
+    for line in src.split('\n') {
+        let off = next_line;
+        next_line += line.len() + 1;
+        if dialect == Dialect::Mefi && line.trim_end_matches('\r').chars().count() > 80 {
             diags.push(
                 Diagnostic::warning(codes::LONG_LINE, file, off..off + line.len(), "line longer than 80 characters")
-                    .with_hint("the control reads at most 80 characters per line; continue the block on the next line")
-                    .locate(src),
+                    .with_hint("the control reads at most 80 characters per line; continue the block on the next line"),
             );
         }
     }
@@ -91,8 +108,7 @@ fn parse_with(
                 .with_hint(match dialect {
                     Dialect::Mefi => "outside `\"…\"` comments only upper-case addresses, digits, signs, `.`, `%`, `/`, `=`, `&` and `*` are allowed; a sign must touch its digits",
                     Dialect::Fanuc => "outside `( … )` comments only addresses, digits, signs and `.` are allowed",
-                })
-                .locate(src),
+                }),
         );
     }
     for r in recovered {
@@ -111,7 +127,7 @@ fn parse_with(
     };
     match dialect {
         Dialect::Mefi => group_mefi(file, src, &items, &mut out, &mut diags, require_header),
-        Dialect::Fanuc => group_fanuc(file, src, &items, &mut out, &mut diags),
+        Dialect::Fanuc => group_fanuc(file, &items, &mut out, &mut diags),
     }
     (out, diags)
 }
@@ -144,8 +160,7 @@ fn parse_error(
     };
     Some(
         Diagnostic::error(codes::SYNTAX, file, span, msg)
-            .with_hint("a word is an address letter followed by a number or by R<n>; a declaration is R<n>=<number>")
-            .locate(src),
+            .with_hint("a word is an address letter followed by a number or by R<n>; a declaration is R<n>=<number>"),
     )
 }
 
@@ -159,7 +174,6 @@ fn uint_of(src: &str, span: &std::ops::Range<usize>) -> Option<u64> {
 
 fn decl(
     file: &str,
-    src: &str,
     p: Lit,
     v: Lit,
     span: std::ops::Range<usize>,
@@ -173,8 +187,7 @@ fn decl(
                 span,
                 "parameter number must be 0..95",
             )
-            .with_hint("parameters are R0 … R95, written without sign or point")
-            .locate(src),
+            .with_hint("parameters are R0 … R95, written without sign or point"),
         );
         return None;
     }
@@ -187,8 +200,9 @@ fn decl(
                 span,
                 "parameter value out of range",
             )
-            .with_hint("a parameter holds ±69999.999 (format +5.3 with a point, +8 digits without)")
-            .locate(src),
+            .with_hint(
+                "a parameter holds ±69999.999 (format +5.3 with a point, +8 digits without)",
+            ),
         );
         return None;
     }
@@ -218,10 +232,12 @@ fn group_mefi(
         match item {
             Item::Percent(sp) => {
                 if header_seen || cur.is_some() {
-                    diags.push(
-                        Diagnostic::error(codes::HEADER, file, sp.clone(), "a second `%` header")
-                            .locate(src),
-                    );
+                    diags.push(Diagnostic::error(
+                        codes::HEADER,
+                        file,
+                        sp.clone(),
+                        "a second `%` header",
+                    ));
                     continue;
                 }
                 header_seen = true;
@@ -237,8 +253,9 @@ fn group_mefi(
                                     nsp.clone(),
                                     "invalid program number",
                                 )
-                                .with_hint("the program number is 1..999999, without sign or point")
-                                .locate(src),
+                                .with_hint(
+                                    "the program number is 1..999999, without sign or point",
+                                ),
                             ),
                         }
                     }
@@ -249,8 +266,7 @@ fn group_mefi(
                             sp.clone(),
                             "`%` without a program number",
                         )
-                        .with_hint("write `%<number>`, e.g. `%35`")
-                        .locate(src),
+                        .with_hint("write `%<number>`, e.g. `%35`"),
                     ),
                 }
             }
@@ -275,8 +291,7 @@ fn group_mefi(
                 }
                 diags.push(
                     Diagnostic::error(codes::ORPHAN_NUMBER, file, sp.clone(), "number without an address")
-                        .with_hint("a value must not contain spaces (`X36. 12`) and a sign must touch its digits (`X- 36.12`)")
-                        .locate(src),
+                        .with_hint("a value must not contain spaces (`X36. 12`) and a sign must touch its digits (`X- 36.12`)"),
                 );
             }
             Item::Error(_) => {}
@@ -296,8 +311,7 @@ fn group_mefi(
                                 sp.clone(),
                                 "the block number cannot be a parameter",
                             )
-                            .with_hint("write the block number literally, e.g. `N10`")
-                            .locate(src),
+                            .with_hint("write the block number literally, e.g. `N10`"),
                         );
                         None
                     }
@@ -309,8 +323,7 @@ fn group_mefi(
                                 sp.clone(),
                                 "invalid block number",
                             )
-                            .with_hint("block numbers are 1..99999999 without sign or point")
-                            .locate(src),
+                            .with_hint("block numbers are 1..99999999 without sign or point"),
                         );
                         None
                     }
@@ -330,16 +343,16 @@ fn group_mefi(
                     });
                     b.span.1 = sp.end;
                 }
-                None => no_block(file, src, sp.clone(), diags),
+                None => no_block(file, sp.clone(), diags),
             },
             Item::Decl(p, v, sp) => match cur.as_mut() {
                 Some(b) => {
-                    if let Some(d) = decl(file, src, *p, *v, sp.clone(), diags) {
+                    if let Some(d) = decl(file, *p, *v, sp.clone(), diags) {
                         b.decls.push(d);
                     }
                     b.span.1 = sp.end;
                 }
-                None => no_block(file, src, sp.clone(), diags),
+                None => no_block(file, sp.clone(), diags),
             },
         }
     }
@@ -354,27 +367,19 @@ fn group_mefi(
                 0..0,
                 "the partprogram has no `%` header",
             )
-            .with_hint("start the program with `%<number>`")
-            .locate(src),
+            .with_hint("start the program with `%<number>`"),
         );
     }
 }
 
-fn no_block(file: &str, src: &str, sp: std::ops::Range<usize>, diags: &mut Vec<Diagnostic>) {
+fn no_block(file: &str, sp: std::ops::Range<usize>, diags: &mut Vec<Diagnostic>) {
     diags.push(
         Diagnostic::error(codes::NO_BLOCK_NUMBER, file, sp, "word outside a block")
-            .with_hint("every block starts with its number `N<n>`")
-            .locate(src),
+            .with_hint("every block starts with its number `N<n>`"),
     );
 }
 
-fn group_fanuc(
-    file: &str,
-    src: &str,
-    items: &[Item],
-    out: &mut ParsedFile,
-    diags: &mut Vec<Diagnostic>,
-) {
+fn group_fanuc(file: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec<Diagnostic>) {
     let mut cur = Block::default();
     let mut started = false;
     let mut after_slash = false;
@@ -403,22 +408,25 @@ fn group_fanuc(
                 if !was_slash {
                     diags.push(
                         Diagnostic::error(codes::ORPHAN_NUMBER, file, sp.clone(), "number without an address")
-                            .with_hint("a value must not contain spaces and a sign must touch its digits")
-                            .locate(src),
+                            .with_hint("a value must not contain spaces and a sign must touch its digits"),
                     );
                 }
             }
             Item::Word('O', val, sp) => {
                 match val {
                     Val::Lit(l) if !l.point && !l.signed && (0..=99_999).contains(&l.int) => {
-                        if out.number.is_none() {
+                        // An O word starts a program: the first names the main program, each later one
+                        // a further program of the file (it must open its own block).
+                        flush(&mut cur, &mut started, out);
+                        if out.number.is_none() && out.blocks.is_empty() && out.programs.is_empty() {
                             out.number = Some(l.int as u32);
+                        } else {
+                            out.programs.push((l.int as u32, out.blocks.len()));
                         }
                     }
                     _ => diags.push(
                         Diagnostic::error(codes::HEADER, file, sp.clone(), "invalid program number")
-                            .with_hint("write `O<number>`, e.g. `O00023`")
-                            .locate(src),
+                            .with_hint("write `O<number>`, e.g. `O00023`"),
                     ),
                 }
             }
@@ -431,8 +439,7 @@ fn group_fanuc(
                     Val::Lit(l) if !l.point && !l.signed && (0..=99_999_999).contains(&l.int) => cur.n = Some(l.int as u32),
                     _ => diags.push(
                         Diagnostic::error(codes::OUT_OF_RANGE, file, sp.clone(), "invalid block number")
-                            .with_hint("block numbers are N1..N99999")
-                            .locate(src),
+                            .with_hint("block numbers are N1..N99999"),
                     ),
                 }
             }
@@ -446,8 +453,7 @@ fn group_fanuc(
             }
             Item::Decl(_, _, sp) => diags.push(
                 Diagnostic::error(codes::R_WORD, file, sp.clone(), "`R<n>=` declarations are MEFI syntax")
-                    .with_hint("the Fanuc/HAAS dialect has no R parameters; R is the arc radius or the canned-cycle R plane")
-                    .locate(src),
+                    .with_hint("the Fanuc/HAAS dialect has no R parameters; R is the arc radius or the canned-cycle R plane"),
             ),
         }
     }

@@ -123,17 +123,50 @@ pub fn lit_int(l: &Lit) -> Option<i64> {
     }
 }
 
+/// Column of a diagnostic made by [`err`] that [`compile`] has still to locate.
+const TO_LOCATE: u32 = u32::MAX;
+
+/// An error of the static checks at `span` of `file`. It is located by [`compile`] in one pass per
+/// file at the end (locating each one by scanning `src` is quadratic: issue 12, a one-block program
+/// with 200,001 errors took 117 s), so `src` is not read here.
 pub(crate) fn err(
     code: u32,
     file: &str,
-    src: &str,
+    _src: &str,
     span: (usize, usize),
     msg: impl Into<String>,
     hint: &str,
 ) -> Diagnostic {
-    Diagnostic::error(code, file, span.0..span.1, msg)
-        .with_hint(hint)
-        .locate(src)
+    to_locate(Diagnostic::error(code, file, span.0..span.1, msg).with_hint(hint))
+}
+
+/// Marks `d` (about one of the program's files) to be located by [`compile`] at the end.
+pub(crate) fn to_locate(mut d: Diagnostic) -> Diagnostic {
+    d.column = TO_LOCATE;
+    d
+}
+
+/// Fills line and column of the diagnostics [`err`] made, with one line index per file.
+fn locate_pending(files: &[SourceFile], diags: &mut [Diagnostic]) {
+    for f in files {
+        if !diags
+            .iter()
+            .any(|d| d.column == TO_LOCATE && d.file == f.name)
+        {
+            continue;
+        }
+        let lines = diag::LineIndex::new(&f.text);
+        for d in diags
+            .iter_mut()
+            .filter(|d| d.column == TO_LOCATE && d.file == f.name)
+        {
+            (d.line, d.column) = lines.line_column(&f.text, d.span.start);
+        }
+    }
+    for d in diags.iter_mut().filter(|d| d.column == TO_LOCATE) {
+        // A file not among the program's (cannot happen): whole-file position.
+        (d.line, d.column) = (0, 0);
+    }
 }
 
 /// Compiles the main file `name` (text `src`) for `machine`, loading library units from
@@ -168,6 +201,7 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         }
         crate::link::link(&mut prog, &mut diags);
     }
+    locate_pending(&prog.files, &mut diags);
     diags.sort_by(|a, b| {
         (a.file != name, &a.file, a.line, a.column).cmp(&(
             b.file != name,

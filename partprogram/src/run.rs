@@ -4,6 +4,7 @@ use diag::Diagnostic;
 
 use crate::arith::NPARAM;
 use crate::canon::Canon;
+use crate::codes;
 use crate::program::Program;
 
 /// Which engine runs parameter arithmetic.
@@ -69,7 +70,20 @@ impl RunError {
             self.span.0..self.span.1,
             self.message.clone(),
         )
+        .with_hint(self.hint(prog))
         .locate(&f.text)
+    }
+
+    /// What would be valid instead, for the errors where something useful can be said.
+    fn hint(&self, prog: &Program) -> String {
+        match self.code {
+            codes::RUN_CIRCLE => format!(
+                "the end point must be as far from the centre (I, J, K, relative to the start point) as \
+                 the start point is, within {} mm; correct the end point or the centre",
+                prog.machine.circle_tolerance
+            ),
+            _ => String::new(),
+        }
     }
 }
 

@@ -114,6 +114,9 @@ impl ProgramMeta for CompiledMeta {
             }
         }
     }
+    fn idle_facts(&self) -> Option<compiler::ir::IdleFacts> {
+        Some(self.program.idle_facts())
+    }
     fn as_any(&self) -> &dyn Any {
         self
     }
@@ -177,11 +180,28 @@ pub fn load_cached(
                 ..compiler::jit::JitOptions::default()
             };
             match cache {
+                // `ncplc run`'s first load: code an `ncplc build` left on disk is mapped (the
+                // in-memory cache then starts empty: the first online change compiles it all).
+                Some(_)
+                    if threads == 0
+                        && let Some(found) = compiler::jit::disk_cache::DiskCache::from_env()
+                            .and_then(|d| {
+                                compiler::jit::disk_cache::lookup(&program, &opts, &d)
+                            }) =>
+                {
+                    Box::new(found)
+                }
                 Some(cache) => {
                     // A poisoned lock only means an earlier compile panicked; the cache is
                     // replaced as a whole by every compile, so its content is still consistent.
                     let mut cache = cache.lock().unwrap_or_else(|e| e.into_inner());
                     Box::new(compiler::jit::compile_cached(&program, &opts, &mut cache)?)
+                }
+                // A first load on every core (CLI `replay`, `run`'s start): through the on-disk
+                // code cache, so a program `ncplc build` compiled is not compiled again.
+                None if threads == 0 => {
+                    let disk = compiler::jit::disk_cache::DiskCache::from_env();
+                    Box::new(compiler::jit::disk_cache::compile(&program, &opts, disk.as_ref())?.0)
                 }
                 None => Box::new(compiler::jit::compile_with(&program, &opts)?),
             }
@@ -266,12 +286,15 @@ pub fn compile_cached(
     match c.program {
         Some(p) if !diag::has_errors(&c.diagnostics) => {
             if !c.diagnostics.is_empty() {
-                eprint!("{}", diag::render_human(&c.diagnostics, &sources));
+                eprint!(
+                    "{}",
+                    crate::cli::output::render_diagnostics(&c.diagnostics, &sources)
+                );
             }
             load_cached(p, engine, threads, cache)
         }
         _ => Err(LoadError::Diagnostics {
-            rendered: diag::render_human(&c.diagnostics, &sources),
+            rendered: crate::cli::output::render_diagnostics(&c.diagnostics, &sources),
             diagnostics: c.diagnostics,
         }),
     }

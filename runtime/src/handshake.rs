@@ -1,4 +1,4 @@
-//! The CNC side of the M/S/T four-phase handshake (plc-interface-map.md §2).
+//! The CNC side of the M/S/T four-phase handshake (docs/plc-interface-map.md §2).
 //!
 //! 1. the CNC writes the code, and in the next image sets the strobe;
 //! 2. the logic sets FIN; 3. the CNC sees FIN = 1 and clears the strobe;

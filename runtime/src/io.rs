@@ -65,6 +65,20 @@ pub fn open_io_counted(
     signals: CncSignals,
     tick_ms: u32,
 ) -> Result<(Box<dyn PacketIo>, Option<HandshakeCounts>), IoOpenError> {
+    open_io_with(kind, machine_dir, declared, script, signals, tick_ms, None)
+}
+
+/// [`open_io_counted`] with the HMI server on `hmi_bind` instead of io.toml's `[hmi] bind`
+/// (`ncplc run --modbus-hmi`; only with a fieldbus).
+pub fn open_io_with(
+    kind: IoKind,
+    machine_dir: &Path,
+    declared: &fieldbus::DeclaredConnectors,
+    script: Script,
+    signals: CncSignals,
+    tick_ms: u32,
+    hmi_bind: Option<std::net::SocketAddr>,
+) -> Result<(Box<dyn PacketIo>, Option<HandshakeCounts>), IoOpenError> {
     let bus = match kind {
         IoKind::Sim => {
             let sim = Sim::new(script, signals, tick_ms)?;
@@ -83,13 +97,13 @@ pub fn open_io_counted(
             }
         }
         IoOpenError::Fieldbus {
-            rendered: diag::render_human(&diagnostics, &sources),
+            rendered: crate::cli::output::render_diagnostics(&diagnostics, &sources),
             diagnostics,
         }
     };
     let io = fieldbus::open(bus, machine_dir, declared).map_err(render)?;
     Ok((
-        fieldbus::start_hmi(machine_dir, declared, io).map_err(render)?,
+        fieldbus::start_hmi_at(machine_dir, declared, io, hmi_bind).map_err(render)?,
         None,
     ))
 }

@@ -12,6 +12,7 @@
 //! | [`stats`] | scan-time and wake-latency histograms |
 //! | [`trace`] | trace records, text and binary forms, recorder, comparison |
 //! | [`replay`] | replaying a trace and comparing outputs |
+//! | [`idle_skip`], [`output_watch`] | the replay's exact jumps over idle ticks and its lean output diff |
 //! | [`retain`] | atomic, checksummed retained data (PGCFIL OLD, MUSPE) |
 //! | [`online`] | watching the source, background compile, swap at a tick boundary |
 //! | [`handshake`], [`sim`] | the simulated CNC (M/S/T handshake) and machine |
@@ -25,11 +26,13 @@ pub mod clock;
 pub mod compiled;
 pub mod config;
 pub mod handshake;
+pub mod idle_skip;
 pub mod image;
 pub mod io;
 pub mod machine;
 pub mod machine_facts;
 pub mod online;
+pub mod output_watch;
 pub mod process_map;
 pub mod program;
 pub mod replay;
@@ -40,6 +43,8 @@ pub mod stats;
 pub mod testkit;
 pub mod trace;
 
+#[cfg(test)]
+mod replay_skip_tests;
 #[cfg(test)]
 #[path = "scheduler_tests.rs"]
 mod scheduler_tests;

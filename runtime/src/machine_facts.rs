@@ -49,9 +49,10 @@ impl Facts {
         if !dir.is_dir() {
             return Err(MachineError::NotADirectory(dir.to_path_buf()));
         }
-        let load = characterization::load_machine(dir);
+        let mut load = characterization::load_machine(dir);
         let shown = dir.display().to_string();
         if load.has_errors() || load.machine.is_none() {
+            crate::cli::output::relocate(&mut load, dir);
             let errors: Vec<_> = load
                 .diagnostics
                 .iter()
@@ -60,7 +61,7 @@ impl Facts {
                 .collect();
             return Err(MachineError::Invalid {
                 dir: shown,
-                report: diag::render_human(&errors, &load.sources),
+                report: crate::cli::output::render_diagnostics(&errors, &load.sources),
             });
         }
         match load.machine {

@@ -1,4 +1,4 @@
-//! The interface map checked against the machine's processes (plc-interface-map.md §1: "process
+//! The interface map checked against the machine's processes (docs/plc-interface-map.md §1: "process
 //! 2..5: the map file must give their addresses before NBP>1 runs").
 //!
 //! [`needs`] decides from the characterization which handshakes each process has: M always; S

@@ -35,6 +35,10 @@ pub trait ProgramMeta: Send + Sync + Any {
     /// timers, counters, pulses and variables whose name and type are unchanged keep their state.
     /// The packets are copied by the caller.
     fn migrate_from(&self, old: &dyn ProgramMeta, old_image: &[u8], new_image: &mut [u8]);
+    /// What a replay needs to skip idle ticks exactly; `None` (the default) never skips.
+    fn idle_facts(&self) -> Option<compiler::ir::IdleFacts> {
+        None
+    }
     /// `self` as `Any`, so implementations can downcast the `old` program in `migrate_from`.
     fn as_any(&self) -> &dyn Any;
 }

@@ -1,4 +1,4 @@
-//! The cyclic scheduler: per tick latch inputs, run the logic, publish outputs (plc-language.md §6).
+//! The cyclic scheduler: per tick latch inputs, run the logic, publish outputs (docs/plc-language.md §6).
 //!
 //! Tick `t` starts at `t × tick` after the start on the [`Clock`]. A tick that ends after the next
 //! tick's start is an overrun; `overrun_limit` consecutive overruns trip the safe state (physical
@@ -71,6 +71,8 @@ pub struct Scheduler {
     tick: u64,
     start_ns: u64,
     started: bool,
+    /// When the first tick started (wall clock), for the start-to-first-tick figure.
+    first_tick_at: Option<Instant>,
     tripped: bool,
     events: Vec<Event>,
     recording: Option<(InputDiff, Box<dyn TraceSink>, TickRecord)>,
@@ -104,6 +106,7 @@ impl Scheduler {
             tick: 0,
             start_ns: 0,
             started: false,
+            first_tick_at: None,
             tripped: false,
             events: Vec::new(),
             recording: None,
@@ -158,6 +161,11 @@ impl Scheduler {
         self.tick
     }
 
+    /// When the first tick started its work (after waking), or `None` before it.
+    pub fn first_tick_at(&self) -> Option<Instant> {
+        self.first_tick_at
+    }
+
     /// True after the overrun limit tripped the safe state.
     pub fn tripped(&self) -> bool {
         self.tripped
@@ -183,6 +191,7 @@ impl Scheduler {
         let due = self.start_ns + t * self.settings.tick_ns;
         let woke = self.clock.sleep_until(due);
         let work = Instant::now();
+        self.first_tick_at.get_or_insert(work);
         self.take_swap(t);
         if let Some((diff, _, rec)) = &mut self.recording {
             diff.before_latch(self.image.bytes());

@@ -38,9 +38,13 @@ pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Vec<Dia
         tim_seen: false,
         nbp_seen: false,
         acc_seen: false,
+        bad_nbp: None,
     };
     for r in &section.records {
         s.record(r);
+    }
+    if let Some((n, span)) = s.bad_nbp.take() {
+        s.settle_bad_nbp(n, span);
     }
     if !s.tim_seen {
         let d = ctx.error(
@@ -61,6 +65,9 @@ struct State<'a, 'm> {
     tim_seen: bool,
     nbp_seen: bool,
     acc_seen: bool,
+    /// An NBP of 0 or above 5 and its span: reported once section 1 is read, with the processes
+    /// the file does open as the likely intent.
+    bad_nbp: Option<(u32, std::ops::Range<usize>)>,
 }
 
 impl<'a> State<'a, '_> {
@@ -119,7 +126,8 @@ impl<'a> State<'a, '_> {
                 }
             }
             k => {
-                let hint = "section 1 allows NBP, TIM, PRO, COM, INx, CAS and ACC";
+                let allowed = "section 1 allows NBP, TIM, PRO, COM, INx, CAS and ACC";
+                let hint = values::suggest_key(k, allowed, allowed);
                 self.push(
                     codes::NOT_ALLOWED,
                     r.key_span.clone(),
@@ -143,22 +151,14 @@ impl<'a> State<'a, '_> {
             .ok(values::word(&ctx, &r.params[0]))
             .flatten()
             .unwrap_or(0);
-        if n == 0 {
-            self.push(
-                codes::NBP_ZERO,
-                r.params[0].span.clone(),
-                "NBP declares no process",
-                "the number of processes is 1 to 5",
-            );
-        } else if n > 5 {
-            self.push(
-                codes::NBP_TOO_MANY,
-                r.params[0].span.clone(),
-                format!("NBP declares {n} processes"),
-                "at most 5 processes are allowed",
-            );
+        if n == 0 || n > 5 {
+            // Accept every PRO for now; the number is settled from them at the end of the section,
+            // so that the processes the file does have bring no follow-on errors (issue 12).
+            self.bad_nbp = Some((n, r.params[0].span.clone()));
+            self.model.nbp = 5;
+        } else {
+            self.model.nbp = n;
         }
-        self.model.nbp = n.min(5);
         if let Some(raw) = self.ok(values::hex(&ctx, &r.params[1], 4)).flatten() {
             match decode_extension(raw) {
                 Some(ext) => self.model.extension = ext,
@@ -169,6 +169,33 @@ impl<'a> State<'a, '_> {
                     "write 0, 1, 2, 3, ECDF, ECE0, ECE1 or ECE2",
                 ),
             }
+        }
+    }
+
+    /// Reports NBP=0 (182) or NBP above 5 (183) and takes the highest process the file opens with
+    /// PRO as the number of processes, so that later checks follow the file, not the bad number.
+    fn settle_bad_nbp(&mut self, n: u32, span: std::ops::Range<usize>) {
+        self.current = None;
+        let opened = self.model.processes.iter().map(|p| p.number).max();
+        self.model.nbp = opened.unwrap_or(1).clamp(1, 5);
+        let intent = match opened {
+            Some(p) => format!("; section 1 opens processes up to PRO={p}: write NBP={p}"),
+            None => String::new(),
+        };
+        if n == 0 {
+            self.push(
+                codes::NBP_ZERO,
+                span,
+                "NBP declares no process",
+                format!("the number of processes is 1 to 5{intent}"),
+            );
+        } else {
+            self.push(
+                codes::NBP_TOO_MANY,
+                span,
+                format!("NBP declares {n} processes"),
+                format!("at most 5 processes are allowed{intent}"),
+            );
         }
     }
 

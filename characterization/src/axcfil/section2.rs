@@ -531,8 +531,13 @@ impl Parse<'_, '_> {
             }
             k => {
                 let hint = match alias(k) {
-                    Some(right) => format!("`{k}` is a misspelling of `{right}` (OCR of the manual); write `{right}`"),
-                    None => "section 2 allows TPA NTC RAP GAS VGAS PAS SKW MCZ POS SRV MAN MSS GMxx FRC LOP LOx MFC AFC CUB SWx TSM ASM POM ADP ZNO FBF HWC ATR GRA FOPP FTP ADG LAS FQF".to_string(),
+                    Some(right) => format!(
+                        "`{k}` is a misspelling of `{right}` (OCR of the manual); write `{right}`"
+                    ),
+                    None => {
+                        let allowed = "section 2 allows TPA NTC RAP GAS VGAS PAS SKW MCZ POS SRV MAN MSS GMxx FRC LOP LOx MFC AFC CUB SWx TSM ASM POM ADP ZNO FBF HWC ATR GRA FOPP FTP ADG LAS FQF";
+                        crate::values::suggest_key(k, allowed, allowed)
+                    }
                 };
                 self.err(
                     codes::NOT_ALLOWED,

@@ -300,7 +300,8 @@ fn record(ctx: &Ctx, r: &Record, tables: &mut Vec<Compensation>, diags: &mut Vec
             let hint = if k == "NMO" {
                 "`NMO` is a misspelling of `NM0` (digit zero)".to_string()
             } else {
-                "section 3 allows PRO, NAS, NAC, PAS, Ennn, FEG and NM0".to_string()
+                let allowed = "section 3 allows PRO, NAS, NAC, PAS, Ennn, FEG and NM0";
+                crate::values::suggest_key(k, allowed, allowed)
             };
             diags.push(ctx.error(
                 codes::NOT_ALLOWED,

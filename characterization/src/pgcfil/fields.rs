@@ -46,7 +46,7 @@ impl<'f> Emit<'f> {
         if let Some(p) = self.process {
             d = d.with_process(p);
         }
-        d.locate(&self.file.text)
+        self.file.locate(d)
     }
 
     /// Reports error `code` at `span`.

@@ -16,7 +16,11 @@ pub(crate) fn not_allowed(e: &mut Emit<'_>, rec: &Record, allowed: &str) {
             "instruction {} is not allowed in section *{}",
             rec.key, e.section
         ),
-        &format!("section *{} allows {allowed}", e.section),
+        &crate::values::suggest_key(
+            &rec.key,
+            allowed,
+            &format!("section *{} allows {allowed}", e.section),
+        ),
     );
 }
 

@@ -1,7 +1,7 @@
 //! The interface map: the fixed names of the K/N signals (MSTB, MFIN, FOLD, …) and their addresses,
 //! for every process of the machine.
 //!
-//! The default table (plc-interface-map.md §1, process 1) ships as `compiler/interface-map.toml`
+//! The default table (docs/plc-interface-map.md §1, process 1) ships as `compiler/interface-map.toml`
 //! and is embedded in the binary; a machine may override or extend it with
 //! `<machine>/interface.toml` in the same format ([`InterfaceMap::load_for_machine`]). The PLC
 //! compiler predeclares every name of the map; the runtime reads the handshake signals from it by

@@ -204,7 +204,7 @@ fn dir_text(d: Direction) -> &'static str {
     }
 }
 
-/// The direction convention (plc-interface-map.md): K/N connectors 0..9 are written by the CNC,
+/// The direction convention (docs/plc-interface-map.md): K/N connectors 0..9 are written by the CNC,
 /// 10..99 by the logic, 100..255 either; a bit's `I`/`U` prefix says the same as `dir`.
 fn convention(signal: Signal, dir: Direction) -> Result<(), String> {
     if let Signal::Bit { dir: prefix, .. } = signal {

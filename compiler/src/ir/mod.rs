@@ -52,16 +52,18 @@
 //! - `ABS` wraps (`ABS(-32768)` is -32768 for INT) and is the identity on unsigned types; on
 //!   floats it clears the sign bit. Unary minus wraps; on floats it flips the sign bit.
 //! - A BOOL variable reads as `byte <> 0` and is written as 0/1.
-//! - Timers, counters and pulses follow plc-language.md §4.1/§4.2; the exact update rules are on
+//! - Timers, counters and pulses follow docs/plc-language.md §4.1/§4.2; the exact update rules are on
 //!   [`Stmt::Timer`], [`Stmt::CounterCount`], [`Stmt::CounterReset`] and [`Stmt::Pulse`].
 //! - A tick runs the FAST part, then SLOW slice `i = next` (0 when `next` is out of range) and
 //!   stores `(i + 1) mod slices`. A program without SLOW part leaves the header untouched.
 
 mod builder;
+mod idle;
 mod program;
 mod validate;
 
 pub use builder::{COST_UNITS_PER_MS, ProgramBuilder, slice_cost, split_slices};
+pub use idle::{IdleFacts, SteadyTimer};
 pub use program::{
     CounterDecl, CounterKind, Program, PulseDecl, SlotKind, StateSlot, TimerDecl, TimerKind,
     VarDecl,

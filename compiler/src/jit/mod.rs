@@ -12,6 +12,7 @@
 mod bits;
 mod cache;
 mod code_cache;
+pub mod disk_cache;
 mod memory;
 mod stateful;
 mod translate;
@@ -373,6 +374,16 @@ fn compile_program(
     opts: &JitOptions,
     cache: Option<&mut CodeCache>,
 ) -> Result<JitProgram, JitError> {
+    compile_program_to(p, opts, cache, None)
+}
+
+/// [`compile_program`]; the linked text is also left in `disk` (see [`disk_cache`]).
+fn compile_program_to(
+    p: &Program,
+    opts: &JitOptions,
+    cache: Option<&mut CodeCache>,
+    disk: Option<&disk_cache::Entry>,
+) -> Result<JitProgram, JitError> {
     check_len(p)?;
     let isa = isa(opts)?;
     let sig = signature(&isa, isa.default_call_conv());
@@ -396,35 +407,70 @@ fn compile_program(
         cache.replace(opts, facts, keys);
     }
     let (text, offsets, align) = link(&codes, isa.function_alignment().minimum.into());
+    let text = Text {
+        bytes: text,
+        offsets,
+        align,
+        counts: parts.iter().map(Vec::len).collect(),
+    };
+    let program = load_text(isa, &text, p.image_len)?;
+    if let Some(disk) = disk {
+        disk.store(&text);
+    }
+    Ok(program)
+}
+
+/// A program's linked machine code: every function laid end to end (see `link`), where each
+/// starts, and how many functions the FAST part and each SLOW slice have.
+#[derive(Debug, Clone, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub(crate) struct Text {
+    bytes: Vec<u8>,
+    offsets: Vec<usize>,
+    align: u64,
+    /// Functions of the FAST part, then of each SLOW slice.
+    counts: Vec<usize>,
+}
+
+/// Maps `text` executable and wraps it as a program over images of `image_len` bytes.
+fn load_text(isa: OwnedTargetIsa, text: &Text, image_len: usize) -> Result<JitProgram, JitError> {
+    let codegen = |e: &dyn std::fmt::Display| JitError::Codegen(e.to_string());
+    let total: usize = text.counts.iter().sum();
+    if text.offsets.len() != total
+        || text.counts.is_empty()
+        || text.offsets.iter().any(|&at| at >= text.bytes.len())
+    {
+        return Err(codegen(&"inconsistent machine code layout"));
+    }
+    let sig = signature(&isa, isa.default_call_conv());
     let mut module = JITModule::new(JITBuilder::with_isa(
-        isa.clone(),
+        isa,
         cranelift_module::default_libcall_names(),
     ));
-    let codegen = |e: &dyn std::fmt::Display| JitError::Codegen(e.to_string());
     // One definition holding every function: one mapping and one `mprotect` for the program
     // instead of one per function.
     let id = module
         .declare_function("text", Linkage::Local, &sig)
         .map_err(|e| codegen(&e))?;
     module
-        .define_function_bytes(id, align, &text, &[])
+        .define_function_bytes(id, text.align, &text.bytes, &[])
         .map_err(|e| codegen(&e))?;
     module.finalize_definitions().map_err(|e| codegen(&e))?;
     let base = module.get_finalized_function(id);
-    let mut fns = offsets.iter().map(|&at| {
-        // SAFETY: `at` is the start of one function inside the finalized text (see `link`); every
-        // function was compiled with signature `fn(*mut u8)` and the system calling convention.
+    let mut fns = text.offsets.iter().map(|&at| {
+        // SAFETY: `at` is the start of one function inside the finalized text (see `link`, or a
+        // disk cache entry whose key matched in full); every function was compiled with signature
+        // `fn(*mut u8)` and the system calling convention.
         unsafe { std::mem::transmute::<*const u8, ScanFn>(base.wrapping_add(at)) }
     });
     let mut take = |n: usize| fns.by_ref().take(n).collect::<Vec<ScanFn>>();
-    let fast = take(parts[0].len());
-    let slow = parts[1..].iter().map(|c| take(c.len())).collect();
+    let fast = take(text.counts[0]);
+    let slow = text.counts[1..].iter().map(|&n| take(n)).collect();
     Ok(JitProgram {
         module: Some(module),
         fast,
         slow,
-        image_len: p.image_len,
-        text: (base as usize, text.len()),
+        image_len,
+        text: (base as usize, text.bytes.len()),
     })
 }
 

@@ -103,6 +103,8 @@ pub const NEVER_WRITTEN: u32 = 1501;
 pub const NEVER_USED: u32 = 1502;
 /// Warning: a one-shot that is read but never assigned (it always reads 0).
 pub const PULSE_NEVER_SET: u32 = 1503;
+/// Warning: a timer preset shorter than the logic tick (it runs out at the first tick).
+pub const SHORT_TIMER: u32 = 1504;
 
 /// Interface map: the TOML text does not have the map's shape.
 pub const MAP_TOML: u32 = 1601;
@@ -178,6 +180,7 @@ pub const ALL: &[(u32, &str)] = &[
     (NEVER_WRITTEN, "never written"),
     (NEVER_USED, "never used"),
     (PULSE_NEVER_SET, "one-shot never assigned"),
+    (SHORT_TIMER, "timer shorter than the tick"),
     (MAP_TOML, "interface map: bad TOML"),
     (MAP_ENTRY, "interface map: bad entry"),
     (MAP_IO, "interface map: unreadable file"),
@@ -195,3 +198,8 @@ pub const ALL: &[(u32, &str)] = &[
     ),
     (LOWERING, "lowering failed"),
 ];
+
+/// True for the usage warnings (1501–1503), which are dropped after a syntax error.
+pub fn is_usage_warning(code: u32) -> bool {
+    matches!(code, NEVER_WRITTEN | NEVER_USED | PULSE_NEVER_SET)
+}

@@ -216,11 +216,12 @@ impl Checker<'_> {
                     format!("call it: {n}(…)"),
                 );
             } else if !self.failed.contains(n) {
+                let hint = self.suggest_name(n, format!("define it (`DEF {n} = <signal>` or `DEF {n} : <type>`) or use a predeclared interface name"));
                 self.error(
                     codes::UNDEFINED,
                     span,
                     format!("`{n}` is not defined"),
-                    format!("define it (`DEF {n} = <signal>` or `DEF {n} : <type>`) or use a predeclared interface name"),
+                    hint,
                 );
             }
             return None;

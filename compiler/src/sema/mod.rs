@@ -120,9 +120,31 @@ pub(crate) struct Checker<'a> {
     pub failed: HashSet<String>,
     /// Line starts of `text`, for positions in messages and for locating diagnostics.
     pub lines: crate::lexer::LineIndex<'a>,
+    /// "Did you mean" searches still allowed: each scans every name, so only the first
+    /// [`SUGGESTIONS`] undefined names get one (bounded work on any input).
+    pub suggestions_left: usize,
 }
 
+/// Undefined names per check that get a "did you mean" search.
+const SUGGESTIONS: usize = 100;
+
 impl<'a> Checker<'a> {
+    /// `hint` prefixed with "did you mean `X`? " for the defined, predeclared or function name
+    /// nearest to the undefined `name`.
+    pub(crate) fn suggest_name(&mut self, name: &str, hint: String) -> String {
+        if self.suggestions_left == 0 {
+            return hint;
+        }
+        self.suggestions_left -= 1;
+        let defined = self.syms.iter().map(|s| s.name.as_str());
+        let predeclared = self.ctx.interface.iter().map(|e| e.name.as_str());
+        let functions = symbols::FUNCTIONS.iter().copied();
+        match diag::did_you_mean(name, defined.chain(predeclared).chain(functions)) {
+            Some(s) => format!("{s} {hint}"),
+            None => hint,
+        }
+    }
+
     fn new(file: &'a str, text: &'a str, ctx: &'a MachineContext) -> Self {
         Checker {
             file,
@@ -138,6 +160,7 @@ impl<'a> Checker<'a> {
             pulses_set: HashSet::new(),
             statements: 0,
             symbolic_names: 0,
+            suggestions_left: SUGGESTIONS,
             failed: HashSet::new(),
             lines: crate::lexer::LineIndex::new(text),
         }

@@ -1,4 +1,4 @@
-//! Signal names against the packet limits and the machine's IOCFIL (plc-language.md §3.1).
+//! Signal names against the packet limits and the machine's IOCFIL (docs/plc-language.md §3.1).
 //!
 //! Limits: connector per packet (A 0..31, K/N 0..255, T 0..15), contact 0..31, `W` byte 0..3, `S`
 //! byte below the packet size. In packet A only connectors declared in IOCFIL `INx`/`OUx` may be

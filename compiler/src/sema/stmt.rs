@@ -275,11 +275,15 @@ impl Checker<'_> {
     fn target_symbol(&mut self, name: &str, span: &Span) -> Option<usize> {
         let Some(i) = self.lookup(name) else {
             if !self.failed.contains(name) {
+                let hint = self.suggest_name(
+                    name,
+                    format!("define it first: `DEF {name} = <signal>` or `DEF {name} : <type>`"),
+                );
                 self.error(
                     codes::UNDEFINED,
                     span,
                     format!("`{name}` is not defined"),
-                    format!("define it first: `DEF {name} = <signal>` or `DEF {name} : <type>`"),
+                    hint,
                 );
             }
             return None;

@@ -248,6 +248,21 @@ impl Checker<'_> {
                 }
             }
             let preset = self.preset(spec, tn, timer.is_some());
+            let tick = i64::from(self.ctx.tick_ms);
+            if let (Some(_), Some(p)) = (timer, preset)
+                && p > 0
+                && p < tick
+                && let Some(arg) = spec.args.as_ref().and_then(|a| a.first())
+            {
+                self.warning(
+                    codes::SHORT_TIMER,
+                    &arg.span,
+                    format!(
+                        "{tn} preset {p} ms is shorter than the logic tick of {tick} ms: it runs out at the first tick"
+                    ),
+                    format!("timers count whole ticks; use a preset of at least {tick} ms"),
+                );
+            }
             if let Some(kind) = timer {
                 let id = self
                     .builder

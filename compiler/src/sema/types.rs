@@ -1,4 +1,4 @@
-//! Type rules of the language (plc-language.md §4.2, §5): implicit widening, the common type of
+//! Type rules of the language (docs/plc-language.md §4.2, §5): implicit widening, the common type of
 //! two operands, and the conversion of untyped literals to a type with a range check.
 
 use crate::ir::{Ty, Value};

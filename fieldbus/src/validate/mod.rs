@@ -82,6 +82,8 @@ pub const DEFAULT_HMI_BIND: std::net::SocketAddr = std::net::SocketAddr::V4(
 pub(crate) struct Ctx<'a> {
     file: &'a str,
     text: &'a str,
+    /// Line index of `text`: each diagnostic is located without rescanning the file.
+    lines: diag::LineIndex,
     diags: Vec<Diagnostic>,
 }
 
@@ -95,17 +97,17 @@ impl Ctx<'_> {
     ) {
         let d = Diagnostic::error(code, self.file, span, msg)
             .with_hint(hint)
-            .locate(self.text);
+            .locate_in(self.text, &self.lines);
         self.diags.push(d);
     }
 
     pub(crate) fn warn(&mut self, code: u32, span: Range<usize>, msg: impl Into<String>) {
-        let d = Diagnostic::warning(code, self.file, span, msg).locate(self.text);
+        let d = Diagnostic::warning(code, self.file, span, msg).locate_in(self.text, &self.lines);
         self.diags.push(d);
     }
 
     pub(crate) fn line_of(&self, span: &Range<usize>) -> u32 {
-        diag::line_column(self.text, span.start).0
+        self.lines.line_column(self.text, span.start).0
     }
 
     pub(crate) fn addr(&mut self, s: &Spanned<String>) -> Option<SocketAddr> {
@@ -185,6 +187,7 @@ pub fn parse_map(
     let mut cx = Ctx {
         file,
         text,
+        lines: diag::LineIndex::new(text),
         diags: Vec::new(),
     };
     let raw: RawMap = match toml::from_str(text) {
@@ -395,6 +398,7 @@ mod tests {
         let mut cx = Ctx {
             file: "io.toml",
             text,
+            lines: diag::LineIndex::new(text),
             diags: Vec::new(),
         };
         let raw: RawMap = toml::from_str(text).expect("toml");

@@ -143,10 +143,20 @@ impl Exec<'_> {
                 93 => g93 = true,
                 34..=37 => transform = Some(g),
                 70 | 71 | 72 | 73 | 78 | 79 => flow = Some(g),
-                9 => self.modal.helix = true,
-                98 => self.modal.helix = false,
+                9 => {
+                    self.modal.helix = true;
+                    self.modal.smooth = false;
+                }
+                98 | 24 => {
+                    self.modal.helix = false;
+                    self.modal.smooth = false;
+                }
+                23 => {
+                    self.modal.helix = false;
+                    self.modal.smooth = true;
+                }
                 10 => lift = true,
-                26..=29 | 5..=7 | 23 | 24 => {}
+                26..=29 | 5..=7 => {}
                 g => {
                     return Err(run_err(
                         b,

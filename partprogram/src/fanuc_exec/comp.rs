@@ -1,9 +1,8 @@
 //! The Fanuc/HAAS side of radius compensation: the D register (radius of entry D of the offset table,
-//! D00 is radius 0), `G10 L12 P<n> R<r>` (programmable setting of the radius offset), the [`Ctx`] of a
-//! block, and the implicit compensation of the G12/G13 pockets.
+//! D00 is radius 0; `G10 L12` writes it, see [`super::offsets`]), the [`Ctx`] of a block, and the
+//! implicit compensation of the G12/G13 pockets.
 
 use super::Ex;
-use crate::ast::Val;
 use crate::program::CBlock;
 use crate::radius::{Ctx, Side};
 
@@ -16,23 +15,6 @@ impl Ex<'_> {
         match usize::try_from(d) {
             Ok(0) | Err(_) => 0.0,
             Ok(e) => self.corrections.get(e).map_or(0.0, |c| c[0]),
-        }
-    }
-
-    /// `G10 L12 P<n> R<r>`: sets the radius of offset register n (inch values converted). Other L
-    /// numbers are not planned.
-    pub(super) fn g10(&mut self, b: &CBlock) {
-        let num = |a: char| match b.word(a).map(|w| &w.val) {
-            Some(Val::Lit(l)) => Some(l.value()),
-            _ => None,
-        };
-        let unit = if self.inch { 25.4 } else { 1.0 };
-        if let (Some(12.0), Some(p), Some(r)) = (num('L'), num('P'), num('R'))
-            && let Some(entry) = usize::try_from(p as i64)
-                .ok()
-                .and_then(|p| self.corrections.get_mut(p))
-        {
-            entry[0] = r * unit;
         }
     }
 

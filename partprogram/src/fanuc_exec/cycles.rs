@@ -1,5 +1,6 @@
-//! Fanuc/HAAS canned drilling cycles (G73, G74, G76, G81–G89 with G98/G99) and circular pockets
-//! (G12/G13).
+//! Fanuc/HAAS canned drilling cycles (G73, G74, G81–G86, G89 with G98/G99 and L repeats) and
+//! circular pockets (G12/G13). G76 (orient and shift), G77 (back boring) and G87/G88 (manual retract)
+//! are refused by the static check: their sequences need spindle orientation or the operator.
 
 use super::{Ex, PECK_CLEARANCE, run_err};
 use crate::ast::Val;
@@ -26,7 +27,6 @@ impl Ex<'_> {
                 }
             })
         };
-        let unit = if self.inch { 25.4 } else { 1.0 };
         let Some(zi) = self.idx('Z') else {
             return Err(run_err(b, codes::RUN_BAD_G, "canned cycles need a Z axis"));
         };
@@ -35,20 +35,16 @@ impl Ex<'_> {
         }
         let oz = self.origin(zi);
         // (R plane, Z depth, Q peck, P dwell) in machine Z.
-        if let Some(r) = num('R') {
-            self.cyc.0 = if self.abs {
-                r * unit + oz
-            } else {
-                self.init_z + r * unit
-            };
+        if let Some(r) = self.dim(b, 'R') {
+            self.cyc.0 = if self.abs { r + oz } else { self.init_z + r };
         } else if first {
             self.cyc.0 = self.machine[zi];
         }
         if let Some(z) = vals[zi] {
             self.cyc.1 = if self.abs { z + oz } else { self.cyc.0 + z };
         }
-        if let Some(q) = num('Q') {
-            self.cyc.2 = q.abs() * unit;
+        if let Some(q) = self.dim(b, 'Q') {
+            self.cyc.2 = q.abs();
         }
         if let Some(p) = b.word('P').and_then(|w| {
             if let Val::Lit(l) = w.val {
@@ -63,6 +59,30 @@ impl Ex<'_> {
         }) {
             self.cyc.3 = p;
         }
+        // L repeats the hole: at the same place under G90, each time shifted by the increments under
+        // G91 (HAAS 002:221, L = "counter for repeated cycles"); L0 stores the data without drilling.
+        let reps = match num('L') {
+            Some(l) if !(0.0..=32767.0).contains(&l) || l.fract() != 0.0 => {
+                return Err(run_err(
+                    b,
+                    codes::RUN_RANGE,
+                    format!("L{l}: the repeat count is an integer 0..32767"),
+                ));
+            }
+            Some(l) => l as u32,
+            None => 1,
+        };
+        if reps == 0 && !m.is_empty() {
+            self.emit(b, Kind::Aux, Vec::new(), m, None);
+        }
+        for k in 0..reps {
+            self.hole(b, g, zi, vals, if k == 0 { m } else { &[] });
+        }
+        Ok(())
+    }
+
+    /// One hole of cycle `g`: position in the plane at the current level, then the Z sequence.
+    fn hole(&mut self, b: &CBlock, g: u16, zi: usize, vals: &[Option<f64>; 6], m: &[MFunc]) {
         let (r, z, q, p) = self.cyc;
         // Position in XY at the current (initial) level.
         let mut xy = [None; 6];
@@ -147,6 +167,13 @@ impl Ex<'_> {
                     zto(self, Kind::Rapid, top);
                 }
             }
+            860 => {
+                // Boring, spindle stop at the bottom, rapid out, spindle on again (M05 … M03).
+                let stop = |m| [MFunc { m, before: true }];
+                self.emit(b, Kind::Aux, Vec::new(), &stop(5), None);
+                zto(self, Kind::Rapid, top);
+                self.emit(b, Kind::Aux, Vec::new(), &stop(3), None);
+            }
             850 | 890 => {
                 zto(self, Kind::Linear, r);
                 if !self.g99 {
@@ -155,7 +182,6 @@ impl Ex<'_> {
             }
             _ => zto(self, Kind::Rapid, top),
         }
-        Ok(())
     }
 
     pub(super) fn pocket(
@@ -174,7 +200,6 @@ impl Ex<'_> {
                 }
             })
         };
-        let unit = if self.inch { 25.4 } else { 1.0 };
         let (Some(xi), Some(yi), Some(zi)) = (self.idx('X'), self.idx('Y'), self.idx('Z')) else {
             return Err(run_err(b, codes::RUN_BAD_G, "G12/G13 need X, Y and Z axes"));
         };
@@ -192,12 +217,12 @@ impl Ex<'_> {
             self.move_to(b, Kind::Linear, centre, m);
         }
         let (cx, cy) = (self.machine[xi], self.machine[yi]);
-        let first = num('I')
-            .map(|v| v * unit)
+        let first = self
+            .dim(b, 'I')
             .ok_or_else(|| run_err(b, codes::RUN_RANGE, "G12/G13 need I (first radius)"))?;
         let mut radii = vec![first];
-        if let Some(k) = num('K').map(|v| v * unit) {
-            if let Some(q) = num('Q').map(|v| v * unit).filter(|q| *q > 0.0) {
+        if let Some(k) = self.dim(b, 'K') {
+            if let Some(q) = self.dim(b, 'Q').filter(|q| *q > 0.0) {
                 let mut r = first + q;
                 while r < k - 1e-9 {
                     radii.push(r);

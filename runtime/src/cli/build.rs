@@ -1,10 +1,9 @@
 //! `ncplc build <machine-dir> [--plc FILE]`: compiles the machine's PLC program.
 //!
 //! Prints every diagnostic rustc-style (default) or as one JSON object per line (`--format json`,
-//! the fields of `ncplc check`), then a one-line summary (statements, image size, compile time).
-//! With `--format json` the summary goes to stderr, so that stdout holds only JSON lines.
-//! `--emit ir` prints the lowered IR as JSON, `--emit clif` the cranelift IR of the JIT; the
-//! diagnostics and the summary then go to stderr. Exit code 0 when the program compiles, 1 on errors, 2 when the
+//! the fields of `ncplc check`), then a one-line summary (statements, image size, compile time),
+//! all on stderr. `--emit ir` prints the lowered IR as JSON on stdout, `--emit clif` the cranelift
+//! IR of the JIT. Exit code 0 when the program compiles, 1 on errors, 2 when the
 //! machine or the source cannot be read.
 //!
 //! The PLC source is `--plc FILE`, else the file FCRSYS section 2 binds to `PLCSRC`, else
@@ -41,6 +40,7 @@ pub enum Emit {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The machine directory (holding FCRSYS and MP0/).
+    #[arg(value_name = "MACHINE")]
     pub machine_dir: PathBuf,
     /// The PLC source (default: FCRSYS `PLCSRC`, else MP0/PLCPRG).
     #[arg(long)]
@@ -51,6 +51,10 @@ pub struct Args {
     /// Print the IR or the cranelift IR instead of only checking.
     #[arg(long, value_enum)]
     pub emit: Option<Emit>,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
 /// The compiler's view of the machine in `dir` and its default PLC source (FCRSYS `PLCSRC`, else
@@ -88,11 +92,8 @@ pub fn run(args: Args) -> ExitCode {
             return ExitCode::from(2);
         }
     };
-    let name = path
-        .strip_prefix(&args.machine_dir)
-        .unwrap_or(&path)
-        .display()
-        .to_string();
+    // As the user can open it from the current directory.
+    let name = super::output::user_path(&path).display().to_string();
     // A build is not beside a running scan: parse on every core (same result as one thread).
     let front_started = Instant::now();
     let c = compiler::compile_with_threads(&name, &bytes, &ctx, 0);
@@ -112,7 +113,9 @@ pub fn run(args: Args) -> ExitCode {
             threads: 0,
             ..compiler::jit::JitOptions::default()
         };
-        match compiler::jit::compile_with(p, &opts) {
+        // Through the on-disk code cache: a later `ncplc run`/`replay` of it maps this code.
+        let disk = compiler::jit::disk_cache::DiskCache::from_env();
+        match compiler::jit::disk_cache::compile(p, &opts, disk.as_ref()) {
             Ok(_) => jit_ms = Some(jit_started.elapsed().as_secs_f64() * 1000.0),
             Err(e) => diagnostics.push(jit_failed(&name, &e)),
         }
@@ -134,11 +137,10 @@ pub fn run(args: Args) -> ExitCode {
     let mut sources = diag::Sources::new();
     sources.add(name.clone(), c.text.clone());
     let report = match args.format {
-        Format::Human => diag::render_human(&diagnostics, &sources),
-        Format::Json => diagnostics
-            .iter()
-            .map(|d| d.to_json_line() + "\n")
-            .collect(),
+        Format::Human => {
+            super::output::render_diagnostics_capped(&diagnostics, &sources, args.max_errors)
+        }
+        Format::Json => diag::json_lines_capped(&diagnostics, args.max_errors),
     };
     let ok = c.program.is_some() && !diag::has_errors(&diagnostics);
     let summary = if ok {
@@ -157,20 +159,12 @@ pub fn run(args: Args) -> ExitCode {
             diagnostics.iter().filter(|d| d.is_error()).count()
         )
     };
-    let mut out = std::io::stdout().lock();
-    let written = match (&emitted, args.format) {
-        (Some(text), _) => {
-            eprint!("{report}");
-            eprintln!("{summary}");
-            writeln!(out, "{text}")
-        }
-        (None, Format::Human) => write!(out, "{report}").and_then(|_| writeln!(out, "{summary}")),
-        (None, Format::Json) => {
-            eprintln!("{summary}");
-            write!(out, "{report}")
-        }
-    };
-    if written.is_err() {
+    // Diagnostics and the summary on stderr; stdout holds only what --emit asked for.
+    eprint!("{report}");
+    eprintln!("{summary}");
+    if let Some(text) = &emitted
+        && writeln!(std::io::stdout().lock(), "{text}").is_err()
+    {
         return ExitCode::from(2);
     }
     if ok {

@@ -3,9 +3,13 @@
 //! The machine's interface map is checked too: the errors of `<machine>/interface.toml` (codes
 //! 1601–1608) and, when AXCFIL says NBP>1, every handshake signal a process 2..NBP lacks (1609).
 //!
+//! The I/O map `<machine>/io.toml` is checked too when the machine has one (the fieldbus crate's
+//! located validation, codes 3000–3499, against the connectors IOCFIL declares); a machine without
+//! io.toml runs with `--io sim` only, which is not a problem of the machine.
+//!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
-//! (`--format json`), and exits 1 when there is any error, 0 otherwise. `--dump` prints the typed
-//! model as JSON on stdout instead (diagnostics then go to stderr).
+//! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
+//! does not exist, 0 otherwise. `--dump` prints the typed model as JSON on stdout.
 
 use std::io::Write;
 use std::path::PathBuf;
@@ -24,6 +28,7 @@ pub enum Format {
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The machine directory (holding FCRSYS).
+    #[arg(value_name = "MACHINE")]
     pub machine_dir: PathBuf,
     /// How to print diagnostics.
     #[arg(long, value_enum, default_value_t = Format::Human)]
@@ -31,47 +36,88 @@ pub struct Args {
     /// Print the typed model as JSON (diagnostics go to stderr).
     #[arg(long)]
     pub dump: bool,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
-/// Renders the diagnostics of `load` in `format`.
-pub fn render(load: &characterization::MachineLoad, format: Format) -> String {
+/// Renders the diagnostics of `load` in `format`, at most `max_errors` per file (0: all).
+pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: usize) -> String {
     match format {
         Format::Human if load.diagnostics.is_empty() => {
             // Say what was checked, so a clean run is distinguishable from one that read nothing.
             let mut files: Vec<&str> = Vec::new();
-            for name in ["FCRSYS", "AXCFIL", "PGCFIL", "IOCFIL", "interface.toml"] {
+            for name in [
+                "FCRSYS",
+                "AXCFIL",
+                "PGCFIL",
+                "IOCFIL",
+                "interface.toml",
+                "io.toml",
+            ] {
                 files.extend(load.sources.names().filter(|f| f.ends_with(name)));
             }
             format!("{}: no problems found\n", files.join(", "))
         }
-        Format::Human => diag::render_human(&load.diagnostics, &load.sources),
-        Format::Json => load
-            .diagnostics
-            .iter()
-            .map(|d| d.to_json_line() + "\n")
-            .collect(),
+        Format::Human => {
+            super::output::render_diagnostics_capped(&load.diagnostics, &load.sources, max_errors)
+        }
+        Format::Json => diag::json_lines_capped(&load.diagnostics, max_errors),
     }
+}
+
+/// The diagnostics of `<machine_dir>/io.toml` (none when the file does not exist), its text
+/// added to `sources` for rendering.
+pub fn check_io_map(
+    machine_dir: &std::path::Path,
+    machine: &characterization::Machine,
+    sources: &mut diag::Sources,
+) -> Vec<diag::Diagnostic> {
+    let path = machine_dir.join("io.toml");
+    if !path.exists() {
+        return Vec::new();
+    }
+    let declared = match &machine.iocfil {
+        Some(io) => fieldbus::DeclaredConnectors {
+            inputs: io.input_connectors(),
+            outputs: io.output_connectors(),
+        },
+        // No IOCFIL (its own error is reported): check the map without connector rules.
+        None => fieldbus::DeclaredConnectors::default(),
+    };
+    let (_, diags) = fieldbus::load_map(machine_dir, &declared);
+    if let Ok(text) = std::fs::read_to_string(&path) {
+        sources.add("io.toml", text);
+    }
+    diags
 }
 
 /// Runs `ncplc check`.
 pub fn run(args: Args) -> ExitCode {
+    if !args.machine_dir.is_dir() {
+        return super::output::usage_error(format!(
+            "ncplc check: {}: not a machine directory (no such directory)",
+            args.machine_dir.display()
+        ));
+    }
     let mut load = characterization::load_machine(&args.machine_dir);
     if let Some(machine) = load.machine.clone() {
         let map = crate::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(map);
+        let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
+        load.diagnostics.extend(io);
     }
-    let report = render(&load, args.format);
-    let mut out = std::io::stdout().lock();
-    let written = if args.dump {
-        eprint!("{report}");
+    super::output::relocate(&mut load, &args.machine_dir);
+    let report = render(&load, args.format, args.max_errors);
+    // Diagnostics on stderr; stdout holds only the --dump model.
+    eprint!("{report}");
+    if args.dump {
         let model = serde_json::to_string_pretty(&load.machine)
             .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"));
-        writeln!(out, "{model}")
-    } else {
-        write!(out, "{report}")
-    };
-    if written.is_err() {
-        return ExitCode::from(2);
+        if writeln!(std::io::stdout().lock(), "{model}").is_err() {
+            return ExitCode::from(2);
+        }
     }
     if load.has_errors() {
         ExitCode::from(1)

@@ -1,6 +1,5 @@
 //! `ncplc nc`: check partprograms and plan them into canonical blocks.
 //!
-//! `ncplc nc run` (module [`super::nc_run`]) moves the planned blocks through the motion kernel.
 //! `ncplc nc check <machine> <program>` compiles a partprogram (with the machine's macro folder) and
 //! prints diagnostics; `ncplc nc plan <machine> <program> --format json` runs it and writes one JSON
 //! object per canonical block. A program path that does not exist is looked up in `<machine>/nc/`.
@@ -25,10 +24,29 @@ pub struct Args {
     pub command: NcCommand,
 }
 
+/// Output format of `nc check` diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum CheckFormat {
+    /// rustc-style with the source line and the span marked.
+    Human,
+    /// One JSON object per line per diagnostic.
+    Json,
+}
+
+/// Output format of `nc plan` blocks.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum PlanFormat {
+    /// One JSON object per canonical block.
+    Json,
+    /// One line per canonical block with the same fields.
+    Text,
+}
+
 /// Options shared by the `nc` subcommands.
 #[derive(Debug, clap::Args)]
 pub struct Common {
     /// Machine directory (e.g. plc-programs/mill).
+    #[arg(value_name = "MACHINE")]
     pub machine: PathBuf,
     /// Partprogram file (a bare name is looked up in <machine>/nc/).
     pub program: PathBuf,
@@ -38,28 +56,34 @@ pub struct Common {
     /// Correction table file, instead of the machine's MP0/TAB0.KOR (or MP0/TAB2.KOR).
     #[arg(long, value_name = "FILE")]
     pub kor: Option<PathBuf>,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
 }
 
 /// `ncplc nc` subcommands.
 #[derive(Debug, clap::Subcommand)]
 pub enum NcCommand {
     /// Compile a partprogram and report diagnostics.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Check {
         /// Machine and program.
         #[command(flatten)]
         common: Common,
-        /// Output format of diagnostics: human or json.
-        #[arg(long, default_value = "human")]
-        format: String,
+        /// Output format of diagnostics.
+        #[arg(long, value_enum, default_value_t = CheckFormat::Human)]
+        format: CheckFormat,
     },
     /// Run a partprogram and print its canonical blocks.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Plan {
         /// Machine and program.
         #[command(flatten)]
         common: Common,
-        /// Output format: json (one object per line) or text.
-        #[arg(long, default_value = "json")]
-        format: String,
+        /// Output format of the blocks.
+        #[arg(long, value_enum, default_value_t = PlanFormat::Json)]
+        format: PlanFormat,
         /// Run parameter arithmetic in the reference interpreter instead of native code.
         #[arg(long)]
         interpreter: bool,
@@ -72,6 +96,7 @@ pub enum NcCommand {
         corners: partprogram::radius::Corners,
     },
     /// Plan a partprogram and run it through the motion kernel in virtual time.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
     Run(super::nc_run::RunArgs),
 }
 
@@ -180,14 +205,17 @@ pub fn machine_spec(
 
 /// The correction table file of the machine in `dir`: `kor` when given, else `MP0/TAB0.KOR`, else
 /// `MP0/TAB2.KOR`; `None` when the machine has neither (the table is then all zero). The second
-/// value is the file's name in diagnostics (relative to the machine for the default files).
+/// value is the file's name in diagnostics (as the user can open it from the current directory).
 pub fn kor_file(dir: &Path, kor: Option<&Path>) -> Option<(PathBuf, String)> {
     if let Some(k) = kor {
         return Some((k.to_path_buf(), k.display().to_string()));
     }
     ["TAB0.KOR", "TAB2.KOR"].iter().find_map(|n| {
         let p = dir.join("MP0").join(n);
-        p.is_file().then(|| (p, format!("MP0/{n}")))
+        p.is_file().then(|| {
+            let name = crate::cli::output::user_path(&p).display().to_string();
+            (p, name)
+        })
     })
 }
 
@@ -244,9 +272,9 @@ fn program_path(machine: &Path, program: &Path) -> PathBuf {
 
 /// Runs `ncplc nc`.
 pub fn run(args: Args) -> ExitCode {
-    let (common, plan_opts, format) = match &args.command {
+    let (common, plan_opts, json) = match &args.command {
         NcCommand::Run(a) => return super::nc_run::run(a),
-        NcCommand::Check { common, format } => (common, None, format.clone()),
+        NcCommand::Check { common, format } => (common, None, *format == CheckFormat::Json),
         NcCommand::Plan {
             common,
             format,
@@ -268,22 +296,28 @@ pub fn run(args: Args) -> ExitCode {
                 },
                 ..PlanOptions::default()
             }),
-            format.clone(),
+            *format == PlanFormat::Json,
         ),
     };
-    let json = format == "json";
-    let compiled = match compile_common(common, json) {
-        Ok(c) => c,
+    let (name, prog, sources) = match compile_common(common, json) {
+        Ok(c) => (c.name, c.prog, c.sources),
         Err(code) => return code,
     };
-    let Compiled {
-        name,
-        prog,
-        sources,
-    } = compiled;
+    let max_errors = common.max_errors;
+    let print_diags = |diags: &[diag::Diagnostic], json: bool| {
+        print_diags(diags, &sources, json, max_errors);
+    };
     let Some(opts) = plan_opts else {
+        // The geometric checks need the program executed: an arc whose end point is not on its
+        // circle is a mistake of the text, so `check` refuses it as `plan` does (issue 12).
+        if let Err((_, d)) = partprogram::plan(&prog, PlanOptions::default())
+            && partprogram::codes::is_geometric(d.code)
+        {
+            print_diags(&[d], json);
+            return ExitCode::from(1);
+        }
         if !json {
-            println!(
+            eprintln!(
                 "{name}: ok ({} blocks, {} units)",
                 prog.blocks.len(),
                 prog.units.len()
@@ -300,23 +334,13 @@ pub fn run(args: Args) -> ExitCode {
         if json {
             out.push_str(&c.to_json_line());
         } else {
-            let end: Vec<String> = c
-                .end
-                .iter()
-                .map(|(a, v)| format!("{a}{}", partprogram::canon::num(*v)))
-                .collect();
-            out.push_str(&format!(
-                "N{} {} {}",
-                c.n.unwrap_or(0),
-                c.kind.name(),
-                end.join(" ")
-            ));
+            out.push_str(&c.to_text_line());
         }
         out.push('\n');
     }
     print!("{out}");
     if let Some(d) = err {
-        print_diags(&[d], &sources, json);
+        print_diags(&[d], json);
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS
@@ -324,7 +348,7 @@ pub fn run(args: Args) -> ExitCode {
 
 /// A compiled partprogram with the sources its diagnostics are rendered from.
 pub struct Compiled {
-    /// The program's name in diagnostics (`nc/NAME`).
+    /// The program's name in diagnostics (as the user can open it).
     pub name: String,
     /// The compiled program.
     pub prog: partprogram::Program,
@@ -332,17 +356,23 @@ pub struct Compiled {
     pub sources: diag::Sources,
 }
 
-/// Prints diagnostics to stderr, as JSON lines or rendered for humans.
-pub fn print_diags(diags: &[diag::Diagnostic], sources: &diag::Sources, json: bool) {
+/// Prints diagnostics to stderr (at most `max_errors`), as JSON lines or rendered for humans.
+pub fn print_diags(
+    diags: &[diag::Diagnostic],
+    sources: &diag::Sources,
+    json: bool,
+    max_errors: usize,
+) {
     if diags.is_empty() {
         return;
     }
     if json {
-        for d in diags {
-            eprintln!("{}", d.to_json_line());
-        }
+        eprint!("{}", diag::json_lines_capped(diags, max_errors));
     } else {
-        eprint!("{}", diag::render_human(diags, sources));
+        eprint!(
+            "{}",
+            super::output::render_diagnostics_capped(diags, sources, max_errors)
+        );
     }
 }
 
@@ -365,10 +395,8 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
             return Err(ExitCode::from(2));
         }
     };
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| format!("nc/{}", n.to_string_lossy()),
-    );
+    // As the user can open it from the current directory.
+    let name = super::output::user_path(&path).display().to_string();
     let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
     let (prog, diags) = partprogram::compile(&spec, &name, &text);
     let mut sources = diag::Sources::new();
@@ -385,7 +413,7 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
             sources.add(f.name.clone(), f.text.clone());
         }
     }
-    print_diags(&diags, &sources, json);
+    print_diags(&diags, &sources, json, common.max_errors);
     match prog.filter(|_| !kor_failed) {
         Some(prog) => Ok(Compiled {
             name,

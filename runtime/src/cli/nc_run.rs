@@ -84,7 +84,7 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
     let blocks = match partprogram::plan(&compiled.prog, PlanOptions::default()) {
         Ok(p) => p.blocks,
         Err((_, d)) => {
-            super::nc::print_diags(&[d], &compiled.sources, false);
+            super::nc::print_diags(&[d], &compiled.sources, false, a.common.max_errors);
             return Ok(ExitCode::from(1));
         }
     };

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use crate::clock::{Clock, RealClock, VirtualClock, enable_realtime};
 use crate::compiled::EngineKind;
 use crate::image::Image;
-use crate::io::{IoKind, open_io_counted};
+use crate::io::{IoKind, open_io_with};
 use crate::machine::Machine;
 use crate::online::{self, Note};
 use crate::retain::{self, Restored, RetainLayout, RetainRecord};
@@ -21,6 +21,7 @@ use crate::scheduler::{Event, Scheduler, Settings};
 #[derive(Debug, clap::Args)]
 pub struct Args {
     /// The machine directory (e.g. plc-programs/lathe).
+    #[arg(value_name = "MACHINE")]
     pub machine: PathBuf,
     /// Use this PLC source instead of the machine's.
     #[arg(long)]
@@ -37,6 +38,10 @@ pub struct Args {
     /// Record a trace (text; `.ptrace` or `.bin`: binary). Starts from a fresh image (no retain).
     #[arg(long)]
     pub record: Option<PathBuf>,
+    /// With --record: sync the recording to disk at least every N ms (a crash or power loss
+    /// loses at most that much; `ncplc trace recover` reads the rest).
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
+    pub record_flush_ms: u64,
     /// The I/O.
     #[arg(long, value_enum, default_value = "sim")]
     pub io: IoKind,
@@ -59,6 +64,10 @@ pub struct Args {
     /// Keep retained data in this file (default: `<machine>/retain.bin`).
     #[arg(long)]
     pub retain_file: Option<PathBuf>,
+    /// Serve the Modbus HMI on ADDR:PORT instead of io.toml's `[hmi] bind` (with --io modbus or
+    /// canopen).
+    #[arg(long, value_name = "ADDR:PORT")]
+    pub modbus_hmi: Option<std::net::SocketAddr>,
     /// Pin the scan thread to this CPU (0-based); the fieldbus I/O threads take io.toml
     /// `[affinity] io_cpus`.
     #[arg(long)]
@@ -101,13 +110,39 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     // compile on one thread beside the scan, reusing the code of unchanged functions.
     let (first, compile) = machine.compile_fns(args.engine, tick_ms);
     let source = machine.read_source().map_err(|e| e.to_string())?;
-    let loaded = match first(&source) {
+    if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
+        return Err(format!(
+            "error: --modbus-hmi {bind}: the HMI server runs with a fieldbus (--io modbus or canopen), not the simulated I/O"
+        ));
+    }
+    // The I/O starts (connects, configures its nodes) on its own thread while the program
+    // compiles: the first tick waits for the slower of the two, not for their sum.
+    let declared = machine.declared_connectors();
+    let (compiled, opened) = std::thread::scope(|s| {
+        let io = s.spawn(|| {
+            open_io_with(
+                args.io,
+                &machine.dir,
+                &declared,
+                machine.script.clone(),
+                machine.signals.clone(),
+                tick_ms,
+                args.modbus_hmi,
+            )
+        });
+        let compiled = first(&source);
+        (compiled, io.join())
+    });
+    let loaded = match compiled {
         Ok(l) => l,
         Err(diags) => {
             eprintln!("{diags}");
             return Ok(ExitCode::from(1));
         }
     };
+    let (io, handshakes) = opened
+        .map_err(|_| "error: the I/O start-up thread panicked".to_string())?
+        .map_err(|e| e.to_string())?;
     let meta = loaded.meta.clone();
     let mut image = Image::new(meta.image_len(), &machine.config.t_init);
     meta.init_image(image.bytes_mut());
@@ -141,15 +176,6 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             Err(e) => eprintln!("warning: {e}; starting without retained data"),
         }
     }
-    let (io, handshakes) = open_io_counted(
-        args.io,
-        &machine.dir,
-        &machine.declared_connectors(),
-        machine.script.clone(),
-        machine.signals.clone(),
-        tick_ms,
-    )
-    .map_err(|e| e.to_string())?;
     let clock: Box<dyn Clock> = if args.virtual_time {
         Box::new(VirtualClock::new())
     } else {
@@ -161,7 +187,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     };
     let mut sched = Scheduler::new(image, loaded, io, clock, settings);
     if let Some(path) = &args.record {
-        let sink = crate::trace::create_sink(path, tick_ms)
+        let options = crate::trace::DurableOptions {
+            flush: Duration::from_millis(args.record_flush_ms),
+            wait_when_full: args.virtual_time,
+            ..crate::trace::DurableOptions::default()
+        };
+        let sink = crate::trace::create_sink_with(path, tick_ms, options)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         sched.record_to(sink);
     }
@@ -277,6 +308,15 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     );
     if args.stats {
         print!("{}", sched.stats.summary());
+        if let Some(first) = sched.first_tick_at() {
+            println!(
+                "start to first tick {:.1} ms",
+                first
+                    .saturating_duration_since(super::output::started())
+                    .as_secs_f64()
+                    * 1e3
+            );
+        }
         if let Some(h) = &handshakes {
             print!("{}", h.summary());
         }

@@ -1,7 +1,7 @@
 //! The handshake signals the simulated CNC drives and watches: the general reset, and per process
 //! one strobe / FIN / code triple for each of M, S and T.
 //!
-//! Process 1's signals fall back on plc-interface-map.md §1 where the map has none (as before
+//! Process 1's signals fall back on docs/plc-interface-map.md §1 where the map has none (as before
 //! processes 2..5 existed); a process 2..5 has a channel only when the map gives all three of its
 //! roles (`MSTB`, `MFIN`, `MCODE` for M, …; `ncplc run` refuses a machine whose processes 2..NBP
 //! lack the roles they need).
@@ -71,7 +71,7 @@ fn parse_default(s: &str) -> Signal {
 
 impl CncSignals {
     /// Process 1's addresses from a lookup by interface-map name (`RESET`, `MSTB`, `MFIN`,
-    /// `MCODE`, …), falling back on plc-interface-map.md where the lookup has none.
+    /// `MCODE`, …), falling back on docs/plc-interface-map.md where the lookup has none.
     pub fn from_lookup(lookup: impl Fn(&str) -> Option<Signal>) -> CncSignals {
         let get =
             |name: &str, default: &str| lookup(name).unwrap_or_else(|| parse_default(default));

@@ -113,6 +113,11 @@ impl<W: Write> BinaryWriter<W> {
         write_frame(&mut out, &header)?;
         Ok(BinaryWriter { out, prev_t: 0 })
     }
+
+    /// The underlying writer (the durable recorder stages each frame in a buffer).
+    pub fn get_mut(&mut self) -> &mut W {
+        &mut self.out
+    }
 }
 
 fn write_frame(out: &mut dyn Write, frame: &Frame) -> Result<(), TraceError> {

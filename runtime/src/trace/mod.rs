@@ -7,13 +7,17 @@
 
 pub mod binary;
 pub mod compare;
+pub mod durable;
 pub mod recorder;
+pub mod recover;
 pub mod text;
 
 use std::io::Write;
 use std::path::Path;
 
 use packets::Signal;
+
+pub use durable::{DurableOptions, DurableSink};
 use serde::{Deserialize, Serialize};
 
 /// The trace format version written and understood.
@@ -109,29 +113,34 @@ pub trait TraceSink {
     }
 }
 
-/// Opens a file sink: binary when the path ends in `.ptrace` or `.bin`, text otherwise.
+/// Opens a file sink with the default [`DurableOptions`]: binary when the path ends in `.ptrace`
+/// or `.bin`, text otherwise.
+pub fn create_sink(path: &Path, tick_ms: u32) -> Result<Box<dyn TraceSink>, TraceError> {
+    create_sink_with(path, tick_ms, DurableOptions::default())
+}
+
+/// Opens a file sink (see [`durable`]).
 ///
 /// The records stream into `<path>.partial`; [`TraceSink::finish`] syncs it and renames it over
 /// `path`. A run that dies mid-recording therefore leaves the existing file at `path` (often a
-/// golden trace) intact and the ticks recorded so far in `<path>.partial`.
-pub fn create_sink(path: &Path, tick_ms: u32) -> Result<Box<dyn TraceSink>, TraceError> {
-    let partial = partial_path(path);
-    let file = std::io::BufWriter::new(std::fs::File::create(&partial)?);
+/// golden trace) intact and the ticks recorded so far in `<path>.partial`, readable with
+/// [`recover`].
+pub fn create_sink_with(
+    path: &Path,
+    tick_ms: u32,
+    options: DurableOptions,
+) -> Result<Box<dyn TraceSink>, TraceError> {
     let binary = matches!(
         path.extension().and_then(|e| e.to_str()),
         Some("ptrace" | "bin")
     );
-    let inner: Box<dyn TraceSink> = if binary {
-        Box::new(binary::BinaryWriter::new(file, tick_ms)?)
-    } else {
-        Box::new(text::TextWriter::new(file, tick_ms)?)
-    };
-    Ok(Box::new(FileSink {
-        inner,
-        partial,
-        target: path.to_path_buf(),
-        done: false,
-    }))
+    Ok(Box::new(DurableSink::create(
+        path,
+        partial_path(path),
+        tick_ms,
+        binary,
+        options,
+    )?))
 }
 
 /// Where [`create_sink`] streams a recording until it is finished.
@@ -139,34 +148,6 @@ pub fn partial_path(path: &Path) -> std::path::PathBuf {
     let mut name = path.file_name().unwrap_or_default().to_os_string();
     name.push(".partial");
     path.with_file_name(name)
-}
-
-/// A recording into `<target>.partial`, renamed over `target` when finished.
-struct FileSink {
-    inner: Box<dyn TraceSink>,
-    partial: std::path::PathBuf,
-    target: std::path::PathBuf,
-    done: bool,
-}
-
-impl TraceSink for FileSink {
-    fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
-        self.inner.record(rec)
-    }
-
-    fn flush(&mut self) -> Result<(), TraceError> {
-        self.inner.flush()
-    }
-
-    fn finish(&mut self) -> Result<(), TraceError> {
-        self.inner.flush()?;
-        if !self.done {
-            std::fs::File::open(&self.partial)?.sync_all()?;
-            std::fs::rename(&self.partial, &self.target)?;
-            self.done = true;
-        }
-        Ok(())
-    }
 }
 
 /// A sink that keeps records in memory (tests, benchmarks, `--update`).
@@ -221,8 +202,7 @@ mod tests {
         {
             let mut sink = create_sink(&path, 10).expect("sink");
             sink.record(&rec(3)).expect("record");
-            sink.flush().expect("flush");
-            // dropped without finish: the run died
+            // dropped without finish: the run died (the drop drains the ring)
         }
         assert_eq!(
             std::fs::read_to_string(&path).expect("old"),

@@ -31,6 +31,11 @@ impl<W: Write> TextWriter<W> {
             line: String::new(),
         })
     }
+
+    /// The underlying writer (the durable recorder stages each line in a buffer).
+    pub fn get_mut(&mut self) -> &mut W {
+        &mut self.out
+    }
 }
 
 /// Formats one record as a line (without the newline).
