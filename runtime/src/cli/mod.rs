@@ -10,6 +10,7 @@ pub mod hmi_args;
 pub mod nc;
 pub mod nc_plot;
 pub mod plot;
+pub mod nc_run;
 pub mod output;
 pub mod replay;
 pub mod run;

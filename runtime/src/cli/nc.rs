@@ -104,6 +104,9 @@ pub enum NcCommand {
         #[command(flatten)]
         plot: super::nc_plot::PlotArgs,
     },
+    /// Plan a partprogram and run it through the motion kernel in virtual time.
+    #[command(after_help = crate::cli::output::EXIT_CODES_HELP)]
+    Run(super::nc_run::RunArgs),
 }
 
 /// Errors building the machine description.
@@ -281,6 +284,7 @@ pub fn program_path(machine: &Path, program: &Path) -> PathBuf {
 pub fn run(args: Args) -> ExitCode {
     let (common, plan_opts, json) = match &args.command {
         NcCommand::Plot { common, plot } => return super::nc_plot::run(common, plot),
+        NcCommand::Run(a) => return super::nc_run::run(a),
         NcCommand::Check { common, format } => (common, None, *format == CheckFormat::Json),
         NcCommand::Plan {
             common,
@@ -306,56 +310,13 @@ pub fn run(args: Args) -> ExitCode {
             *format == PlanFormat::Json,
         ),
     };
-    let path = program_path(&common.machine, &common.program);
-    let text = match std::fs::read(&path) {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-        Err(e) => {
-            eprintln!("ncplc nc: cannot read {}: {e}", path.display());
-            return ExitCode::from(2);
-        }
+    let (name, prog, sources) = match compile_common(common, json) {
+        Ok(c) => (c.name, c.prog, c.sources),
+        Err(code) => return code,
     };
-    let mut spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("ncplc nc: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    // As the user can open it from the current directory.
-    let name = super::output::user_path(&path).display().to_string();
-    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
-    let (prog, diags) = partprogram::compile(&spec, &name, &text);
-    let mut sources = diag::Sources::new();
-    sources.add(name.clone(), text.clone());
-    let mut kor_failed = false;
-    let mut diags = diags;
-    if let Some((kname, ktext, kdiags)) = kor {
-        kor_failed = diag::has_errors(&kdiags);
-        sources.add(kname, ktext);
-        diags.splice(0..0, kdiags);
-    }
-    if let Some(p) = &prog {
-        for f in &p.files {
-            sources.add(f.name.clone(), f.text.clone());
-        }
-    }
     let max_errors = common.max_errors;
     let print_diags = |diags: &[diag::Diagnostic], json: bool| {
-        if diags.is_empty() {
-            return;
-        }
-        if json {
-            eprint!("{}", diag::json_lines_capped(diags, max_errors));
-        } else {
-            eprint!(
-                "{}",
-                super::output::render_diagnostics_capped(diags, &sources, max_errors)
-            );
-        }
-    };
-    print_diags(&diags, json);
-    let Some(prog) = prog.filter(|_| !kor_failed) else {
-        return ExitCode::from(1);
+        print_diags(diags, &sources, json, max_errors);
     };
     let Some(opts) = plan_opts else {
         // The geometric checks need the program executed: an arc whose end point is not on its
@@ -394,4 +355,82 @@ pub fn run(args: Args) -> ExitCode {
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS
+}
+
+/// A compiled partprogram with the sources its diagnostics are rendered from.
+pub struct Compiled {
+    /// The program's name in diagnostics (as the user can open it).
+    pub name: String,
+    /// The compiled program.
+    pub prog: partprogram::Program,
+    /// Program, macro and correction-table texts.
+    pub sources: diag::Sources,
+}
+
+/// Prints diagnostics to stderr (at most `max_errors`), as JSON lines or rendered for humans.
+pub fn print_diags(
+    diags: &[diag::Diagnostic],
+    sources: &diag::Sources,
+    json: bool,
+    max_errors: usize,
+) {
+    if diags.is_empty() {
+        return;
+    }
+    if json {
+        eprint!("{}", diag::json_lines_capped(diags, max_errors));
+    } else {
+        eprint!(
+            "{}",
+            super::output::render_diagnostics_capped(diags, sources, max_errors)
+        );
+    }
+}
+
+/// Reads and compiles the program of `common` for its machine (with the correction table),
+/// printing every diagnostic; the exit code when it cannot be planned (2: unreadable input,
+/// 1: errors).
+pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode> {
+    let path = program_path(&common.machine, &common.program);
+    let text = match std::fs::read(&path) {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        Err(e) => {
+            eprintln!("ncplc nc: cannot read {}: {e}", path.display());
+            return Err(ExitCode::from(2));
+        }
+    };
+    let mut spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("ncplc nc: {e}");
+            return Err(ExitCode::from(2));
+        }
+    };
+    // As the user can open it from the current directory.
+    let name = super::output::user_path(&path).display().to_string();
+    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
+    let (prog, diags) = partprogram::compile(&spec, &name, &text);
+    let mut sources = diag::Sources::new();
+    sources.add(name.clone(), text.clone());
+    let mut kor_failed = false;
+    let mut diags = diags;
+    if let Some((kname, ktext, kdiags)) = kor {
+        kor_failed = diag::has_errors(&kdiags);
+        sources.add(kname, ktext);
+        diags.splice(0..0, kdiags);
+    }
+    if let Some(p) = &prog {
+        for f in &p.files {
+            sources.add(f.name.clone(), f.text.clone());
+        }
+    }
+    print_diags(&diags, &sources, json, common.max_errors);
+    match prog.filter(|_| !kor_failed) {
+        Some(prog) => Ok(Compiled {
+            name,
+            prog,
+            sources,
+        }),
+        None => Err(ExitCode::from(1)),
+    }
 }
