@@ -24,7 +24,7 @@ pub mod cli;
 pub mod clock;
 pub mod compiled;
 pub mod config;
-pub mod handshake;
+pub use cnc::handshake;
 pub mod image;
 pub mod io;
 pub mod machine;

@@ -1,0 +1,42 @@
+//! The coordinated interpolator a process drives, as the kernel sees it: canonical blocks in,
+//! set points per interpolation tick out, with the run-time commands (hold, overrides, abort).
+//!
+//! The one implementation is the `motion` crate's `Kernel` (`crate::motion_link`); the trait
+//! keeps the executor independent of its construction and lets it own a `Box<dyn Interpolator>`.
+
+use partprogram::Canon;
+
+/// What one interpolation tick produced, besides the position.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TickOut {
+    /// Tags of the blocks whose motion ended in this tick (DEN), in order.
+    pub finished: Vec<u64>,
+    /// The path is stopped by a hold.
+    pub held: bool,
+    /// Path feed in mm/min.
+    pub feed_mm_min: f64,
+}
+
+/// A coordinated interpolator.
+pub trait Interpolator: Send {
+    /// Queues the motion of a canonical block (rapid, line, arc or dwell) under `tag`.
+    fn push(&mut self, tag: u64, block: &Canon) -> Result<(), String>;
+    /// Free places in the queue.
+    fn space(&self) -> usize;
+    /// Feed override in percent.
+    fn set_feed_override(&mut self, percent: u16);
+    /// Rapid override in percent.
+    fn set_rapid_override(&mut self, percent: u16);
+    /// Feed hold on or off.
+    fn set_hold(&mut self, on: bool);
+    /// The actual spindle speed (rev/s) for per-revolution feeds and threads.
+    fn set_spindle_rev_s(&mut self, rev_s: f64);
+    /// Stops as fast as the limits allow and forgets the queue.
+    fn abort(&mut self);
+    /// One interpolation tick; the set points are then [`Interpolator::position`].
+    fn tick(&mut self, out: &mut TickOut);
+    /// The set point of every axis (process axis order).
+    fn position(&self) -> &[f64];
+    /// Nothing queued and nothing moving.
+    fn is_idle(&self) -> bool;
+}
