@@ -156,3 +156,6 @@ impl Cnc {
         v
     }
 }
+
+#[cfg(test)]
+mod tests;
