@@ -5,6 +5,20 @@
 //! A drive's following error in steady motion is v / KV (10 000 mm/min at KV 20: 8.3 mm), which
 //! is what SRV's "without feed-forward" limit is set against.
 
+use packets::Signal;
+
+/// The plant's wiring to packet A (from `sim.toml`): the spindle drive's at-speed and zero-speed
+/// contacts, and the PLC outputs that must be on for the spindle to turn (its contactors).
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PlantSignals {
+    /// Input set while the spindle is at its reference (POM max_deviation).
+    pub at_speed: Option<Signal>,
+    /// Input set while the spindle is below its stop threshold.
+    pub stopped: Option<Signal>,
+    /// Outputs of which one must be 1 for the spindle to turn (empty: always allowed).
+    pub run: Vec<Signal>,
+}
+
 /// One axis drive.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drive {

@@ -19,7 +19,7 @@ use crate::config::ProcessConfig;
 use crate::exec::Phase;
 use crate::handshake::{Channel, Kind, Note, bcd};
 use crate::interp::{Interpolator, TickOut};
-use crate::plant::{Drive, Spindle};
+use crate::plant::{Drive, PlantSignals, Spindle};
 use crate::signals::{self, ProcessSignals};
 use crate::state::{Command, Interp, Mode, Reject, State, decide};
 use crate::status::{AxisStatus, ProcessStatus};
@@ -58,6 +58,7 @@ pub struct Process {
     pub(crate) interp: Box<dyn Interpolator>,
     pub(crate) drives: Vec<Drive>,
     pub(crate) spindle: Option<Spindle>,
+    pub(crate) plant: PlantSignals,
     pub(crate) mode: Mode,
     pub(crate) run: Interp,
     pub(crate) on: bool,
@@ -129,6 +130,7 @@ impl Process {
             interp,
             drives,
             spindle,
+            plant: PlantSignals::default(),
             mode: Mode::Idle,
             run: Interp::Idle,
             on: false,
@@ -182,6 +184,11 @@ impl Process {
     /// Marks every axis referenced (an absolute-encoder machine, or a test without homing).
     pub fn set_homed(&mut self) {
         self.homed = true;
+    }
+
+    /// Wires the simulated spindle drive's contacts and contactors.
+    pub fn set_plant(&mut self, plant: PlantSignals) {
+        self.plant = plant;
     }
 
     /// Queues an operator command; it is decided at the next tick.
@@ -391,7 +398,14 @@ impl Process {
         self.interp
             .set_hold(fold || self.op_hold || !rabi_ok || !self.on);
         if let (Some(sp), Some(cfg)) = (self.spindle.as_mut(), self.cfg.spindle.as_ref()) {
-            let target = f64::from(self.last_s.unwrap_or(0)) * sov * f64::from(self.spindle_dir);
+            let powered =
+                self.plant.run.is_empty() || self.plant.run.iter().any(|s| s.read(out) == 1);
+            let dir = if powered {
+                f64::from(self.spindle_dir)
+            } else {
+                0.0
+            };
+            let target = f64::from(self.last_s.unwrap_or(0)) * sov * dir;
             sp.set_target(target.clamp(-cfg.vmax, cfg.vmax));
         }
         let dt = self.cfg.int_tick_s;

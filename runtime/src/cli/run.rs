@@ -63,6 +63,23 @@ pub struct Args {
     /// `[affinity] io_cpus`.
     #[arg(long)]
     pub scan_cpu: Option<usize>,
+    /// Run this partprogram on the CNC kernel (a name in <machine>/nc/, or a path), selected in
+    /// AUTO; the cycle starts when the PLC raises START.
+    #[arg(long)]
+    pub program: Option<PathBuf>,
+    /// The process that runs --program.
+    #[arg(long, default_value_t = 1)]
+    pub process: u8,
+    /// Partprogram dialect, overriding the machine's (mefi or fanuc).
+    #[arg(long)]
+    pub dialect: Option<String>,
+    /// Run these blocks in MDI mode (one option per block text), before --program.
+    #[arg(long)]
+    pub mdi: Vec<String>,
+    /// With --program/--mdi: stop when every selected program has ended (M02/M30): exit 0, or
+    /// exit 1 on an alarm that stops it.
+    #[arg(long)]
+    pub until_end: bool,
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -141,15 +158,22 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             Err(e) => eprintln!("warning: {e}; starting without retained data"),
         }
     }
-    let (io, handshakes) = open_io_counted(
-        args.io,
-        &machine.dir,
-        &machine.declared_connectors(),
-        machine.script.clone(),
-        machine.signals.clone(),
-        tick_ms,
-    )
-    .map_err(|e| e.to_string())?;
+    let part_run = args.program.is_some() || !args.mdi.is_empty();
+    let (io, handshakes, mut part) = if part_run {
+        let (io, run) = crate::cli::part_run::start(&args, &machine, tick_ms)?;
+        (io, None, Some(run))
+    } else {
+        let (io, counts) = open_io_counted(
+            args.io,
+            &machine.dir,
+            &machine.declared_connectors(),
+            machine.script.clone(),
+            machine.signals.clone(),
+            tick_ms,
+        )
+        .map_err(|e| e.to_string())?;
+        (io, counts, None)
+    };
     let clock: Box<dyn Clock> = if args.virtual_time {
         Box::new(VirtualClock::new())
     } else {
@@ -215,6 +239,11 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let mut alarms = 0u64;
     let mut last_alarm = String::new();
     sched.run(args.ticks, |s| {
+        if let Some(p) = part.as_mut()
+            && !p.each_tick(s.tick_count(), args.until_end)
+        {
+            return false;
+        }
         for ev in s.take_events() {
             match ev {
                 Event::Alarm(a) => {
@@ -279,6 +308,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         print!("{}", sched.stats.summary());
         if let Some(h) = &handshakes {
             print!("{}", h.summary());
+        }
+    }
+    if let Some(p) = &part {
+        print!("{}", p.summary(tick_ms));
+        if args.until_end {
+            return Ok(p.exit_code());
         }
     }
     Ok(if sched.tripped() {

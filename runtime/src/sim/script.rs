@@ -23,6 +23,50 @@ pub struct Script {
     /// Feedback rules.
     #[serde(default)]
     pub follow: Vec<Follow>,
+    /// The CNC kernel's settings (used when `ncplc run --program` runs a part).
+    #[serde(default)]
+    pub cnc: CncSettings,
+    /// The simulated spindle drive's wiring (kernel runs).
+    #[serde(default)]
+    pub spindle: SpindleWiring,
+}
+
+/// `[cnc]`: settings of the kernel in a part run.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CncSettings {
+    /// A block waits this long for a missing axis enable (RABI) before the alarm (ms; 0: never).
+    #[serde(default = "default_rabi_timeout")]
+    pub rabi_timeout_ms: u64,
+    /// Every axis counts as referenced at power-on (absolute encoders; no homing cycle needed).
+    #[serde(default)]
+    pub referenced: bool,
+}
+
+impl Default for CncSettings {
+    fn default() -> Self {
+        CncSettings {
+            rabi_timeout_ms: default_rabi_timeout(),
+            referenced: false,
+        }
+    }
+}
+
+fn default_rabi_timeout() -> u64 {
+    5_000
+}
+
+/// `[spindle]`: which packet-A signals the simulated spindle drive uses.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpindleWiring {
+    /// Input set while the spindle turns at its reference.
+    pub at_speed: Option<String>,
+    /// Input set while the spindle stands still.
+    pub stopped: Option<String>,
+    /// Contactor outputs: the spindle turns only while one of them is 1.
+    #[serde(default)]
+    pub run: Vec<String>,
 }
 
 fn default_timeout() -> u64 {

@@ -1,0 +1,226 @@
+//! The part-run half of `ncplc run` (`--program`, `--mdi`, `--until-end`): builds the CNC kernel
+//! behind the simulated I/O, plays the operator (MDI blocks first, then the program selected in
+//! AUTO; the cycle itself starts when the PLC raises START), watches for the end, and prints the
+//! summary (cycle time, blocks, M/S/T handshakes with their FIN wait, alarms, largest following
+//! error).
+
+use std::collections::VecDeque;
+use std::process::ExitCode;
+use std::sync::{Arc, Mutex, PoisonError};
+
+use cnc::interp::Interpolator;
+use cnc::{Cnc, Interp, Mode, ProcessConfig};
+use packets::PacketIo;
+
+use super::run::Args;
+use crate::io::IoKind;
+use crate::machine::Machine;
+use crate::machine_facts::Facts;
+use crate::sim::kernel::{KernelIo, KernelSetup};
+use crate::sim::part::{Part, load_part, plan_text};
+
+/// A running part: the shared kernel and what the operator still has to do.
+pub struct PartRun {
+    cnc: Arc<Mutex<Cnc>>,
+    process: u8,
+    part: Option<Part>,
+    mdi: VecDeque<String>,
+    mdi_running: bool,
+    machine: std::path::PathBuf,
+    dialect: Option<String>,
+    started: Option<u64>,
+    finished: Option<u64>,
+    alarms: Vec<String>,
+    failed: bool,
+    program_selected: bool,
+}
+
+/// The interpolator of a process: the `motion` crate's kernel.
+fn make_interp(cfg: &ProcessConfig, start: &[f64]) -> Result<Box<dyn Interpolator>, String> {
+    let _ = (cfg, start);
+    Err("the motion crate (issue 10) is not merged into this build yet".into())
+}
+
+/// Builds the kernel I/O for `args` and the part run that drives it.
+pub fn start(
+    args: &Args,
+    machine: &Machine,
+    tick_ms: u32,
+) -> Result<(Box<dyn PacketIo>, PartRun), String> {
+    if args.io != IoKind::Sim {
+        return Err("error: --program and --mdi run on the simulated machine (--io sim)".into());
+    }
+    let facts = Facts::load(&machine.dir).map_err(|e| e.to_string())?;
+    let setup = KernelSetup {
+        axcfil: &facts.machine.axcfil,
+        iocfil: facts.machine.iocfil.as_ref(),
+        interface: &machine.interface,
+        a_inputs: &machine.config.a_inputs,
+        tick_ms,
+        make_interp: &make_interp,
+    };
+    let sim_path = machine.dir.join("sim.toml");
+    let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
+        .map_err(|e| format!("{}: {e}", sim_path.display()))?;
+    let part = match &args.program {
+        Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref(), false)?),
+        None => None,
+    };
+    let run = PartRun {
+        cnc,
+        process: args.process,
+        part,
+        mdi: args.mdi.iter().cloned().collect(),
+        mdi_running: false,
+        machine: machine.dir.clone(),
+        dialect: args.dialect.clone(),
+        started: None,
+        finished: None,
+        alarms: Vec::new(),
+        failed: false,
+        program_selected: false,
+    };
+    {
+        let mut c = run.lock();
+        let process = c
+            .process_mut(args.process)
+            .map_err(|e| format!("error: {e}"))?;
+        let _ = process;
+        let dir = run.machine.clone();
+        let dialect = run.dialect.clone();
+        c.set_mdi_compiler(Box::new(move |_, text| {
+            plan_text(&dir, "MDI", text, dialect.as_deref(), false)
+        }));
+    }
+    Ok((Box::new(io), run))
+}
+
+impl PartRun {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Cnc> {
+        self.cnc.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Called after every tick; false stops the run (`--until-end`: the end or a stopping alarm).
+    pub fn each_tick(&mut self, tick: u64, until_end: bool) -> bool {
+        let cnc = Arc::clone(&self.cnc);
+        let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
+        let n = self.process;
+        let Ok(p) = c.process_mut(n) else {
+            return false;
+        };
+        for (cmd, why) in p.take_rejected() {
+            eprintln!("process {n}: {cmd:?} refused: {why}");
+        }
+        let st = p.state();
+        let stopping: Vec<String> = p
+            .alarms()
+            .iter()
+            .filter(|a| a.stopping)
+            .map(|a| a.message.clone())
+            .collect();
+        for a in stopping {
+            if !self.alarms.contains(&a) {
+                self.alarms.push(a);
+                self.failed = true;
+            }
+        }
+        if st.interp == Interp::Running && self.started.is_none() {
+            self.started = Some(tick);
+        }
+        if st.on && st.interp == Interp::Idle {
+            if self.mdi_running {
+                self.mdi_running = false;
+            } else if let Some(text) = self.mdi.front().cloned() {
+                if st.mode != Mode::Mdi {
+                    let _ = c.mode(n, Mode::Mdi);
+                } else {
+                    match c.mdi(n, &text) {
+                        Ok(()) => {
+                            self.mdi.pop_front();
+                            self.mdi_running = true;
+                        }
+                        Err(e) => {
+                            eprintln!("error: {e}");
+                            self.alarms.push(e.to_string());
+                            self.failed = true;
+                            self.mdi.clear();
+                        }
+                    }
+                }
+            } else if let Some(part) = &self.part
+                && !self.program_selected
+            {
+                let _ = c.mode(n, Mode::Auto);
+                if st.mode == Mode::Auto
+                    && let Ok(p) = c.process_mut(n)
+                {
+                    let _ = p.load(&part.name, part.blocks.clone());
+                    self.program_selected = true;
+                }
+            }
+        }
+        let ended = match &self.part {
+            Some(_) => {
+                self.program_selected && c.process_mut(n).is_ok_and(|p| p.counters().ended >= 1)
+            }
+            None => self.mdi.is_empty() && !self.mdi_running && st.interp == Interp::Idle,
+        };
+        if ended && self.finished.is_none() {
+            self.finished = Some(tick);
+        }
+        !(until_end && (ended || self.failed))
+    }
+
+    /// The exit code of `--until-end`: 0 when the program ended, 1 on a stopping alarm or when
+    /// the run stopped before the end.
+    pub fn exit_code(&self) -> ExitCode {
+        if self.failed || self.finished.is_none() {
+            ExitCode::from(1)
+        } else {
+            ExitCode::SUCCESS
+        }
+    }
+
+    /// The summary printed at the end of the run.
+    pub fn summary(&self, tick_ms: u32) -> String {
+        let c = self.lock();
+        let mut s = String::new();
+        if let Some(part) = &self.part {
+            s.push_str(&format!(
+                "part {} (crc32 {}): {} canonical blocks\n",
+                part.name,
+                part.hash,
+                part.blocks.len()
+            ));
+        }
+        let secs = |t: u64| t as f64 * f64::from(tick_ms) / 1000.0;
+        match (self.started, self.finished) {
+            (Some(a), Some(b)) => s.push_str(&format!(
+                "cycle time {:.2} s (ticks {a}..{b}), ended\n",
+                secs(b - a)
+            )),
+            (Some(a), None) => s.push_str(&format!("started at tick {a}, did not end\n")),
+            _ => s.push_str("the cycle never started (START from the PLC)\n"),
+        }
+        for p in c.processes() {
+            let k = p.counters();
+            s.push_str(&format!(
+                "process {}: {} blocks; handshakes M {} S {} T {}; FIN wait M {:.2} s S {:.2} s T {:.2} s; largest following error {:.3} mm ({})\n",
+                p.number(),
+                k.blocks,
+                k.handshakes[0],
+                k.handshakes[1],
+                k.handshakes[2],
+                secs(k.wait_ticks[0]),
+                secs(k.wait_ticks[1]),
+                secs(k.wait_ticks[2]),
+                k.max_following.0,
+                k.max_following.1
+            ));
+        }
+        for a in &self.alarms {
+            s.push_str(&format!("alarm: {a}\n"));
+        }
+        s
+    }
+}
