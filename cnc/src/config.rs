@@ -136,7 +136,7 @@ impl ProcessConfig {
                         })
                         .unwrap_or_default(),
                     parallel: io.is_some_and(|io| io.sequencing() == Sequencing::Parallel),
-                    int_tick_s: f64::from(axcfil.tim.max(1)) * f64::from(int_ticks) / 1000.0,
+                    int_tick_s: f64::from(int_ticks) / 1000.0,
                 }
             })
             .collect()

@@ -8,7 +8,8 @@
 //! the CNC→PLC signals (and the plant's spindle contacts) that scan t reads. `publish_outputs(t)`
 //! keeps the outputs for the next tick.
 //!
-//! The script may not issue M/S/T (the program does) nor set a signal the kernel writes, and every
+//! A `[part]` table in `sim.toml` replaces the top-level `at`/`follow` lists (which belong to the
+//! scripted CNC of pure logic runs). The script may not issue M/S/T (the program does) nor set a signal the kernel writes, and every
 //! signal it sets must exist on the machine: a packet-A input on a connector IOCFIL declares, or a
 //! K/N signal of the interface map.
 

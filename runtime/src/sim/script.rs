@@ -29,6 +29,22 @@ pub struct Script {
     /// The simulated spindle drive's wiring (kernel runs).
     #[serde(default)]
     pub spindle: SpindleWiring,
+    /// `[part]`: the operator and machine script of a part run (`ncplc run --program`), used
+    /// instead of the top-level `at`/`follow` (whose strobes are the scripted CNC's).
+    #[serde(default)]
+    pub part: Option<PartScript>,
+}
+
+/// `[part]`: `[[part.at]]` and `[[part.follow]]` for part runs.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartScript {
+    /// Scheduled inputs (no m, s or t: the program issues them).
+    #[serde(default)]
+    pub at: Vec<At>,
+    /// Feedback rules.
+    #[serde(default)]
+    pub follow: Vec<Follow>,
 }
 
 /// `[cnc]`: settings of the kernel in a part run.
