@@ -101,8 +101,20 @@ pub fn build_cnc(setup: &KernelSetup, script: &Script) -> Result<Cnc, SimError> 
 }
 
 /// Checks the script against the machine and the kernel (see the module docs).
-fn check_script(setup: &KernelSetup, script: &Script, cnc: &Cnc) -> Result<(), SimError> {
-    let written = cnc.written_signals();
+fn check_script(setup: &KernelSetup, script: &Script) -> Result<(), SimError> {
+    let mut written: Vec<Signal> = setup
+        .interface
+        .role(1, "RESET")
+        .map(|e| e.signal)
+        .into_iter()
+        .collect();
+    for cfg in ProcessConfig::all(setup.axcfil, setup.iocfil) {
+        let n = cfg.number;
+        written.extend(
+            ProcessSignals::from_roles(|role| setup.interface.role(n, role).map(|e| e.signal))
+                .written(),
+        );
+    }
     for at in &script.at {
         if !at.m.is_empty() || at.s.is_some() || at.t.is_some() {
             return Err(SimError::Invalid(format!(
@@ -151,8 +163,14 @@ impl KernelIo {
         setup: &KernelSetup,
         script: Script,
     ) -> Result<(KernelIo, Arc<Mutex<Cnc>>), SimError> {
+        let mut script = script;
+        if let Some(part) = script.part.take() {
+            script.at = part.at;
+            script.follow = part.follow;
+            script.period = None;
+        }
+        check_script(setup, &script)?;
         let cnc = build_cnc(setup, &script)?;
-        check_script(setup, &script, &cnc)?;
         let signals = CncSignals {
             reset: setup
                 .interface
