@@ -1,0 +1,87 @@
+//! End-to-end tests of part runs (`ncplc run --program`): the CNC kernel runs a partprogram
+//! through the bundled PLC logic on the simulated machine.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn ncplc(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
+/// A copy of the lathe with `extra` appended to its sim.toml.
+fn lathe_with(extra: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let src = root().join("plc-programs/lathe");
+    copy_dir(&src, dir.path());
+    let sim = dir.path().join("sim.toml");
+    let mut text = std::fs::read_to_string(&sim).expect("sim.toml");
+    text.push_str(extra);
+    std::fs::write(&sim, text).expect("write");
+    dir
+}
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    for e in std::fs::read_dir(from).expect("dir") {
+        let e = e.expect("entry");
+        let dst = to.join(e.file_name());
+        if e.file_type().expect("type").is_dir() {
+            std::fs::create_dir_all(&dst).expect("mkdir");
+            copy_dir(&e.path(), &dst);
+        } else {
+            std::fs::copy(e.path(), &dst).expect("copy");
+        }
+    }
+}
+
+fn part_run(machine: &std::path::Path, extra: &[&str]) -> Output {
+    let mut args: Vec<&std::ffi::OsStr> = vec![
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--program".as_ref(),
+        "PART1".as_ref(),
+        "--ticks".as_ref(),
+        "20000".as_ref(),
+    ];
+    args.extend(extra.iter().map(|s| std::ffi::OsStr::new(*s)));
+    ncplc(&args)
+}
+
+#[test]
+fn a_part_script_may_not_set_what_the_kernel_writes() {
+    let m = lathe_with("[[part.at]]\ntick = 3\nset = { I1K5 = 1 }\n");
+    let out = part_run(m.path(), &[]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.ends_with("sim script: tick 3: I1K5 is written by the CNC kernel in a part run\n"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_part_script_may_not_name_an_undeclared_input_nor_issue_functions() {
+    // IOCFIL IN0=0,1: connector 2 of packet A is not an input of the lathe.
+    let m = lathe_with("[[part.at]]\ntick = 3\nset = { I2A0 = 1 }\n");
+    let err = String::from_utf8_lossy(&part_run(m.path(), &[]).stderr).into_owned();
+    assert!(
+        err.ends_with("sim script: I2A0 is not a signal of this machine (packet-A inputs: IOCFIL IN connectors; K/N: the interface map)\n"),
+        "{err}"
+    );
+    let m = lathe_with("[[part.at]]\ntick = 3\nm = [8]\n");
+    let err = String::from_utf8_lossy(&part_run(m.path(), &[]).stderr).into_owned();
+    assert!(
+        err.ends_with(
+            "sim script: tick 3: m, s and t come from the partprogram in a part run; remove them\n"
+        ),
+        "{err}"
+    );
+}
