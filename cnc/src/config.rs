@@ -24,6 +24,10 @@ pub struct AxisConfig {
     pub needs_homing: bool,
     /// MFC limit-switch inputs (+, −).
     pub limit_inputs: (Option<Signal>, Option<Signal>),
+    /// Soft limits of LO1 (−, +) in mm.
+    pub soft: (Option<f64>, Option<f64>),
+    /// Jog speed (MAN max_man_speed, mm/min; 1000 when not given).
+    pub jog_speed: f64,
 }
 
 /// The spindle of a process.
@@ -72,6 +76,16 @@ fn axis_config(a: &Axis) -> AxisConfig {
         srv_moving: srv[2].or(srv[1]).unwrap_or(0.0),
         needs_homing: a.mcz.is_some(),
         limit_inputs: a.mfc.unwrap_or((None, None)),
+        soft: a
+            .lo
+            .iter()
+            .find(|z| z.number == 1)
+            .map_or((None, None), |z| (z.neg, z.pos)),
+        jog_speed: a
+            .man
+            .and_then(|m| m.a)
+            .filter(|v| *v > 0.0)
+            .unwrap_or(1000.0),
     }
 }
 

@@ -40,3 +40,31 @@ pub trait Interpolator: Send {
     /// Nothing queued and nothing moving.
     fn is_idle(&self) -> bool;
 }
+
+/// The "interpolator" of a process without coordinated axes (the mill's magazine process): it
+/// accepts no motion, so such a process runs only auxiliary functions and dwell-free blocks.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct NoMotion;
+
+impl Interpolator for NoMotion {
+    fn push(&mut self, tag: u64, _: &Canon) -> Result<(), String> {
+        Err(format!(
+            "block tag {tag}: the process has no coordinated axes to move"
+        ))
+    }
+    fn space(&self) -> usize {
+        0
+    }
+    fn set_feed_override(&mut self, _: u16) {}
+    fn set_rapid_override(&mut self, _: u16) {}
+    fn set_hold(&mut self, _: bool) {}
+    fn set_spindle_rev_s(&mut self, _: f64) {}
+    fn abort(&mut self) {}
+    fn tick(&mut self, _: &mut TickOut) {}
+    fn position(&self) -> &[f64] {
+        &[]
+    }
+    fn is_idle(&self) -> bool {
+        true
+    }
+}

@@ -15,6 +15,7 @@ pub mod config;
 pub mod exec;
 pub mod handshake;
 pub mod interp;
+pub mod manual;
 pub mod plant;
 pub mod process;
 pub mod signals;

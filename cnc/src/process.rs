@@ -80,6 +80,7 @@ pub struct Process {
     pub(crate) rabi_wait: u64,
     pub(crate) den: bool,
     pub(crate) held: bool,
+    pub(crate) jog_last: Option<(usize, f64)>,
     pub(crate) alarms: Vec<Alarm>,
     pub(crate) new_alarms: Vec<Alarm>,
     pub(crate) commands: VecDeque<Command>,
@@ -152,6 +153,7 @@ impl Process {
             rabi_wait: 0,
             den: true,
             held: false,
+            jog_last: None,
             alarms: Vec::new(),
             new_alarms: Vec::new(),
             commands: VecDeque::new(),
@@ -288,6 +290,7 @@ impl Process {
         self.step_channels(tick, out, false);
         self.advance();
         self.step_channels(tick, out, true);
+        self.manual(out);
         self.run_interpolation(out);
         self.advance();
         self.step_channels(tick, out, true);

@@ -84,6 +84,9 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("START", "U11K3"),
         ("ERS", "U11K5"),
         ("USO", "U12K0"),
+        ("JOGP1", "U13K0"),
+        ("JOGM1", "U13K8"),
+        ("JINC", "W16K1"),
     ])
 }
 
@@ -117,6 +120,8 @@ pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
             srv_moving: 0.0,
             needs_homing: false,
             limit_inputs: (None, None),
+            soft: (Some(-5.0), Some(3.0)),
+            jog_speed: 1000.0,
         }],
         spindle: None,
         m_timing: lathe_m(),
@@ -185,6 +190,10 @@ pub struct Plc {
     pub start: u8,
     /// ERS level.
     pub ers: u8,
+    /// JOGP1, JOGM1.
+    pub jog: (u8, u8),
+    /// JINC.
+    pub jinc: u8,
 }
 
 impl Default for Plc {
@@ -197,6 +206,8 @@ impl Default for Plc {
             uso: 0,
             start: 0,
             ers: 0,
+            jog: (0, 0),
+            jinc: 0,
         }
     }
 }
@@ -239,6 +250,9 @@ impl Bench {
         w(&mut self.out, "U12K0", plc.uso);
         w(&mut self.out, "U11K3", plc.start);
         w(&mut self.out, "U11K5", plc.ers);
+        w(&mut self.out, "U13K0", plc.jog.0);
+        w(&mut self.out, "U13K8", plc.jog.1);
+        w(&mut self.out, "W16K1", plc.jinc);
         row
     }
 

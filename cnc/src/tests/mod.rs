@@ -3,3 +3,4 @@
 
 mod exec;
 mod fixture;
+mod manual;

@@ -37,7 +37,10 @@ pub struct PartRun {
 
 /// The interpolator of a process: the `motion` crate's kernel.
 fn make_interp(cfg: &ProcessConfig, start: &[f64]) -> Result<Box<dyn Interpolator>, String> {
-    let _ = (cfg, start);
+    if cfg.axes.is_empty() {
+        return Ok(Box::new(cnc::interp::NoMotion));
+    }
+    let _ = start;
     Err("the motion crate (issue 10) is not merged into this build yet".into())
 }
 
