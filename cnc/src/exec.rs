@@ -25,17 +25,20 @@ use crate::handshake::Kind;
 use crate::process::Process;
 use crate::state::{Interp, Mode};
 
+/// Functions issued together (one group waits for all its FINs before the next goes out).
+pub type Groups = VecDeque<Vec<(Kind, u32)>>;
+
 /// Where the executor is in the current block.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Phase {
     /// About to start block `next`.
     Fetch,
     /// Functions before motion: groups still to issue, and whether the front group is out.
-    Before(VecDeque<Vec<(Kind, u32)>>, bool),
+    Before(Groups, bool),
     /// Motion of the blocks in `in_motion` (the last one is the current block).
     Motion,
     /// Functions after motion.
-    After(VecDeque<Vec<(Kind, u32)>>, bool),
+    After(Groups, bool),
     /// Block end: requests.
     End,
 }
@@ -64,7 +67,7 @@ impl Process {
     }
 
     /// The groups of functions of block `b` before and after its motion.
-    fn groups(&mut self, b: &Canon) -> (VecDeque<Vec<(Kind, u32)>>, VecDeque<Vec<(Kind, u32)>>) {
+    fn groups(&mut self, b: &Canon) -> (Groups, Groups) {
         let mut first: Vec<(Kind, u32)> = Vec::new();
         let mut before = VecDeque::new();
         let mut after = VecDeque::new();
@@ -185,11 +188,7 @@ impl Process {
     }
 
     /// Issues the front group when the channels are free; `None` when every group is done.
-    fn issue_groups(
-        &mut self,
-        mut groups: VecDeque<Vec<(Kind, u32)>>,
-        out: bool,
-    ) -> Option<(VecDeque<Vec<(Kind, u32)>>, bool)> {
+    fn issue_groups(&mut self, mut groups: Groups, out: bool) -> Option<(Groups, bool)> {
         let busy = self.channels.iter().flatten().any(|c| !c.idle());
         if out {
             if busy {

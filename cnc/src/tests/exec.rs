@@ -246,3 +246,117 @@ fn reset_during_motion_returns_to_the_program_start() {
     assert!(!p.state().moving);
     assert_eq!(p.set_points(), &[2.0]);
 }
+
+#[test]
+fn two_processes_run_their_programs_side_by_side() {
+    use crate::{Cnc, MachineSignals, Process, ProcessSignals, Timing};
+    // Process 2 on the mill's magazine addresses: MSTB I6K0, MFIN U30K0, MCODE W7K0, START U30K3.
+    let single = cnc(false, 0, 0);
+    let mut procs: Vec<Process> = Vec::new();
+    let mut first = single;
+    let p1 = std::mem::replace(
+        first.process_mut(1).expect("p1"),
+        Process::new(
+            crate::config::ProcessConfig {
+                number: 9,
+                axes: Vec::new(),
+                spindle: None,
+                m_timing: super::fixture::lathe_m(),
+                parallel: false,
+                int_tick_s: 0.01,
+            },
+            ProcessSignals::default(),
+            Box::new(crate::interp::NoMotion),
+            &[],
+            Timing {
+                logic_tick_s: 0.01,
+                strobe_timeout_ticks: 0,
+                rabi_timeout_ticks: 0,
+            },
+        ),
+    );
+    procs.push(p1);
+    let roles = [
+        ("MSTB", "I6K0"),
+        ("MFIN", "U30K0"),
+        ("MCODE", "W7K0"),
+        ("START", "U30K3"),
+        ("CYCLE", "I6K5"),
+    ];
+    let p2 = Process::new(
+        crate::config::ProcessConfig {
+            number: 2,
+            axes: Vec::new(),
+            spindle: None,
+            m_timing: super::fixture::lathe_m(),
+            parallel: false,
+            int_tick_s: 0.01,
+        },
+        ProcessSignals::from_roles(|r| roles.iter().find(|(n, _)| *n == r).map(|(_, a)| sig(a))),
+        Box::new(crate::interp::NoMotion),
+        &[],
+        Timing {
+            logic_tick_s: 0.01,
+            strobe_timeout_ticks: 0,
+            rabi_timeout_ticks: 0,
+        },
+    );
+    procs.push(p2);
+    let mut b = Bench::new(Cnc::new(
+        procs,
+        MachineSignals {
+            reset: Some(sig("I0K1")),
+            estop: Some(sig("U11K4")),
+        },
+    ));
+    b.start_program(vec![
+        block(10, Linear, 2.0, &[], None, None),
+        block(20, Aux, 2.0, &[30], None, None),
+    ]);
+    {
+        let p2 = b.cnc.process_mut(2).expect("p2");
+        p2.load(
+            "magazine",
+            vec![
+                block(10, Aux, 0.0, &[0], None, None),
+                block(20, Aux, 0.0, &[30], None, None),
+            ],
+        )
+        .expect("idle");
+        p2.command(crate::Command::SetMode(crate::Mode::Auto));
+    }
+    b.run(1, &Plc::default());
+    // START for both: process 1 through the fixture's PLC (seen at t2), process 2 on its own
+    // START bit, set before tick 1 (seen at t1).
+    sig("U30K3").write(&mut b.out, 1);
+    b.step(&Plc {
+        start: 1,
+        ..Plc::default()
+    });
+    let mut p2_strobes = Vec::new();
+    for _ in 0..10 {
+        b.step(&Plc::default());
+        let stb = sig("I6K0").read(&b.image);
+        sig("U30K0").write(&mut b.out, stb); // the magazine logic answers at once
+        p2_strobes.push((stb, sig("W7K0").read(&b.image)));
+    }
+    // Process 2: M00 (t1 code, t2 strobe, t3 FIN seen, t4 done → paused); START stays 1: no edge.
+    assert_eq!(p2_strobes[0], (1, 0x00));
+    assert_eq!(p2_strobes[1], (0, 0x00));
+    assert_eq!(b.cnc.processes()[1].state().interp, Interp::Paused);
+    assert_eq!(b.cnc.processes()[1].counters().handshakes[0], 1);
+    // Process 1 meanwhile moved to X = 2 and ended with M30 (t2 X=1, t3 X=2 + code, t4..t6).
+    assert_eq!(b.cnc.processes()[0].counters().ended, 1);
+    assert_eq!(b.cnc.processes()[0].set_points(), &[2.0]);
+    // A new START edge for process 2 resumes it to its M30.
+    sig("U30K3").write(&mut b.out, 0);
+    b.step(&Plc::default());
+    sig("U30K3").write(&mut b.out, 1);
+    for _ in 0..6 {
+        b.step(&Plc::default());
+        let stb = sig("I6K0").read(&b.image);
+        sig("U30K0").write(&mut b.out, stb);
+    }
+    assert_eq!(b.cnc.processes()[1].counters().ended, 1);
+    assert_eq!(b.cnc.processes()[1].counters().handshakes[0], 2);
+}
