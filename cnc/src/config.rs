@@ -28,6 +28,21 @@ pub struct AxisConfig {
     pub soft: (Option<f64>, Option<f64>),
     /// Jog speed (MAN max_man_speed, mm/min; 1000 when not given).
     pub jog_speed: f64,
+    /// The MCZ homing cycle, when the axis has one.
+    pub home: Option<HomeConfig>,
+}
+
+/// MCZ: the homing cycle of an axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HomeConfig {
+    /// The home switch input (high at rest, low while actuated).
+    pub input: Option<Signal>,
+    /// Search in the negative direction (MCZ direction 1).
+    pub negative: bool,
+    /// Search speed of stages 2 and 3 (mm/min).
+    pub speed: f64,
+    /// Distance between encoder reference marks: PAS mechanical pitch (mm).
+    pub mark_pitch: f64,
 }
 
 /// The spindle of a process.
@@ -86,6 +101,17 @@ fn axis_config(a: &Axis) -> AxisConfig {
             .and_then(|m| m.a)
             .filter(|v| *v > 0.0)
             .unwrap_or(1000.0),
+        home: a.mcz.as_ref().map(|m| HomeConfig {
+            input: m.zero_input,
+            negative: m.negative,
+            speed: m.speed.filter(|v| *v > 0.0).unwrap_or(200.0),
+            mark_pitch: a
+                .pas
+                .as_ref()
+                .map(|p| p.mec_pitch)
+                .filter(|v| *v > 0.0)
+                .unwrap_or(5.0),
+        }),
     }
 }
 

@@ -117,7 +117,7 @@ impl Process {
     /// Advances the executor as far as it can go this tick.
     pub(crate) fn advance(&mut self) {
         for _ in 0..8 {
-            if self.run != Interp::Running || !self.on {
+            if self.run != Interp::Running || !self.on || self.mode == Mode::Home {
                 return;
             }
             if !self.advance_once() {

@@ -39,6 +39,8 @@ pub trait Interpolator: Send {
     fn position(&self) -> &[f64];
     /// Nothing queued and nothing moving.
     fn is_idle(&self) -> bool;
+    /// At rest: the current position gets the coordinates `pos` (homing sets a new zero).
+    fn set_position(&mut self, pos: &[f64]) -> Result<(), String>;
 }
 
 /// The "interpolator" of a process without coordinated axes (the mill's magazine process): it
@@ -66,5 +68,8 @@ impl Interpolator for NoMotion {
     }
     fn is_idle(&self) -> bool {
         true
+    }
+    fn set_position(&mut self, _: &[f64]) -> Result<(), String> {
+        Ok(())
     }
 }

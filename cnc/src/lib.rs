@@ -14,6 +14,7 @@
 pub mod config;
 pub mod exec;
 pub mod handshake;
+pub mod homing;
 pub mod interp;
 pub mod manual;
 pub mod plant;

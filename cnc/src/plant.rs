@@ -27,6 +27,8 @@ pub struct Drive {
     actual: f64,
     still_ticks: u32,
     dt: f64,
+    offset: f64,
+    home_switch: Option<f64>,
 }
 
 impl Drive {
@@ -38,7 +40,33 @@ impl Drive {
             actual: pos,
             still_ticks: u32::MAX,
             dt: 0.001,
+            offset: 0.0,
+            home_switch: None,
         }
+    }
+
+    /// Places the machine: the axis stands at `start` on the machine's own scale (the controller
+    /// counts from 0 until it is homed), with its home switch edge at `home_switch`.
+    pub fn place(&mut self, start: f64, home_switch: Option<f64>) {
+        self.offset = start - self.actual;
+        self.home_switch = home_switch;
+    }
+
+    /// Position on the machine's scale.
+    pub fn machine_position(&self) -> f64 {
+        self.actual + self.offset
+    }
+
+    /// The home switch's edge on the machine's scale, when simulated.
+    pub fn home_switch(&self) -> Option<f64> {
+        self.home_switch
+    }
+
+    /// The controller's coordinates move by −`shift` (homing sets a new zero).
+    pub fn shift(&mut self, shift: f64) {
+        self.command -= shift;
+        self.actual -= shift;
+        self.offset += shift;
     }
 
     /// One servo tick of `dt` seconds towards the set point `command`.

@@ -81,6 +81,8 @@ pub struct Process {
     pub(crate) den: bool,
     pub(crate) held: bool,
     pub(crate) jog_last: Option<(usize, f64)>,
+    pub(crate) home_stage: Option<(usize, crate::homing::Stage)>,
+    pub(crate) homed_axes: Vec<bool>,
     pub(crate) alarms: Vec<Alarm>,
     pub(crate) new_alarms: Vec<Alarm>,
     pub(crate) commands: VecDeque<Command>,
@@ -124,6 +126,7 @@ impl Process {
         let spindle = cfg.spindle.as_ref().map(|s| Spindle::new(s.accel));
         let ticks_per_logic = (timing.logic_tick_s / cfg.int_tick_s).round().max(1.0) as usize;
         let homed = cfg.axes.iter().all(|a| !a.needs_homing);
+        let homed_axes = cfg.axes.iter().map(|a| !a.needs_homing).collect();
         Process {
             cfg,
             sig,
@@ -154,6 +157,8 @@ impl Process {
             den: true,
             held: false,
             jog_last: None,
+            home_stage: None,
+            homed_axes,
             alarms: Vec::new(),
             new_alarms: Vec::new(),
             commands: VecDeque::new(),
@@ -186,6 +191,15 @@ impl Process {
     /// Marks every axis referenced (an absolute-encoder machine, or a test without homing).
     pub fn set_homed(&mut self) {
         self.homed = true;
+        self.homed_axes.iter_mut().for_each(|h| *h = true);
+    }
+
+    /// Places axis `i` of the simulated machine: its position on the machine's scale at power-on
+    /// and its home switch edge (see [`crate::homing`]).
+    pub fn place_axis(&mut self, i: usize, start: f64, home_switch: Option<f64>) {
+        if let Some(d) = self.drives.get_mut(i) {
+            d.place(start, home_switch);
+        }
     }
 
     /// Wires the simulated spindle drive's contacts and contactors.
@@ -258,6 +272,7 @@ impl Process {
         self.pending_after.clear();
         self.den = true;
         self.mimm = 0;
+        self.home_stage = None;
         self.op_hold = false;
         self.rabi_wait = 0;
     }
@@ -292,6 +307,7 @@ impl Process {
         self.step_channels(tick, out, true);
         self.manual(out);
         self.run_interpolation(out);
+        self.homing();
         self.advance();
         self.step_channels(tick, out, true);
         if self.run == Interp::Running {
@@ -496,6 +512,13 @@ impl Process {
                 signals::write_bytes(image, cs.code, &bytes);
             }
             cs.strobe.write(image, u8::from(strobe));
+        }
+        for (i, a) in self.cfg.axes.iter().enumerate() {
+            if let (Some(input), Some(pressed)) =
+                (a.home.and_then(|h| h.input), self.home_pressed(i))
+            {
+                input.write(image, u8::from(!pressed));
+            }
         }
         if let (Some(sp), Some(cfg)) = (&self.spindle, &self.cfg.spindle) {
             let at = sp.at_speed(cfg.max_deviation);

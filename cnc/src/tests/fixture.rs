@@ -56,6 +56,10 @@ impl Interpolator for Stepper {
     fn is_idle(&self) -> bool {
         self.queue.is_empty()
     }
+    fn set_position(&mut self, pos: &[f64]) -> Result<(), String> {
+        self.pos = pos.to_vec();
+        Ok(())
+    }
 }
 
 pub fn sig(s: &str) -> Signal {
@@ -122,6 +126,7 @@ pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
             limit_inputs: (None, None),
             soft: (Some(-5.0), Some(3.0)),
             jog_speed: 1000.0,
+            home: None,
         }],
         spindle: None,
         m_timing: lathe_m(),

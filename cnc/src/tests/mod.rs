@@ -3,4 +3,5 @@
 
 mod exec;
 mod fixture;
+mod homing;
 mod manual;
