@@ -17,6 +17,7 @@ pub mod handshake;
 pub mod homing;
 pub mod interp;
 pub mod manual;
+pub mod motion_link;
 pub mod plant;
 pub mod process;
 pub mod signals;

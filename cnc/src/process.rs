@@ -414,8 +414,8 @@ impl Process {
             self.rabi_wait = 0;
         }
         let sov = f64::from(signals::read(out, self.sig.overrides[1], 100)) / 100.0;
-        self.interp
-            .set_hold(fold || self.op_hold || !rabi_ok || !self.on);
+        let hold_request = fold || self.op_hold;
+        self.interp.set_hold(hold_request || !rabi_ok || !self.on);
         if let (Some(sp), Some(cfg)) = (self.spindle.as_mut(), self.cfg.spindle.as_ref()) {
             let powered =
                 self.plant.run.is_empty() || self.plant.run.iter().any(|s| s.read(out) == 1);
@@ -436,7 +436,7 @@ impl Process {
             }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);
-            self.held |= self.tick_out.held;
+            self.held |= self.tick_out.held && hold_request;
             for tag in std::mem::take(&mut self.tick_out.finished) {
                 self.motion_finished(tag);
             }
@@ -523,11 +523,10 @@ impl Process {
         if let (Some(sp), Some(cfg)) = (&self.spindle, &self.cfg.spindle) {
             let at = sp.at_speed(cfg.max_deviation);
             write_opt(image, cfg.at_speed_signal, u8::from(at));
-            write_opt(
-                image,
-                cfg.stopped_signal,
-                u8::from(sp.actual().abs() < cfg.limit_speed),
-            );
+            let stopped = sp.actual().abs() < cfg.limit_speed;
+            write_opt(image, cfg.stopped_signal, u8::from(stopped));
+            write_opt(image, self.plant.at_speed, u8::from(at));
+            write_opt(image, self.plant.stopped, u8::from(stopped));
         }
     }
 

@@ -35,13 +35,19 @@ pub struct PartRun {
     program_selected: bool,
 }
 
-/// The interpolator of a process: the `motion` crate's kernel.
-fn make_interp(cfg: &ProcessConfig, start: &[f64]) -> Result<Box<dyn Interpolator>, String> {
+/// The interpolator of a process: the `motion` crate's kernel (none for a process without
+/// coordinated axes).
+fn make_interp(
+    axcfil: &characterization::axcfil::Axcfil,
+    cfg: &ProcessConfig,
+    start: &[f64],
+) -> Result<Box<dyn Interpolator>, String> {
     if cfg.axes.is_empty() {
         return Ok(Box::new(cnc::interp::NoMotion));
     }
-    let _ = start;
-    Err("the motion crate (issue 10) is not merged into this build yet".into())
+    Ok(Box::new(cnc::motion_link::MotionKernel::new(
+        axcfil, cfg, start,
+    )?))
 }
 
 /// Builds the kernel I/O for `args` and the part run that drives it.
@@ -54,13 +60,15 @@ pub fn start(
         return Err("error: --program and --mdi run on the simulated machine (--io sim)".into());
     }
     let facts = Facts::load(&machine.dir).map_err(|e| e.to_string())?;
+    let axcfil = &facts.machine.axcfil;
+    let interp = |cfg: &ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
     let setup = KernelSetup {
         axcfil: &facts.machine.axcfil,
         iocfil: facts.machine.iocfil.as_ref(),
         interface: &machine.interface,
         a_inputs: &machine.config.a_inputs,
         tick_ms,
-        make_interp: &make_interp,
+        make_interp: &interp,
     };
     let sim_path = machine.dir.join("sim.toml");
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())

@@ -1,0 +1,436 @@
+//! The kernel: a look-ahead queue of pieces, the profile of the piece being executed, run-time
+//! commands (override, hold, law, stop at block end, abort) and the per-tick interpolation.
+
+use std::collections::VecDeque;
+
+use crate::config::{Config, ConfigError, Law};
+use crate::geom::{Seg, Shape, Vector, turn_angle, vector};
+use crate::moves::{MotionError, Move, Path};
+use crate::plan::{self, Motion, Piece};
+use crate::profile::Profile;
+
+/// The output of one interpolation tick.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Tick {
+    /// Set point of every axis, Config order, mm.
+    pub position: Vec<f64>,
+    /// The block whose path the set point is on (None when idle).
+    pub tag: Option<u64>,
+    /// Path speed, mm/min.
+    pub feed_mm_min: f64,
+    /// Blocks whose motion ended during this tick (DEN), in order.
+    pub finished: Vec<u64>,
+    /// At rest because of a feed hold (or a stop at block end).
+    pub held: bool,
+}
+
+/// The piece being executed: its profile from `s0` on.
+#[derive(Debug, Clone)]
+struct Exec {
+    prof: Profile,
+    t: f64,
+    s0: f64,
+}
+
+/// The motion kernel of one process.
+#[derive(Debug, Clone)]
+pub struct Kernel {
+    cfg: Config,
+    law: Law,
+    q: VecDeque<Piece>,
+    moves: usize,
+    end: Vector,
+    exec: Option<Exec>,
+    v: f64,
+    pos: Vector,
+    feed_pct: u16,
+    rapid_pct: u16,
+    hold: bool,
+    abort: bool,
+    stop_after: Option<u64>,
+    replan: bool,
+    spindle_rev_s: f64,
+    out: Tick,
+}
+
+impl Kernel {
+    /// A kernel at rest at `start` (one coordinate per configured axis).
+    pub fn new(cfg: Config, start: &[f64]) -> Result<Kernel, ConfigError> {
+        cfg.validate()?;
+        if start.len() != cfg.axes.len() || start.iter().any(|v| !v.is_finite()) {
+            return Err(ConfigError::Start {
+                got: start.len(),
+                want: cfg.axes.len(),
+            });
+        }
+        let pos = vector(start);
+        Ok(Kernel {
+            law: cfg.law,
+            out: Tick {
+                position: start.to_vec(),
+                ..Tick::default()
+            },
+            cfg,
+            q: VecDeque::new(),
+            moves: 0,
+            end: pos,
+            exec: None,
+            v: 0.0,
+            pos,
+            feed_pct: 100,
+            rapid_pct: 100,
+            hold: false,
+            abort: false,
+            stop_after: None,
+            replan: false,
+            spindle_rev_s: 0.0,
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &Config {
+        &self.cfg
+    }
+
+    /// Queues a move; refused (before any motion) when its path leaves a soft limit, it lacks a
+    /// feed, it is malformed or the queue is full.
+    pub fn push(&mut self, m: Move) -> Result<(), MotionError> {
+        let n = self.cfg.axes.len();
+        if self.moves >= self.cfg.window {
+            return Err(MotionError::QueueFull { tag: m.tag });
+        }
+        if m.end.len() != n || m.end.iter().any(|v| !v.is_finite()) {
+            return Err(MotionError::Invalid {
+                tag: m.tag,
+                what: format!("{} finite end coordinates expected", n),
+            });
+        }
+        let end = vector(&m.end);
+        let seg = plan::segment(&m, &self.end, &end)?;
+        let motion = match (&m.path, m.thread_pitch) {
+            (Path::Dwell { seconds }, _) => Motion::Dwell(seconds.max(0.0)),
+            (_, Some(_)) => Motion::Thread,
+            (Path::Rapid, None) => Motion::Rapid,
+            _ => Motion::Feed,
+        };
+        let feed = match motion {
+            Motion::Rapid | Motion::Dwell(_) => f64::INFINITY,
+            Motion::Thread => m.thread_pitch.unwrap_or(0.0) * self.spindle_rev_s,
+            Motion::Feed => match m.feed_mm_min {
+                Some(f) if f > 0.0 && f.is_finite() => f / 60.0,
+                _ => {
+                    let what = if matches!(m.path, Path::Arc { .. }) {
+                        "arc"
+                    } else {
+                        "linear move"
+                    };
+                    return Err(MotionError::NoFeed { tag: m.tag, what });
+                }
+            },
+        };
+        // A move that goes nowhere (or a dwell) is a stop of its own.
+        let (seg, motion) = match seg {
+            Some(s) if s.len > 0.0 => (s, motion),
+            _ => (
+                Seg::line(end, end),
+                match motion {
+                    Motion::Dwell(t) => Motion::Dwell(t),
+                    _ => Motion::Dwell(0.0),
+                },
+            ),
+        };
+        self.check_soft(m.tag, &seg)?;
+        let rapid = motion == Motion::Rapid;
+        let (v_hard, dynm) = plan::dynamics(&self.cfg.axes, &seg, rapid, self.law, &self.cfg.acc);
+        let len = seg.len;
+        let mut piece = Piece {
+            seg,
+            tag: m.tag,
+            den: true,
+            motion,
+            feed,
+            v_hard,
+            dynm,
+            v_junction: f64::INFINITY,
+            v_end: 0.0,
+            len_orig: len,
+            tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
+            exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
+        };
+        if matches!(motion, Motion::Dwell(_)) {
+            piece.exact = true;
+        }
+        let keep_to = self.join(&mut piece);
+        self.q.push_back(piece);
+        self.moves += 1;
+        self.end = end;
+        plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, keep_to);
+        Ok(())
+    }
+
+    /// Sets the junction of the last queued piece with `next`, blending line corners; returns the
+    /// first queue index whose geometry changed.
+    fn join(&mut self, next: &mut Piece) -> usize {
+        let n = self.q.len();
+        let executing = self.exec.is_some() && n == 1;
+        let (dt, law, acc) = (self.cfg.tick_s, self.law, self.cfg.acc);
+        let Some(prev) = self.q.back_mut() else {
+            return 0;
+        };
+        if prev.exact || next.exact {
+            prev.v_junction = 0.0;
+            return n - 1;
+        }
+        let theta = turn_angle(&prev.seg.tangent(true), &next.seg.tangent(false));
+        let lines = matches!(prev.seg.shape, Shape::Line { .. })
+            && matches!(next.seg.shape, Shape::Line { .. });
+        if lines
+            && !executing
+            && prev.den
+            && let Some(arc) = plan::blend(prev, next, theta)
+        {
+            prev.den = false;
+            prev.v_junction = f64::INFINITY;
+            let (v_hard, dynm) = plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc);
+            let len = arc.len;
+            let piece = Piece {
+                seg: arc,
+                tag: prev.tag,
+                den: true,
+                motion: Motion::Feed,
+                feed: prev.feed.min(next.feed),
+                v_hard,
+                dynm,
+                v_junction: f64::INFINITY,
+                v_end: 0.0,
+                len_orig: len,
+                tol: prev.tol,
+                exact: false,
+            };
+            self.q.push_back(piece);
+            return n - 1;
+        }
+        prev.v_junction = plan::kink_cap(&self.cfg.axes, theta, dt, law, &acc);
+        n - 1
+    }
+
+    fn check_soft(&self, tag: u64, seg: &Seg) -> Result<(), MotionError> {
+        let (lo, hi) = seg.bounds();
+        for (i, ax) in self.cfg.axes.iter().enumerate() {
+            if let Some(max) = ax.soft_max
+                && hi[i] > max
+            {
+                return Err(MotionError::SoftLimit {
+                    tag,
+                    axis: ax.name,
+                    limit: max,
+                    reach: hi[i],
+                });
+            }
+            if let Some(min) = ax.soft_min
+                && lo[i] < min
+            {
+                return Err(MotionError::SoftLimit {
+                    tag,
+                    axis: ax.name,
+                    limit: min,
+                    reach: lo[i],
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Free look-ahead slots (blocks).
+    pub fn space(&self) -> usize {
+        self.cfg.window.saturating_sub(self.moves)
+    }
+
+    /// Feed override, percent (0–255); ramped within the limits from the current tick.
+    pub fn set_feed_override(&mut self, pct: u16) {
+        self.feed_pct = pct.min(255);
+        self.replan_all();
+    }
+
+    /// Rapid override, percent (0–255).
+    pub fn set_rapid_override(&mut self, pct: u16) {
+        self.rapid_pct = pct.min(255);
+        self.replan_all();
+    }
+
+    fn replan_all(&mut self) {
+        plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, 0);
+        self.replan = self.exec.is_some();
+    }
+
+    /// Feed hold (FOLD): decelerate along the path within the limits and hold; release resumes.
+    pub fn set_hold(&mut self, on: bool) {
+        if !on {
+            self.stop_after = None;
+        }
+        if self.hold != on {
+            self.hold = on;
+            self.replan = self.exec.is_some();
+        }
+    }
+
+    /// The acceleration law of blocks pushed from now on.
+    pub fn set_law(&mut self, law: Law) {
+        self.law = law;
+    }
+
+    /// The current acceleration law.
+    pub fn law(&self) -> Law {
+        self.law
+    }
+
+    /// Spindle speed, rev/s: sets the speed of G33 thread blocks pushed from now on.
+    pub fn set_spindle_rev_s(&mut self, v: f64) {
+        self.spindle_rev_s = if v.is_finite() { v.abs() } else { 0.0 };
+    }
+
+    /// Stop at the end of the block being executed and hold there (release with `set_hold(false)`).
+    pub fn stop_at_block_end(&mut self) {
+        let Some(tag) = self.q.front().map(|p| p.tag) else {
+            return;
+        };
+        if let Some(p) = self.q.iter_mut().find(|p| p.tag == tag && p.den) {
+            p.v_junction = 0.0;
+        }
+        self.stop_after = Some(tag);
+        self.replan_all();
+    }
+
+    /// The fastest in-limit stop along the path, then the queue is cleared.
+    pub fn abort(&mut self) {
+        self.abort = true;
+        self.replan = self.exec.is_some();
+    }
+
+    /// Current set point.
+    pub fn position(&self) -> &[f64] {
+        &self.out.position
+    }
+
+    /// Queue empty and at rest.
+    pub fn is_idle(&self) -> bool {
+        self.q.is_empty() && self.exec.is_none() && self.v == 0.0
+    }
+
+    fn halting(&self) -> bool {
+        self.hold || self.abort
+    }
+
+    /// Builds the profile of the front piece from `s0` at speed `v0`.
+    fn profile(&self, s0: f64, v0: f64) -> Profile {
+        let Some(p) = self.q.front() else {
+            return Profile::default();
+        };
+        let rem = (p.seg.len - s0).max(0.0);
+        match p.motion {
+            Motion::Dwell(t) => Profile::rest(if s0 > 0.0 { 0.0 } else { t }),
+            _ if self.halting() => Profile::stop(&p.dynm, rem, v0),
+            _ => {
+                let cap = plan::cap(p, self.feed_pct, self.rapid_pct);
+                Profile::build(&p.dynm, rem, v0, p.v_end, cap)
+            }
+        }
+    }
+
+    fn clear_after_abort(&mut self) {
+        self.q.clear();
+        self.moves = 0;
+        self.exec = None;
+        self.end = self.pos;
+        self.abort = false;
+        self.replan = false;
+        self.stop_after = None;
+        self.v = 0.0;
+    }
+
+    /// Advances one interpolation tick and returns its set points.
+    pub fn tick(&mut self) -> &Tick {
+        self.out.finished.clear();
+        let mut left = self.cfg.tick_s;
+        loop {
+            if self.exec.is_none() {
+                if self.abort && self.v == 0.0 {
+                    self.clear_after_abort();
+                    break;
+                }
+                if self.q.is_empty() || (self.halting() && self.v == 0.0) {
+                    break;
+                }
+                self.replan = false;
+                self.exec = Some(Exec {
+                    prof: self.profile(0.0, self.v),
+                    t: 0.0,
+                    s0: 0.0,
+                });
+            }
+            let (Some(ex), Some(front)) = (self.exec.as_mut(), self.q.front()) else {
+                break;
+            };
+            if self.replan {
+                let tr = ex.prof.replan_time(ex.t, front.dynm.law);
+                if tr - ex.t <= left {
+                    left -= tr - ex.t;
+                    ex.t = tr;
+                    let (x, v, _) = ex.prof.eval(tr);
+                    let s0 = ex.s0 + x;
+                    let prof = self.profile(s0, v);
+                    self.exec = Some(Exec { prof, t: 0.0, s0 });
+                    self.replan = false;
+                    continue;
+                }
+            }
+            let t_end = ex.t + left;
+            if t_end < ex.prof.duration {
+                ex.t = t_end;
+                break;
+            }
+            left = t_end - ex.prof.duration;
+            ex.t = ex.prof.duration;
+            let rem = front.seg.len - ex.s0;
+            let done = matches!(front.motion, Motion::Dwell(_))
+                || ex.prof.dist >= rem - 1e-9 * (1.0 + rem);
+            self.v = ex.prof.v_end;
+            if !done {
+                // Stopped short of the piece end (hold, abort or a zero override).
+                self.v = 0.0;
+                if self.abort {
+                    self.pos = front.seg.at(ex.s0 + ex.prof.dist);
+                    self.clear_after_abort();
+                }
+                break;
+            }
+            let (tag, den) = (front.tag, front.den);
+            self.pos = front.seg.end;
+            self.exec = None;
+            self.q.pop_front();
+            if den {
+                self.moves -= 1;
+                self.out.finished.push(tag);
+                if self.stop_after == Some(tag) {
+                    self.hold = true;
+                    self.stop_after = None;
+                }
+            }
+        }
+        let (pos, tag, v) = match (&self.exec, self.q.front()) {
+            (Some(ex), Some(p)) => {
+                let (x, v, _) = ex.prof.eval(ex.t);
+                (p.seg.at(ex.s0 + x), Some(p.tag), v)
+            }
+            _ => (self.pos, None, 0.0),
+        };
+        self.pos = pos;
+        for (o, x) in self.out.position.iter_mut().zip(pos.iter()) {
+            *o = *x;
+        }
+        self.out.tag = tag;
+        self.out.feed_mm_min = v * 60.0;
+        self.out.held = self.hold && v == 0.0;
+        &self.out
+    }
+}

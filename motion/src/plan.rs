@@ -1,0 +1,262 @@
+//! The look-ahead planner: moves become pieces (lines, arcs, corner-blend arcs) with their speed
+//! caps and path dynamics; junctions get a speed cap; the backward pass limits every piece's end
+//! speed so that everything after it can still be met.
+
+use std::collections::VecDeque;
+use std::f64::consts::{PI, TAU};
+
+use crate::config::{AccParams, AxisLimits, Law};
+use crate::geom::{Seg, Vector};
+use crate::moves::{MotionError, Move, Path};
+use crate::profile::Dyn;
+
+/// Share of an axis's acceleration available to centripetal acceleration on arcs.
+pub const CENTRIPETAL_SHARE: f64 = 0.7;
+/// Share of an axis's acceleration (and jerk) reserved for the direction change at an unblended
+/// junction between pieces whose tangents differ slightly.
+pub const KINK_SHARE: f64 = 0.02;
+/// Turns sharper than this (rad) are not blended: the tool stops at the corner.
+pub const MAX_BLEND_TURN: f64 = PI * (179.0 / 180.0);
+
+/// What kind of motion a piece is.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Motion {
+    /// G00 at the axes' rapid speed × rapid override.
+    Rapid,
+    /// Feed move at the programmed feed × feed override.
+    Feed,
+    /// G33: speed locked to the spindle (pitch × rev/s), no override, no blending.
+    Thread,
+    /// Dwell at rest, s.
+    Dwell(f64),
+}
+
+/// One piece of the path in the look-ahead queue.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Piece {
+    /// Geometry.
+    pub seg: Seg,
+    /// The move it belongs to.
+    pub tag: u64,
+    /// The last piece of its move (its end is the move's DEN).
+    pub den: bool,
+    /// Kind of motion.
+    pub motion: Motion,
+    /// Programmed path speed, mm/s (rapid: infinite; thread: pitch × rev/s).
+    pub feed: f64,
+    /// Speed cap from the axis limits and the centripetal acceleration, mm/s.
+    pub v_hard: f64,
+    /// Path dynamics.
+    pub dynm: Dyn,
+    /// Speed cap at the end (the junction with the next piece).
+    pub v_junction: f64,
+    /// End-speed limit from the backward pass.
+    pub v_end: f64,
+    /// Length before blending shortened it.
+    pub len_orig: f64,
+    /// Path tolerance for blending at its end, mm (0: exact corner).
+    pub tol: f64,
+    /// Exact stop requested at its end.
+    pub exact: bool,
+}
+
+/// The per-law limits of every axis for feed or rapid moves: (v, a, j) in mm/s, mm/s², mm/s³.
+pub fn axis_vaj(ax: &AxisLimits, rapid: bool, law: Law, acc: &AccParams) -> (f64, f64, f64) {
+    let (v, a, j) = if rapid {
+        (ax.v_rapid, ax.a_rapid, ax.j_rapid)
+    } else {
+        (ax.v_max, ax.a_max, ax.j_max)
+    };
+    match law {
+        Law::SCurve => (v, a * acc.linear_part_s, j.unwrap_or(f64::INFINITY)),
+        _ => (v, a, f64::INFINITY),
+    }
+}
+
+/// The speed cap and path dynamics of `seg` for these axes.
+pub fn dynamics(
+    axes: &[AxisLimits],
+    seg: &Seg,
+    rapid: bool,
+    law: Law,
+    acc: &AccParams,
+) -> (f64, Dyn) {
+    let share = seg.max_share();
+    let curv = seg.curvature_share();
+    let mut v_hard = f64::INFINITY;
+    let mut jmin = f64::INFINITY;
+    for (i, ax) in axes.iter().enumerate() {
+        let (v, a, j) = axis_vaj(ax, rapid, law, acc);
+        if share[i] > 0.0 {
+            v_hard = v_hard.min(v / share[i]);
+            jmin = jmin.min(j / share[i]);
+        }
+        if curv[i] > 0.0 {
+            v_hard = v_hard.min((CENTRIPETAL_SHARE * a / curv[i]).sqrt());
+        }
+    }
+    let mut amin = f64::INFINITY;
+    for (i, ax) in axes.iter().enumerate() {
+        let (_, a, _) = axis_vaj(ax, rapid, law, acc);
+        if share[i] > 0.0 {
+            let left = (1.0 - KINK_SHARE) * a - v_hard * v_hard * curv[i];
+            amin = amin.min(left / share[i]);
+        }
+    }
+    if !amin.is_finite() {
+        amin = 1.0;
+        v_hard = f64::INFINITY;
+    }
+    let top = acc.min_exp.max(acc.max_exp);
+    let d = Dyn {
+        law,
+        a: amin,
+        j: if law == Law::SCurve {
+            jmin
+        } else {
+            f64::INFINITY
+        },
+        exp_start: acc.min_exp / top,
+        exp_end: acc.max_exp / top,
+    };
+    (v_hard, d)
+}
+
+/// The speed cap of a direction change of `theta` rad within one tick `dt` (no blend).
+pub fn kink_cap(axes: &[AxisLimits], theta: f64, dt: f64, law: Law, acc: &AccParams) -> f64 {
+    let k = 2.0 * (theta / 2.0).sin();
+    if k <= 0.0 {
+        return f64::INFINITY;
+    }
+    let mut cap = f64::INFINITY;
+    for ax in axes {
+        let (_, a, j) = axis_vaj(ax, false, law, acc);
+        cap = cap.min(KINK_SHARE * a * dt / k);
+        if j.is_finite() {
+            cap = cap.min(KINK_SHARE * j * dt * dt / k);
+        }
+    }
+    cap
+}
+
+/// The geometry of a move from `start`: its segment (None for a dwell).
+pub fn segment(m: &Move, start: &Vector, end: &Vector) -> Result<Option<Seg>, MotionError> {
+    match &m.path {
+        Path::Dwell { .. } => Ok(None),
+        Path::Rapid | Path::Line => Ok(Some(Seg::line(*start, *end))),
+        Path::Arc {
+            plane: (a, b),
+            center,
+            cw,
+            turns,
+        } => {
+            let bad = |what: &str| MotionError::Invalid {
+                tag: m.tag,
+                what: what.into(),
+            };
+            if a == b || *a >= m.end.len() || *b >= m.end.len() {
+                return Err(bad("arc plane axes out of range"));
+            }
+            let rel0 = (start[*a] - center[0], start[*b] - center[1]);
+            let rel1 = (end[*a] - center[0], end[*b] - center[1]);
+            let r0 = rel0.0.hypot(rel0.1);
+            let r1 = rel1.0.hypot(rel1.1);
+            if r0 <= 0.0 || r1 <= 0.0 || !(r0.is_finite() && r1.is_finite()) {
+                return Err(bad("arc with zero radius"));
+            }
+            let p0 = rel0.1.atan2(rel0.0);
+            let p1 = rel1.1.atan2(rel1.0);
+            let mut sweep = if *cw { p0 - p1 } else { p1 - p0 }.rem_euclid(TAU);
+            if sweep < 1e-12 {
+                sweep = TAU;
+            }
+            sweep += TAU * f64::from(*turns);
+            let mut ea = Vector::zeros();
+            ea[*a] = 1.0;
+            let mut eb = Vector::zeros();
+            eb[*b] = 1.0;
+            let e1 = ea * p0.cos() + eb * p0.sin();
+            let mut e2 = eb * p0.cos() - ea * p0.sin();
+            if *cw {
+                e2 = -e2;
+            }
+            let mut c = *start;
+            c[*a] = center[0];
+            c[*b] = center[1];
+            let mut lift = end - start;
+            lift[*a] = 0.0;
+            lift[*b] = 0.0;
+            Ok(Some(Seg::arc(*start, *end, c, e1, e2, r0, r1, sweep, lift)))
+        }
+    }
+}
+
+/// Blends the corner between `prev` (a line, not started) and `next` (a line) with a circular arc
+/// that passes within `tol` of the corner; shortens both lines and returns the arc piece.
+pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<Seg> {
+    let tol = prev.tol.min(next.tol);
+    if tol <= 0.0 || theta <= 1e-9 || theta >= MAX_BLEND_TURN {
+        return None;
+    }
+    let h = theta / 2.0;
+    let q = (theta / 4.0).sin();
+    // Corner-to-arc distance R(1/cos h − 1) = tol, with R = d / tan h.
+    let d_tol = tol * h.sin() / (2.0 * q * q);
+    let d = d_tol.min(prev.len_orig / 2.0).min(next.len_orig / 2.0);
+    if d <= 0.0 || d > prev.seg.len || d > next.seg.len {
+        return None;
+    }
+    let corner = prev.seg.end;
+    let u1 = prev.seg.tangent(true);
+    let u2 = next.seg.tangent(false);
+    let r = d / h.tan();
+    let bis = (u2 - u1).normalize();
+    let center = corner + bis * (r / h.cos());
+    let a = corner - u1 * d;
+    let b = corner + u2 * d;
+    let e1 = (a - center) / r;
+    let arc = Seg::arc(a, b, center, e1, u1, r, r, theta, Vector::zeros());
+    prev.seg = Seg::line_along(prev.seg.start, a, u1);
+    next.seg = Seg::line_along(b, next.seg.end, u2);
+    Some(arc)
+}
+
+/// The piece's speed cap under the overrides (percent).
+pub fn cap(p: &Piece, feed_pct: u16, rapid_pct: u16) -> f64 {
+    match p.motion {
+        Motion::Rapid => p.v_hard * f64::from(rapid_pct) / 100.0,
+        Motion::Feed => p.v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
+        Motion::Thread => p.v_hard.min(p.feed),
+        Motion::Dwell(_) => 0.0,
+    }
+}
+
+/// The backward pass from the end of the queue: every piece's end speed allows stopping at the
+/// end of the queue and meeting every junction and cap after it. Below index `keep_to` (pieces
+/// whose geometry did not change) it stops at the first end speed that did not change.
+pub fn backward(q: &mut VecDeque<Piece>, feed_pct: u16, rapid_pct: u16, keep_to: usize) {
+    let n = q.len();
+    let mut next_start = 0.0_f64; // the highest speed allowed at the start of piece k+1
+    for k in (0..n).rev() {
+        let v = if k + 1 == n {
+            0.0
+        } else {
+            q[k].v_junction
+                .min(cap(&q[k], feed_pct, rapid_pct))
+                .min(next_start)
+        };
+        let unchanged = q[k].v_end == v;
+        q[k].v_end = v;
+        let p = &q[k];
+        next_start = match p.motion {
+            Motion::Dwell(_) => 0.0,
+            _ => p
+                .dynm
+                .reach_up(v, p.seg.len)
+                .min(cap(p, feed_pct, rapid_pct)),
+        };
+        if unchanged && k < keep_to {
+            break;
+        }
+    }
+}
