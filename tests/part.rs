@@ -85,3 +85,51 @@ fn a_part_script_may_not_name_an_undeclared_input_nor_issue_functions() {
         "{err}"
     );
 }
+
+/// The README's first command: the lathe runs PART1 (spindle with at-speed wait, coolant, a feed
+/// hold during the second pass, M30) to its end; the recording is the golden `traces/part1.jsonl`
+/// with both engines (which `e2e_replay` replays).
+#[test]
+fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
+    let machine = root().join("plc-programs/lathe");
+    let golden = std::fs::read_to_string(machine.join("traces/part1.jsonl")).expect("golden");
+    let dir = tempfile::tempdir().expect("tempdir");
+    for engine in ["jit", "interp"] {
+        let rec = dir.path().join(format!("{engine}.jsonl"));
+        let out = part_run(
+            &machine,
+            &[
+                "--until-end",
+                "--stats",
+                "--engine",
+                engine,
+                "--record",
+                rec.to_str().expect("utf-8 path"),
+            ],
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            stdout.contains("part PART1 (crc32 536205d9): 17 canonical blocks\n"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("cycle time 45.73 s (ticks 12..4585), ended\n"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("process 1: 17 blocks; handshakes M 5 S 1 T 0;"),
+            "{stdout}"
+        );
+        assert!(!stdout.contains("alarm:"), "{stdout}");
+        let got = std::fs::read_to_string(&rec).expect("recorded");
+        assert_eq!(got, golden, "{engine}");
+        // The feed hold: FOLD at 400, HOLD reached at 403, released by START at 500.
+        assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1}}"));
+    }
+}
