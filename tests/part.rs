@@ -133,3 +133,50 @@ fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
         assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1}}"));
     }
 }
+
+/// The mill runs its PART1: M06 tool change (orient, drawbar, arm), spindle, coolant, a feed hold
+/// while milling the square, M30; the recording is the golden `mill/traces/part1.jsonl`.
+#[test]
+fn the_mill_runs_part1_with_its_tool_change() {
+    let machine = root().join("plc-programs/mill");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let rec = dir.path().join("mill.jsonl");
+    let out = part_run(
+        &machine,
+        &[
+            "--until-end",
+            "--stats",
+            "--record",
+            rec.to_str().expect("utf-8 path"),
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("cycle time 33.35 s (ticks 12..3347), ended\n"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("process 1: 13 blocks; handshakes M 6 S 1 T 1;"),
+        "{stdout}"
+    );
+    let golden = std::fs::read_to_string(machine.join("traces/part1.jsonl")).expect("golden");
+    assert_eq!(std::fs::read_to_string(&rec).expect("recorded"), golden);
+}
+
+/// An e-stop in the middle of the part stops it with an alarm: `--until-end` exits 1.
+#[test]
+fn an_estop_during_the_part_exits_1_with_the_alarm() {
+    let m = lathe_with("[[part.at]]\ntick = 300\nset = { I0A0 = 0 }\n");
+    let out = part_run(m.path(), &["--until-end", "--stats"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("started at tick 12, did not end\n"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.ends_with("alarm: process 1: emergency stop\n"),
+        "{stdout}"
+    );
+}

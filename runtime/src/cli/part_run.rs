@@ -216,7 +216,7 @@ impl PartRun {
         for p in c.processes() {
             let k = p.counters();
             s.push_str(&format!(
-                "process {}: {} blocks; handshakes M {} S {} T {}; FIN wait M {:.2} s S {:.2} s T {:.2} s; largest following error {:.3} mm ({})\n",
+                "process {}: {} blocks; handshakes M {} S {} T {}; FIN wait M {:.2} s S {:.2} s T {:.2} s; largest following error {}\n",
                 p.number(),
                 k.blocks,
                 k.handshakes[0],
@@ -225,8 +225,11 @@ impl PartRun {
                 secs(k.wait_ticks[0]),
                 secs(k.wait_ticks[1]),
                 secs(k.wait_ticks[2]),
-                k.max_following.0,
-                k.max_following.1
+                if k.max_following.1 == '\0' {
+                    "-".to_string()
+                } else {
+                    format!("{:.3} mm ({})", k.max_following.0, k.max_following.1)
+                }
             ));
         }
         for a in &self.alarms {
