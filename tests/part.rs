@@ -180,3 +180,38 @@ fn an_estop_during_the_part_exits_1_with_the_alarm() {
         "{stdout}"
     );
 }
+
+/// `--trajectory` writes the `ncplc nc run` JSON Lines: the header with the planner's limits, then
+/// one line per 2 ms interpolation tick, ending at rest on the retract point.
+#[test]
+fn trajectory_of_the_lathe_part() {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("traj.jsonl");
+    let out = part_run(
+        &machine,
+        &[
+            "--until-end",
+            "--trajectory",
+            path.to_str().expect("utf-8 path"),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let text = std::fs::read_to_string(&path).expect("trajectory");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        r#"{"tick_s":0.002,"axes":["X","Z"],"limits":{"X":{"v":166.666667,"a":200,"j":540},"Z":{"v":200,"a":200,"j":450}},"tolerance_mm":0.01,"law":"linear"}"#
+    );
+    // 4585 logic ticks of 10 ms = 22 925 interpolation ticks.
+    assert_eq!(lines.len(), 1 + 22_925);
+    assert_eq!(
+        lines[lines.len() - 1],
+        r#"{"t":22924,"p":[-20,-50],"block":null,"feed":0}"#
+    );
+    // During the first pass (N40, block index 3) Z feeds at 300 mm/min: 0.01 mm per tick.
+    assert_eq!(
+        lines[3001],
+        r#"{"t":3000,"p":[-44,-113.620714],"block":3,"feed":300}"#
+    );
+}

@@ -15,6 +15,8 @@ pub struct TickOut {
     pub held: bool,
     /// Path feed in mm/min.
     pub feed_mm_min: f64,
+    /// The tag of the block the set point is on (None at rest).
+    pub tag: Option<u64>,
 }
 
 /// A coordinated interpolator.
@@ -41,6 +43,10 @@ pub trait Interpolator: Send {
     fn is_idle(&self) -> bool;
     /// At rest: the current position gets the coordinates `pos` (homing sets a new zero).
     fn set_position(&mut self, pos: &[f64]) -> Result<(), String>;
+    /// The trajectory header line (`ncplc nc run --trajectory` format), when it has one.
+    fn trajectory_header(&self) -> Option<String> {
+        None
+    }
 }
 
 /// The "interpolator" of a process without coordinated axes (the mill's magazine process): it

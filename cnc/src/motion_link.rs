@@ -65,12 +65,40 @@ impl Interpolator for MotionKernel {
         out.finished.extend_from_slice(&t.finished);
         out.held = t.held;
         out.feed_mm_min = t.feed_mm_min;
+        out.tag = t.tag;
     }
     fn position(&self) -> &[f64] {
         self.kernel.position()
     }
     fn is_idle(&self) -> bool {
         self.kernel.is_idle()
+    }
+    fn trajectory_header(&self) -> Option<String> {
+        let c = self.kernel.config();
+        let num = |v: f64| partprogram::canon::num(v);
+        let opt = |v: Option<f64>| v.map_or("null".to_string(), num);
+        let limits: Vec<String> = c
+            .axes
+            .iter()
+            .map(|a| {
+                format!(
+                    "\"{}\":{{\"v\":{},\"a\":{},\"j\":{}}}",
+                    a.name,
+                    num(a.v_max),
+                    num(a.a_max),
+                    opt(a.j_max)
+                )
+            })
+            .collect();
+        let axes: Vec<String> = self.axes.iter().map(|a| format!("\"{a}\"")).collect();
+        Some(format!(
+            "{{\"tick_s\":{},\"axes\":[{}],\"limits\":{{{}}},\"tolerance_mm\":{},\"law\":\"{}\"}}",
+            num(c.tick_s),
+            axes.join(","),
+            limits.join(","),
+            num(c.tolerance_mm),
+            c.law.name()
+        ))
     }
     fn set_position(&mut self, pos: &[f64]) -> Result<(), String> {
         let cfg = self.kernel.config().clone();

@@ -92,6 +92,7 @@ pub struct Process {
     pub(crate) rabi_timeout_ticks: u64,
     pub(crate) ticks_per_logic: usize,
     tick_out: TickOut,
+    trajectory: Option<(u64, String)>,
 }
 
 /// Settings shared by every process.
@@ -168,6 +169,7 @@ impl Process {
             rabi_timeout_ticks: timing.rabi_timeout_ticks,
             ticks_per_logic,
             tick_out: TickOut::default(),
+            trajectory: None,
         }
     }
 
@@ -441,6 +443,21 @@ impl Process {
                 self.motion_finished(tag);
             }
             let pos = self.interp.position().to_vec();
+            if let Some((t, buf)) = self.trajectory.as_mut() {
+                use std::fmt::Write as _;
+                let p: Vec<String> = pos.iter().map(|v| partprogram::canon::num(*v)).collect();
+                let block = self.tick_out.tag.map_or("null".to_string(), |g| {
+                    g.checked_sub(1)
+                        .map_or("null".to_string(), |b| b.to_string())
+                });
+                let _ = writeln!(
+                    buf,
+                    "{{\"t\":{t},\"p\":[{}],\"block\":{block},\"feed\":{}}}",
+                    p.join(","),
+                    partprogram::canon::num(self.tick_out.feed_mm_min)
+                );
+                *t += 1;
+            }
             let moving = !self.interp.is_idle();
             for (i, d) in self.drives.iter_mut().enumerate() {
                 d.tick(pos.get(i).copied().unwrap_or(0.0), dt);
@@ -560,6 +577,22 @@ impl Process {
             spindle_rpm: self.spindle.as_ref().map_or(0.0, |s| s.actual()),
             alarms: self.alarms.iter().map(|a| a.message.clone()).collect(),
         }
+    }
+
+    /// Starts recording the trajectory; returns its header line (None: no interpolator header).
+    pub fn record_trajectory(&mut self) -> Option<String> {
+        let h = self.interp.trajectory_header()?;
+        self.trajectory = Some((0, String::new()));
+        Some(h)
+    }
+
+    /// The trajectory lines recorded since the last call (one per interpolation tick:
+    /// `{"t":0,"p":[x,z],"block":3,"feed":500}`).
+    pub fn take_trajectory(&mut self) -> String {
+        self.trajectory
+            .as_mut()
+            .map(|(_, s)| std::mem::take(s))
+            .unwrap_or_default()
     }
 
     /// Set points of every axis (for `--trajectory`).

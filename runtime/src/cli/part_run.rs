@@ -33,6 +33,7 @@ pub struct PartRun {
     alarms: Vec<String>,
     failed: bool,
     program_selected: bool,
+    trajectory: Option<std::io::BufWriter<std::fs::File>>,
 }
 
 /// The interpolator of a process: the `motion` crate's kernel (none for a process without
@@ -90,7 +91,22 @@ pub fn start(
         alarms: Vec::new(),
         failed: false,
         program_selected: false,
+        trajectory: None,
     };
+    let mut run = run;
+    if let Some(path) = &args.trajectory {
+        use std::io::Write as _;
+        let header = run
+            .lock()
+            .process_mut(args.process)
+            .ok()
+            .and_then(|p| p.record_trajectory())
+            .ok_or_else(|| format!("error: process {} has no interpolated axes", args.process))?;
+        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut w = std::io::BufWriter::new(file);
+        writeln!(w, "{header}").map_err(|e| format!("{}: {e}", path.display()))?;
+        run.trajectory = Some(w);
+    }
     {
         let mut c = run.lock();
         let process = c
@@ -119,6 +135,13 @@ impl PartRun {
         let Ok(p) = c.process_mut(n) else {
             return false;
         };
+        if let Some(w) = self.trajectory.as_mut() {
+            use std::io::Write as _;
+            if let Err(e) = w.write_all(p.take_trajectory().as_bytes()) {
+                eprintln!("error: trajectory: {e}");
+                self.trajectory = None;
+            }
+        }
         for (cmd, why) in p.take_rejected() {
             eprintln!("process {n}: {cmd:?} refused: {why}");
         }
@@ -184,7 +207,14 @@ impl PartRun {
 
     /// The exit code of `--until-end`: 0 when the program ended, 1 on a stopping alarm or when
     /// the run stopped before the end.
-    pub fn exit_code(&self) -> ExitCode {
+    pub fn exit_code(&mut self) -> ExitCode {
+        if let Some(mut w) = self.trajectory.take() {
+            use std::io::Write as _;
+            if let Err(e) = w.flush() {
+                eprintln!("error: trajectory: {e}");
+                return ExitCode::from(2);
+            }
+        }
         if self.failed || self.finished.is_none() {
             ExitCode::from(1)
         } else {

@@ -76,6 +76,10 @@ pub struct Args {
     /// Run these blocks in MDI mode (one option per block text), before --program.
     #[arg(long)]
     pub mdi: Vec<String>,
+    /// With --program/--mdi: write the set points of every interpolation tick of the process as
+    /// JSON Lines (header, then `{"t":…,"p":[…],"block":…,"feed":…}`; the `ncplc nc run` format).
+    #[arg(long)]
+    pub trajectory: Option<PathBuf>,
     /// With --program/--mdi: stop when every selected program has ended (M02/M30): exit 0, or
     /// exit 1 on an alarm that stops it.
     #[arg(long)]
@@ -310,7 +314,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             print!("{}", h.summary());
         }
     }
-    if let Some(p) = &part {
+    if let Some(p) = part.as_mut() {
         print!("{}", p.summary(tick_ms));
         if args.until_end {
             return Ok(p.exit_code());
