@@ -38,7 +38,7 @@ pub struct PartRun {
 
 /// The interpolator of a process: the `motion` crate's kernel (none for a process without
 /// coordinated axes).
-fn make_interp(
+pub fn make_interp(
     axcfil: &characterization::axcfil::Axcfil,
     cfg: &ProcessConfig,
     start: &[f64],
