@@ -73,6 +73,16 @@ impl Interpolator for MotionKernel {
     fn is_idle(&self) -> bool {
         self.kernel.is_idle()
     }
+    fn set_law(&mut self, code: u8) {
+        let law = match code {
+            1 => motion::Law::SCurve,
+            2 => motion::Law::Exponential,
+            _ => motion::Law::Linear,
+        };
+        if self.kernel.law() != law {
+            self.kernel.set_law(law);
+        }
+    }
     fn trajectory_header(&self) -> Option<String> {
         let c = self.kernel.config();
         let num = |v: f64| partprogram::canon::num(v);

@@ -67,6 +67,8 @@ pub struct Process {
     pub(crate) homed: bool,
     pub(crate) program: Vec<Canon>,
     pub(crate) program_name: String,
+    pub(crate) programs: Option<(Vec<Canon>, Vec<Canon>)>,
+    pub(crate) block_skip: bool,
     pub(crate) phase: Phase,
     pub(crate) next: usize,
     pub(crate) in_motion: VecDeque<usize>,
@@ -144,6 +146,8 @@ impl Process {
             homed,
             program: Vec::new(),
             program_name: String::new(),
+            programs: None,
+            block_skip: false,
             phase: Phase::Fetch,
             next: 0,
             in_motion: VecDeque::new(),
@@ -184,9 +188,23 @@ impl Process {
             return Err(Reject::ProgramActive);
         }
         self.program = blocks;
+        self.programs = None;
         self.program_name = name.to_string();
         self.next = 0;
         self.phase = Phase::Fetch;
+        Ok(())
+    }
+
+    /// Selects a program planned twice: without and with block skip (blocks marked `/`); START
+    /// from the program's start takes the one the PLC's BSKIP switch selects.
+    pub fn load_with_skip(
+        &mut self,
+        name: &str,
+        plain: Vec<Canon>,
+        skipped: Vec<Canon>,
+    ) -> Result<(), Reject> {
+        self.load(name, plain.clone())?;
+        self.programs = Some((plain, skipped));
         Ok(())
     }
 
@@ -325,9 +343,13 @@ impl Process {
         let modereq = s.mode_request.map(|m| m.read(out));
         let (last_start, last_ers, last_req) = self.last_plc;
         self.uso = signals::read(out, s.uso, 0) == 1;
+        self.block_skip = signals::read(out, s.block_skip, 0) == 1;
         let fov = signals::read(out, s.overrides[0], 100);
         let rov = signals::read(out, s.overrides[2], 100);
         self.interp.set_feed_override(u16::from(fov));
+        // plc-interface-map.md: ACC1 ACC2 = 00 linear, 01 S-shaped, 10 exponential.
+        let law = (signals::read(out, s.acc[0], 0) << 1) | signals::read(out, s.acc[1], 0);
+        self.interp.set_law(law);
         self.interp.set_rapid_override(u16::from(rov));
         if ers == 1 && last_ers == 0 {
             self.commands.push_back(Command::Reset);
@@ -355,6 +377,16 @@ impl Process {
             Command::SetMode(m) => self.mode = m,
             Command::Start => {
                 self.op_hold = false;
+                if self.run == Interp::Idle
+                    && self.next == 0
+                    && let Some((plain, skipped)) = &self.programs
+                {
+                    self.program = if self.block_skip {
+                        skipped.clone()
+                    } else {
+                        plain.clone()
+                    };
+                }
                 if self.run != Interp::Running {
                     self.run = Interp::Running;
                 }

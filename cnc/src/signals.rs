@@ -64,6 +64,8 @@ pub struct ProcessSignals {
     pub jog: [[Option<Signal>; 8]; 2],
     /// PLC→CNC: incremental jog step byte (JINC).
     pub jog_increment: Option<Signal>,
+    /// PLC→CNC: acceleration law bits ACC1 and ACC2 (`ACC1 ACC2` = 00 linear, 01 S, 10 exp).
+    pub acc: [Option<Signal>; 2],
 }
 
 /// Signals that belong to the machine, not to a process.
@@ -124,6 +126,7 @@ impl ProcessSignals {
             block_skip: lookup("BSKIP"),
             jog: [numbered("JOGP"), numbered("JOGM")],
             jog_increment: lookup("JINC"),
+            acc: [lookup("ACC1"), lookup("ACC2")],
         }
     }
 

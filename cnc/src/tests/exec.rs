@@ -360,3 +360,31 @@ fn two_processes_run_their_programs_side_by_side() {
     assert_eq!(b.cnc.processes()[1].counters().ended, 1);
     assert_eq!(b.cnc.processes()[1].counters().handshakes[0], 2);
 }
+
+#[test]
+fn the_block_skip_switch_at_start_selects_the_skipped_plan() {
+    for (bskip, blocks) in [(0, 3), (1, 2)] {
+        let mut b = Bench::new(cnc(false, 0, 0));
+        let plain = vec![
+            block(10, Linear, 1.0, &[], None, None),
+            block(20, Linear, 2.0, &[], None, None),
+            block(30, Aux, 2.0, &[30], None, None),
+        ];
+        let skipped = vec![plain[1].clone(), plain[2].clone()];
+        b.start_program(Vec::new());
+        b.cnc
+            .process_mut(1)
+            .expect("p1")
+            .load_with_skip("t", plain, skipped)
+            .expect("idle");
+        let plc = Plc {
+            bskip,
+            ..Plc::default()
+        };
+        b.run(1, &plc);
+        b.step(&Plc { start: 1, ..plc });
+        b.run(10, &plc);
+        let c = b.cnc.processes()[0].counters();
+        assert_eq!((c.blocks, c.ended), (blocks, 1), "BSKIP {bskip}");
+    }
+}

@@ -91,6 +91,7 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("JOGP1", "U13K0"),
         ("JOGM1", "U13K8"),
         ("JINC", "W16K1"),
+        ("BSKIP", "U12K1"),
     ])
 }
 
@@ -199,6 +200,8 @@ pub struct Plc {
     pub jog: (u8, u8),
     /// JINC.
     pub jinc: u8,
+    /// BSKIP.
+    pub bskip: u8,
 }
 
 impl Default for Plc {
@@ -213,6 +216,7 @@ impl Default for Plc {
             ers: 0,
             jog: (0, 0),
             jinc: 0,
+            bskip: 0,
         }
     }
 }
@@ -258,6 +262,7 @@ impl Bench {
         w(&mut self.out, "U13K0", plc.jog.0);
         w(&mut self.out, "U13K8", plc.jog.1);
         w(&mut self.out, "W16K1", plc.jinc);
+        w(&mut self.out, "U12K1", plc.bskip);
         row
     }
 

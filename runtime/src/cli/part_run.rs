@@ -75,7 +75,7 @@ pub fn start(
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
         .map_err(|e| format!("{}: {e}", sim_path.display()))?;
     let part = match &args.program {
-        Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref(), false)?),
+        Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref())?),
         None => None,
     };
     let run = PartRun {
@@ -188,7 +188,7 @@ impl PartRun {
                 if st.mode == Mode::Auto
                     && let Ok(p) = c.process_mut(n)
                 {
-                    let _ = p.load(&part.name, part.blocks.clone());
+                    let _ = p.load_with_skip(&part.name, part.blocks.clone(), part.skipped.clone());
                     self.program_selected = true;
                 }
             }

@@ -17,6 +17,8 @@ pub struct Part {
     pub hash: String,
     /// The canonical blocks in execution order.
     pub blocks: Vec<Canon>,
+    /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
+    pub skipped: Vec<Canon>,
 }
 
 /// `program` as a path when it exists, else `<machine>/nc/<program>`.
@@ -64,13 +66,9 @@ pub fn plan_text(
         .map_err(|(_, d)| diag::render_human(&[d], &sources))
 }
 
-/// Reads, compiles and plans the program `program` of the machine in `dir`.
-pub fn load_part(
-    dir: &Path,
-    program: &Path,
-    dialect: Option<&str>,
-    block_skip: bool,
-) -> Result<Part, String> {
+/// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
+/// block skip).
+pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Part, String> {
     let path = program_path(dir, program);
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
@@ -78,10 +76,12 @@ pub fn load_part(
         || path.display().to_string(),
         |n| format!("nc/{}", n.to_string_lossy()),
     );
-    let blocks = plan_text(dir, &name, &text, dialect, block_skip)?;
+    let blocks = plan_text(dir, &name, &text, dialect, false)?;
+    let skipped = plan_text(dir, &name, &text, dialect, true)?;
     Ok(Part {
         name: program.display().to_string(),
         hash: format!("{:08x}", crc32fast::hash(&bytes)),
         blocks,
+        skipped,
     })
 }
