@@ -215,3 +215,38 @@ fn trajectory_of_the_lathe_part() {
         r#"{"t":3000,"p":[-44,-113.620714],"block":3,"feed":300}"#
     );
 }
+
+/// `--mdi` blocks run in MDI mode (one program, shared modal state) and `--until-end` stops after
+/// them: rapid to X-10 Z-20, then 2 mm of X at F100 (1.2 s).
+#[test]
+fn mdi_blocks_run_and_end() {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("mdi.jsonl");
+    let out = ncplc(&[
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--mdi".as_ref(),
+        "N1 G00 X-10 Z-20".as_ref(),
+        "--mdi".as_ref(),
+        "N2 G01 X-12 F100".as_ref(),
+        "--until-end".as_ref(),
+        "--stats".as_ref(),
+        "--trajectory".as_ref(),
+        path.as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("cycle time 1.52 s (ticks 4..156), ended\n"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("process 1: 2 blocks;"), "{stdout}");
+    let text = std::fs::read_to_string(&path).expect("trajectory");
+    assert_eq!(
+        text.lines().last(),
+        Some(r#"{"t":779,"p":[-12,-20],"block":null,"feed":0}"#)
+    );
+}

@@ -82,7 +82,14 @@ pub fn start(
         cnc,
         process: args.process,
         part,
-        mdi: args.mdi.iter().cloned().collect(),
+        // The blocks run as one MDI program: planned together, they share their modal state (a
+        // program is planned from the machine zero, so one text keeps later blocks' unnamed axes
+        // where the earlier blocks left them).
+        mdi: if args.mdi.is_empty() {
+            VecDeque::new()
+        } else {
+            VecDeque::from([args.mdi.join("\n")])
+        },
         mdi_running: false,
         machine: machine.dir.clone(),
         dialect: args.dialect.clone(),
@@ -116,7 +123,18 @@ pub fn start(
         let dir = run.machine.clone();
         let dialect = run.dialect.clone();
         c.set_mdi_compiler(Box::new(move |_, text| {
-            plan_text(&dir, "MDI", text, dialect.as_deref(), false)
+            // MDI blocks become a one-block program of the machine's dialect.
+            let fanuc = dialect
+                .as_deref()
+                .is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
+                || std::fs::read_to_string(dir.join("nc").join("DIALECT"))
+                    .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
+            let program = if fanuc {
+                format!("O9999\n{text}\n")
+            } else {
+                format!("%999999\n{text}\n")
+            };
+            plan_text(&dir, "MDI", &program, dialect.as_deref(), false)
         }));
     }
     Ok((Box::new(io), run))
