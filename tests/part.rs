@@ -250,3 +250,42 @@ fn mdi_blocks_run_and_end() {
         Some(r#"{"t":779,"p":[-12,-20],"block":null,"feed":0}"#)
     );
 }
+
+/// A machine that is not referenced homes first (HOME, START: the MCZ cycle of X then Z against
+/// the simulated switches), then runs the part when the operator presses START again.
+#[test]
+fn an_unreferenced_lathe_homes_then_runs_the_part() {
+    let m = lathe_with(
+        "\n[[axis]]\nname = \"X\"\nstart = -50\nhome_switch = 3\n\
+         \n[[axis]]\nname = \"Z\"\nstart = -100\nhome_switch = 3\n\
+         \n[[part.at]]\ntick = 1500\nset = { I0A3 = 1 }\n\
+         \n[[part.at]]\ntick = 1505\nset = { I0A3 = 0 }\n",
+    );
+    let sim = m.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    std::fs::write(
+        &sim,
+        text.replace("referenced = true", "referenced = false"),
+    )
+    .expect("write");
+    let out = part_run(m.path(), &["--until-end", "--stats"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The first START (tick 10) falls into the homing cycle and is refused; the second runs it.
+    assert!(
+        stdout.contains("cycle time 44.73 s (ticks 1502..5975), ended\n"),
+        "{stdout}"
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains(
+            "process 1: Start refused: can't do that while a program is active (reset first)"
+        ),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

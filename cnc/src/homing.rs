@@ -87,6 +87,9 @@ impl Process {
                 None => {
                     self.homed = true;
                     self.run = Interp::Idle;
+                    if let Err(e) = self.interp.set_soft_limits(true) {
+                        self.raise(format!("homing: {e}"), true);
+                    }
                     return;
                 }
             },
@@ -107,9 +110,16 @@ impl Process {
         };
         let search = if home.negative { -1.0 } else { 1.0 };
         let next = match stage {
-            Stage::Begin if pressed => {
+            Stage::Begin if pressed && self.interp.set_soft_limits(false).is_ok() => {
                 self.home_move(i, -search, home.speed);
                 Stage::Leave
+            }
+            Stage::Begin if self.interp.set_soft_limits(false).is_err() => {
+                self.raise(
+                    format!("homing of axis {name}: cannot lift the soft limits"),
+                    true,
+                );
+                return;
             }
             Stage::Begin => {
                 let fast = self.cfg.axes[i].jog_speed;

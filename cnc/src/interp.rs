@@ -43,6 +43,10 @@ pub trait Interpolator: Send {
     fn is_idle(&self) -> bool;
     /// At rest: the current position gets the coordinates `pos` (homing sets a new zero).
     fn set_position(&mut self, pos: &[f64]) -> Result<(), String>;
+    /// Soft limits on or off (off while homing: the coordinates mean nothing before it).
+    fn set_soft_limits(&mut self, _on: bool) -> Result<(), String> {
+        Ok(())
+    }
     /// The acceleration law from the PLC's ACC1/ACC2 bits: 0 linear, 1 S-shaped, 2 exponential.
     fn set_law(&mut self, _code: u8) {}
     /// The trajectory header line (`ncplc nc run --trajectory` format), when it has one.

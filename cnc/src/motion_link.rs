@@ -10,6 +10,7 @@ use crate::interp::{Interpolator, TickOut};
 pub struct MotionKernel {
     kernel: motion::Kernel,
     axes: Vec<char>,
+    limits: Vec<(Option<f64>, Option<f64>)>,
 }
 
 impl MotionKernel {
@@ -30,8 +31,13 @@ impl MotionKernel {
                 cfg.axis_names()
             ));
         }
+        let limits = mc.axes.iter().map(|a| (a.soft_min, a.soft_max)).collect();
         let kernel = motion::Kernel::new(mc, start).map_err(|e| format!("motion: {e}"))?;
-        Ok(MotionKernel { kernel, axes })
+        Ok(MotionKernel {
+            kernel,
+            axes,
+            limits,
+        })
     }
 }
 
@@ -72,6 +78,15 @@ impl Interpolator for MotionKernel {
     }
     fn is_idle(&self) -> bool {
         self.kernel.is_idle()
+    }
+    fn set_soft_limits(&mut self, on: bool) -> Result<(), String> {
+        let mut cfg = self.kernel.config().clone();
+        for (a, (lo, hi)) in cfg.axes.iter_mut().zip(&self.limits) {
+            (a.soft_min, a.soft_max) = if on { (*lo, *hi) } else { (None, None) };
+        }
+        let pos = self.kernel.position().to_vec();
+        self.kernel = motion::Kernel::new(cfg, &pos).map_err(|e| format!("motion: {e}"))?;
+        Ok(())
     }
     fn set_law(&mut self, code: u8) {
         let law = match code {

@@ -214,6 +214,11 @@ impl Process {
         self.homed_axes.iter_mut().for_each(|h| *h = true);
     }
 
+    /// The index of axis `name` in the process.
+    pub fn axis_index(&self, name: char) -> Option<usize> {
+        self.cfg.axes.iter().position(|a| a.name == name)
+    }
+
     /// Places axis `i` of the simulated machine: its position on the machine's scale at power-on
     /// and its home switch edge (see [`crate::homing`]).
     pub fn place_axis(&mut self, i: usize, start: f64, home_switch: Option<f64>) {

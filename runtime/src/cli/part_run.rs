@@ -33,6 +33,7 @@ pub struct PartRun {
     alarms: Vec<String>,
     failed: bool,
     program_selected: bool,
+    homing_started: bool,
     trajectory: Option<std::io::BufWriter<std::fs::File>>,
 }
 
@@ -98,6 +99,7 @@ pub fn start(
         alarms: Vec::new(),
         failed: false,
         program_selected: false,
+        homing_started: false,
         trajectory: None,
     };
     let mut run = run;
@@ -176,10 +178,17 @@ impl PartRun {
                 self.failed = true;
             }
         }
-        if st.interp == Interp::Running && self.started.is_none() {
+        if st.interp == Interp::Running && st.mode != Mode::Home && self.started.is_none() {
             self.started = Some(tick);
         }
-        if st.on && st.interp == Interp::Idle {
+        if st.on && st.interp == Interp::Idle && !st.homed {
+            // The operator homes first: HOME, then START (the MCZ cycle of every axis).
+            if st.mode != Mode::Home {
+                let _ = c.mode(n, Mode::Home);
+            } else if !self.homing_started {
+                self.homing_started = c.start(n).is_ok();
+            }
+        } else if st.on && st.interp == Interp::Idle {
             if self.mdi_running {
                 self.mdi_running = false;
             } else if let Some(text) = self.mdi.front().cloned() {

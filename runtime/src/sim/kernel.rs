@@ -87,6 +87,15 @@ pub fn build_cnc(setup: &KernelSetup, script: &Script) -> Result<Cnc, SimError> 
         let mut p = Process::new(cfg, sig, interp, &start, timing);
         if n == 1 {
             p.set_plant(plant.clone());
+            for a in &script.axis {
+                let Some(i) = p.axis_index(a.name) else {
+                    return Err(SimError::Invalid(format!(
+                        "[[axis]] {}: not a coordinated axis of process 1",
+                        a.name
+                    )));
+                };
+                p.place_axis(i, a.start, a.home_switch);
+            }
         }
         if script.cnc.referenced {
             p.set_homed();

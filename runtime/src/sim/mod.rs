@@ -39,7 +39,7 @@ use packets::{IoAlarm, PacketIo, Signal};
 
 pub use process::HandshakeCounts;
 use process::ProcessSim;
-pub use script::{At, CncSettings, Follow, PartScript, Script, SimError, SpindleWiring};
+pub use script::{At, AxisPlace, CncSettings, Follow, PartScript, Script, SimError, SpindleWiring};
 pub use signals::{ChannelSignals, CncSignals, ProcessSignals};
 
 struct FollowRule {

@@ -29,10 +29,26 @@ pub struct Script {
     /// The simulated spindle drive's wiring (kernel runs).
     #[serde(default)]
     pub spindle: SpindleWiring,
+    /// `[[axis]]`: where the simulated machine's axes stand at power-on and their home switches.
+    #[serde(default)]
+    pub axis: Vec<AxisPlace>,
     /// `[part]`: the operator and machine script of a part run (`ncplc run --program`), used
     /// instead of the top-level `at`/`follow` (whose strobes are the scripted CNC's).
     #[serde(default)]
     pub part: Option<PartScript>,
+}
+
+/// `[[axis]]`: one axis of the simulated machine (positions on the machine's own scale, mm).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisPlace {
+    /// Axis letter of process 1 (`X`).
+    pub name: char,
+    /// Position at power-on (the controller counts from 0 until homed).
+    #[serde(default)]
+    pub start: f64,
+    /// Edge of the home switch (pressed beyond it in the MCZ search direction).
+    pub home_switch: Option<f64>,
 }
 
 /// `[part]`: `[[part.at]]` and `[[part.follow]]` for part runs.
