@@ -388,3 +388,52 @@ fn the_block_skip_switch_at_start_selects_the_skipped_plan() {
         assert_eq!((c.blocks, c.ended), (blocks, 1), "BSKIP {bskip}");
     }
 }
+
+#[test]
+fn look_ahead_queues_function_free_blocks_so_den_stays_low_between_them() {
+    let mut b = Bench::new(cnc(false, 0, 0));
+    b.start_program(vec![
+        block(10, Linear, 1.0, &[], None, None),
+        block(20, Linear, 2.0, &[], None, None),
+        block(30, Linear, 3.0, &[30], None, None),
+    ]);
+    b.run(1, &Plc::default());
+    b.step(&Plc {
+        start: 1,
+        ..Plc::default()
+    });
+    let rows = b.run(4, &Plc::default());
+    // t2..t4: X = 1, 2, 3 without DEN between the blocks (all three queued at t2); t4 DEN and the
+    // M30 code (after motion); t5 MSTB.
+    assert_eq!(
+        rows.iter().map(|r| (r[0], r[3])).collect::<Vec<_>>(),
+        [(0, 0), (0, 0), (0, 1), (1, 1)]
+    );
+    assert_eq!(b.cnc.processes()[0].counters().blocks, 2);
+}
+
+#[test]
+fn an_immediate_function_goes_to_mimm_without_a_handshake() {
+    let mut b = Bench::new(cnc(false, 0, 0));
+    b.start_program(vec![
+        block(10, Linear, 2.0, &[50], None, None),
+        block(20, Aux, 2.0, &[30], None, None),
+    ]);
+    b.run(1, &Plc::default());
+    b.step(&Plc {
+        start: 1,
+        ..Plc::default()
+    });
+    let mut mimm = Vec::new();
+    for _ in 0..7 {
+        let r = b.step(&Plc::default());
+        mimm.push((sig("W3K1").read(&b.image), r[0]));
+    }
+    // M50 (m_type 10): 50H in MIMM while N10 moves (t2: X = 1), no strobe; at t3 N10 ends
+    // (X = 2) and N20, which has none, clears it and writes M30's code; M30's strobe at t4.
+    assert_eq!(
+        mimm,
+        [(0x50, 0), (0, 0), (0, 1), (0, 0), (0, 0), (0, 0), (0, 0)]
+    );
+    assert_eq!(b.cnc.processes()[0].counters().handshakes[0], 1);
+}

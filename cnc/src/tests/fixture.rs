@@ -92,6 +92,7 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("JOGM1", "U13K8"),
         ("JINC", "W16K1"),
         ("BSKIP", "U12K1"),
+        ("MIMM", "W3K1"),
     ])
 }
 
