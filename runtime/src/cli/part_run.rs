@@ -19,6 +19,14 @@ use crate::machine_facts::Facts;
 use crate::sim::kernel::{KernelIo, KernelSetup};
 use crate::sim::part::{Part, load_part, plan_text};
 
+/// The program of another process (`sim.toml [cnc] programs`).
+struct Other {
+    process: u8,
+    part: Part,
+    selected: bool,
+    started: bool,
+}
+
 /// A running part: the shared kernel and what the operator still has to do.
 pub struct PartRun {
     cnc: Arc<Mutex<Cnc>>,
@@ -34,6 +42,7 @@ pub struct PartRun {
     failed: bool,
     program_selected: bool,
     homing_started: bool,
+    others: Vec<Other>,
     trajectory: Option<std::io::BufWriter<std::fs::File>>,
 }
 
@@ -75,6 +84,31 @@ pub fn start(
     let sim_path = machine.dir.join("sim.toml");
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
         .map_err(|e| format!("{}: {e}", sim_path.display()))?;
+    let mut others = Vec::new();
+    for (k, name) in &machine.script.cnc.programs {
+        let process: u8 = k
+            .parse()
+            .ok()
+            .filter(|p| (1..=5).contains(p) && *p != args.process)
+            .ok_or_else(|| {
+                format!(
+                    "{}: [cnc] programs: `{k}` is not a process 1..5 other than --process {}",
+                    sim_path.display(),
+                    args.process
+                )
+            })?;
+        let part = load_part(
+            &machine.dir,
+            std::path::Path::new(name),
+            args.dialect.as_deref(),
+        )?;
+        others.push(Other {
+            process,
+            part,
+            selected: false,
+            started: false,
+        });
+    }
     let part = match &args.program {
         Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref())?),
         None => None,
@@ -100,6 +134,7 @@ pub fn start(
         failed: false,
         program_selected: false,
         homing_started: false,
+        others,
         trajectory: None,
     };
     let mut run = run;
@@ -220,12 +255,43 @@ impl PartRun {
                 }
             }
         }
-        let ended = match &self.part {
-            Some(_) => {
-                self.program_selected && c.process_mut(n).is_ok_and(|p| p.counters().ended >= 1)
+        let mut others_ended = true;
+        for o in &mut self.others {
+            let Ok(p) = c.process_mut(o.process) else {
+                continue;
+            };
+            for (cmd, why) in p.take_rejected() {
+                eprintln!("process {}: {cmd:?} refused: {why}", o.process);
             }
-            None => self.mdi.is_empty() && !self.mdi_running && st.interp == Interp::Idle,
-        };
+            for a in p.alarms().iter().filter(|a| a.stopping) {
+                if !self.alarms.contains(&a.message) {
+                    self.alarms.push(a.message.clone());
+                    self.failed = true;
+                }
+            }
+            let ost = p.state();
+            others_ended &= p.counters().ended >= 1;
+            if !ost.on {
+                continue;
+            }
+            if !o.selected && ost.interp == Interp::Idle {
+                if ost.mode != Mode::Auto {
+                    let _ = c.mode(o.process, Mode::Auto);
+                } else if let Ok(p) = c.process_mut(o.process) {
+                    o.selected = p.load(&o.part.name, o.part.blocks.clone()).is_ok();
+                }
+            } else if o.selected && !o.started && self.started.is_some() {
+                // The operator starts the other programs once the main cycle runs.
+                o.started = c.start(o.process).is_ok();
+            }
+        }
+        let ended = others_ended
+            && match &self.part {
+                Some(_) => {
+                    self.program_selected && c.process_mut(n).is_ok_and(|p| p.counters().ended >= 1)
+                }
+                None => self.mdi.is_empty() && !self.mdi_running && st.interp == Interp::Idle,
+            };
         if ended && self.finished.is_none() {
             self.finished = Some(tick);
         }

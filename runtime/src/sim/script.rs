@@ -73,6 +73,10 @@ pub struct CncSettings {
     /// Every axis counts as referenced at power-on (absolute encoders; no homing cycle needed).
     #[serde(default)]
     pub referenced: bool,
+    /// Programs of the other processes in a part run (process number → program name), selected
+    /// in AUTO and started by the operator alongside `--program`.
+    #[serde(default)]
+    pub programs: std::collections::BTreeMap<String, String>,
 }
 
 impl Default for CncSettings {
@@ -80,6 +84,7 @@ impl Default for CncSettings {
         CncSettings {
             rabi_timeout_ms: default_rabi_timeout(),
             referenced: false,
+            programs: std::collections::BTreeMap::new(),
         }
     }
 }
