@@ -134,7 +134,7 @@ fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
     }
 }
 
-/// The mill runs its PART1: M06 tool change (orient, drawbar, arm), spindle, coolant, a feed hold
+/// The mill runs its PART1 (and process 2 its MAGAZINE program): M06 tool change (orient, drawbar, arm), spindle, coolant, a feed hold
 /// while milling the square, M30; the recording is the golden `mill/traces/part1.jsonl`.
 #[test]
 fn the_mill_runs_part1_with_its_tool_change() {
@@ -158,6 +158,11 @@ fn the_mill_runs_part1_with_its_tool_change() {
     );
     assert!(
         stdout.contains("process 1: 13 blocks; handshakes M 6 S 1 T 1;"),
+        "{stdout}"
+    );
+    // Process 2, the magazine, runs its program (M30) alongside: `sim.toml [cnc] programs`.
+    assert!(
+        stdout.contains("process 2: 1 blocks; handshakes M 1 S 0 T 0;"),
         "{stdout}"
     );
     let golden = std::fs::read_to_string(machine.join("traces/part1.jsonl")).expect("golden");
