@@ -50,7 +50,7 @@ fn overrides_replace_and_extend() {
     )
     .expect("valid override");
     let map = InterfaceMap::builtin().with_overrides(o).expect("no clash");
-    assert_eq!(map.len(), 50);
+    assert_eq!(map.len(), 70);
     assert_eq!(map.signal("MFIN"), Some(sig("U12K0")));
     assert_eq!(map.role(1, "MFIN").map(|s| s.signal), Some(sig("U12K0")));
     let door = map.get("door").expect("DOOR");
