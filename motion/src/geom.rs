@@ -17,8 +17,9 @@ pub fn vector(v: &[f64]) -> Vector {
     out
 }
 
-/// The shape of one segment.
+/// The shape of one segment (kept inline, not boxed: no allocation per piece in the tick path).
 #[derive(Debug, Clone, PartialEq)]
+#[allow(clippy::large_enum_variant)]
 pub enum Shape {
     /// A straight line from `start` along the unit vector `dir`.
     Line {
@@ -236,6 +237,45 @@ impl Seg {
             }
         }
         (lo, hi)
+    }
+}
+
+impl Seg {
+    /// The distance from `p` to the segment (exact for lines and planar circular arcs; for
+    /// helices and spirals the distance to the point at the same angle, an upper bound).
+    pub fn distance(&self, p: &Vector) -> f64 {
+        let ends = (p - self.start).norm().min((p - self.end).norm());
+        match &self.shape {
+            Shape::Line { dir } => {
+                let s = (p - self.start).dot(dir);
+                if s <= 0.0 || s >= self.len {
+                    ends
+                } else {
+                    (p - self.start - dir * s).norm()
+                }
+            }
+            Shape::Arc {
+                center,
+                e1,
+                e2,
+                sweep,
+                ..
+            } => {
+                let d = p - center;
+                let mut psi = d.dot(e2).atan2(d.dot(e1));
+                if psi < 0.0 {
+                    psi += std::f64::consts::TAU;
+                }
+                let mut best = ends;
+                // Every turn of the sweep that contains the angle.
+                let mut a = psi;
+                while a <= *sweep {
+                    best = best.min((p - self.at(a / sweep * self.len)).norm());
+                    a += std::f64::consts::TAU;
+                }
+                best
+            }
+        }
     }
 }
 

@@ -141,7 +141,14 @@ impl Kernel {
         };
         self.check_soft(m.tag, &seg)?;
         let rapid = motion == Motion::Rapid;
-        let (v_hard, dynm) = plan::dynamics(&self.cfg.axes, &seg, rapid, self.law, &self.cfg.acc);
+        let (v_hard, dynm, axis) = plan::dynamics(
+            &self.cfg.axes,
+            &seg,
+            rapid,
+            self.law,
+            &self.cfg.acc,
+            self.cfg.tick_s,
+        );
         let len = seg.len;
         let mut piece = Piece {
             seg,
@@ -151,15 +158,18 @@ impl Kernel {
             feed,
             v_hard,
             dynm,
+            axis,
             v_junction: f64::INFINITY,
             v_end: 0.0,
             len_orig: len,
             tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
             exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
+            corner: None,
         };
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
         }
+        plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
         let keep_to = self.join(&mut piece);
         self.q.push_back(piece);
         self.moves += 1;
@@ -187,13 +197,14 @@ impl Kernel {
         if lines
             && !executing
             && prev.den
-            && let Some(arc) = plan::blend(prev, next, theta)
+            && let Some((arc, corner)) = plan::blend(prev, next, theta)
         {
             prev.den = false;
             prev.v_junction = f64::INFINITY;
-            let (v_hard, dynm) = plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc);
+            let (v_hard, dynm, axis) =
+                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt);
             let len = arc.len;
-            let piece = Piece {
+            let mut piece = Piece {
                 seg: arc,
                 tag: prev.tag,
                 den: true,
@@ -201,12 +212,15 @@ impl Kernel {
                 feed: prev.feed.min(next.feed),
                 v_hard,
                 dynm,
+                axis,
                 v_junction: f64::INFINITY,
                 v_end: 0.0,
                 len_orig: len,
                 tol: prev.tol,
                 exact: false,
+                corner: Some(corner),
             };
+            plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
             self.q.push_back(piece);
             return n - 1;
         }
@@ -294,8 +308,24 @@ impl Kernel {
         let Some(tag) = self.q.front().map(|p| p.tag) else {
             return;
         };
-        if let Some(p) = self.q.iter_mut().find(|p| p.tag == tag && p.den) {
-            p.v_junction = 0.0;
+        let Some(i) = self.q.iter().position(|p| p.tag == tag && p.den) else {
+            return;
+        };
+        // A corner blend not yet entered is undone, so the stop is at the programmed end point.
+        if i >= 1
+            && i + 1 < self.q.len()
+            && let Some(c) = self.q[i].corner
+        {
+            self.q.remove(i);
+            let (prev, next) = (i - 1, i);
+            let d1 = self.q[prev].seg.tangent(true);
+            let d2 = self.q[next].seg.tangent(false);
+            self.q[prev].seg = Seg::line_along(self.q[prev].seg.start, c, d1);
+            self.q[prev].den = true;
+            self.q[next].seg = Seg::line_along(c, self.q[next].seg.end, d2);
+            self.q[prev].v_junction = 0.0;
+        } else {
+            self.q[i].v_junction = 0.0;
         }
         self.stop_after = Some(tag);
         self.replan_all();
@@ -305,6 +335,18 @@ impl Kernel {
     pub fn abort(&mut self) {
         self.abort = true;
         self.replan = self.exec.is_some();
+    }
+
+    /// Debug view of the first queued pieces and the executing profile (diagnostics).
+    pub fn debug_front(&self) -> String {
+        format!(
+            "v {} exec {:?}\n{:#?}",
+            self.v,
+            self.exec
+                .as_ref()
+                .map(|e| (e.t, e.s0, e.prof.duration, e.prof.dist, e.prof.v_end)),
+            self.q.iter().take(3).collect::<Vec<_>>()
+        )
     }
 
     /// Current set point.
@@ -408,6 +450,10 @@ impl Kernel {
             self.pos = front.seg.end;
             self.exec = None;
             self.q.pop_front();
+            if self.q.is_empty() {
+                // The queue ends at rest (its last end speed is 0); drop rounding residue.
+                self.v = 0.0;
+            }
             if den {
                 self.moves -= 1;
                 self.out.finished.push(tag);

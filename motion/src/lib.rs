@@ -37,13 +37,16 @@
 //! once under the linear law; under the S and exponential laws at the next instant of zero
 //! acceleration (inside a cruise or at the boundary of a change), so no acceleration step occurs.
 
+pub mod bound;
 pub mod config;
 pub mod geom;
 pub mod kernel;
+pub mod monitor;
 pub mod moves;
 pub mod plan;
 pub mod profile;
 pub mod ptp;
+pub mod samples;
 
 pub use config::{AccParams, AxisLimits, Config, ConfigError, Law, config_from_axcfil};
 pub use kernel::{Kernel, Tick};

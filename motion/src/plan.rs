@@ -6,7 +6,7 @@ use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
 
 use crate::config::{AccParams, AxisLimits, Law};
-use crate::geom::{Seg, Vector};
+use crate::geom::{Seg, Shape, Vector};
 use crate::moves::{MotionError, Move, Path};
 use crate::profile::Dyn;
 
@@ -15,6 +15,16 @@ pub const CENTRIPETAL_SHARE: f64 = 0.7;
 /// Share of an axis's acceleration (and jerk) reserved for the direction change at an unblended
 /// junction between pieces whose tangents differ slightly.
 pub const KINK_SHARE: f64 = 0.02;
+/// S law: share of an axis's jerk for the path's tangential jerk (the rest covers the steps of
+/// centripetal acceleration where the curvature changes, and the rotation of the acceleration on
+/// arcs).
+pub const JERK_TANGENT_LINE: f64 = 0.68;
+/// S law on arcs: share of an axis's jerk for the tangential jerk.
+pub const JERK_TANGENT_ARC: f64 = 0.4;
+/// S law: share of an axis's jerk × tick for the centripetal-acceleration step at a curvature change.
+pub const JERK_STEP: f64 = 0.3;
+/// S law: share of an axis's jerk for the rotation of the centripetal acceleration (v³κ²).
+pub const JERK_ROTATION: f64 = 0.28;
 /// Turns sharper than this (rad) are not blended: the tool stops at the corner.
 pub const MAX_BLEND_TURN: f64 = PI * (179.0 / 180.0);
 
@@ -46,8 +56,11 @@ pub struct Piece {
     pub feed: f64,
     /// Speed cap from the axis limits and the centripetal acceleration, mm/s.
     pub v_hard: f64,
-    /// Path dynamics.
+    /// Path dynamics (the tangential acceleration follows the cap, see [`retune`]).
     pub dynm: Dyn,
+    /// Per axis: the largest share of the direction, the centripetal share per (mm/s)², and the
+    /// acceleration available (98 % of the limit under the piece's law).
+    pub axis: [Vector; 3],
     /// Speed cap at the end (the junction with the next piece).
     pub v_junction: f64,
     /// End-speed limit from the backward pass.
@@ -58,6 +71,8 @@ pub struct Piece {
     pub tol: f64,
     /// Exact stop requested at its end.
     pub exact: bool,
+    /// For a corner-blend arc: the programmed corner it replaces.
+    pub corner: Option<Vector>,
 }
 
 /// The per-law limits of every axis for feed or rapid moves: (v, a, j) in mm/s, mm/s², mm/s³.
@@ -80,24 +95,37 @@ pub fn dynamics(
     rapid: bool,
     law: Law,
     acc: &AccParams,
-) -> (f64, Dyn) {
+    dt: f64,
+) -> (f64, Dyn, [Vector; 3]) {
     let share = seg.max_share();
     let curv = seg.curvature_share();
+    let kappa = curv.max();
+    let tangent = if kappa > 0.0 {
+        JERK_TANGENT_ARC
+    } else {
+        JERK_TANGENT_LINE
+    };
     let mut v_hard = f64::INFINITY;
     let mut jmin = f64::INFINITY;
     for (i, ax) in axes.iter().enumerate() {
         let (v, a, j) = axis_vaj(ax, rapid, law, acc);
         if share[i] > 0.0 {
             v_hard = v_hard.min(v / share[i]);
-            jmin = jmin.min(j / share[i]);
+            jmin = jmin.min(tangent * j / share[i]);
         }
         if curv[i] > 0.0 {
             v_hard = v_hard.min((CENTRIPETAL_SHARE * a / curv[i]).sqrt());
+            if j.is_finite() {
+                v_hard = v_hard.min((JERK_STEP * j * dt / curv[i]).sqrt());
+                v_hard = v_hard.min((JERK_ROTATION * j / (curv[i] * kappa)).cbrt());
+            }
         }
     }
     let mut amin = f64::INFINITY;
+    let mut avail = Vector::zeros();
     for (i, ax) in axes.iter().enumerate() {
         let (_, a, _) = axis_vaj(ax, rapid, law, acc);
+        avail[i] = (1.0 - KINK_SHARE) * a;
         if share[i] > 0.0 {
             let left = (1.0 - KINK_SHARE) * a - v_hard * v_hard * curv[i];
             amin = amin.min(left / share[i]);
@@ -119,7 +147,39 @@ pub fn dynamics(
         exp_start: acc.min_exp / top,
         exp_end: acc.max_exp / top,
     };
-    (v_hard, d)
+    (v_hard, d, [share, curv, avail])
+}
+
+/// Sets a new arc piece's tangential acceleration to what its speed cap under the current
+/// overrides leaves of every axis's acceleration after the centripetal part, and fixes that cap
+/// as the piece's ceiling (a later override raise speeds up arcs queued after it, not this one).
+pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16) {
+    let [share, curv, avail] = &p.axis;
+    if curv.max() <= 0.0 {
+        return;
+    }
+    let c = cap(p, feed_pct, rapid_pct).min(p.v_hard);
+    // On a planar circular arc an axis sees a_t·t_i + a_n·n_i with t ⟂ n in the plane, so
+    // |a_i| ≤ |(a_t, a_n)|·share_i: the tangential and centripetal parts add as a vector. On
+    // helices and spirals they are added as magnitudes.
+    let planar =
+        matches!(&p.seg.shape, Shape::Arc { r0, r1, lift, .. } if r0 == r1 && lift.norm() == 0.0);
+    let mut a = f64::INFINITY;
+    for i in 0..share.len() {
+        if share[i] > 0.0 {
+            let an = c * c * curv[i];
+            let left = if planar {
+                (avail[i] * avail[i] - an * an).max(0.0).sqrt()
+            } else {
+                avail[i] - an
+            };
+            a = a.min(left / share[i]);
+        }
+    }
+    if a.is_finite() && a > 0.0 && a > p.dynm.a {
+        p.dynm.a = a;
+        p.v_hard = c;
+    }
 }
 
 /// The speed cap of a direction change of `theta` rad within one tick `dt` (no blend).
@@ -192,8 +252,8 @@ pub fn segment(m: &Move, start: &Vector, end: &Vector) -> Result<Option<Seg>, Mo
 }
 
 /// Blends the corner between `prev` (a line, not started) and `next` (a line) with a circular arc
-/// that passes within `tol` of the corner; shortens both lines and returns the arc piece.
-pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<Seg> {
+/// that passes within `tol` of the corner; shortens both lines and returns the arc and the corner.
+pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<(Seg, Vector)> {
     let tol = prev.tol.min(next.tol);
     if tol <= 0.0 || theta <= 1e-9 || theta >= MAX_BLEND_TURN {
         return None;
@@ -202,8 +262,11 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<Seg> {
     let q = (theta / 4.0).sin();
     // Corner-to-arc distance R(1/cos h − 1) = tol, with R = d / tan h.
     let d_tol = tol * h.sin() / (2.0 * q * q);
-    let d = d_tol.min(prev.len_orig / 2.0).min(next.len_orig / 2.0);
-    if d <= 0.0 || d > prev.seg.len || d > next.seg.len {
+    let d = d_tol
+        .min(prev.len_orig / 2.0)
+        .min(next.len_orig / 2.0)
+        .min(prev.seg.len);
+    if d <= 0.0 || d > next.seg.len {
         return None;
     }
     let corner = prev.seg.end;
@@ -218,7 +281,7 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<Seg> {
     let arc = Seg::arc(a, b, center, e1, u1, r, r, theta, Vector::zeros());
     prev.seg = Seg::line_along(prev.seg.start, a, u1);
     next.seg = Seg::line_along(b, next.seg.end, u2);
-    Some(arc)
+    Some((arc, corner))
 }
 
 /// The piece's speed cap under the overrides (percent).

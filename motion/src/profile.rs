@@ -92,7 +92,8 @@ impl Dyn {
 
     /// The lowest speed reachable from `hi` within `len` by decelerating.
     pub fn reach_down(&self, hi: f64, len: f64) -> f64 {
-        if self.change_dist(0.0, hi) <= len {
+        // A relative slack of 1e-9 absorbs the rounding of distances planned to end at rest.
+        if self.change_dist(0.0, hi) <= len * (1.0 + 1e-9) {
             return 0.0;
         }
         if matches!(self.law, Law::Linear) {
@@ -162,10 +163,22 @@ impl Phase {
     }
 }
 
-/// A velocity profile along a stretch of one segment, from time 0.
-#[derive(Debug, Clone, PartialEq, Default)]
+/// The most phases a profile holds (two S changes of 3 phases and a cruise).
+const MAX_PHASES: usize = 8;
+
+const REST: Phase = Phase {
+    t0: 0.0,
+    dur: 0.0,
+    x0: 0.0,
+    v0: 0.0,
+    kind: Kind::Poly { a0: 0.0, j: 0.0 },
+};
+
+/// A velocity profile along a stretch of one segment, from time 0 (fixed size: no allocation).
+#[derive(Debug, Clone, PartialEq)]
 pub struct Profile {
-    phases: Vec<Phase>,
+    phases: [Phase; MAX_PHASES],
+    n: usize,
     /// Total duration, s.
     pub duration: f64,
     /// Distance covered, mm.
@@ -174,11 +187,18 @@ pub struct Profile {
     pub v_end: f64,
 }
 
+impl Default for Profile {
+    fn default() -> Self {
+        Profile::start(0.0)
+    }
+}
+
 impl Profile {
     /// An empty profile at speed `v`.
     fn start(v: f64) -> Profile {
         Profile {
-            phases: Vec::new(),
+            phases: [REST; MAX_PHASES],
+            n: 0,
             duration: 0.0,
             dist: 0.0,
             v_end: v,
@@ -197,7 +217,11 @@ impl Profile {
             kind,
         };
         let (x, v, _) = p.eval(dur);
-        self.phases.push(p);
+        if self.n >= MAX_PHASES {
+            return;
+        }
+        self.phases[self.n] = p;
+        self.n += 1;
         self.duration += dur;
         self.dist = x;
         self.v_end = v.max(0.0);
@@ -315,6 +339,11 @@ impl Profile {
         let lo = v0.max(v1);
         let peak = if f(cap) <= len {
             cap
+        } else if matches!(d.law, Law::Linear) {
+            // (2·vp² − v0² − v1²) / 2a = len.
+            ((2.0 * d.a * len + v0 * v0 + v1 * v1) / 2.0)
+                .sqrt()
+                .clamp(lo, cap)
         } else {
             let (mut a, mut b) = (lo, cap);
             for _ in 0..60 {
@@ -346,8 +375,9 @@ impl Profile {
         if t >= self.duration {
             return (self.dist, self.v_end, 0.0);
         }
-        let i = self.phases.partition_point(|p| p.t0 + p.dur <= t);
-        match self.phases.get(i) {
+        let ph = &self.phases[..self.n];
+        let i = ph.partition_point(|p| p.t0 + p.dur <= t);
+        match ph.get(i) {
             Some(p) => p.eval(t - p.t0),
             None => (self.dist, self.v_end, 0.0),
         }
@@ -359,7 +389,7 @@ impl Profile {
         if matches!(law, Law::Linear) {
             return t;
         }
-        for p in &self.phases {
+        for p in &self.phases[..self.n] {
             let end = p.t0 + p.dur;
             if end <= t {
                 continue;

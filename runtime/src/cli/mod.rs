@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 pub mod build;
 pub mod check;
 pub mod nc;
+pub mod nc_run;
 pub mod part_run;
 pub mod replay;
 pub mod run;

@@ -1,5 +1,6 @@
 //! `ncplc nc`: check partprograms and plan them into canonical blocks.
 //!
+//! `ncplc nc run` (module [`super::nc_run`]) moves the planned blocks through the motion kernel.
 //! `ncplc nc check <machine> <program>` compiles a partprogram (with the machine's macro folder) and
 //! prints diagnostics; `ncplc nc plan <machine> <program> --format json` runs it and writes one JSON
 //! object per canonical block. A program path that does not exist is looked up in `<machine>/nc/`.
@@ -70,6 +71,8 @@ pub enum NcCommand {
         #[arg(long, default_value = "arc")]
         corners: partprogram::radius::Corners,
     },
+    /// Plan a partprogram and run it through the motion kernel in virtual time.
+    Run(super::nc_run::RunArgs),
 }
 
 /// Errors building the machine description.
@@ -242,6 +245,7 @@ fn program_path(machine: &Path, program: &Path) -> PathBuf {
 /// Runs `ncplc nc`.
 pub fn run(args: Args) -> ExitCode {
     let (common, plan_opts, format) = match &args.command {
+        NcCommand::Run(a) => return super::nc_run::run(a),
         NcCommand::Check { common, format } => (common, None, format.clone()),
         NcCommand::Plan {
             common,
@@ -267,58 +271,16 @@ pub fn run(args: Args) -> ExitCode {
             format.clone(),
         ),
     };
-    let path = program_path(&common.machine, &common.program);
-    let text = match std::fs::read(&path) {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
-        Err(e) => {
-            eprintln!("ncplc nc: cannot read {}: {e}", path.display());
-            return ExitCode::from(2);
-        }
-    };
-    let mut spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
-        Ok(s) => s,
-        Err(e) => {
-            eprintln!("ncplc nc: {e}");
-            return ExitCode::from(2);
-        }
-    };
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| format!("nc/{}", n.to_string_lossy()),
-    );
-    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
-    let (prog, diags) = partprogram::compile(&spec, &name, &text);
-    let mut sources = diag::Sources::new();
-    sources.add(name.clone(), text.clone());
-    let mut kor_failed = false;
-    let mut diags = diags;
-    if let Some((kname, ktext, kdiags)) = kor {
-        kor_failed = diag::has_errors(&kdiags);
-        sources.add(kname, ktext);
-        diags.splice(0..0, kdiags);
-    }
-    if let Some(p) = &prog {
-        for f in &p.files {
-            sources.add(f.name.clone(), f.text.clone());
-        }
-    }
-    let print_diags = |diags: &[diag::Diagnostic], json: bool| {
-        if diags.is_empty() {
-            return;
-        }
-        if json {
-            for d in diags {
-                eprintln!("{}", d.to_json_line());
-            }
-        } else {
-            eprint!("{}", diag::render_human(diags, &sources));
-        }
-    };
     let json = format == "json";
-    print_diags(&diags, json);
-    let Some(prog) = prog.filter(|_| !kor_failed) else {
-        return ExitCode::from(1);
+    let compiled = match compile_common(common, json) {
+        Ok(c) => c,
+        Err(code) => return code,
     };
+    let Compiled {
+        name,
+        prog,
+        sources,
+    } = compiled;
     let Some(opts) = plan_opts else {
         if !json {
             println!(
@@ -354,8 +316,82 @@ pub fn run(args: Args) -> ExitCode {
     }
     print!("{out}");
     if let Some(d) = err {
-        print_diags(&[d], json);
+        print_diags(&[d], &sources, json);
         return ExitCode::from(1);
     }
     ExitCode::SUCCESS
+}
+
+/// A compiled partprogram with the sources its diagnostics are rendered from.
+pub struct Compiled {
+    /// The program's name in diagnostics (`nc/NAME`).
+    pub name: String,
+    /// The compiled program.
+    pub prog: partprogram::Program,
+    /// Program, macro and correction-table texts.
+    pub sources: diag::Sources,
+}
+
+/// Prints diagnostics to stderr, as JSON lines or rendered for humans.
+pub fn print_diags(diags: &[diag::Diagnostic], sources: &diag::Sources, json: bool) {
+    if diags.is_empty() {
+        return;
+    }
+    if json {
+        for d in diags {
+            eprintln!("{}", d.to_json_line());
+        }
+    } else {
+        eprint!("{}", diag::render_human(diags, sources));
+    }
+}
+
+/// Reads and compiles the program of `common` for its machine (with the correction table),
+/// printing every diagnostic; the exit code when it cannot be planned (2: unreadable input,
+/// 1: errors).
+pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode> {
+    let path = program_path(&common.machine, &common.program);
+    let text = match std::fs::read(&path) {
+        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        Err(e) => {
+            eprintln!("ncplc nc: cannot read {}: {e}", path.display());
+            return Err(ExitCode::from(2));
+        }
+    };
+    let mut spec = match machine_spec(&common.machine, common.dialect.as_deref(), &text) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("ncplc nc: {e}");
+            return Err(ExitCode::from(2));
+        }
+    };
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| format!("nc/{}", n.to_string_lossy()),
+    );
+    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
+    let (prog, diags) = partprogram::compile(&spec, &name, &text);
+    let mut sources = diag::Sources::new();
+    sources.add(name.clone(), text.clone());
+    let mut kor_failed = false;
+    let mut diags = diags;
+    if let Some((kname, ktext, kdiags)) = kor {
+        kor_failed = diag::has_errors(&kdiags);
+        sources.add(kname, ktext);
+        diags.splice(0..0, kdiags);
+    }
+    if let Some(p) = &prog {
+        for f in &p.files {
+            sources.add(f.name.clone(), f.text.clone());
+        }
+    }
+    print_diags(&diags, &sources, json);
+    match prog.filter(|_| !kor_failed) {
+        Some(prog) => Ok(Compiled {
+            name,
+            prog,
+            sources,
+        }),
+        None => Err(ExitCode::from(1)),
+    }
 }

@@ -1,0 +1,130 @@
+//! Motion kernel benchmarks: virtual-time speed on 100,000 blocks (criterion), and printed
+//! before it, the per-tick cost distribution (push + tick, p50/p99/p99.99/max) on a
+//! 150,000-segment CAM path and the time / lower-bound ratio of the programs.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use criterion::{Criterion, criterion_group};
+use motion::{AccParams, AxisLimits, Config, Kernel, Law, Move, bound::lower_bound, samples};
+
+fn cfg() -> Config {
+    let ax = |name| AxisLimits {
+        name,
+        v_max: 100.0,
+        a_max: 1000.0,
+        j_max: None,
+        v_rapid: 100.0,
+        a_rapid: 1000.0,
+        j_rapid: None,
+        soft_min: None,
+        soft_max: None,
+    };
+    Config {
+        axes: vec![ax('X'), ax('Y'), ax('Z')],
+        tick_s: 0.001,
+        tolerance_mm: 0.01,
+        law: Law::Linear,
+        window: 256,
+        acc: AccParams::default(),
+    }
+}
+
+/// Runs to idle; returns the number of ticks.
+fn run(moves: &[Move], start: [f64; 3]) -> u64 {
+    let mut k = Kernel::new(cfg(), &start).expect("config");
+    let mut next = 0;
+    let mut n = 0;
+    loop {
+        while next < moves.len() && k.space() > 0 {
+            k.push(moves[next].clone()).expect("accepted");
+            next += 1;
+        }
+        if next >= moves.len() && k.is_idle() {
+            return n;
+        }
+        black_box(k.tick());
+        n += 1;
+    }
+}
+
+fn per_tick_cost() {
+    let moves = samples::cam(375);
+    let mut k = Kernel::new(cfg(), &samples::start("cam")).expect("config");
+    let mut h = hdrhistogram::Histogram::<u64>::new(3).expect("histogram");
+    let mut next = 0;
+    loop {
+        let t0 = Instant::now();
+        while next < moves.len() && k.space() > 0 {
+            k.push(moves[next].clone()).expect("accepted");
+            next += 1;
+        }
+        if next >= moves.len() && k.is_idle() {
+            break;
+        }
+        black_box(k.tick());
+        let ns = t0.elapsed().as_nanos() as u64;
+        h.record(ns.max(1)).expect("record");
+    }
+    println!(
+        "per tick (push + tick), {} segments, {} ticks: p50 {:.2} µs, p99 {:.2} µs, p99.99 {:.2} µs, max {:.2} µs",
+        moves.len(),
+        h.len(),
+        h.value_at_quantile(0.5) as f64 / 1e3,
+        h.value_at_quantile(0.99) as f64 / 1e3,
+        h.value_at_quantile(0.9999) as f64 / 1e3,
+        h.max() as f64 / 1e3
+    );
+}
+
+fn ratios() {
+    for (name, moves) in [
+        ("squares", samples::squares()),
+        ("circles", samples::circles()),
+        ("zigzag", samples::zigzag()),
+        ("chord_circle", samples::chord_circle()),
+        ("spiral", samples::spiral()),
+        ("cam", samples::cam(20)),
+    ] {
+        let start = samples::start(name);
+        let t = run(&moves, start) as f64 * 0.001;
+        let lb = lower_bound(&cfg(), &start, &moves);
+        println!(
+            "{name:>12}: {t:8.3} s, lower bound {lb:8.3} s, ratio {:.4}",
+            t / lb
+        );
+    }
+}
+
+fn virtual_time(c: &mut Criterion) {
+    let moves = samples::cam(250);
+    let ticks = run(&moves, samples::start("cam"));
+    println!(
+        "100k blocks: {} blocks, {} ticks = {:.1} s of motion",
+        moves.len(),
+        ticks,
+        ticks as f64 * 0.001
+    );
+    let mut g = c.benchmark_group("kernel");
+    g.sample_size(10);
+    g.bench_function("virtual_time_100k_blocks", |b| {
+        b.iter(|| run(black_box(&moves), samples::start("cam")))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, virtual_time);
+
+fn main() {
+    // Instruction counts: `valgrind --tool=callgrind <bench binary>` with this set runs one
+    // 10,025-segment CAM program and nothing else.
+    if std::env::var_os("MOTION_BENCH_ONE_RUN").is_some() {
+        let moves = samples::cam(25);
+        println!("ticks {}", run(&moves, samples::start("cam")));
+        return;
+    }
+    ratios();
+    per_tick_cost();
+    benches();
+    Criterion::default().configure_from_args().final_summary();
+}

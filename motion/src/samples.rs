@@ -1,0 +1,112 @@
+//! The benchmark programs of issue 10 as moves for a 3-axis machine (X, Y, Z): squares,
+//! circles, a zigzag, a circle of 0.08 mm segments, a spiral pocket and a 3-D CAM-like raster.
+
+use crate::moves::{Move, Path};
+
+fn mv(tag: u64, path: Path, end: [f64; 3], f: f64) -> Move {
+    Move {
+        tag,
+        path,
+        end: end.to_vec(),
+        feed_mm_min: Some(f),
+        exact_stop: false,
+        tolerance: None,
+        thread_pitch: None,
+    }
+}
+
+fn lines(pts: &[[f64; 3]], f: f64) -> Vec<Move> {
+    pts.iter()
+        .enumerate()
+        .map(|(i, p)| mv(i as u64, Path::Line, *p, f))
+        .collect()
+}
+
+/// Three laps of a 50 mm square at F6000.
+pub fn squares() -> Vec<Move> {
+    let sq = [
+        [50.0, 0.0, 0.0],
+        [50.0, 50.0, 0.0],
+        [0.0, 50.0, 0.0],
+        [0.0, 0.0, 0.0],
+    ];
+    let pts: Vec<[f64; 3]> = (0..3).flat_map(|_| sq).collect();
+    lines(&pts, 6000.0)
+}
+
+/// Two full circles of radius 20 mm (start and end at (20, 0)) at F6000.
+pub fn circles() -> Vec<Move> {
+    (0..2)
+        .map(|i| {
+            let path = Path::Arc {
+                plane: (0, 1),
+                center: [0.0, 0.0],
+                cw: false,
+                turns: 0,
+            };
+            mv(i, path, [20.0, 0.0, 0.0], 6000.0)
+        })
+        .collect()
+}
+
+/// 40 zigzag strokes of 10 × 1 mm at F6000.
+pub fn zigzag() -> Vec<Move> {
+    let pts: Vec<[f64; 3]> = (1..=40)
+        .map(|k| [if k % 2 == 1 { 10.0 } else { 0.0 }, k as f64, 0.0])
+        .collect();
+    lines(&pts, 6000.0)
+}
+
+/// A circle of radius 20 mm as 0.08 mm chords (1571 segments) at F6000, from (20, 0).
+pub fn chord_circle() -> Vec<Move> {
+    let n = (2.0 * std::f64::consts::PI * 20.0 / 0.08).round() as usize;
+    let pts: Vec<[f64; 3]> = (1..=n)
+        .map(|k| {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+            [20.0 * a.cos(), 20.0 * a.sin(), 0.0]
+        })
+        .collect();
+    lines(&pts, 6000.0)
+}
+
+/// An Archimedean spiral pocket from r = 4 to r = 24 mm (2 mm per turn) of 0.5 mm chords at
+/// F3000, from (4, 0).
+pub fn spiral() -> Vec<Move> {
+    let mut pts = Vec::new();
+    let mut a: f64 = 0.0;
+    loop {
+        let r = 4.0 + 2.0 * a / (2.0 * std::f64::consts::PI);
+        if r > 24.0 {
+            break;
+        }
+        a += 0.5 / r;
+        let r = 4.0 + 2.0 * a / (2.0 * std::f64::consts::PI);
+        pts.push([r * a.cos(), r * a.sin(), 0.0]);
+    }
+    lines(&pts, 3000.0)
+}
+
+/// A 3-D CAM-like raster over z = 2·sin(x/5)·cos(y/7): rows of 0.1 mm segments along X,
+/// 1 mm apart, at F6000, `rows` rows of 40 mm, from (0, 0, 2).
+pub fn cam(rows: usize) -> Vec<Move> {
+    let z = |x: f64, y: f64| 2.0 * (x / 5.0).sin() * (y / 7.0).cos();
+    let mut pts = Vec::new();
+    for r in 0..rows {
+        let y = r as f64;
+        for k in 0..=400 {
+            let k = if r % 2 == 0 { k } else { 400 - k };
+            let x = k as f64 * 0.1;
+            pts.push([x, y, z(x, y)]);
+        }
+    }
+    lines(&pts, 6000.0)
+}
+
+/// The start point of each sample (where its first move starts).
+pub fn start(name: &str) -> [f64; 3] {
+    match name {
+        "circles" | "chord_circle" => [20.0, 0.0, 0.0],
+        "spiral" => [4.0, 0.0, 0.0],
+        _ => [0.0, 0.0, 0.0],
+    }
+}

@@ -1,0 +1,192 @@
+//! End-to-end tests of `ncplc nc run`: the bundled partprograms through the motion kernel, the
+//! trajectory format, a hand-computed motion time and the soft-limit refusal.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn ncplc(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(repo())
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn one_line_takes_the_trapezoid_time() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("ONELINE");
+    std::fs::write(&prog, "%1 \"one line\nN10 G1 X-100 F6000\nN20 M30\n").expect("write");
+    let out = ncplc(&[
+        "nc",
+        "run",
+        "plc-programs/mill",
+        prog.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    // 100 mm at 100 mm/s with X's MAN acceleration 300 mm/s² × 0.98 (the planner's tangential
+    // share): T = 100/100 + 100/294 = 1.340136 s → 671 ticks of 2 ms.
+    let s = text(&out.stdout);
+    assert!(
+        s.contains("motion time: 1.342 s (671 ticks of 2.0 ms)\n"),
+        "{s}"
+    );
+    assert!(s.contains("X            0.400         0.980"), "{s}");
+}
+
+#[test]
+fn soft_limit_refuses_the_block_before_motion() {
+    let out = ncplc(&["nc", "run", "plc-programs/mill", "CONTOUR"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        text(&out.stderr),
+        "error: nc/CONTOUR (N20): block 0: axis Z would reach 50.0000 mm, beyond its soft limit 0.0000 mm\n"
+    );
+    assert!(out.stdout.is_empty());
+}
+
+#[test]
+fn bundled_programs_run_end_to_end() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    for (machine, prog) in [
+        ("mill", "CONTOUR"),
+        ("mill", "GRID"),
+        ("mill", "O00023.nc"),
+        ("mill", "O00050.nc"),
+        ("lathe", "G84THREAD"),
+        ("lathe", "G84ALTERN"),
+        ("lathe", "G85RUNOUT"),
+        ("lathe", "G86CHAMFER"),
+        ("lathe", "G87TAPER"),
+    ] {
+        for law in ["linear", "s", "exp"] {
+            let traj = dir.path().join(format!("{prog}.{law}.jsonl"));
+            let m = format!("plc-programs/{machine}");
+            let t = traj.to_str().expect("utf-8");
+            let args = [
+                "nc",
+                "run",
+                &m,
+                prog,
+                "--soft-limits",
+                "off",
+                "--law",
+                law,
+                "--trajectory",
+                t,
+            ];
+            let out = ncplc(&args);
+            assert!(out.status.success(), "{prog} {law}: {}", text(&out.stderr));
+            let plan = ncplc(&["nc", "plan", &m, prog]);
+            let blocks: Vec<serde_json::Value> = text(&plan.stdout)
+                .lines()
+                .map(|l| serde_json::from_str(l).expect("json"))
+                .collect();
+            let lines: Vec<serde_json::Value> = std::fs::read_to_string(&traj)
+                .expect("trajectory")
+                .lines()
+                .map(|l| serde_json::from_str(l).expect("one JSON object per line"))
+                .collect();
+            let head = &lines[0];
+            assert_eq!(head["law"], law);
+            assert_eq!(head["tolerance_mm"], 0.01);
+            let axes: Vec<String> = head["axes"]
+                .as_array()
+                .expect("axes")
+                .iter()
+                .map(|a| a.as_str().expect("name").to_string())
+                .collect();
+            // Ticks numbered from 0, starting and ending at rest at the last block's end point.
+            for (i, l) in lines[1..].iter().enumerate() {
+                assert_eq!(l["t"], i as u64);
+            }
+            let first = &lines[1];
+            let last = lines.last().expect("ticks");
+            assert_eq!(first["feed"], 0.0);
+            assert_eq!(last["feed"], 0.0);
+            let end = &blocks.last().expect("blocks")["end"];
+            for (i, a) in axes.iter().enumerate() {
+                assert_eq!(
+                    last["p"][i].as_f64(),
+                    end[a].as_f64(),
+                    "{prog} {law} axis {a}"
+                );
+            }
+            assert_eq!(last["block"].as_u64(), Some(blocks.len() as u64 - 1));
+            // The summary's peaks: no axis beyond its limits, no set point beyond the tolerance.
+            let s = text(&out.stdout);
+            for l in s
+                .lines()
+                .filter(|l| axes.iter().any(|a| l.starts_with(a.as_str())))
+            {
+                let f: Vec<f64> = l
+                    .split_whitespace()
+                    .skip(1)
+                    .filter_map(|x| x.parse().ok())
+                    .collect();
+                assert!(f.iter().all(|x| *x <= 1.0), "{prog} {law}: {l}");
+            }
+            let dev: f64 = s
+                .split("path deviation: max ")
+                .nth(1)
+                .and_then(|x| x.split(' ').next())
+                .and_then(|x| x.parse().ok())
+                .expect("deviation");
+            assert!(dev <= 0.01, "{prog} {law}: deviation {dev}");
+        }
+    }
+}
+
+#[test]
+fn trajectory_header_states_the_limits_used() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let traj = dir.path().join("t.jsonl");
+    let t = traj.to_str().expect("utf-8");
+    let out = ncplc(&[
+        "nc",
+        "run",
+        "plc-programs/mill",
+        "O00050.nc",
+        "--soft-limits",
+        "off",
+        "--law",
+        "s",
+        "--trajectory",
+        t,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let head = std::fs::read_to_string(&traj).expect("trajectory");
+    // X, Y: GM0 15000 mm/min = 250 mm/s, MAN 300 mm/s² × ACC lin_s 1.5 = 450, jerk
+    // 450² / (2 · 0.5 · 250) = 810; Z: 200 mm/s, 300, 300² / (2 · 0.5 · 200) = 450.
+    assert_eq!(
+        head.lines().next(),
+        Some(
+            "{\"tick_s\":0.002,\"axes\":[\"X\",\"Y\",\"Z\"],\"limits\":{\"X\":{\"v\":250.0,\"a\":450.0,\"j\":810.0},\"Y\":{\"v\":250.0,\"a\":450.0,\"j\":810.0},\"Z\":{\"v\":200.0,\"a\":300.0,\"j\":450.0}},\"tolerance_mm\":0.01,\"law\":\"s\"}"
+        )
+    );
+}
+
+#[test]
+fn a_linear_move_without_feed_is_refused_with_its_block() {
+    let out = ncplc(&[
+        "nc",
+        "run",
+        "plc-programs/lathe",
+        "THREAD",
+        "--soft-limits",
+        "off",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(
+        text(&out.stderr),
+        "error: nc/THREAD (N20): block 1: linear move without a feed (F)\n"
+    );
+}
