@@ -12,6 +12,7 @@ pub mod nc_plot;
 pub mod plot;
 pub mod nc_run;
 pub mod output;
+pub mod part_run;
 pub mod replay;
 pub mod run;
 pub mod test;

@@ -75,6 +75,27 @@ pub struct Args {
     /// The web HMI.
     #[command(flatten)]
     pub hmi: super::hmi_args::HmiArgs,
+    /// Run this partprogram on the CNC kernel (a name in <machine>/nc/, or a path), selected in
+    /// AUTO; the cycle starts when the PLC raises START.
+    #[arg(long)]
+    pub program: Option<PathBuf>,
+    /// The process that runs --program.
+    #[arg(long, default_value_t = 1)]
+    pub process: u8,
+    /// Partprogram dialect, overriding the machine's (mefi or fanuc).
+    #[arg(long)]
+    pub dialect: Option<String>,
+    /// Run these blocks in MDI mode (one option per block text), before --program.
+    #[arg(long)]
+    pub mdi: Vec<String>,
+    /// With --program/--mdi: write the set points of every interpolation tick of the process as
+    /// JSON Lines (header, then `{"t":…,"p":[…],"block":…,"feed":…}`; the `ncplc nc run` format).
+    #[arg(long)]
+    pub trajectory: Option<PathBuf>,
+    /// With --program/--mdi: stop when every selected program has ended (M02/M30): exit 0, or
+    /// exit 1 on an alarm that stops it.
+    #[arg(long)]
+    pub until_end: bool,
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -121,8 +142,14 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     }
     // The I/O starts (connects, configures its nodes) on its own thread while the program
     // compiles: the first tick waits for the slower of the two, not for their sum.
+    // A part run (`--program`/`--mdi`) puts the CNC kernel in front of the simulated I/O; it is
+    // started after the compile (it plans the partprogram with the machine's view).
+    let part_run = args.program.is_some() || !args.mdi.is_empty();
     let declared = machine.declared_connectors();
     let (compiled, opened) = std::thread::scope(|s| {
+        if part_run {
+            return (first(&source), None);
+        }
         let io = s.spawn(|| {
             open_io_with(
                 args.io,
@@ -135,7 +162,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             )
         });
         let compiled = first(&source);
-        (compiled, io.join())
+        (compiled, Some(io.join()))
     });
     let loaded = match compiled {
         Ok(l) => l,
@@ -144,9 +171,18 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             return Ok(ExitCode::from(1));
         }
     };
-    let (io, handshakes) = opened
-        .map_err(|_| "error: the I/O start-up thread panicked".to_string())?
-        .map_err(|e| e.to_string())?;
+    let (io, handshakes, mut part) = match opened {
+        None => {
+            let (io, run) = crate::cli::part_run::start(&args, &machine, tick_ms)?;
+            (io, None, Some(run))
+        }
+        Some(opened) => {
+            let (io, counts) = opened
+                .map_err(|_| "error: the I/O start-up thread panicked".to_string())?
+                .map_err(|e| e.to_string())?;
+            (io, counts, None)
+        }
+    };
     let meta = loaded.meta.clone();
     let mut image = Image::new(meta.image_len(), &machine.config.t_init);
     meta.init_image(image.bytes_mut());
@@ -253,6 +289,11 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let mut alarms = 0u64;
     let mut last_alarm = String::new();
     sched.run(args.ticks, |s| {
+        if let Some(p) = part.as_mut()
+            && !p.each_tick(s.tick_count(), args.until_end)
+        {
+            return false;
+        }
         for ev in s.take_events() {
             if let Some(h) = &mut hmi {
                 h.on_event(&ev);
@@ -335,6 +376,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         }
         if let Some(h) = &handshakes {
             print!("{}", h.summary());
+        }
+    }
+    if let Some(p) = part.as_mut() {
+        print!("{}", p.summary(tick_ms));
+        if args.until_end {
+            return Ok(p.exit_code());
         }
     }
     Ok(if sched.tripped() {

@@ -27,6 +27,8 @@
 //! reset clears every process's strobes. Processes are stepped in order, process 1 first, and
 //! everything happens at tick numbers, so `run --virtual-time --record` gives reproducible traces.
 
+pub mod kernel;
+pub mod part;
 mod process;
 mod script;
 mod signals;
@@ -37,7 +39,7 @@ use packets::{IoAlarm, PacketIo, Signal};
 
 pub use process::HandshakeCounts;
 use process::ProcessSim;
-pub use script::{At, Follow, Script, SimError};
+pub use script::{At, AxisPlace, CncSettings, Follow, PartScript, Script, SimError, SpindleWiring};
 pub use signals::{ChannelSignals, CncSignals, ProcessSignals};
 
 struct FollowRule {

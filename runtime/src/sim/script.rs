@@ -23,6 +23,87 @@ pub struct Script {
     /// Feedback rules.
     #[serde(default)]
     pub follow: Vec<Follow>,
+    /// The CNC kernel's settings (used when `ncplc run --program` runs a part).
+    #[serde(default)]
+    pub cnc: CncSettings,
+    /// The simulated spindle drive's wiring (kernel runs).
+    #[serde(default)]
+    pub spindle: SpindleWiring,
+    /// `[[axis]]`: where the simulated machine's axes stand at power-on and their home switches.
+    #[serde(default)]
+    pub axis: Vec<AxisPlace>,
+    /// `[part]`: the operator and machine script of a part run (`ncplc run --program`), used
+    /// instead of the top-level `at`/`follow` (whose strobes are the scripted CNC's).
+    #[serde(default)]
+    pub part: Option<PartScript>,
+}
+
+/// `[[axis]]`: one axis of the simulated machine (positions on the machine's own scale, mm).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisPlace {
+    /// Axis letter of process 1 (`X`).
+    pub name: char,
+    /// Position at power-on (the controller counts from 0 until homed).
+    #[serde(default)]
+    pub start: f64,
+    /// Edge of the home switch (pressed beyond it in the MCZ search direction).
+    pub home_switch: Option<f64>,
+}
+
+/// `[part]`: `[[part.at]]` and `[[part.follow]]` for part runs.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartScript {
+    /// Scheduled inputs (no m, s or t: the program issues them).
+    #[serde(default)]
+    pub at: Vec<At>,
+    /// Feedback rules.
+    #[serde(default)]
+    pub follow: Vec<Follow>,
+}
+
+/// `[cnc]`: settings of the kernel in a part run.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CncSettings {
+    /// A block waits this long for a missing axis enable (RABI) before the alarm (ms; 0: never).
+    #[serde(default = "default_rabi_timeout")]
+    pub rabi_timeout_ms: u64,
+    /// Every axis counts as referenced at power-on (absolute encoders; no homing cycle needed).
+    #[serde(default)]
+    pub referenced: bool,
+    /// Programs of the other processes in a part run (process number → program name), selected
+    /// in AUTO and started by the operator alongside `--program`.
+    #[serde(default)]
+    pub programs: std::collections::BTreeMap<String, String>,
+}
+
+impl Default for CncSettings {
+    fn default() -> Self {
+        CncSettings {
+            rabi_timeout_ms: default_rabi_timeout(),
+            referenced: false,
+            programs: std::collections::BTreeMap::new(),
+        }
+    }
+}
+
+fn default_rabi_timeout() -> u64 {
+    5_000
+}
+
+/// `[spindle]`: which packet-A signals the simulated spindle drive uses.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpindleWiring {
+    /// Input set while the spindle turns at its reference.
+    pub at_speed: Option<String>,
+    /// Input set while the spindle stands still.
+    pub stopped: Option<String>,
+    /// Contactor outputs: the spindle turns only while one of them is 1.
+    #[serde(default)]
+    pub run: Vec<String>,
 }
 
 fn default_timeout() -> u64 {

@@ -1,0 +1,189 @@
+//! What the kernel takes from the characterization for one process: its coordinated axes with the
+//! drive constants the plant and the following-error check need (GMxx KV, SRV, MCZ), its spindle
+//! (GMxx, TSM, POM), its M-function declarations (IOCFIL section 2) and GPS.
+
+use std::collections::BTreeMap;
+
+use characterization::axcfil::{Axcfil, Axis};
+use characterization::iocfil::{Iocfil, Sequencing};
+use packets::Signal;
+use partprogram::MTiming;
+
+/// One coordinated axis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisConfig {
+    /// Address letter.
+    pub name: char,
+    /// Position-loop gain KV (1/s) of GM0 (20 when not given).
+    pub kv: f64,
+    /// SRV: allowed following error at rest (mm; 0 = unchecked).
+    pub srv_standby: f64,
+    /// SRV: allowed following error while moving without feed-forward (mm; 0 = unchecked).
+    pub srv_moving: f64,
+    /// The axis has an MCZ homing cycle (else it counts as referenced at power-on).
+    pub needs_homing: bool,
+    /// MFC limit-switch inputs (+, −).
+    pub limit_inputs: (Option<Signal>, Option<Signal>),
+    /// Soft limits of LO1 (−, +) in mm.
+    pub soft: (Option<f64>, Option<f64>),
+    /// Jog speed (MAN max_man_speed, mm/min; 1000 when not given).
+    pub jog_speed: f64,
+    /// The MCZ homing cycle, when the axis has one.
+    pub home: Option<HomeConfig>,
+}
+
+/// MCZ: the homing cycle of an axis.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HomeConfig {
+    /// The home switch input (high at rest, low while actuated).
+    pub input: Option<Signal>,
+    /// Search in the negative direction (MCZ direction 1).
+    pub negative: bool,
+    /// Search speed of stages 2 and 3 (mm/min).
+    pub speed: f64,
+    /// Distance between encoder reference marks: PAS mechanical pitch (mm).
+    pub mark_pitch: f64,
+}
+
+/// The spindle of a process.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpindleConfig {
+    /// Address letter.
+    pub name: char,
+    /// Top speed of range 1 (rev/min).
+    pub vmax: f64,
+    /// Acceleration (rev/min per s) from TSM: 2·Vmax reversed in `max_inver_time`.
+    pub accel: f64,
+    /// POM max_deviation_speed (fraction; at speed within it).
+    pub max_deviation: f64,
+    /// POM input_speed: 1 when at the commanded speed.
+    pub at_speed_signal: Option<Signal>,
+    /// GMxx limit_speed (rev/min): below it the spindle counts as stopped.
+    pub limit_speed: f64,
+    /// GMxx input_speed_limit: 1 when stopped.
+    pub stopped_signal: Option<Signal>,
+}
+
+/// One process.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProcessConfig {
+    /// Process number 1..5.
+    pub number: u8,
+    /// Coordinated axes in process order.
+    pub axes: Vec<AxisConfig>,
+    /// The spindle, when the process has one.
+    pub spindle: Option<SpindleConfig>,
+    /// Declared M functions.
+    pub m_timing: BTreeMap<u16, MTiming>,
+    /// GPS = 1: S, T and the first M in parallel.
+    pub parallel: bool,
+    /// Interpolation tick in seconds.
+    pub int_tick_s: f64,
+}
+
+fn axis_config(a: &Axis) -> AxisConfig {
+    let gm0 = a.gm.iter().find(|g| g.range == 0);
+    let srv = a.srv.unwrap_or([None; 3]);
+    AxisConfig {
+        name: a.name,
+        kv: gm0.and_then(|g| g.kv).filter(|k| *k > 0.0).unwrap_or(20.0),
+        srv_standby: srv[0].unwrap_or(0.0),
+        srv_moving: srv[2].or(srv[1]).unwrap_or(0.0),
+        needs_homing: a.mcz.is_some(),
+        limit_inputs: a.mfc.unwrap_or((None, None)),
+        soft: a
+            .lo
+            .iter()
+            .find(|z| z.number == 1)
+            .map_or((None, None), |z| (z.neg, z.pos)),
+        jog_speed: a
+            .man
+            .and_then(|m| m.a)
+            .filter(|v| *v > 0.0)
+            .unwrap_or(1000.0),
+        home: a.mcz.as_ref().map(|m| HomeConfig {
+            input: m.zero_input,
+            negative: m.negative,
+            speed: m.speed.filter(|v| *v > 0.0).unwrap_or(200.0),
+            mark_pitch: a
+                .pas
+                .as_ref()
+                .map(|p| p.mec_pitch)
+                .filter(|v| *v > 0.0)
+                .unwrap_or(5.0),
+        }),
+    }
+}
+
+fn spindle_config(a: &Axis) -> SpindleConfig {
+    let gm1 = a.gm.iter().find(|g| g.range == 1).or(a.gm.first());
+    let vmax = gm1.and_then(|g| g.vmax).unwrap_or(3000.0);
+    let inver = a.tsm.and_then(|t| t.a).filter(|t| *t > 0.0).unwrap_or(2.0);
+    SpindleConfig {
+        name: a.name,
+        vmax,
+        accel: 2.0 * vmax / inver,
+        max_deviation: a.pom.as_ref().and_then(|p| p.max_deviation).unwrap_or(0.1),
+        at_speed_signal: a.pom.as_ref().and_then(|p| p.input_speed),
+        limit_speed: gm1
+            .and_then(|g| g.limit_speed)
+            .or(a.pom.as_ref().and_then(|p| p.limit_speed))
+            .unwrap_or(20.0),
+        stopped_signal: gm1.and_then(|g| g.input_speed_limit),
+    }
+}
+
+impl ProcessConfig {
+    /// Every process of the machine.
+    pub fn all(axcfil: &Axcfil, iocfil: Option<&Iocfil>) -> Vec<ProcessConfig> {
+        axcfil
+            .processes
+            .iter()
+            .map(|p| {
+                let io = iocfil.and_then(|f| f.process(p.number));
+                let int_ticks = p.interpolators.first().map_or(1, |i| i.int_tick.max(1));
+                ProcessConfig {
+                    number: p.number.min(5) as u8,
+                    axes: p
+                        .axes
+                        .iter()
+                        .filter(|a| {
+                            let t = a.axis_type();
+                            !t.spindle() && t.coordinate
+                        })
+                        .map(axis_config)
+                        .collect(),
+                    spindle: p
+                        .axes
+                        .iter()
+                        .find(|a| a.axis_type().spindle())
+                        .map(spindle_config),
+                    m_timing: io
+                        .map(|io| {
+                            io.m_functions
+                                .iter()
+                                .map(|f| {
+                                    (
+                                        u16::from(f.number),
+                                        MTiming {
+                                            m_type: f.m_type,
+                                            m_request: f.m_request,
+                                            class: f.class,
+                                        },
+                                    )
+                                })
+                                .collect()
+                        })
+                        .unwrap_or_default(),
+                    parallel: io.is_some_and(|io| io.sequencing() == Sequencing::Parallel),
+                    int_tick_s: f64::from(int_ticks) / 1000.0,
+                }
+            })
+            .collect()
+    }
+
+    /// The axis letters in process order.
+    pub fn axis_names(&self) -> Vec<char> {
+        self.axes.iter().map(|a| a.name).collect()
+    }
+}

@@ -1,0 +1,164 @@
+//! The CNC kernel: one [`Process`] per AXCFIL process with its interpolator, M/S/T handshake
+//! channels, mode and state, the block executor that runs canonical blocks through the PLC, and
+//! the simulated machine around it ([`plant`]).
+//!
+//! [`Cnc::step`] is called once per logic tick, after the scan has published: it reads the
+//! PLC→CNC signals of the published outputs, advances every process (process 1 first) by the
+//! interpolation ticks that fit the logic tick, and writes the CNC→PLC signals the next scan
+//! reads. Machine-wide first: ESTOP (active low; read from the second tick on, when the logic has
+//! published once) switches every process off with an alarm; a reset pulses RESET for one tick.
+//!
+//! Read in this order: [`state`] (the rule table), [`signals`], [`config`], [`process`],
+//! [`exec`], [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
+
+pub mod config;
+pub mod exec;
+pub mod handshake;
+pub mod homing;
+pub mod interp;
+pub mod manual;
+pub mod motion_link;
+pub mod plant;
+pub mod process;
+pub mod signals;
+pub mod state;
+pub mod status;
+
+use packets::Signal;
+use partprogram::Canon;
+
+pub use config::ProcessConfig;
+pub use process::{Alarm, Counters, Process, Timing};
+pub use signals::{MachineSignals, ProcessSignals};
+pub use state::{Command, Interp, Mode, Reject};
+pub use status::ProcessStatus;
+
+/// Turns MDI text into canonical blocks for a process (the machine's partprogram compiler).
+pub type MdiCompiler = Box<dyn Fn(u8, &str) -> Result<Vec<Canon>, String> + Send>;
+
+/// The kernel: every process of the machine.
+pub struct Cnc {
+    processes: Vec<Process>,
+    machine: MachineSignals,
+    mdi: Option<MdiCompiler>,
+}
+
+/// Why an operator command could not be given.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum CommandError {
+    /// No such process.
+    #[error("no process {0}")]
+    NoProcess(u8),
+    /// The state refuses it.
+    #[error("process {0}: {1}")]
+    Rejected(u8, Reject),
+    /// MDI text that does not compile, or no compiler.
+    #[error("MDI: {0}")]
+    Mdi(String),
+}
+
+impl Cnc {
+    /// A kernel over `processes` (process 1 first) with the machine-wide signals.
+    pub fn new(processes: Vec<Process>, machine: MachineSignals) -> Cnc {
+        Cnc {
+            processes,
+            machine,
+            mdi: None,
+        }
+    }
+
+    /// Sets the compiler of MDI text.
+    pub fn set_mdi_compiler(&mut self, f: MdiCompiler) {
+        self.mdi = Some(f);
+    }
+
+    /// One logic tick: `out` are the PLC's last published outputs, `image` the packets the next
+    /// scan reads.
+    pub fn step(&mut self, tick: u64, out: &[u8], image: &mut [u8]) {
+        let estop_ok = tick > 0 && self.machine.estop.is_none_or(|s| s.read(out) == 1);
+        let mut reset = false;
+        for p in &mut self.processes {
+            p.set_power(estop_ok);
+            p.step(tick, out, image);
+            reset |= std::mem::take(&mut p.reset_pulse);
+        }
+        if let Some(r) = self.machine.reset {
+            r.write(image, u8::from(reset));
+        }
+    }
+
+    /// The processes, process 1 first.
+    pub fn processes(&self) -> &[Process] {
+        &self.processes
+    }
+
+    /// Process `n` for changes.
+    pub fn process_mut(&mut self, n: u8) -> Result<&mut Process, CommandError> {
+        self.processes
+            .iter_mut()
+            .find(|p| p.number() == n)
+            .ok_or(CommandError::NoProcess(n))
+    }
+
+    fn check(&mut self, n: u8, c: Command) -> Result<&mut Process, CommandError> {
+        let p = self.process_mut(n)?;
+        state::decide(&p.state(), c).map_err(|r| CommandError::Rejected(n, r))?;
+        Ok(p)
+    }
+
+    /// Operator: cycle start of process `n`.
+    pub fn start(&mut self, n: u8) -> Result<(), CommandError> {
+        self.check(n, Command::Start)?.command(Command::Start);
+        Ok(())
+    }
+
+    /// Operator: feed hold of process `n` (START resumes).
+    pub fn hold(&mut self, n: u8) -> Result<(), CommandError> {
+        self.check(n, Command::Hold)?.command(Command::Hold);
+        Ok(())
+    }
+
+    /// Operator: reset of every process.
+    pub fn reset(&mut self) {
+        for p in &mut self.processes {
+            p.command(Command::Reset);
+        }
+    }
+
+    /// Operator: selects mode `m` of process `n`.
+    pub fn mode(&mut self, n: u8, m: Mode) -> Result<(), CommandError> {
+        self.check(n, Command::SetMode(m))?
+            .command(Command::SetMode(m));
+        Ok(())
+    }
+
+    /// Operator: runs MDI text in process `n` (MDI mode, interpreter idle).
+    pub fn mdi(&mut self, n: u8, text: &str) -> Result<(), CommandError> {
+        let blocks = match &self.mdi {
+            Some(f) => f(n, text).map_err(CommandError::Mdi)?,
+            None => return Err(CommandError::Mdi("no MDI compiler".into())),
+        };
+        let p = self.check(n, Command::Mdi)?;
+        p.load("MDI", blocks)
+            .map_err(|r| CommandError::Rejected(n, r))?;
+        p.command(Command::Start);
+        Ok(())
+    }
+
+    /// The status of every process.
+    pub fn status(&self) -> Vec<ProcessStatus> {
+        self.processes.iter().map(Process::status).collect()
+    }
+
+    /// Every CNC→PLC signal the kernel writes (a sim.toml may not set these).
+    pub fn written_signals(&self) -> Vec<Signal> {
+        let mut v: Vec<Signal> = self.machine.reset.into_iter().collect();
+        for p in &self.processes {
+            v.extend(p.sig.written());
+        }
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,133 @@
+//! The `motion` crate's kernel as the process's [`Interpolator`]: its configuration from AXCFIL,
+//! canonical blocks turned into moves in the process's axis order.
+
+use partprogram::Canon;
+
+use crate::config::ProcessConfig;
+use crate::interp::{Interpolator, TickOut};
+
+/// The motion kernel of one process and its axis letters (Config order).
+pub struct MotionKernel {
+    kernel: motion::Kernel,
+    axes: Vec<char>,
+    limits: Vec<(Option<f64>, Option<f64>)>,
+}
+
+impl MotionKernel {
+    /// The kernel of process `cfg.number` configured from AXCFIL, at rest at `start`; its axes must
+    /// be the process's coordinated axes in the same order.
+    pub fn new(
+        axcfil: &characterization::axcfil::Axcfil,
+        cfg: &ProcessConfig,
+        start: &[f64],
+    ) -> Result<MotionKernel, String> {
+        let mc = motion::config_from_axcfil(axcfil, u32::from(cfg.number))
+            .map_err(|e| format!("motion configuration: {e}"))?;
+        let axes = mc.axis_names();
+        if axes != cfg.axis_names() {
+            return Err(format!(
+                "the motion kernel interpolates {:?}, the process has {:?}",
+                axes,
+                cfg.axis_names()
+            ));
+        }
+        let limits = mc.axes.iter().map(|a| (a.soft_min, a.soft_max)).collect();
+        let kernel = motion::Kernel::new(mc, start).map_err(|e| format!("motion: {e}"))?;
+        Ok(MotionKernel {
+            kernel,
+            axes,
+            limits,
+        })
+    }
+}
+
+impl Interpolator for MotionKernel {
+    fn push(&mut self, tag: u64, block: &Canon) -> Result<(), String> {
+        let mut b = block.clone();
+        b.end.retain(|(a, _)| self.axes.contains(a));
+        let m = motion::Move::from_canon(tag, &b, &self.axes).map_err(|e| e.to_string())?;
+        self.kernel.push(m).map_err(|e| e.to_string())
+    }
+    fn space(&self) -> usize {
+        self.kernel.space()
+    }
+    fn set_feed_override(&mut self, percent: u16) {
+        self.kernel.set_feed_override(percent);
+    }
+    fn set_rapid_override(&mut self, percent: u16) {
+        self.kernel.set_rapid_override(percent);
+    }
+    fn set_hold(&mut self, on: bool) {
+        self.kernel.set_hold(on);
+    }
+    fn set_spindle_rev_s(&mut self, rev_s: f64) {
+        self.kernel.set_spindle_rev_s(rev_s);
+    }
+    fn abort(&mut self) {
+        self.kernel.abort();
+    }
+    fn tick(&mut self, out: &mut TickOut) {
+        let t = self.kernel.tick();
+        out.finished.extend_from_slice(&t.finished);
+        out.held = t.held;
+        out.feed_mm_min = t.feed_mm_min;
+        out.tag = t.tag;
+    }
+    fn position(&self) -> &[f64] {
+        self.kernel.position()
+    }
+    fn is_idle(&self) -> bool {
+        self.kernel.is_idle()
+    }
+    fn set_soft_limits(&mut self, on: bool) -> Result<(), String> {
+        let mut cfg = self.kernel.config().clone();
+        for (a, (lo, hi)) in cfg.axes.iter_mut().zip(&self.limits) {
+            (a.soft_min, a.soft_max) = if on { (*lo, *hi) } else { (None, None) };
+        }
+        let pos = self.kernel.position().to_vec();
+        self.kernel = motion::Kernel::new(cfg, &pos).map_err(|e| format!("motion: {e}"))?;
+        Ok(())
+    }
+    fn set_law(&mut self, code: u8) {
+        let law = match code {
+            1 => motion::Law::SCurve,
+            2 => motion::Law::Exponential,
+            _ => motion::Law::Linear,
+        };
+        if self.kernel.law() != law {
+            self.kernel.set_law(law);
+        }
+    }
+    fn trajectory_header(&self) -> Option<String> {
+        let c = self.kernel.config();
+        let num = |v: f64| partprogram::canon::num(v);
+        let opt = |v: Option<f64>| v.map_or("null".to_string(), num);
+        let limits: Vec<String> = c
+            .axes
+            .iter()
+            .map(|a| {
+                format!(
+                    "\"{}\":{{\"v\":{},\"a\":{},\"j\":{}}}",
+                    a.name,
+                    num(a.v_max),
+                    num(a.a_max),
+                    opt(a.j_max)
+                )
+            })
+            .collect();
+        let axes: Vec<String> = self.axes.iter().map(|a| format!("\"{a}\"")).collect();
+        Some(format!(
+            "{{\"tick_s\":{},\"axes\":[{}],\"limits\":{{{}}},\"tolerance_mm\":{},\"law\":\"{}\"}}",
+            num(c.tick_s),
+            axes.join(","),
+            limits.join(","),
+            num(c.tolerance_mm),
+            c.law.name()
+        ))
+    }
+    fn set_position(&mut self, pos: &[f64]) -> Result<(), String> {
+        let cfg = self.kernel.config().clone();
+        self.kernel = motion::Kernel::new(cfg, pos).map_err(|e| format!("motion: {e}"))?;
+        Ok(())
+    }
+}

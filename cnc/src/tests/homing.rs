@@ -1,0 +1,108 @@
+//! The MCZ homing cycle on the fixture's X (1 mm per tick): switch edge at 7.5 on the machine's
+//! scale, + search, reference marks every 5 mm.
+
+use super::fixture::{Bench, Plc, cnc, sig};
+use crate::config::HomeConfig;
+use crate::state::Interp;
+use crate::{Command, Mode};
+
+fn homing_bench(start: f64) -> Bench {
+    let mut c = cnc(false, 0, 0);
+    let p = c.process_mut(1).expect("p1");
+    let mut cfg = p.cfg.clone();
+    cfg.axes[0].needs_homing = true;
+    cfg.axes[0].home = Some(HomeConfig {
+        input: Some(sig("I0A8")),
+        negative: false,
+        speed: 200.0,
+        mark_pitch: 5.0,
+    });
+    p.homed = false;
+    p.homed_axes = vec![false];
+    p.cfg = cfg;
+    p.place_axis(0, start, Some(7.5));
+    p.command(Command::SetMode(Mode::Home));
+    let mut b = Bench::new(c);
+    b.run(1, &Plc::default());
+    b.step(&Plc {
+        start: 1,
+        ..Plc::default()
+    });
+    b
+}
+
+fn watch(b: &mut Bench, n: usize) -> Vec<(f64, u8)> {
+    (0..n)
+        .map(|_| {
+            b.step(&Plc::default());
+            (
+                b.cnc.processes()[0].set_points()[0],
+                sig("I0A8").read(&b.image),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn homing_finds_the_switch_leaves_it_and_stops_on_the_mark() {
+    let mut b = homing_bench(2.0);
+    assert_eq!(b.cnc.process_mut(1).expect("p1").state().mode, Mode::Home);
+    let seen = watch(&mut b, 13);
+    assert_eq!(
+        seen,
+        vec![
+            (0.0, 1), // t2 START: stage 1 towards +
+            (1.0, 1),
+            (2.0, 1),
+            (3.0, 1),
+            (4.0, 1),
+            (5.0, 1),
+            (6.0, 0), // t8 machine 8 ≥ 7.5: switch pressed, stop
+            (6.0, 0), // t9 reverse
+            (5.0, 1), // t10 machine 7: left the switch; next mark at 5
+            (4.0, 1),
+            (3.0, 1), // t12 machine 5: the mark
+            (0.0, 1), // t13 the mark is coordinate 0
+            (0.0, 1), // t14 every axis homed
+        ]
+    );
+    let p = &b.cnc.processes()[0];
+    assert!(p.state().homed);
+    assert_eq!(p.state().interp, Interp::Idle);
+    assert_eq!(p.drives[0].machine_position(), 5.0);
+}
+
+#[test]
+fn homing_with_the_switch_already_pressed_skips_stage_one() {
+    let mut b = homing_bench(9.0);
+    let seen = watch(&mut b, 7);
+    assert_eq!(
+        seen,
+        vec![
+            (0.0, 0),  // t2 pressed at start: reverse at once
+            (-1.0, 0), // machine 8
+            (-2.0, 1), // machine 7: left; mark at 5
+            (-3.0, 1),
+            (-4.0, 1), // machine 5: the mark
+            (0.0, 1),
+            (0.0, 1),
+        ]
+    );
+    assert!(b.cnc.processes()[0].state().homed);
+}
+
+#[test]
+fn auto_is_refused_until_homed() {
+    let mut b = homing_bench(2.0);
+    let p = b.cnc.process_mut(1).expect("p1");
+    assert_eq!(
+        crate::state::decide(&p.state(), Command::SetMode(Mode::Auto)),
+        Err(crate::Reject::NotHomed)
+    );
+    b.run(14, &Plc::default());
+    let p = b.cnc.process_mut(1).expect("p1");
+    assert_eq!(
+        crate::state::decide(&p.state(), Command::SetMode(Mode::Auto)),
+        Ok(())
+    );
+}

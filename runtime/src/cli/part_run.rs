@@ -1,0 +1,363 @@
+//! The part-run half of `ncplc run` (`--program`, `--mdi`, `--until-end`): builds the CNC kernel
+//! behind the simulated I/O, plays the operator (MDI blocks first, then the program selected in
+//! AUTO; the cycle itself starts when the PLC raises START), watches for the end, and prints the
+//! summary (cycle time, blocks, M/S/T handshakes with their FIN wait, alarms, largest following
+//! error).
+
+use std::collections::VecDeque;
+use std::process::ExitCode;
+use std::sync::{Arc, Mutex, PoisonError};
+
+use cnc::interp::Interpolator;
+use cnc::{Cnc, Interp, Mode, ProcessConfig};
+use packets::PacketIo;
+
+use super::run::Args;
+use crate::io::IoKind;
+use crate::machine::Machine;
+use crate::machine_facts::Facts;
+use crate::sim::kernel::{KernelIo, KernelSetup};
+use crate::sim::part::{Part, load_part, plan_text};
+
+/// The program of another process (`sim.toml [cnc] programs`).
+struct Other {
+    process: u8,
+    part: Part,
+    selected: bool,
+    started: bool,
+}
+
+/// A running part: the shared kernel and what the operator still has to do.
+pub struct PartRun {
+    cnc: Arc<Mutex<Cnc>>,
+    process: u8,
+    part: Option<Part>,
+    mdi: VecDeque<String>,
+    mdi_running: bool,
+    machine: std::path::PathBuf,
+    dialect: Option<String>,
+    started: Option<u64>,
+    finished: Option<u64>,
+    alarms: Vec<String>,
+    failed: bool,
+    program_selected: bool,
+    homing_started: bool,
+    others: Vec<Other>,
+    trajectory: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+/// The interpolator of a process: the `motion` crate's kernel (none for a process without
+/// coordinated axes).
+pub fn make_interp(
+    axcfil: &characterization::axcfil::Axcfil,
+    cfg: &ProcessConfig,
+    start: &[f64],
+) -> Result<Box<dyn Interpolator>, String> {
+    if cfg.axes.is_empty() {
+        return Ok(Box::new(cnc::interp::NoMotion));
+    }
+    Ok(Box::new(cnc::motion_link::MotionKernel::new(
+        axcfil, cfg, start,
+    )?))
+}
+
+/// Builds the kernel I/O for `args` and the part run that drives it.
+pub fn start(
+    args: &Args,
+    machine: &Machine,
+    tick_ms: u32,
+) -> Result<(Box<dyn PacketIo>, PartRun), String> {
+    if args.io != IoKind::Sim {
+        return Err("error: --program and --mdi run on the simulated machine (--io sim)".into());
+    }
+    let facts = Facts::load(&machine.dir).map_err(|e| e.to_string())?;
+    let axcfil = &facts.machine.axcfil;
+    let interp = |cfg: &ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
+    let setup = KernelSetup {
+        axcfil: &facts.machine.axcfil,
+        iocfil: facts.machine.iocfil.as_ref(),
+        interface: &machine.interface,
+        a_inputs: &machine.config.a_inputs,
+        tick_ms,
+        make_interp: &interp,
+    };
+    let sim_path = machine.dir.join("sim.toml");
+    let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
+        .map_err(|e| format!("{}: {e}", sim_path.display()))?;
+    let mut others = Vec::new();
+    for (k, name) in &machine.script.cnc.programs {
+        let process: u8 = k
+            .parse()
+            .ok()
+            .filter(|p| (1..=5).contains(p) && *p != args.process)
+            .ok_or_else(|| {
+                format!(
+                    "{}: [cnc] programs: `{k}` is not a process 1..5 other than --process {}",
+                    sim_path.display(),
+                    args.process
+                )
+            })?;
+        let part = load_part(
+            &machine.dir,
+            std::path::Path::new(name),
+            args.dialect.as_deref(),
+        )?;
+        others.push(Other {
+            process,
+            part,
+            selected: false,
+            started: false,
+        });
+    }
+    let part = match &args.program {
+        Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref())?),
+        None => None,
+    };
+    let run = PartRun {
+        cnc,
+        process: args.process,
+        part,
+        // The blocks run as one MDI program: planned together, they share their modal state (a
+        // program is planned from the machine zero, so one text keeps later blocks' unnamed axes
+        // where the earlier blocks left them).
+        mdi: if args.mdi.is_empty() {
+            VecDeque::new()
+        } else {
+            VecDeque::from([args.mdi.join("\n")])
+        },
+        mdi_running: false,
+        machine: machine.dir.clone(),
+        dialect: args.dialect.clone(),
+        started: None,
+        finished: None,
+        alarms: Vec::new(),
+        failed: false,
+        program_selected: false,
+        homing_started: false,
+        others,
+        trajectory: None,
+    };
+    let mut run = run;
+    if let Some(path) = &args.trajectory {
+        use std::io::Write as _;
+        let header = run
+            .lock()
+            .process_mut(args.process)
+            .ok()
+            .and_then(|p| p.record_trajectory())
+            .ok_or_else(|| format!("error: process {} has no interpolated axes", args.process))?;
+        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut w = std::io::BufWriter::new(file);
+        writeln!(w, "{header}").map_err(|e| format!("{}: {e}", path.display()))?;
+        run.trajectory = Some(w);
+    }
+    {
+        let mut c = run.lock();
+        let process = c
+            .process_mut(args.process)
+            .map_err(|e| format!("error: {e}"))?;
+        let _ = process;
+        let dir = run.machine.clone();
+        let dialect = run.dialect.clone();
+        c.set_mdi_compiler(Box::new(move |_, text| {
+            // MDI blocks become a one-block program of the machine's dialect.
+            let fanuc = dialect
+                .as_deref()
+                .is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
+                || std::fs::read_to_string(dir.join("nc").join("DIALECT"))
+                    .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
+            let program = if fanuc {
+                format!("O9999\n{text}\n")
+            } else {
+                format!("%999999\n{text}\n")
+            };
+            plan_text(&dir, "MDI", &program, dialect.as_deref(), false)
+        }));
+    }
+    Ok((Box::new(io), run))
+}
+
+impl PartRun {
+    fn lock(&self) -> std::sync::MutexGuard<'_, Cnc> {
+        self.cnc.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Called after every tick; false stops the run (`--until-end`: the end or a stopping alarm).
+    pub fn each_tick(&mut self, tick: u64, until_end: bool) -> bool {
+        let cnc = Arc::clone(&self.cnc);
+        let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
+        let n = self.process;
+        let Ok(p) = c.process_mut(n) else {
+            return false;
+        };
+        if let Some(w) = self.trajectory.as_mut() {
+            use std::io::Write as _;
+            if let Err(e) = w.write_all(p.take_trajectory().as_bytes()) {
+                eprintln!("error: trajectory: {e}");
+                self.trajectory = None;
+            }
+        }
+        for (cmd, why) in p.take_rejected() {
+            eprintln!("process {n}: {cmd:?} refused: {why}");
+        }
+        let st = p.state();
+        let stopping: Vec<String> = p
+            .alarms()
+            .iter()
+            .filter(|a| a.stopping)
+            .map(|a| a.message.clone())
+            .collect();
+        for a in stopping {
+            if !self.alarms.contains(&a) {
+                self.alarms.push(a);
+                self.failed = true;
+            }
+        }
+        if st.interp == Interp::Running && st.mode != Mode::Home && self.started.is_none() {
+            self.started = Some(tick);
+        }
+        if st.on && st.interp == Interp::Idle && !st.homed {
+            // The operator homes first: HOME, then START (the MCZ cycle of every axis).
+            if st.mode != Mode::Home {
+                let _ = c.mode(n, Mode::Home);
+            } else if !self.homing_started {
+                self.homing_started = c.start(n).is_ok();
+            }
+        } else if st.on && st.interp == Interp::Idle {
+            if self.mdi_running {
+                self.mdi_running = false;
+            } else if let Some(text) = self.mdi.front().cloned() {
+                if st.mode != Mode::Mdi {
+                    let _ = c.mode(n, Mode::Mdi);
+                } else {
+                    match c.mdi(n, &text) {
+                        Ok(()) => {
+                            self.mdi.pop_front();
+                            self.mdi_running = true;
+                        }
+                        Err(e) => {
+                            eprintln!("error: {e}");
+                            self.alarms.push(e.to_string());
+                            self.failed = true;
+                            self.mdi.clear();
+                        }
+                    }
+                }
+            } else if let Some(part) = &self.part
+                && !self.program_selected
+            {
+                let _ = c.mode(n, Mode::Auto);
+                if st.mode == Mode::Auto
+                    && let Ok(p) = c.process_mut(n)
+                {
+                    let _ = p.load_with_skip(&part.name, part.blocks.clone(), part.skipped.clone());
+                    self.program_selected = true;
+                }
+            }
+        }
+        let mut others_ended = true;
+        for o in &mut self.others {
+            let Ok(p) = c.process_mut(o.process) else {
+                continue;
+            };
+            for (cmd, why) in p.take_rejected() {
+                eprintln!("process {}: {cmd:?} refused: {why}", o.process);
+            }
+            for a in p.alarms().iter().filter(|a| a.stopping) {
+                if !self.alarms.contains(&a.message) {
+                    self.alarms.push(a.message.clone());
+                    self.failed = true;
+                }
+            }
+            let ost = p.state();
+            others_ended &= p.counters().ended >= 1;
+            if !ost.on {
+                continue;
+            }
+            if !o.selected && ost.interp == Interp::Idle {
+                if ost.mode != Mode::Auto {
+                    let _ = c.mode(o.process, Mode::Auto);
+                } else if let Ok(p) = c.process_mut(o.process) {
+                    o.selected = p.load(&o.part.name, o.part.blocks.clone()).is_ok();
+                }
+            } else if o.selected && !o.started && self.started.is_some() {
+                // The operator starts the other programs once the main cycle runs.
+                o.started = c.start(o.process).is_ok();
+            }
+        }
+        let ended = others_ended
+            && match &self.part {
+                Some(_) => {
+                    self.program_selected && c.process_mut(n).is_ok_and(|p| p.counters().ended >= 1)
+                }
+                None => self.mdi.is_empty() && !self.mdi_running && st.interp == Interp::Idle,
+            };
+        if ended && self.finished.is_none() {
+            self.finished = Some(tick);
+        }
+        !(until_end && (ended || self.failed))
+    }
+
+    /// The exit code of `--until-end`: 0 when the program ended, 1 on a stopping alarm or when
+    /// the run stopped before the end.
+    pub fn exit_code(&mut self) -> ExitCode {
+        if let Some(mut w) = self.trajectory.take() {
+            use std::io::Write as _;
+            if let Err(e) = w.flush() {
+                eprintln!("error: trajectory: {e}");
+                return ExitCode::from(2);
+            }
+        }
+        if self.failed || self.finished.is_none() {
+            ExitCode::from(1)
+        } else {
+            ExitCode::SUCCESS
+        }
+    }
+
+    /// The summary printed at the end of the run.
+    pub fn summary(&self, tick_ms: u32) -> String {
+        let c = self.lock();
+        let mut s = String::new();
+        if let Some(part) = &self.part {
+            s.push_str(&format!(
+                "part {} (crc32 {}): {} canonical blocks\n",
+                part.name,
+                part.hash,
+                part.blocks.len()
+            ));
+        }
+        let secs = |t: u64| t as f64 * f64::from(tick_ms) / 1000.0;
+        match (self.started, self.finished) {
+            (Some(a), Some(b)) => s.push_str(&format!(
+                "cycle time {:.2} s (ticks {a}..{b}), ended\n",
+                secs(b - a)
+            )),
+            (Some(a), None) => s.push_str(&format!("started at tick {a}, did not end\n")),
+            _ => s.push_str("the cycle never started (START from the PLC)\n"),
+        }
+        for p in c.processes() {
+            let k = p.counters();
+            s.push_str(&format!(
+                "process {}: {} blocks; handshakes M {} S {} T {}; FIN wait M {:.2} s S {:.2} s T {:.2} s; largest following error {}\n",
+                p.number(),
+                k.blocks,
+                k.handshakes[0],
+                k.handshakes[1],
+                k.handshakes[2],
+                secs(k.wait_ticks[0]),
+                secs(k.wait_ticks[1]),
+                secs(k.wait_ticks[2]),
+                if k.max_following.1 == '\0' {
+                    "-".to_string()
+                } else {
+                    format!("{:.3} mm ({})", k.max_following.0, k.max_following.1)
+                }
+            ));
+        }
+        for a in &self.alarms {
+            s.push_str(&format!("alarm: {a}\n"));
+        }
+        s
+    }
+}

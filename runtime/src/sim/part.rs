@@ -1,0 +1,87 @@
+//! The partprogram of a part run: found (a name in `<machine>/nc/`, or a path), compiled with the
+//! machine's view (`cli::nc::machine_spec`, its correction table) and planned into canonical
+//! blocks, with a content hash for the trace header and the summary.
+
+use std::path::{Path, PathBuf};
+
+use partprogram::{Canon, PlanOptions};
+
+use crate::cli::nc::{load_corrections, machine_spec};
+
+/// A planned partprogram.
+#[derive(Debug, Clone)]
+pub struct Part {
+    /// Its name as given (`O1000.nc`) or its path.
+    pub name: String,
+    /// CRC-32 of its text, hexadecimal.
+    pub hash: String,
+    /// The canonical blocks in execution order.
+    pub blocks: Vec<Canon>,
+    /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
+    pub skipped: Vec<Canon>,
+}
+
+/// `program` as a path when it exists, else `<machine>/nc/<program>`.
+pub fn program_path(machine: &Path, program: &Path) -> PathBuf {
+    if program.exists() {
+        program.to_path_buf()
+    } else {
+        machine.join("nc").join(program)
+    }
+}
+
+/// Compiles and plans `text` (named `name`) for the machine in `dir`; the error is the rendered
+/// diagnostics.
+pub fn plan_text(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+    block_skip: bool,
+) -> Result<Vec<Canon>, String> {
+    let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
+    let mut sources = diag::Sources::new();
+    sources.add(name.to_string(), text.to_string());
+    if let Some((kname, ktext, kdiags)) = load_corrections(dir, None, &mut spec)
+        && diag::has_errors(&kdiags)
+    {
+        sources.add(kname, ktext);
+        return Err(diag::render_human(&kdiags, &sources));
+    }
+    let (prog, diags) = partprogram::compile(&spec, name, text);
+    if let Some(p) = &prog {
+        for f in &p.files {
+            sources.add(f.name.clone(), f.text.clone());
+        }
+    }
+    let Some(prog) = prog.filter(|_| !diag::has_errors(&diags)) else {
+        return Err(diag::render_human(&diags, &sources));
+    };
+    let opts = PlanOptions {
+        block_skip,
+        ..PlanOptions::default()
+    };
+    partprogram::plan(&prog, opts)
+        .map(|p| p.blocks)
+        .map_err(|(_, d)| diag::render_human(&[d], &sources))
+}
+
+/// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
+/// block skip).
+pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Part, String> {
+    let path = program_path(dir, program);
+    let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| format!("nc/{}", n.to_string_lossy()),
+    );
+    let blocks = plan_text(dir, &name, &text, dialect, false)?;
+    let skipped = plan_text(dir, &name, &text, dialect, true)?;
+    Ok(Part {
+        name: program.display().to_string(),
+        hash: format!("{:08x}", crc32fast::hash(&bytes)),
+        blocks,
+        skipped,
+    })
+}

@@ -1,0 +1,296 @@
+//! End-to-end tests of part runs (`ncplc run --program`): the CNC kernel runs a partprogram
+//! through the bundled PLC logic on the simulated machine.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn ncplc(args: &[&std::ffi::OsStr]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
+/// A copy of the lathe with `extra` appended to its sim.toml.
+fn lathe_with(extra: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let src = root().join("plc-programs/lathe");
+    copy_dir(&src, dir.path());
+    let sim = dir.path().join("sim.toml");
+    let mut text = std::fs::read_to_string(&sim).expect("sim.toml");
+    text.push_str(extra);
+    std::fs::write(&sim, text).expect("write");
+    dir
+}
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    for e in std::fs::read_dir(from).expect("dir") {
+        let e = e.expect("entry");
+        let dst = to.join(e.file_name());
+        if e.file_type().expect("type").is_dir() {
+            std::fs::create_dir_all(&dst).expect("mkdir");
+            copy_dir(&e.path(), &dst);
+        } else {
+            std::fs::copy(e.path(), &dst).expect("copy");
+        }
+    }
+}
+
+fn part_run(machine: &std::path::Path, extra: &[&str]) -> Output {
+    let mut args: Vec<&std::ffi::OsStr> = vec![
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--program".as_ref(),
+        "PART1".as_ref(),
+        "--ticks".as_ref(),
+        "20000".as_ref(),
+    ];
+    args.extend(extra.iter().map(|s| std::ffi::OsStr::new(*s)));
+    ncplc(&args)
+}
+
+#[test]
+fn a_part_script_may_not_set_what_the_kernel_writes() {
+    let m = lathe_with("[[part.at]]\ntick = 3\nset = { I1K5 = 1 }\n");
+    let out = part_run(m.path(), &[]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.ends_with("sim script: tick 3: I1K5 is written by the CNC kernel in a part run\n"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_part_script_may_not_name_an_undeclared_input_nor_issue_functions() {
+    // IOCFIL IN0=0,1: connector 2 of packet A is not an input of the lathe.
+    let m = lathe_with("[[part.at]]\ntick = 3\nset = { I2A0 = 1 }\n");
+    let err = String::from_utf8_lossy(&part_run(m.path(), &[]).stderr).into_owned();
+    assert!(
+        err.ends_with("sim script: I2A0 is not a signal of this machine (packet-A inputs: IOCFIL IN connectors; K/N: the interface map)\n"),
+        "{err}"
+    );
+    let m = lathe_with("[[part.at]]\ntick = 3\nm = [8]\n");
+    let err = String::from_utf8_lossy(&part_run(m.path(), &[]).stderr).into_owned();
+    assert!(
+        err.ends_with(
+            "sim script: tick 3: m, s and t come from the partprogram in a part run; remove them\n"
+        ),
+        "{err}"
+    );
+}
+
+/// The README's first command: the lathe runs PART1 (spindle with at-speed wait, coolant, a feed
+/// hold during the second pass, M30) to its end; the recording is the golden `traces/part1.jsonl`
+/// with both engines (which `e2e_replay` replays).
+#[test]
+fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
+    let machine = root().join("plc-programs/lathe");
+    let golden = std::fs::read_to_string(machine.join("traces/part1.jsonl")).expect("golden");
+    let dir = tempfile::tempdir().expect("tempdir");
+    for engine in ["jit", "interp"] {
+        let rec = dir.path().join(format!("{engine}.jsonl"));
+        let out = part_run(
+            &machine,
+            &[
+                "--until-end",
+                "--stats",
+                "--engine",
+                engine,
+                "--record",
+                rec.to_str().expect("utf-8 path"),
+            ],
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{stdout}{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            stdout.contains("part PART1 (crc32 536205d9): 17 canonical blocks\n"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("cycle time 45.73 s (ticks 12..4585), ended\n"),
+            "{stdout}"
+        );
+        assert!(
+            stdout.contains("process 1: 17 blocks; handshakes M 5 S 1 T 0;"),
+            "{stdout}"
+        );
+        assert!(!stdout.contains("alarm:"), "{stdout}");
+        let got = std::fs::read_to_string(&rec).expect("recorded");
+        assert_eq!(got, golden, "{engine}");
+        // The feed hold: FOLD at 400, HOLD reached at 403, released by START at 500.
+        assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1}}"));
+    }
+}
+
+/// The mill runs its PART1 (and process 2 its MAGAZINE program): M06 tool change (orient, drawbar, arm), spindle, coolant, a feed hold
+/// while milling the square, M30; the recording is the golden `mill/traces/part1.jsonl`.
+#[test]
+fn the_mill_runs_part1_with_its_tool_change() {
+    let machine = root().join("plc-programs/mill");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let rec = dir.path().join("mill.jsonl");
+    let out = part_run(
+        &machine,
+        &[
+            "--until-end",
+            "--stats",
+            "--record",
+            rec.to_str().expect("utf-8 path"),
+        ],
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("cycle time 33.35 s (ticks 12..3347), ended\n"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("process 1: 13 blocks; handshakes M 6 S 1 T 1;"),
+        "{stdout}"
+    );
+    // Process 2, the magazine, runs its program (M30) alongside: `sim.toml [cnc] programs`.
+    assert!(
+        stdout.contains("process 2: 1 blocks; handshakes M 1 S 0 T 0;"),
+        "{stdout}"
+    );
+    let golden = std::fs::read_to_string(machine.join("traces/part1.jsonl")).expect("golden");
+    assert_eq!(std::fs::read_to_string(&rec).expect("recorded"), golden);
+}
+
+/// An e-stop in the middle of the part stops it with an alarm: `--until-end` exits 1.
+#[test]
+fn an_estop_during_the_part_exits_1_with_the_alarm() {
+    let m = lathe_with("[[part.at]]\ntick = 300\nset = { I0A0 = 0 }\n");
+    let out = part_run(m.path(), &["--until-end", "--stats"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("started at tick 12, did not end\n"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.ends_with("alarm: process 1: emergency stop\n"),
+        "{stdout}"
+    );
+}
+
+/// `--trajectory` writes the `ncplc nc run` JSON Lines: the header with the planner's limits, then
+/// one line per 2 ms interpolation tick, ending at rest on the retract point.
+#[test]
+fn trajectory_of_the_lathe_part() {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("traj.jsonl");
+    let out = part_run(
+        &machine,
+        &[
+            "--until-end",
+            "--trajectory",
+            path.to_str().expect("utf-8 path"),
+        ],
+    );
+    assert_eq!(out.status.code(), Some(0));
+    let text = std::fs::read_to_string(&path).expect("trajectory");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        r#"{"tick_s":0.002,"axes":["X","Z"],"limits":{"X":{"v":166.666667,"a":200,"j":540},"Z":{"v":200,"a":200,"j":450}},"tolerance_mm":0.01,"law":"linear"}"#
+    );
+    // 4585 logic ticks of 10 ms = 22 925 interpolation ticks.
+    assert_eq!(lines.len(), 1 + 22_925);
+    assert_eq!(
+        lines[lines.len() - 1],
+        r#"{"t":22924,"p":[-20,-50],"block":null,"feed":0}"#
+    );
+    // During the first pass (N40, block index 3) Z feeds at 300 mm/min: 0.01 mm per tick.
+    assert_eq!(
+        lines[3001],
+        r#"{"t":3000,"p":[-44,-113.620714],"block":3,"feed":300}"#
+    );
+}
+
+/// `--mdi` blocks run in MDI mode (one program, shared modal state) and `--until-end` stops after
+/// them: rapid to X-10 Z-20, then 2 mm of X at F100 (1.2 s).
+#[test]
+fn mdi_blocks_run_and_end() {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("mdi.jsonl");
+    let out = ncplc(&[
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--mdi".as_ref(),
+        "N1 G00 X-10 Z-20".as_ref(),
+        "--mdi".as_ref(),
+        "N2 G01 X-12 F100".as_ref(),
+        "--until-end".as_ref(),
+        "--stats".as_ref(),
+        "--trajectory".as_ref(),
+        path.as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("cycle time 1.52 s (ticks 4..156), ended\n"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("process 1: 2 blocks;"), "{stdout}");
+    let text = std::fs::read_to_string(&path).expect("trajectory");
+    assert_eq!(
+        text.lines().last(),
+        Some(r#"{"t":779,"p":[-12,-20],"block":null,"feed":0}"#)
+    );
+}
+
+/// A machine that is not referenced homes first (HOME, START: the MCZ cycle of X then Z against
+/// the simulated switches), then runs the part when the operator presses START again.
+#[test]
+fn an_unreferenced_lathe_homes_then_runs_the_part() {
+    let m = lathe_with(
+        "\n[[axis]]\nname = \"X\"\nstart = -50\nhome_switch = 3\n\
+         \n[[axis]]\nname = \"Z\"\nstart = -100\nhome_switch = 3\n\
+         \n[[part.at]]\ntick = 1500\nset = { I0A3 = 1 }\n\
+         \n[[part.at]]\ntick = 1505\nset = { I0A3 = 0 }\n",
+    );
+    let sim = m.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    std::fs::write(
+        &sim,
+        text.replace("referenced = true", "referenced = false"),
+    )
+    .expect("write");
+    let out = part_run(m.path(), &["--until-end", "--stats"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // The first START (tick 10) falls into the homing cycle and is refused; the second runs it.
+    assert!(
+        stdout.contains("cycle time 44.73 s (ticks 1502..5975), ended\n"),
+        "{stdout}"
+    );
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains(
+            "process 1: Start refused: can't do that while a program is active (reset first)"
+        ),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
