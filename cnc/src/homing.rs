@@ -68,6 +68,9 @@ impl Process {
             t: None,
             dwell: None,
             thread: false,
+            // A point-to-point move of the kernel's own ends at rest.
+            exact_stop: true,
+            tolerance: None,
         };
         if let Err(e) = self.interp.push(0, &block) {
             let name = self.cfg.axes[i].name;

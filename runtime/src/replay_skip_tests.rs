@@ -43,6 +43,7 @@ fn run(src: &str, tick_ms: u32, trace: &Trace, engine: EngineKind, skip_idle: bo
 
 fn input_only(t: u64, inputs: &[(&str, u8)]) -> TickRecord {
     TickRecord {
+        forced: Vec::new(),
         t,
         inputs: inputs.iter().map(|&(s, v)| (sig(s), v)).collect(),
         outputs: Vec::new(),
@@ -68,6 +69,7 @@ fn a_running_timer_is_jumped_to_the_tick_of_its_expiry_and_then_to_the_end() {
         let expected = vec![
             input_only(0, &[("I0A0", 1)]),
             TickRecord {
+                forced: Vec::new(),
                 t: 50,
                 inputs: vec![],
                 outputs: vec![(sig("U4A0"), 1)],
@@ -214,6 +216,7 @@ fn sparse_trace() -> impl Strategy<Value = Trace> {
             let mut t = 0;
             for (gap, n, v) in changes {
                 ticks.push(TickRecord {
+                    forced: Vec::new(),
                     t,
                     inputs: vec![(sig(&format!("I0A{n}")), v)],
                     outputs: Vec::new(),
@@ -221,6 +224,7 @@ fn sparse_trace() -> impl Strategy<Value = Trace> {
                 t += gap;
             }
             ticks.push(TickRecord {
+                forced: Vec::new(),
                 t: t + tail,
                 ..TickRecord::default()
             });

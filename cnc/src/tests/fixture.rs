@@ -161,6 +161,8 @@ pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
 pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Option<i64>) -> Canon {
     let decl = lathe_m();
     Canon {
+        exact_stop: false,
+        tolerance: None,
         n: Some(n),
         unit: None,
         kind,

@@ -114,11 +114,13 @@ mod tests {
             tick_ms: 2,
             ticks: vec![
                 TickRecord {
+                    forced: Vec::new(),
                     t: 0,
                     inputs: vec![(sig("I0A5"), 1)],
                     outputs: vec![(sig("U4A0"), 1)],
                 },
                 TickRecord {
+                    forced: Vec::new(),
                     t: 7,
                     inputs: vec![],
                     outputs: vec![(sig("U4A0"), 0)],
