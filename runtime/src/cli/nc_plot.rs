@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use partprogram::PlanOptions;
 
-use super::nc::{Common, load_corrections, machine_spec, program_path};
+use super::nc::{Common, compile_common, print_diags, program_path};
 use crate::plot::{self, toolpath};
 
 /// Options of `ncplc nc plot`.
@@ -35,38 +35,21 @@ pub fn run(common: &Common, args: &PlotArgs) -> ExitCode {
 }
 
 fn run_inner(common: &Common, args: &PlotArgs) -> Result<ExitCode, String> {
+    // Compiled and its diagnostics printed exactly as `ncplc nc plan` does (files named as the
+    // user can open them, capped, coloured); only the chart title keeps the short program name.
+    let compiled = match compile_common(common, false) {
+        Ok(c) => c,
+        Err(code) => return Ok(code),
+    };
     let path = program_path(&common.machine, &common.program);
-    let bytes = std::fs::read(&path).map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
-    let mut spec = machine_spec(&common.machine, common.dialect.as_deref(), &text)
-        .map_err(|e| e.to_string())?;
     let name = path.file_name().map_or_else(
         || path.display().to_string(),
         |n| format!("nc/{}", n.to_string_lossy()),
     );
-    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
-    let (prog, mut diags) = partprogram::compile(&spec, &name, &text);
-    let mut sources = diag::Sources::new();
-    sources.add(name.clone(), text.clone());
-    if let Some((kname, ktext, kdiags)) = kor {
-        sources.add(kname, ktext);
-        diags.splice(0..0, kdiags);
-    }
-    if let Some(p) = &prog {
-        for f in &p.files {
-            sources.add(f.name.clone(), f.text.clone());
-        }
-    }
-    if !diags.is_empty() {
-        eprint!("{}", diag::render_human(&diags, &sources));
-    }
-    let Some(prog) = prog.filter(|_| !diag::has_errors(&diags)) else {
-        return Ok(ExitCode::from(1));
-    };
-    let blocks = match partprogram::plan(&prog, PlanOptions::default()) {
+    let blocks = match partprogram::plan(&compiled.prog, PlanOptions::default()) {
         Ok(p) => p.blocks,
         Err((_, d)) => {
-            eprint!("{}", diag::render_human(&[d], &sources));
+            print_diags(&[d], &compiled.sources, false, common.max_errors);
             return Ok(ExitCode::from(1));
         }
     };
