@@ -52,6 +52,7 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
             .parse()
             .unwrap_or_else(|e| panic!("{e:?}"));
         recs.push(TickRecord {
+            forced: Vec::new(),
             t,
             inputs: vec![(s, u8::from(rnd(2) == 1))],
             outputs: Vec::new(),
@@ -63,6 +64,7 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
         };
     }
     recs.push(TickRecord {
+        forced: Vec::new(),
         t: ticks - 1,
         ..TickRecord::default()
     });
