@@ -51,6 +51,11 @@ pub struct Kernel {
     replan: bool,
     spindle_rev_s: f64,
     out: Tick,
+    /// The lowest queue index whose geometry changed since the last backward pass (None: the
+    /// end speeds are those of the current queue).
+    dirty_from: Option<usize>,
+    /// Leading pieces whose end speeds no append can change (see [`plan::settled`]).
+    final_to: usize,
 }
 
 impl Kernel {
@@ -84,6 +89,8 @@ impl Kernel {
             stop_after: None,
             replan: false,
             spindle_rev_s: 0.0,
+            dirty_from: None,
+            final_to: 0,
         })
     }
 
@@ -174,7 +181,9 @@ impl Kernel {
         self.q.push_back(piece);
         self.moves += 1;
         self.end = end;
-        plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, keep_to);
+        // The backward pass waits until the front reaches a piece whose end speed an append can
+        // still change (see `plan_front`): one pass then serves every push since the last one.
+        self.dirty_from = Some(self.dirty_from.map_or(keep_to, |d| d.min(keep_to)));
         Ok(())
     }
 
@@ -274,7 +283,22 @@ impl Kernel {
 
     fn replan_all(&mut self) {
         plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, 0);
+        self.dirty_from = None;
+        self.final_to = plan::settled(&self.q, self.feed_pct, self.rapid_pct);
         self.replan = self.exec.is_some();
+    }
+
+    /// Brings the front piece's end speed up to date with the queue: runs the pending backward
+    /// pass when pieces were appended and the front is not yet settled. The speeds are the same
+    /// as those of a pass after every push (the pass is exact; only its timing changes).
+    fn plan_front(&mut self) {
+        if let Some(from) = self.dirty_from
+            && self.final_to == 0
+        {
+            plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, from);
+            self.dirty_from = None;
+            self.final_to = plan::settled(&self.q, self.feed_pct, self.rapid_pct);
+        }
     }
 
     /// Feed hold (FOLD): decelerate along the path within the limits and hold; release resumes.
@@ -388,6 +412,8 @@ impl Kernel {
         self.replan = false;
         self.stop_after = None;
         self.v = 0.0;
+        self.dirty_from = None;
+        self.final_to = 0;
     }
 
     /// Advances one interpolation tick and returns its set points.
@@ -404,6 +430,7 @@ impl Kernel {
                     break;
                 }
                 self.replan = false;
+                self.plan_front();
                 self.exec = Some(Exec {
                     prof: self.profile(0.0, self.v),
                     t: 0.0,
@@ -420,6 +447,7 @@ impl Kernel {
                     ex.t = tr;
                     let (x, v, _) = ex.prof.eval(tr);
                     let s0 = ex.s0 + x;
+                    self.plan_front();
                     let prof = self.profile(s0, v);
                     self.exec = Some(Exec { prof, t: 0.0, s0 });
                     self.replan = false;
@@ -450,6 +478,8 @@ impl Kernel {
             self.pos = front.seg.end;
             self.exec = None;
             self.q.pop_front();
+            self.final_to = self.final_to.saturating_sub(1);
+            self.dirty_from = self.dirty_from.map(|d| d.saturating_sub(1));
             if self.q.is_empty() {
                 // The queue ends at rest (its last end speed is 0); drop rounding residue.
                 self.v = 0.0;

@@ -323,3 +323,27 @@ pub fn backward(q: &mut VecDeque<Piece>, feed_pct: u16, rapid_pct: u16, keep_to:
         }
     }
 }
+
+/// How many leading pieces of the queue have end speeds that no later append can change: the
+/// count before the last piece (from the tail) whose allowed start speed is its own cap however
+/// the queue continues. The walk assumes the worst continuation, a stop at the start of the last
+/// piece (the only piece an append reshapes), so that later appends can only raise the speeds
+/// it sees; a margin of 1e-9 keeps rounding from deciding.
+pub fn settled(q: &VecDeque<Piece>, feed_pct: u16, rapid_pct: u16) -> usize {
+    let n = q.len();
+    let mut next_start = 0.0_f64;
+    for k in (0..n.saturating_sub(1)).rev() {
+        let p = &q[k];
+        if matches!(p.motion, Motion::Dwell(_)) {
+            return k;
+        }
+        let c = cap(p, feed_pct, rapid_pct);
+        let v = p.v_junction.min(c).min(next_start);
+        let reach = p.dynm.reach_up(v, p.seg.len);
+        if reach >= c * (1.0 + 1e-9) {
+            return k;
+        }
+        next_start = reach.min(c);
+    }
+    0
+}
