@@ -179,7 +179,9 @@ impl Seg {
                 let w = r0.max(*r1) * sweep / self.len;
                 let mut out = lift.abs() / self.len;
                 for i in 0..MAX_AXES {
-                    out[i] += w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    if e1[i] != 0.0 || e2[i] != 0.0 {
+                        out[i] += w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    }
                 }
                 out
             }
@@ -203,7 +205,9 @@ impl Seg {
                 let r = r0.max(*r1);
                 let mut out = Vector::zeros();
                 for i in 0..MAX_AXES {
-                    out[i] = r * w * w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    if e1[i] != 0.0 || e2[i] != 0.0 {
+                        out[i] = r * w * w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    }
                 }
                 out
             }

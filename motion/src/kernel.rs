@@ -56,6 +56,8 @@ pub struct Kernel {
     dirty_from: Option<usize>,
     /// Leading pieces whose end speeds no append can change (see [`plan::settled`]).
     final_to: usize,
+    /// Some axis has a soft limit (else the path's bounds are not computed).
+    soft: bool,
 }
 
 impl Kernel {
@@ -69,6 +71,10 @@ impl Kernel {
             });
         }
         let pos = vector(start);
+        let cfg_soft = cfg
+            .axes
+            .iter()
+            .any(|a| a.soft_min.is_some() || a.soft_max.is_some());
         Ok(Kernel {
             law: cfg.law,
             out: Tick {
@@ -91,6 +97,7 @@ impl Kernel {
             spindle_rev_s: 0.0,
             dirty_from: None,
             final_to: 0,
+            soft: cfg_soft,
         })
     }
 
@@ -238,6 +245,9 @@ impl Kernel {
     }
 
     fn check_soft(&self, tag: u64, seg: &Seg) -> Result<(), MotionError> {
+        if !self.soft {
+            return Ok(());
+        }
         let (lo, hi) = seg.bounds();
         for (i, ax) in self.cfg.axes.iter().enumerate() {
             if let Some(max) = ax.soft_max
