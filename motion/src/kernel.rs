@@ -58,6 +58,8 @@ pub struct Kernel {
     final_to: usize,
     /// Some axis has a soft limit (else the path's bounds are not computed).
     soft: bool,
+    /// Arc ceilings raised by an override change: (queue index, old cap, old acceleration).
+    undo: Vec<(usize, f64, f64)>,
 }
 
 impl Kernel {
@@ -98,6 +100,7 @@ impl Kernel {
             dirty_from: None,
             final_to: 0,
             soft: cfg_soft,
+            undo: Vec::new(),
         })
     }
 
@@ -171,6 +174,7 @@ impl Kernel {
             motion,
             feed,
             v_hard,
+            base: (v_hard, dynm.a),
             dynm,
             axis,
             v_junction: f64::INFINITY,
@@ -183,7 +187,7 @@ impl Kernel {
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
         }
-        plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
+        plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
         let keep_to = self.join(&mut piece);
         self.q.push_back(piece);
         self.moves += 1;
@@ -227,6 +231,7 @@ impl Kernel {
                 motion: Motion::Feed,
                 feed: prev.feed.min(next.feed),
                 v_hard,
+                base: (v_hard, dynm.a),
                 dynm,
                 axis,
                 v_junction: f64::INFINITY,
@@ -236,7 +241,7 @@ impl Kernel {
                 exact: false,
                 corner: Some(corner),
             };
-            plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
+            plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
             self.q.push_back(piece);
             return n - 1;
         }
@@ -282,13 +287,46 @@ impl Kernel {
     /// Feed override, percent (0–255); ramped within the limits from the current tick.
     pub fn set_feed_override(&mut self, pct: u16) {
         self.feed_pct = pct.min(255);
+        self.retune();
         self.replan_all();
     }
 
     /// Rapid override, percent (0–255).
     pub fn set_rapid_override(&mut self, pct: u16) {
         self.rapid_pct = pct.min(255);
+        self.retune();
         self.replan_all();
+    }
+
+    /// Raises the ceilings of queued arcs to a raised override (see [`plan::tune`]), unless the
+    /// lower tangential accelerations that come with them leave the executed piece unable to
+    /// meet its new end speed from the state at which it will be replanned; then every ceiling
+    /// stays as it was. (Every later piece is feasible from its planned start speed by the
+    /// backward pass.)
+    fn retune(&mut self) {
+        self.undo.clear();
+        for (i, p) in self.q.iter_mut().enumerate() {
+            let old = (p.v_hard, p.dynm.a);
+            plan::tune(p, self.feed_pct, self.rapid_pct, true);
+            if (p.v_hard, p.dynm.a) != old {
+                self.undo.push((i, old.0, old.1));
+            }
+        }
+        if self.undo.is_empty() {
+            return;
+        }
+        plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, 0);
+        if let (Some(ex), Some(front)) = (&self.exec, self.q.front()) {
+            let tr = ex.prof.replan_time(ex.t, front.dynm.law);
+            let (x, v, _) = ex.prof.eval(tr);
+            let rem = (front.seg.len - ex.s0 - x).max(0.0);
+            if front.dynm.reach_down(v, rem) > front.v_end * (1.0 + 1e-9) {
+                for &(i, v_hard, a) in &self.undo {
+                    self.q[i].v_hard = v_hard;
+                    self.q[i].dynm.a = a;
+                }
+            }
+        }
     }
 
     fn replan_all(&mut self) {

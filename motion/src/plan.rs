@@ -56,8 +56,10 @@ pub struct Piece {
     pub feed: f64,
     /// Speed cap from the axis limits and the centripetal acceleration, mm/s.
     pub v_hard: f64,
-    /// Path dynamics (the tangential acceleration follows the cap, see [`retune`]).
+    /// Path dynamics (the tangential acceleration follows the cap, see [`tune`]).
     pub dynm: Dyn,
+    /// The untuned speed cap and tangential acceleration (before [`tune`]).
+    pub base: (f64, f64),
     /// Per axis: the largest share of the direction, the centripetal share per (mm/s)², and the
     /// acceleration available (98 % of the limit under the piece's law).
     pub axis: [Vector; 3],
@@ -150,15 +152,22 @@ pub fn dynamics(
     (v_hard, d, [share, curv, avail])
 }
 
-/// Sets a new arc piece's tangential acceleration to what its speed cap under the current
-/// overrides leaves of every axis's acceleration after the centripetal part, and fixes that cap
-/// as the piece's ceiling (a later override raise speeds up arcs queued after it, not this one).
-pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16) {
+/// Sets an arc piece's tangential acceleration to what its speed cap under the current overrides
+/// leaves of every axis's acceleration after the centripetal part, and fixes that cap as the
+/// piece's ceiling. With `raise_only` (an override change on a queued piece) the ceiling only
+/// rises, re-tuned from the piece's untuned cap and acceleration: a lower override keeps the old
+/// ceiling, whose acceleration holds at every speed up to it, so the change is safe even for the
+/// piece being executed.
+pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
     let [share, curv, avail] = &p.axis;
     if curv.max() <= 0.0 {
         return;
     }
-    let c = cap(p, feed_pct, rapid_pct).min(p.v_hard);
+    let (v_base, a_base) = p.base;
+    let c = cap_at(p, v_base, feed_pct, rapid_pct).min(v_base);
+    if raise_only && c <= p.v_hard {
+        return;
+    }
     // On a planar circular arc an axis sees a_t·t_i + a_n·n_i with t ⟂ n in the plane, so
     // |a_i| ≤ |(a_t, a_n)|·share_i: the tangential and centripetal parts add as a vector. On
     // helices and spirals they are added as magnitudes.
@@ -176,9 +185,12 @@ pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16) {
             a = a.min(left / share[i]);
         }
     }
-    if a.is_finite() && a > 0.0 && a > p.dynm.a {
+    if a.is_finite() && a > 0.0 && a > a_base {
         p.dynm.a = a;
         p.v_hard = c;
+    } else if raise_only {
+        p.dynm.a = a_base;
+        p.v_hard = v_base;
     }
 }
 
@@ -286,10 +298,15 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<(Seg, Vec
 
 /// The piece's speed cap under the overrides (percent).
 pub fn cap(p: &Piece, feed_pct: u16, rapid_pct: u16) -> f64 {
+    cap_at(p, p.v_hard, feed_pct, rapid_pct)
+}
+
+/// The piece's speed cap under the overrides (percent) with the hard cap `v_hard`.
+fn cap_at(p: &Piece, v_hard: f64, feed_pct: u16, rapid_pct: u16) -> f64 {
     match p.motion {
-        Motion::Rapid => p.v_hard * f64::from(rapid_pct) / 100.0,
-        Motion::Feed => p.v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
-        Motion::Thread => p.v_hard.min(p.feed),
+        Motion::Rapid => v_hard * f64::from(rapid_pct) / 100.0,
+        Motion::Feed => v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
+        Motion::Thread => v_hard.min(p.feed),
         Motion::Dwell(_) => 0.0,
     }
 }

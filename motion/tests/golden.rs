@@ -217,3 +217,78 @@ fn stop_at_block_end_holds_at_the_block_end_point() {
     assert_eq!(den, vec![1, 2]);
     assert_eq!(k.position(), &[50.0, 50.0, 0.0]);
 }
+
+#[test]
+fn raising_the_override_speeds_up_an_arc_already_planned() {
+    // A full circle r = 10 mm at F3000 (50 mm/s) is planned at 100 %: its ceiling is 50 mm/s and
+    // the tangential acceleration √(980² − (50²/10)²) = 947.63 mm/s². At tick 500 (cruising) the
+    // override goes to 150 %: the queued arc re-tunes to 75 mm/s with √(980² − 562.5²) =
+    // 802.50 mm/s² and speeds up (before, planned arcs kept their speed).
+    let m = arc(1, [10.0, 0.0, 0.0], [0.0, 0.0], false, 3000.0);
+    let r = run(
+        &mill(Law::Linear),
+        &[10.0, 0.0, 0.0],
+        &[m],
+        &[(500, Cmd::Override(150))],
+    );
+    let speed = |w: &[Vec<f64>]| {
+        let d: f64 = (0..3).map(|i| (w[1][i] - w[0][i]).powi(2)).sum();
+        d.sqrt() / DT
+    };
+    let peak = r.points.windows(2).map(speed).fold(0.0, f64::max);
+    // The chord of 0.075 mm on r = 10 is shorter than the arc by a factor 1 − θ²/24, θ = 0.0075.
+    assert!((peak - 75.0).abs() < 1e-3, "{peak}");
+    // 0 → 50 at a1, cruise to t = 0.5 s, 50 → 75 and 75 → 0 at a2, cruise between.
+    let (a1, a2) = (
+        (980.0f64 * 980.0 - 250.0 * 250.0).sqrt(),
+        (980.0f64 * 980.0 - 562.5 * 562.5).sqrt(),
+    );
+    let at_change = 50.0 * 50.0 / (2.0 * a1) + 50.0 * (0.5 - 50.0 / a1);
+    let rest = 2.0 * std::f64::consts::PI * 10.0 - at_change;
+    let (up, down) = (
+        (75.0 * 75.0 - 50.0 * 50.0) / (2.0 * a2),
+        75.0 * 75.0 / (2.0 * a2),
+    );
+    let t = 0.5 + 25.0 / a2 + (rest - up - down) / 75.0 + 75.0 / a2; // 1.0739 s
+    let n = r.points.len() as f64;
+    assert!((n - t / DT).abs() <= 1.0, "{n} ticks, {t} s");
+    assert_eq!(r.points.last(), Some(&vec![10.0, 0.0, 0.0]));
+    assert_within(&r.report, 1e-9);
+}
+
+#[test]
+fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
+    // An arc of r = 3.303 mm at F2669 (44.48 mm/s, below the centripetal cap √(700 · 3.303) =
+    // 48.08 mm/s) ending at rest; at tick 150 it is decelerating with the tangential acceleration
+    // of its 44.48 mm/s ceiling. 108 % would raise the ceiling to 48.04 mm/s with a smaller
+    // acceleration that can no longer stop it at the end: the raise is refused and the motion
+    // is the same as without it (tick for tick; the replan from mid-arc rounds differently).
+    let scale = 0.3990946132440193f64;
+    let c = [5.949679714521503 * scale, 5.751928022042237 * scale];
+    let r0 = c[0].hypot(c[1]);
+    let a0 = (-c[1]).atan2(-c[0]);
+    let a1 = a0 + 0.3 + 5.0 * scale;
+    let m = arc(
+        1,
+        [c[0] + r0 * a1.cos(), c[1] + r0 * a1.sin(), 0.0],
+        c,
+        false,
+        2669.015,
+    );
+    let plain = run(&mill(Law::Linear), &[0.0; 3], &[m.clone()], &[]);
+    let raised = run(
+        &mill(Law::Linear),
+        &[0.0; 3],
+        &[m],
+        &[(150, Cmd::Override(108))],
+    );
+    assert_eq!(raised.points.len(), plain.points.len());
+    let gap = raised
+        .points
+        .iter()
+        .zip(&plain.points)
+        .flat_map(|(a, b)| a.iter().zip(b).map(|(x, y)| (x - y).abs()))
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-9, "{gap}");
+    assert_within(&raised.report, 1e-9);
+}
