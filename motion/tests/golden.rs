@@ -275,7 +275,7 @@ fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
         false,
         2669.015,
     );
-    let plain = run(&mill(Law::Linear), &[0.0; 3], &[m.clone()], &[]);
+    let plain = run(&mill(Law::Linear), &[0.0; 3], std::slice::from_ref(&m), &[]);
     let raised = run(
         &mill(Law::Linear),
         &[0.0; 3],
