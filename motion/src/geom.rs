@@ -214,6 +214,38 @@ impl Seg {
         }
     }
 
+    /// For a planar circular arc (constant radius, no lift): per axis, the largest |t_i| and the
+    /// largest |n_i| over the sweep, exactly (t the unit tangent, n the unit normal towards the
+    /// centre). On a short arc (a corner blend) they are far below the plane-wide bound 1.
+    pub fn arc_shares(&self) -> Option<(Vector, Vector)> {
+        let Shape::Arc {
+            e1,
+            e2,
+            r0,
+            r1,
+            sweep,
+            lift,
+            ..
+        } = &self.shape
+        else {
+            return None;
+        };
+        if r0 != r1 || lift.norm_squared() != 0.0 {
+            return None;
+        }
+        let mut t = Vector::zeros();
+        let mut n = Vector::zeros();
+        for i in 0..MAX_AXES {
+            let (p, q) = (e1[i], e2[i]);
+            if p != 0.0 || q != 0.0 {
+                // t_i = q cos φ − p sin φ, n_i = −(p cos φ + q sin φ).
+                t[i] = max_abs_wave(q, -p, *sweep);
+                n[i] = max_abs_wave(p, q, *sweep);
+            }
+        }
+        Some((t, n))
+    }
+
     /// For each axis, the extreme coordinates the segment reaches (exact for lines and for arcs
     /// whose plane is spanned by two axes).
     pub fn bounds(&self) -> (Vector, Vector) {
@@ -288,4 +320,21 @@ pub fn turn_angle(a: &Vector, b: &Vector) -> f64 {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let s = (a - b * c).norm();
     s.atan2(c)
+}
+
+/// The largest |a cos φ + b sin φ| for φ in [0, s].
+pub fn max_abs_wave(a: f64, b: f64, s: f64) -> f64 {
+    let amp = a.hypot(b);
+    if s >= std::f64::consts::PI {
+        return amp;
+    }
+    // The extremes ±amp lie at φ = atan2(b, a) + kπ.
+    let psi = b.atan2(a);
+    for k in -2..=2 {
+        let phi = psi + f64::from(k) * std::f64::consts::PI;
+        if (0.0..=s).contains(&phi) {
+            return amp;
+        }
+    }
+    a.abs().max((a * s.cos() + b * s.sin()).abs())
 }

@@ -99,8 +99,13 @@ pub fn dynamics(
     acc: &AccParams,
     dt: f64,
 ) -> (f64, Dyn, [Vector; 3]) {
-    let share = seg.max_share();
-    let curv = seg.curvature_share();
+    let mut share = seg.max_share();
+    let mut curv = seg.curvature_share();
+    if let (Some((ts, ns)), Shape::Arc { r0, .. }) = (seg.arc_shares(), &seg.shape) {
+        // Exact over the sweep: far below the plane-wide bound on corner blends.
+        share = share.inf(&ts);
+        curv = curv.inf(&(ns / *r0));
+    }
     let kappa = curv.max();
     let tangent = if kappa > 0.0 {
         JERK_TANGENT_ARC
@@ -171,18 +176,30 @@ pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
     // On a planar circular arc an axis sees a_t·t_i + a_n·n_i with t ⟂ n in the plane, so
     // |a_i| ≤ |(a_t, a_n)|·share_i: the tangential and centripetal parts add as a vector. On
     // helices and spirals they are added as magnitudes.
-    let planar =
-        matches!(&p.seg.shape, Shape::Arc { r0, r1, lift, .. } if r0 == r1 && lift.norm() == 0.0);
+    // The shares in `p.axis` are exact over the sweep (see `Seg::arc_shares`), valid for the
+    // sum of magnitudes; the vector bound needs the plane-wide share √(e1_i² + e2_i²), and each
+    // axis takes the better of the two.
+    let plane = match &p.seg.shape {
+        Shape::Arc {
+            e1,
+            e2,
+            r0,
+            r1,
+            lift,
+            ..
+        } if r0 == r1 && lift.norm() == 0.0 => Some((e1, e2, *r0)),
+        _ => None,
+    };
     let mut a = f64::INFINITY;
     for i in 0..share.len() {
         if share[i] > 0.0 {
-            let an = c * c * curv[i];
-            let left = if planar {
-                (avail[i] * avail[i] - an * an).max(0.0).sqrt()
-            } else {
-                avail[i] - an
-            };
-            a = a.min(left / share[i]);
+            let mut best = (avail[i] - c * c * curv[i]) / share[i];
+            if let Some((e1, e2, r)) = plane {
+                let o = e1[i].hypot(e2[i]);
+                let an = c * c * o / r;
+                best = best.max((avail[i] * avail[i] - an * an).max(0.0).sqrt() / o);
+            }
+            a = a.min(best);
         }
     }
     if a.is_finite() && a > 0.0 && a > a_base {
