@@ -165,6 +165,7 @@ impl Kernel {
             self.law,
             &self.cfg.acc,
             self.cfg.tick_s,
+            true,
         );
         let len = seg.len;
         let mut piece = Piece {
@@ -183,6 +184,8 @@ impl Kernel {
             tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
             exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
             corner: None,
+            reserve: true,
+            kink_start: false,
         };
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
@@ -204,11 +207,15 @@ impl Kernel {
         let n = self.q.len();
         let executing = self.exec.is_some() && n == 1;
         let (dt, law, acc) = (self.cfg.tick_s, self.law, self.cfg.acc);
+        let pcts = (self.feed_pct, self.rapid_pct);
         let Some(prev) = self.q.back_mut() else {
             return 0;
         };
         if prev.exact || next.exact {
             prev.v_junction = 0.0;
+            if !executing {
+                plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+            }
             return n - 1;
         }
         let theta = turn_angle(&prev.seg.tangent(true), &next.seg.tangent(false));
@@ -221,8 +228,10 @@ impl Kernel {
         {
             prev.den = false;
             prev.v_junction = f64::INFINITY;
+            plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+            // Both ends of the blend are tangent: no kink reserve.
             let (v_hard, dynm, axis) =
-                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt);
+                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt, false);
             let len = arc.len;
             let mut piece = Piece {
                 seg: arc,
@@ -240,12 +249,19 @@ impl Kernel {
                 tol: prev.tol,
                 exact: false,
                 corner: Some(corner),
+                reserve: false,
+                kink_start: false,
             };
             plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
             self.q.push_back(piece);
             return n - 1;
         }
         prev.v_junction = plan::kink_cap(&self.cfg.axes, theta, dt, law, &acc);
+        if prev.v_junction.is_finite() {
+            next.kink_start = true;
+        } else if !executing {
+            plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+        }
         n - 1
     }
 

@@ -13,7 +13,8 @@ use crate::profile::Dyn;
 /// Share of an axis's acceleration available to centripetal acceleration on arcs.
 pub const CENTRIPETAL_SHARE: f64 = 0.7;
 /// Share of an axis's acceleration (and jerk) reserved for the direction change at an unblended
-/// junction between pieces whose tangents differ slightly.
+/// junction between pieces whose tangents differ slightly (kept by the pieces on either side of
+/// such a kink, and by a piece whose end junction is not known yet).
 pub const KINK_SHARE: f64 = 0.02;
 /// S law: share of an axis's jerk for the path's tangential jerk (the rest covers the steps of
 /// centripetal acceleration where the curvature changes, and the rotation of the acceleration on
@@ -75,6 +76,26 @@ pub struct Piece {
     pub exact: bool,
     /// For a corner-blend arc: the programmed corner it replaces.
     pub corner: Option<Vector>,
+    /// Its dynamics keep the kink reserve ([`KINK_SHARE`]).
+    pub reserve: bool,
+    /// Its start is an unblended kink (the reserve stays).
+    pub kink_start: bool,
+}
+
+/// Recomputes a piece's dynamics without the kink reserve once both its junctions are known to
+/// be smooth (a corner blend, a stop or the start at rest) under the overrides (percent).
+pub fn relax(p: &mut Piece, axes: &[AxisLimits], acc: &AccParams, dt: f64, pcts: (u16, u16)) {
+    if !p.reserve || p.kink_start || matches!(p.motion, Motion::Dwell(_)) {
+        return;
+    }
+    let rapid = p.motion == Motion::Rapid;
+    let (v_hard, dynm, axis) = dynamics(axes, &p.seg, rapid, p.dynm.law, acc, dt, false);
+    p.v_hard = v_hard;
+    p.base = (v_hard, dynm.a);
+    p.dynm = dynm;
+    p.axis = axis;
+    p.reserve = false;
+    tune(p, pcts.0, pcts.1, false);
 }
 
 /// The per-law limits of every axis for feed or rapid moves: (v, a, j) in mm/s, mm/s², mm/s³.
@@ -90,7 +111,8 @@ pub fn axis_vaj(ax: &AxisLimits, rapid: bool, law: Law, acc: &AccParams) -> (f64
     }
 }
 
-/// The speed cap and path dynamics of `seg` for these axes.
+/// The speed cap and path dynamics of `seg` for these axes; `reserve`: keep [`KINK_SHARE`] of
+/// every axis's acceleration for a kink at either end.
 pub fn dynamics(
     axes: &[AxisLimits],
     seg: &Seg,
@@ -98,7 +120,9 @@ pub fn dynamics(
     law: Law,
     acc: &AccParams,
     dt: f64,
+    reserve: bool,
 ) -> (f64, Dyn, [Vector; 3]) {
+    let keep = if reserve { 1.0 - KINK_SHARE } else { 1.0 };
     let mut share = seg.max_share();
     let mut curv = seg.curvature_share();
     if let (Some((ts, ns)), Shape::Arc { r0, .. }) = (seg.arc_shares(), &seg.shape) {
@@ -132,9 +156,9 @@ pub fn dynamics(
     let mut avail = Vector::zeros();
     for (i, ax) in axes.iter().enumerate() {
         let (_, a, _) = axis_vaj(ax, rapid, law, acc);
-        avail[i] = (1.0 - KINK_SHARE) * a;
+        avail[i] = keep * a;
         if share[i] > 0.0 {
-            let left = (1.0 - KINK_SHARE) * a - v_hard * v_hard * curv[i];
+            let left = keep * a - v_hard * v_hard * curv[i];
             amin = amin.min(left / share[i]);
         }
     }

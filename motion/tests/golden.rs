@@ -138,19 +138,20 @@ fn ptp_move_is_a_trapezoid() {
 }
 
 #[test]
-fn benchmark_programs_within_linuxcnc_worst_ratio_of_the_lower_bound() {
-    // LinuxCNC 2.9 needs up to 1.098 × the bound (issue 10). The squares and the CAM raster stop
-    // at their 90° corners (a 0.01 mm tolerance blend admits ~4 mm/s), which the bound ignores:
-    // they are reported, not asserted.
+fn benchmark_programs_never_slower_than_linuxcnc() {
+    // LinuxCNC 2.9's planner on the same programs and limits, headless
+    // (motion/compare/linuxcnc/run.sh, 2026-11-25): time / lower bound per program. The squares
+    // and the CAM raster stop at their 90° corners (a 0.01 mm blend admits ~4 mm/s), which the
+    // bound ignores; the chord circle's acceleration from rest along one axis costs ≥ 0.1 s.
     use motion::{bound::lower_bound, samples};
     let cfg = mill(Law::Linear);
-    for (name, moves) in [
-        ("squares", samples::squares()),
-        ("circles", samples::circles()),
-        ("zigzag", samples::zigzag()),
-        ("chord_circle", samples::chord_circle()),
-        ("spiral", samples::spiral()),
-        ("cam", samples::cam(3)),
+    for (name, moves, linuxcnc) in [
+        ("squares", samples::squares(), 1.2147),
+        ("circles", samples::circles(), 1.1037),
+        ("zigzag", samples::zigzag(), 1.0173),
+        ("chord_circle", samples::chord_circle(), 1.1481),
+        ("spiral", samples::spiral(), 1.0057),
+        ("cam", samples::cam(20), 1.1923),
     ] {
         let start = samples::start(name);
         let r = run(&cfg, &start, &moves, &[]);
@@ -158,16 +159,15 @@ fn benchmark_programs_within_linuxcnc_worst_ratio_of_the_lower_bound() {
         let t = r.points.len() as f64 * DT;
         let lb = lower_bound(&cfg, &start, &moves);
         println!("{name}: {t:.3} s, bound {lb:.3} s, ratio {:.4}", t / lb);
-        if !matches!(name, "squares" | "cam") {
-            assert!(t / lb <= 1.098, "{name}: ratio {}", t / lb);
-        }
+        assert!(t / lb < linuxcnc, "{name}: ratio {} ≥ {linuxcnc}", t / lb);
     }
 }
 
 #[test]
 fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
-    // Cruising at 100 mm/s along X (line 1 of 2), abort at tick 500: stop after 10⁴/1960 mm,
-    // the queue is dropped (no DEN), and a new move starts from where the axes stopped.
+    // Cruising at 100 mm/s along X (line 1 of 2), abort at tick 500: line 1 starts at rest and
+    // ends in a corner blend, so it keeps no kink reserve: the stop takes 10⁴/2000 mm at the full
+    // 1000 mm/s²; the queue is dropped (no DEN), and a new move starts from where the axes stopped.
     let mut k = Kernel::new(mill(Law::Linear), &[0.0; 3]).expect("config");
     k.push(line(1, [100.0, 0.0, 0.0], 6000.0)).expect("push");
     k.push(line(2, [100.0, 50.0, 0.0], 6000.0)).expect("push");
@@ -182,7 +182,7 @@ fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
         n += 1;
         assert!(n < 1000);
     }
-    assert!((k.position()[0] - at - 1e4 / 1960.0).abs() < 1e-9);
+    assert!((k.position()[0] - at - 1e4 / 2000.0).abs() < 1e-9);
     assert_eq!(k.space(), 256);
     let stop = k.position().to_vec();
     k.push(line(3, [0.0, 0.0, 0.0], 6000.0))
