@@ -235,12 +235,13 @@ impl Seg {
         }
         let mut t = Vector::zeros();
         let mut n = Vector::zeros();
+        let cs = (sweep.cos(), sweep.sin());
         for i in 0..MAX_AXES {
             let (p, q) = (e1[i], e2[i]);
             if p != 0.0 || q != 0.0 {
                 // t_i = q cos φ − p sin φ, n_i = −(p cos φ + q sin φ).
-                t[i] = max_abs_wave(q, -p, *sweep);
-                n[i] = max_abs_wave(p, q, *sweep);
+                t[i] = max_abs_wave(q, -p, *sweep, cs);
+                n[i] = max_abs_wave(p, q, *sweep, cs);
             }
         }
         Some((t, n))
@@ -322,19 +323,35 @@ pub fn turn_angle(a: &Vector, b: &Vector) -> f64 {
     s.atan2(c)
 }
 
-/// The largest |a cos φ + b sin φ| for φ in [0, s].
-pub fn max_abs_wave(a: f64, b: f64, s: f64) -> f64 {
-    let amp = a.hypot(b);
+/// The largest |a cos φ + b sin φ| for φ in [0, s], given cos s and sin s.
+pub fn max_abs_wave(a: f64, b: f64, s: f64, (cs, ss): (f64, f64)) -> f64 {
     if s >= std::f64::consts::PI {
-        return amp;
+        return a.hypot(b);
     }
-    // The extremes ±amp lie at φ = atan2(b, a) + kπ.
-    let psi = b.atan2(a);
-    for k in -2..=2 {
-        let phi = psi + f64::from(k) * std::f64::consts::PI;
-        if (0.0..=s).contains(&phi) {
-            return amp;
-        }
+    // The derivative b cos φ − a sin φ has its zeros π apart: on [0, s], s < π, it changes sign
+    // exactly when an extreme ±amplitude lies inside.
+    if b * (b * cs - a * ss) <= 0.0 {
+        return a.hypot(b);
     }
-    a.abs().max((a * s.cos() + b * s.sin()).abs())
+    a.abs().max((a * cs + b * ss).abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::max_abs_wave;
+
+    fn wave(a: f64, b: f64, s: f64) -> f64 {
+        max_abs_wave(a, b, s, (s.cos(), s.sin()))
+    }
+
+    #[test]
+    fn max_abs_wave_finds_inner_and_end_extremes() {
+        // cos on [0, 0.5]: 1 at 0; sin on [0, 1]: sin 1 at the end; sin on [0, 2]: 1 at π/2.
+        assert_eq!(wave(1.0, 0.0, 0.5), 1.0);
+        assert_eq!(wave(0.0, 1.0, 1.0), 1.0f64.sin());
+        assert_eq!(wave(0.0, 1.0, 2.0), 1.0);
+        // sin − cos: −1 at 0, 1 at π/2, its extreme √2 at 3π/4 only on the longer interval.
+        assert_eq!(wave(-1.0, 1.0, std::f64::consts::FRAC_PI_2), 1.0);
+        assert_eq!(wave(-1.0, 1.0, 3.0), 2.0f64.sqrt());
+    }
 }

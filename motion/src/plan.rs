@@ -89,12 +89,28 @@ pub fn relax(p: &mut Piece, axes: &[AxisLimits], acc: &AccParams, dt: f64, pcts:
         return;
     }
     let rapid = p.motion == Motion::Rapid;
+    p.reserve = false;
+    if matches!(p.seg.shape, Shape::Line { .. }) {
+        // A line has no centripetal part: only the tangential acceleration grows.
+        let mut amin = f64::INFINITY;
+        for (i, ax) in axes.iter().enumerate() {
+            let (_, a, _) = axis_vaj(ax, rapid, p.dynm.law, acc);
+            p.axis[2][i] = a;
+            if p.axis[0][i] > 0.0 {
+                amin = amin.min(a / p.axis[0][i]);
+            }
+        }
+        if amin.is_finite() {
+            p.dynm.a = amin;
+            p.base.1 = amin;
+        }
+        return;
+    }
     let (v_hard, dynm, axis) = dynamics(axes, &p.seg, rapid, p.dynm.law, acc, dt, false);
     p.v_hard = v_hard;
     p.base = (v_hard, dynm.a);
     p.dynm = dynm;
     p.axis = axis;
-    p.reserve = false;
     tune(p, pcts.0, pcts.1, false);
 }
 
