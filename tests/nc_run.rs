@@ -32,14 +32,15 @@ fn one_line_takes_the_trapezoid_time() {
         prog.to_str().expect("utf-8"),
     ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
-    // 100 mm at 100 mm/s with X's MAN acceleration 300 mm/s² × 0.98 (the planner's tangential
-    // share): T = 100/100 + 100/294 = 1.340136 s → 671 ticks of 2 ms.
+    // 100 mm at 100 mm/s with X's MAN acceleration 300 mm/s² (the line starts at rest and ends
+    // at the stop of the M30 block, so it keeps no kink reserve): T = 100/100 + 100/300 =
+    // 1.333 s → 667 ticks of 2 ms.
     let s = text(&out.stdout);
     assert!(
-        s.contains("motion time: 1.342 s (671 ticks of 2.0 ms)\n"),
+        s.contains("motion time: 1.334 s (667 ticks of 2.0 ms)\n"),
         "{s}"
     );
-    assert!(s.contains("X            0.400         0.980"), "{s}");
+    assert!(s.contains("X            0.400         1.000"), "{s}");
 }
 
 #[test]

@@ -119,7 +119,7 @@ fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
             "{stdout}"
         );
         assert!(
-            stdout.contains("cycle time 45.75 s (ticks 12..4587), ended\n"),
+            stdout.contains("cycle time 45.73 s (ticks 12..4585), ended\n"),
             "{stdout}"
         );
         assert!(
@@ -153,7 +153,7 @@ fn the_mill_runs_part1_with_its_tool_change() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.contains("cycle time 33.36 s (ticks 12..3348), ended\n"),
+        stdout.contains("cycle time 33.35 s (ticks 12..3347), ended\n"),
         "{stdout}"
     );
     assert!(
@@ -208,16 +208,16 @@ fn trajectory_of_the_lathe_part() {
         lines[0],
         r#"{"tick_s":0.002,"axes":["X","Z"],"limits":{"X":{"v":166.666667,"a":200,"j":540},"Z":{"v":200,"a":200,"j":450}},"tolerance_mm":0.01,"law":"linear"}"#
     );
-    // 4587 logic ticks of 10 ms = 22 935 interpolation ticks.
-    assert_eq!(lines.len(), 1 + 22_935);
+    // 4585 logic ticks of 10 ms = 22 925 interpolation ticks.
+    assert_eq!(lines.len(), 1 + 22_925);
     assert_eq!(
         lines[lines.len() - 1],
-        r#"{"t":22934,"p":[-20,-50],"block":null,"feed":0}"#
+        r#"{"t":22924,"p":[-20,-50],"block":null,"feed":0}"#
     );
     // During the first pass (N40, block index 3) Z feeds at 300 mm/min: 0.01 mm per tick.
     assert_eq!(
         lines[3001],
-        r#"{"t":3000,"p":[-44,-113.620714],"block":3,"feed":300}"#
+        r#"{"t":3000,"p":[-44,-113.6475],"block":3,"feed":300}"#
     );
 }
 
@@ -283,7 +283,7 @@ fn an_unreferenced_lathe_homes_then_runs_the_part() {
     );
     // The first START (tick 10) falls into the homing cycle and is refused; the second runs it.
     assert!(
-        stdout.contains("cycle time 44.75 s (ticks 1502..5977), ended\n"),
+        stdout.contains("cycle time 44.72 s (ticks 1502..5974), ended\n"),
         "{stdout}"
     );
     assert!(

@@ -117,9 +117,11 @@ criterion_group!(benches, virtual_time);
 
 fn main() {
     // Instruction counts: `valgrind --tool=callgrind <bench binary>` with this set runs one
-    // 10,025-segment CAM program and nothing else.
-    if std::env::var_os("MOTION_BENCH_ONE_RUN").is_some() {
-        let moves = samples::cam(25);
+    // 10,025-segment CAM program and nothing else (`MOTION_BENCH_ONE_RUN=250`: 100,250 segments,
+    // for `/usr/bin/time`'s CPU time on a loaded machine, where wall-clock time is the load's).
+    if let Some(rows) = std::env::var_os("MOTION_BENCH_ONE_RUN") {
+        let rows = rows.to_str().and_then(|r| r.parse().ok()).unwrap_or(25);
+        let moves = samples::cam(rows);
         println!("ticks {}", run(&moves, samples::start("cam")));
         return;
     }

@@ -179,7 +179,9 @@ impl Seg {
                 let w = r0.max(*r1) * sweep / self.len;
                 let mut out = lift.abs() / self.len;
                 for i in 0..MAX_AXES {
-                    out[i] += w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    if e1[i] != 0.0 || e2[i] != 0.0 {
+                        out[i] += w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    }
                 }
                 out
             }
@@ -203,11 +205,46 @@ impl Seg {
                 let r = r0.max(*r1);
                 let mut out = Vector::zeros();
                 for i in 0..MAX_AXES {
-                    out[i] = r * w * w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    if e1[i] != 0.0 || e2[i] != 0.0 {
+                        out[i] = r * w * w * (e1[i] * e1[i] + e2[i] * e2[i]).sqrt();
+                    }
                 }
                 out
             }
         }
+    }
+
+    /// For a planar circular arc (constant radius, no lift): per axis, the largest |t_i| and the
+    /// largest |n_i| over the sweep, exactly (t the unit tangent, n the unit normal towards the
+    /// centre). On a short arc (a corner blend) they are far below the plane-wide bound 1.
+    pub fn arc_shares(&self) -> Option<(Vector, Vector)> {
+        let Shape::Arc {
+            e1,
+            e2,
+            r0,
+            r1,
+            sweep,
+            lift,
+            ..
+        } = &self.shape
+        else {
+            return None;
+        };
+        if r0 != r1 || lift.norm_squared() != 0.0 {
+            return None;
+        }
+        let mut t = Vector::zeros();
+        let mut n = Vector::zeros();
+        let cs = (sweep.cos(), sweep.sin());
+        for i in 0..MAX_AXES {
+            let (p, q) = (e1[i], e2[i]);
+            if p != 0.0 || q != 0.0 {
+                // t_i = q cos φ − p sin φ, n_i = −(p cos φ + q sin φ).
+                t[i] = max_abs_wave(q, -p, *sweep, cs);
+                n[i] = max_abs_wave(p, q, *sweep, cs);
+            }
+        }
+        Some((t, n))
     }
 
     /// For each axis, the extreme coordinates the segment reaches (exact for lines and for arcs
@@ -284,4 +321,37 @@ pub fn turn_angle(a: &Vector, b: &Vector) -> f64 {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let s = (a - b * c).norm();
     s.atan2(c)
+}
+
+/// The largest |a cos φ + b sin φ| for φ in [0, s], given cos s and sin s.
+pub fn max_abs_wave(a: f64, b: f64, s: f64, (cs, ss): (f64, f64)) -> f64 {
+    if s >= std::f64::consts::PI {
+        return a.hypot(b);
+    }
+    // The derivative b cos φ − a sin φ has its zeros π apart: on [0, s], s < π, it changes sign
+    // exactly when an extreme ±amplitude lies inside.
+    if b * (b * cs - a * ss) <= 0.0 {
+        return a.hypot(b);
+    }
+    a.abs().max((a * cs + b * ss).abs())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::max_abs_wave;
+
+    fn wave(a: f64, b: f64, s: f64) -> f64 {
+        max_abs_wave(a, b, s, (s.cos(), s.sin()))
+    }
+
+    #[test]
+    fn max_abs_wave_finds_inner_and_end_extremes() {
+        // cos on [0, 0.5]: 1 at 0; sin on [0, 1]: sin 1 at the end; sin on [0, 2]: 1 at π/2.
+        assert_eq!(wave(1.0, 0.0, 0.5), 1.0);
+        assert_eq!(wave(0.0, 1.0, 1.0), 1.0f64.sin());
+        assert_eq!(wave(0.0, 1.0, 2.0), 1.0);
+        // sin − cos: −1 at 0, 1 at π/2, its extreme √2 at 3π/4 only on the longer interval.
+        assert_eq!(wave(-1.0, 1.0, std::f64::consts::FRAC_PI_2), 1.0);
+        assert_eq!(wave(-1.0, 1.0, 3.0), 2.0f64.sqrt());
+    }
 }

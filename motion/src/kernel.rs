@@ -51,6 +51,15 @@ pub struct Kernel {
     replan: bool,
     spindle_rev_s: f64,
     out: Tick,
+    /// The lowest queue index whose geometry changed since the last backward pass (None: the
+    /// end speeds are those of the current queue).
+    dirty_from: Option<usize>,
+    /// Leading pieces whose end speeds no append can change (see [`plan::settled`]).
+    final_to: usize,
+    /// Some axis has a soft limit (else the path's bounds are not computed).
+    soft: bool,
+    /// Arc ceilings raised by an override change: (queue index, old cap, old acceleration).
+    undo: Vec<(usize, f64, f64)>,
 }
 
 impl Kernel {
@@ -64,6 +73,10 @@ impl Kernel {
             });
         }
         let pos = vector(start);
+        let cfg_soft = cfg
+            .axes
+            .iter()
+            .any(|a| a.soft_min.is_some() || a.soft_max.is_some());
         Ok(Kernel {
             law: cfg.law,
             out: Tick {
@@ -84,6 +97,10 @@ impl Kernel {
             stop_after: None,
             replan: false,
             spindle_rev_s: 0.0,
+            dirty_from: None,
+            final_to: 0,
+            soft: cfg_soft,
+            undo: Vec::new(),
         })
     }
 
@@ -148,6 +165,7 @@ impl Kernel {
             self.law,
             &self.cfg.acc,
             self.cfg.tick_s,
+            true,
         );
         let len = seg.len;
         let mut piece = Piece {
@@ -157,6 +175,7 @@ impl Kernel {
             motion,
             feed,
             v_hard,
+            base: (v_hard, dynm.a),
             dynm,
             axis,
             v_junction: f64::INFINITY,
@@ -165,16 +184,20 @@ impl Kernel {
             tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
             exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
             corner: None,
+            reserve: true,
+            kink_start: false,
         };
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
         }
-        plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
+        plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
         let keep_to = self.join(&mut piece);
         self.q.push_back(piece);
         self.moves += 1;
         self.end = end;
-        plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, keep_to);
+        // The backward pass waits until the front reaches a piece whose end speed an append can
+        // still change (see `plan_front`): one pass then serves every push since the last one.
+        self.dirty_from = Some(self.dirty_from.map_or(keep_to, |d| d.min(keep_to)));
         Ok(())
     }
 
@@ -184,11 +207,15 @@ impl Kernel {
         let n = self.q.len();
         let executing = self.exec.is_some() && n == 1;
         let (dt, law, acc) = (self.cfg.tick_s, self.law, self.cfg.acc);
+        let pcts = (self.feed_pct, self.rapid_pct);
         let Some(prev) = self.q.back_mut() else {
             return 0;
         };
         if prev.exact || next.exact {
             prev.v_junction = 0.0;
+            if !executing {
+                plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+            }
             return n - 1;
         }
         let theta = turn_angle(&prev.seg.tangent(true), &next.seg.tangent(false));
@@ -201,8 +228,10 @@ impl Kernel {
         {
             prev.den = false;
             prev.v_junction = f64::INFINITY;
+            plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+            // Both ends of the blend are tangent: no kink reserve.
             let (v_hard, dynm, axis) =
-                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt);
+                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt, false);
             let len = arc.len;
             let mut piece = Piece {
                 seg: arc,
@@ -211,6 +240,7 @@ impl Kernel {
                 motion: Motion::Feed,
                 feed: prev.feed.min(next.feed),
                 v_hard,
+                base: (v_hard, dynm.a),
                 dynm,
                 axis,
                 v_junction: f64::INFINITY,
@@ -219,16 +249,26 @@ impl Kernel {
                 tol: prev.tol,
                 exact: false,
                 corner: Some(corner),
+                reserve: false,
+                kink_start: false,
             };
-            plan::tune(&mut piece, self.feed_pct, self.rapid_pct);
+            plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
             self.q.push_back(piece);
             return n - 1;
         }
         prev.v_junction = plan::kink_cap(&self.cfg.axes, theta, dt, law, &acc);
+        if prev.v_junction.is_finite() {
+            next.kink_start = true;
+        } else if !executing {
+            plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+        }
         n - 1
     }
 
     fn check_soft(&self, tag: u64, seg: &Seg) -> Result<(), MotionError> {
+        if !self.soft {
+            return Ok(());
+        }
         let (lo, hi) = seg.bounds();
         for (i, ax) in self.cfg.axes.iter().enumerate() {
             if let Some(max) = ax.soft_max
@@ -263,18 +303,66 @@ impl Kernel {
     /// Feed override, percent (0–255); ramped within the limits from the current tick.
     pub fn set_feed_override(&mut self, pct: u16) {
         self.feed_pct = pct.min(255);
+        self.retune();
         self.replan_all();
     }
 
     /// Rapid override, percent (0–255).
     pub fn set_rapid_override(&mut self, pct: u16) {
         self.rapid_pct = pct.min(255);
+        self.retune();
         self.replan_all();
+    }
+
+    /// Raises the ceilings of queued arcs to a raised override (see [`plan::tune`]), unless the
+    /// lower tangential accelerations that come with them leave the executed piece unable to
+    /// meet its new end speed from the state at which it will be replanned; then every ceiling
+    /// stays as it was. (Every later piece is feasible from its planned start speed by the
+    /// backward pass.)
+    fn retune(&mut self) {
+        self.undo.clear();
+        for (i, p) in self.q.iter_mut().enumerate() {
+            let old = (p.v_hard, p.dynm.a);
+            plan::tune(p, self.feed_pct, self.rapid_pct, true);
+            if (p.v_hard, p.dynm.a) != old {
+                self.undo.push((i, old.0, old.1));
+            }
+        }
+        if self.undo.is_empty() {
+            return;
+        }
+        plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, 0);
+        if let (Some(ex), Some(front)) = (&self.exec, self.q.front()) {
+            let tr = ex.prof.replan_time(ex.t, front.dynm.law);
+            let (x, v, _) = ex.prof.eval(tr);
+            let rem = (front.seg.len - ex.s0 - x).max(0.0);
+            if front.dynm.reach_down(v, rem) > front.v_end * (1.0 + 1e-9) {
+                for &(i, v_hard, a) in &self.undo {
+                    self.q[i].v_hard = v_hard;
+                    self.q[i].dynm.a = a;
+                }
+            }
+        }
     }
 
     fn replan_all(&mut self) {
         plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, 0);
+        self.dirty_from = None;
+        self.final_to = plan::settled(&self.q, self.feed_pct, self.rapid_pct);
         self.replan = self.exec.is_some();
+    }
+
+    /// Brings the front piece's end speed up to date with the queue: runs the pending backward
+    /// pass when pieces were appended and the front is not yet settled. The speeds are the same
+    /// as those of a pass after every push (the pass is exact; only its timing changes).
+    fn plan_front(&mut self) {
+        if let Some(from) = self.dirty_from
+            && self.final_to == 0
+        {
+            plan::backward(&mut self.q, self.feed_pct, self.rapid_pct, from);
+            self.dirty_from = None;
+            self.final_to = plan::settled(&self.q, self.feed_pct, self.rapid_pct);
+        }
     }
 
     /// Feed hold (FOLD): decelerate along the path within the limits and hold; release resumes.
@@ -388,6 +476,8 @@ impl Kernel {
         self.replan = false;
         self.stop_after = None;
         self.v = 0.0;
+        self.dirty_from = None;
+        self.final_to = 0;
     }
 
     /// Advances one interpolation tick and returns its set points.
@@ -404,6 +494,7 @@ impl Kernel {
                     break;
                 }
                 self.replan = false;
+                self.plan_front();
                 self.exec = Some(Exec {
                     prof: self.profile(0.0, self.v),
                     t: 0.0,
@@ -420,6 +511,7 @@ impl Kernel {
                     ex.t = tr;
                     let (x, v, _) = ex.prof.eval(tr);
                     let s0 = ex.s0 + x;
+                    self.plan_front();
                     let prof = self.profile(s0, v);
                     self.exec = Some(Exec { prof, t: 0.0, s0 });
                     self.replan = false;
@@ -450,6 +542,8 @@ impl Kernel {
             self.pos = front.seg.end;
             self.exec = None;
             self.q.pop_front();
+            self.final_to = self.final_to.saturating_sub(1);
+            self.dirty_from = self.dirty_from.map(|d| d.saturating_sub(1));
             if self.q.is_empty() {
                 // The queue ends at rest (its last end speed is 0); drop rounding residue.
                 self.v = 0.0;

@@ -13,7 +13,8 @@ use crate::profile::Dyn;
 /// Share of an axis's acceleration available to centripetal acceleration on arcs.
 pub const CENTRIPETAL_SHARE: f64 = 0.7;
 /// Share of an axis's acceleration (and jerk) reserved for the direction change at an unblended
-/// junction between pieces whose tangents differ slightly.
+/// junction between pieces whose tangents differ slightly (kept by the pieces on either side of
+/// such a kink, and by a piece whose end junction is not known yet).
 pub const KINK_SHARE: f64 = 0.02;
 /// S law: share of an axis's jerk for the path's tangential jerk (the rest covers the steps of
 /// centripetal acceleration where the curvature changes, and the rotation of the acceleration on
@@ -56,8 +57,10 @@ pub struct Piece {
     pub feed: f64,
     /// Speed cap from the axis limits and the centripetal acceleration, mm/s.
     pub v_hard: f64,
-    /// Path dynamics (the tangential acceleration follows the cap, see [`retune`]).
+    /// Path dynamics (the tangential acceleration follows the cap, see [`tune`]).
     pub dynm: Dyn,
+    /// The untuned speed cap and tangential acceleration (before [`tune`]).
+    pub base: (f64, f64),
     /// Per axis: the largest share of the direction, the centripetal share per (mm/s)², and the
     /// acceleration available (98 % of the limit under the piece's law).
     pub axis: [Vector; 3],
@@ -73,6 +76,42 @@ pub struct Piece {
     pub exact: bool,
     /// For a corner-blend arc: the programmed corner it replaces.
     pub corner: Option<Vector>,
+    /// Its dynamics keep the kink reserve ([`KINK_SHARE`]).
+    pub reserve: bool,
+    /// Its start is an unblended kink (the reserve stays).
+    pub kink_start: bool,
+}
+
+/// Recomputes a piece's dynamics without the kink reserve once both its junctions are known to
+/// be smooth (a corner blend, a stop or the start at rest) under the overrides (percent).
+pub fn relax(p: &mut Piece, axes: &[AxisLimits], acc: &AccParams, dt: f64, pcts: (u16, u16)) {
+    if !p.reserve || p.kink_start || matches!(p.motion, Motion::Dwell(_)) {
+        return;
+    }
+    let rapid = p.motion == Motion::Rapid;
+    p.reserve = false;
+    if matches!(p.seg.shape, Shape::Line { .. }) {
+        // A line has no centripetal part: only the tangential acceleration grows.
+        let mut amin = f64::INFINITY;
+        for (i, ax) in axes.iter().enumerate() {
+            let (_, a, _) = axis_vaj(ax, rapid, p.dynm.law, acc);
+            p.axis[2][i] = a;
+            if p.axis[0][i] > 0.0 {
+                amin = amin.min(a / p.axis[0][i]);
+            }
+        }
+        if amin.is_finite() {
+            p.dynm.a = amin;
+            p.base.1 = amin;
+        }
+        return;
+    }
+    let (v_hard, dynm, axis) = dynamics(axes, &p.seg, rapid, p.dynm.law, acc, dt, false);
+    p.v_hard = v_hard;
+    p.base = (v_hard, dynm.a);
+    p.dynm = dynm;
+    p.axis = axis;
+    tune(p, pcts.0, pcts.1, false);
 }
 
 /// The per-law limits of every axis for feed or rapid moves: (v, a, j) in mm/s, mm/s², mm/s³.
@@ -88,7 +127,8 @@ pub fn axis_vaj(ax: &AxisLimits, rapid: bool, law: Law, acc: &AccParams) -> (f64
     }
 }
 
-/// The speed cap and path dynamics of `seg` for these axes.
+/// The speed cap and path dynamics of `seg` for these axes; `reserve`: keep [`KINK_SHARE`] of
+/// every axis's acceleration for a kink at either end.
 pub fn dynamics(
     axes: &[AxisLimits],
     seg: &Seg,
@@ -96,9 +136,16 @@ pub fn dynamics(
     law: Law,
     acc: &AccParams,
     dt: f64,
+    reserve: bool,
 ) -> (f64, Dyn, [Vector; 3]) {
-    let share = seg.max_share();
-    let curv = seg.curvature_share();
+    let keep = if reserve { 1.0 - KINK_SHARE } else { 1.0 };
+    let mut share = seg.max_share();
+    let mut curv = seg.curvature_share();
+    if let (Some((ts, ns)), Shape::Arc { r0, .. }) = (seg.arc_shares(), &seg.shape) {
+        // Exact over the sweep: far below the plane-wide bound on corner blends.
+        share = share.inf(&ts);
+        curv = curv.inf(&(ns / *r0));
+    }
     let kappa = curv.max();
     let tangent = if kappa > 0.0 {
         JERK_TANGENT_ARC
@@ -125,9 +172,9 @@ pub fn dynamics(
     let mut avail = Vector::zeros();
     for (i, ax) in axes.iter().enumerate() {
         let (_, a, _) = axis_vaj(ax, rapid, law, acc);
-        avail[i] = (1.0 - KINK_SHARE) * a;
+        avail[i] = keep * a;
         if share[i] > 0.0 {
-            let left = (1.0 - KINK_SHARE) * a - v_hard * v_hard * curv[i];
+            let left = keep * a - v_hard * v_hard * curv[i];
             amin = amin.min(left / share[i]);
         }
     }
@@ -150,35 +197,57 @@ pub fn dynamics(
     (v_hard, d, [share, curv, avail])
 }
 
-/// Sets a new arc piece's tangential acceleration to what its speed cap under the current
-/// overrides leaves of every axis's acceleration after the centripetal part, and fixes that cap
-/// as the piece's ceiling (a later override raise speeds up arcs queued after it, not this one).
-pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16) {
+/// Sets an arc piece's tangential acceleration to what its speed cap under the current overrides
+/// leaves of every axis's acceleration after the centripetal part, and fixes that cap as the
+/// piece's ceiling. With `raise_only` (an override change on a queued piece) the ceiling only
+/// rises, re-tuned from the piece's untuned cap and acceleration: a lower override keeps the old
+/// ceiling, whose acceleration holds at every speed up to it, so the change is safe even for the
+/// piece being executed.
+pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
     let [share, curv, avail] = &p.axis;
     if curv.max() <= 0.0 {
         return;
     }
-    let c = cap(p, feed_pct, rapid_pct).min(p.v_hard);
+    let (v_base, a_base) = p.base;
+    let c = cap_at(p, v_base, feed_pct, rapid_pct).min(v_base);
+    if raise_only && c <= p.v_hard {
+        return;
+    }
     // On a planar circular arc an axis sees a_t·t_i + a_n·n_i with t ⟂ n in the plane, so
     // |a_i| ≤ |(a_t, a_n)|·share_i: the tangential and centripetal parts add as a vector. On
     // helices and spirals they are added as magnitudes.
-    let planar =
-        matches!(&p.seg.shape, Shape::Arc { r0, r1, lift, .. } if r0 == r1 && lift.norm() == 0.0);
+    // The shares in `p.axis` are exact over the sweep (see `Seg::arc_shares`), valid for the
+    // sum of magnitudes; the vector bound needs the plane-wide share √(e1_i² + e2_i²), and each
+    // axis takes the better of the two.
+    let plane = match &p.seg.shape {
+        Shape::Arc {
+            e1,
+            e2,
+            r0,
+            r1,
+            lift,
+            ..
+        } if r0 == r1 && lift.norm() == 0.0 => Some((e1, e2, *r0)),
+        _ => None,
+    };
     let mut a = f64::INFINITY;
     for i in 0..share.len() {
         if share[i] > 0.0 {
-            let an = c * c * curv[i];
-            let left = if planar {
-                (avail[i] * avail[i] - an * an).max(0.0).sqrt()
-            } else {
-                avail[i] - an
-            };
-            a = a.min(left / share[i]);
+            let mut best = (avail[i] - c * c * curv[i]) / share[i];
+            if let Some((e1, e2, r)) = plane {
+                let o = e1[i].hypot(e2[i]);
+                let an = c * c * o / r;
+                best = best.max((avail[i] * avail[i] - an * an).max(0.0).sqrt() / o);
+            }
+            a = a.min(best);
         }
     }
-    if a.is_finite() && a > 0.0 && a > p.dynm.a {
+    if a.is_finite() && a > 0.0 && a > a_base {
         p.dynm.a = a;
         p.v_hard = c;
+    } else if raise_only {
+        p.dynm.a = a_base;
+        p.v_hard = v_base;
     }
 }
 
@@ -286,10 +355,15 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<(Seg, Vec
 
 /// The piece's speed cap under the overrides (percent).
 pub fn cap(p: &Piece, feed_pct: u16, rapid_pct: u16) -> f64 {
+    cap_at(p, p.v_hard, feed_pct, rapid_pct)
+}
+
+/// The piece's speed cap under the overrides (percent) with the hard cap `v_hard`.
+fn cap_at(p: &Piece, v_hard: f64, feed_pct: u16, rapid_pct: u16) -> f64 {
     match p.motion {
-        Motion::Rapid => p.v_hard * f64::from(rapid_pct) / 100.0,
-        Motion::Feed => p.v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
-        Motion::Thread => p.v_hard.min(p.feed),
+        Motion::Rapid => v_hard * f64::from(rapid_pct) / 100.0,
+        Motion::Feed => v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
+        Motion::Thread => v_hard.min(p.feed),
         Motion::Dwell(_) => 0.0,
     }
 }
@@ -322,4 +396,28 @@ pub fn backward(q: &mut VecDeque<Piece>, feed_pct: u16, rapid_pct: u16, keep_to:
             break;
         }
     }
+}
+
+/// How many leading pieces of the queue have end speeds that no later append can change: the
+/// count before the last piece (from the tail) whose allowed start speed is its own cap however
+/// the queue continues. The walk assumes the worst continuation, a stop at the start of the last
+/// piece (the only piece an append reshapes), so that later appends can only raise the speeds
+/// it sees; a margin of 1e-9 keeps rounding from deciding.
+pub fn settled(q: &VecDeque<Piece>, feed_pct: u16, rapid_pct: u16) -> usize {
+    let n = q.len();
+    let mut next_start = 0.0_f64;
+    for k in (0..n.saturating_sub(1)).rev() {
+        let p = &q[k];
+        if matches!(p.motion, Motion::Dwell(_)) {
+            return k;
+        }
+        let c = cap(p, feed_pct, rapid_pct);
+        let v = p.v_junction.min(c).min(next_start);
+        let reach = p.dynm.reach_up(v, p.seg.len);
+        if reach >= c * (1.0 + 1e-9) {
+            return k;
+        }
+        next_start = reach.min(c);
+    }
+    0
 }

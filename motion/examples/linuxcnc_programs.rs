@@ -1,0 +1,92 @@
+//! Writes issue 10's benchmark programs as RS274 G-code for LinuxCNC (`<dir>/<name>.ngc`: G64
+//! P0.01, a rapid to the start and a 1 s dwell, then the moves) and prints, per program,
+//! ncplc's motion time and the lower bound on the issue's mill (each axis 100 mm/s,
+//! 1000 mm/s², 1 ms tick, tolerance 0.01 mm). Used by `motion/compare/linuxcnc/run.sh`.
+
+use std::fmt::Write;
+
+use motion::{AccParams, AxisLimits, Config, Kernel, Law, Move, Path, bound::lower_bound, samples};
+
+fn cfg() -> Config {
+    let ax = |name| AxisLimits {
+        name,
+        v_max: 100.0,
+        a_max: 1000.0,
+        j_max: None,
+        v_rapid: 100.0,
+        a_rapid: 1000.0,
+        j_rapid: None,
+        soft_min: None,
+        soft_max: None,
+    };
+    Config {
+        axes: vec![ax('X'), ax('Y'), ax('Z')],
+        tick_s: 0.001,
+        tolerance_mm: 0.01,
+        law: Law::Linear,
+        window: 256,
+        acc: AccParams::default(),
+    }
+}
+
+/// Runs to idle; the number of ticks.
+fn ticks(moves: &[Move], start: [f64; 3]) -> Result<u64, String> {
+    let mut k = Kernel::new(cfg(), &start).map_err(|e| e.to_string())?;
+    let (mut next, mut n) = (0, 0);
+    loop {
+        while next < moves.len() && k.space() > 0 {
+            k.push(moves[next].clone()).map_err(|e| e.to_string())?;
+            next += 1;
+        }
+        if next >= moves.len() && k.is_idle() {
+            return Ok(n);
+        }
+        k.tick();
+        n += 1;
+    }
+}
+
+/// The program as G-code.
+fn gcode(moves: &[Move], start: [f64; 3]) -> Result<String, std::fmt::Error> {
+    let mut g = String::new();
+    writeln!(g, "G21 G90 G17 G64 P0.01")?;
+    writeln!(g, "G0 X{:.6} Y{:.6} Z{:.6}", start[0], start[1], start[2])?;
+    writeln!(g, "G4 P1")?;
+    let mut p = start;
+    for m in moves {
+        let f = m.feed_mm_min.unwrap_or(0.0);
+        let (x, y, z) = (m.end[0], m.end[1], m.end[2]);
+        match &m.path {
+            Path::Arc { center, cw, .. } => {
+                let (i, j) = (center[0] - p[0], center[1] - p[1]);
+                let g23 = if *cw { "G2" } else { "G3" };
+                writeln!(g, "{g23} X{x:.6} Y{y:.6} Z{z:.6} I{i:.6} J{j:.6} F{f}")?;
+            }
+            _ => writeln!(g, "G1 X{x:.6} Y{y:.6} Z{z:.6} F{f}")?,
+        }
+        p = [x, y, z];
+    }
+    writeln!(g, "M2")?;
+    Ok(g)
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = std::env::args()
+        .nth(1)
+        .ok_or("usage: linuxcnc_programs <dir>")?;
+    for (name, moves) in [
+        ("squares", samples::squares()),
+        ("circles", samples::circles()),
+        ("zigzag", samples::zigzag()),
+        ("chord_circle", samples::chord_circle()),
+        ("spiral", samples::spiral()),
+        ("cam", samples::cam(20)),
+    ] {
+        let start = samples::start(name);
+        std::fs::write(format!("{dir}/{name}.ngc"), gcode(&moves, start)?)?;
+        let t = ticks(&moves, start)? as f64 * 0.001;
+        let lb = lower_bound(&cfg(), &start, &moves);
+        println!("{name} {t:.3} {lb:.4}");
+    }
+    Ok(())
+}
