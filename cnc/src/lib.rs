@@ -23,6 +23,7 @@ pub mod process;
 pub mod signals;
 pub mod state;
 pub mod status;
+pub mod written;
 
 use packets::Signal;
 use partprogram::Canon;
@@ -32,6 +33,9 @@ pub use process::{Alarm, Counters, Process, Timing};
 pub use signals::{MachineSignals, ProcessSignals};
 pub use state::{Command, Interp, Mode, Reject};
 pub use status::ProcessStatus;
+
+/// The kernel's version, named in the header of a part-run trace.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
 /// Turns MDI text into canonical blocks for a process (the machine's partprogram compiler).
 pub type MdiCompiler = Box<dyn Fn(u8, &str) -> Result<Vec<Canon>, String> + Send>;
@@ -148,6 +152,17 @@ impl Cnc {
     /// The status of every process.
     pub fn status(&self) -> Vec<ProcessStatus> {
         self.processes.iter().map(Process::status).collect()
+    }
+
+    /// Marks in `mask` (one byte per image byte) every bit the kernel and its plant write
+    /// ([`written`]); a replay recomputes those bits instead of applying the trace's.
+    pub fn written_mask(&self, mask: &mut [u8]) {
+        if let Some(r) = self.machine.reset {
+            written::mark(mask, r, 1);
+        }
+        for p in &self.processes {
+            p.written_mask(mask);
+        }
     }
 
     /// Every CNC→PLC signal the kernel writes (a sim.toml may not set these).

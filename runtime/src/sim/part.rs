@@ -15,6 +15,8 @@ pub struct Part {
     pub name: String,
     /// CRC-32 of its text, hexadecimal.
     pub hash: String,
+    /// The file it was read from.
+    pub path: PathBuf,
     /// The canonical blocks in execution order.
     pub blocks: Vec<Canon>,
     /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
@@ -81,6 +83,7 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
     Ok(Part {
         name: program.display().to_string(),
         hash: format!("{:08x}", crc32fast::hash(&bytes)),
+        path,
         blocks,
         skipped,
     })
