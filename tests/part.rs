@@ -130,7 +130,7 @@ fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
         let got = std::fs::read_to_string(&rec).expect("recorded");
         assert_eq!(got, golden, "{engine}");
         // The feed hold: FOLD at 400, HOLD reached at 403, released by START at 500.
-        assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1}}"));
+        assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1},\"pos\":{\"1Z\":"));
     }
 }
 
