@@ -40,11 +40,16 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 /// Turns MDI text into canonical blocks for a process (the machine's partprogram compiler).
 pub type MdiCompiler = Box<dyn Fn(u8, &str) -> Result<Vec<Canon>, String> + Send>;
 
+/// Turns MDI text into canonical blocks planned from the process's current set points (axis
+/// letter and position), so that MDI moves start where the axes stand.
+pub type MdiCompilerAt = Box<dyn Fn(u8, &str, &[(char, f64)]) -> Result<Vec<Canon>, String> + Send>;
+
 /// The kernel: every process of the machine.
 pub struct Cnc {
     processes: Vec<Process>,
     machine: MachineSignals,
     mdi: Option<MdiCompiler>,
+    mdi_at: Option<MdiCompilerAt>,
 }
 
 /// Why an operator command could not be given.
@@ -68,6 +73,7 @@ impl Cnc {
             processes,
             machine,
             mdi: None,
+            mdi_at: None,
         }
     }
 
@@ -110,6 +116,12 @@ impl Cnc {
         Ok(p)
     }
 
+    /// Sets the compiler of MDI text that plans from the current position (preferred over
+    /// [`Cnc::set_mdi_compiler`]'s).
+    pub fn set_mdi_compiler_at(&mut self, f: MdiCompilerAt) {
+        self.mdi_at = Some(f);
+    }
+
     /// Operator: cycle start of process `n`.
     pub fn start(&mut self, n: u8) -> Result<(), CommandError> {
         self.check(n, Command::Start)?.command(Command::Start);
@@ -138,9 +150,21 @@ impl Cnc {
 
     /// Operator: runs MDI text in process `n` (MDI mode, interpreter idle).
     pub fn mdi(&mut self, n: u8, text: &str) -> Result<(), CommandError> {
-        let blocks = match &self.mdi {
-            Some(f) => f(n, text).map_err(CommandError::Mdi)?,
-            None => return Err(CommandError::Mdi("no MDI compiler".into())),
+        let blocks = match (&self.mdi_at, &self.mdi) {
+            (Some(_), _) => {
+                let p = self.process_mut(n)?;
+                let at: Vec<(char, f64)> = p
+                    .cfg
+                    .axes
+                    .iter()
+                    .map(|a| a.name)
+                    .zip(p.set_points().iter().copied())
+                    .collect();
+                let f = self.mdi_at.as_ref().ok_or(CommandError::NoProcess(n))?;
+                f(n, text, &at).map_err(CommandError::Mdi)?
+            }
+            (None, Some(f)) => f(n, text).map_err(CommandError::Mdi)?,
+            (None, None) => return Err(CommandError::Mdi("no MDI compiler".into())),
         };
         let p = self.check(n, Command::Mdi)?;
         p.load("MDI", blocks)

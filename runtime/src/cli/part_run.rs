@@ -17,7 +17,7 @@ use crate::io::IoKind;
 use crate::machine::Machine;
 use crate::machine_facts::Facts;
 use crate::sim::kernel::{KernelIo, KernelSetup};
-use crate::sim::part::{Part, load_part, plan_text};
+use crate::sim::part::{Part, load_part, plan_text_from};
 use crate::trace::{OtherProgram, PartHeader};
 
 /// The program of another process (`sim.toml [cnc] programs`).
@@ -181,9 +181,8 @@ pub fn start_spec(
         cnc,
         process: args.process,
         part,
-        // The blocks run as one MDI program: planned together, they share their modal state (a
-        // program is planned from the machine zero, so one text keeps later blocks' unnamed axes
-        // where the earlier blocks left them).
+        // The blocks run as one MDI program: planned together, they share their modal state; it
+        // is planned from where the axes stand when it starts (`Cnc::set_mdi_compiler_at`).
         mdi: if args.mdi.is_empty() {
             VecDeque::new()
         } else {
@@ -209,7 +208,7 @@ pub fn start_spec(
         let _ = process;
         let dir = run.machine.clone();
         let dialect = run.dialect.clone();
-        c.set_mdi_compiler(Box::new(move |_, text| {
+        c.set_mdi_compiler_at(Box::new(move |_, text, at| {
             // MDI blocks become a one-block program of the machine's dialect.
             let fanuc = dialect
                 .as_deref()
@@ -221,7 +220,7 @@ pub fn start_spec(
             } else {
                 format!("%999999\n{text}\n")
             };
-            plan_text(&dir, "MDI", &program, dialect.as_deref(), false)
+            plan_text_from(&dir, "MDI", &program, dialect.as_deref(), false, at)
         }));
     }
     Ok((Box::new(io), run))
