@@ -331,6 +331,48 @@ mod tests {
     }
 
     #[test]
+    fn a_part_header_and_positions_survive_both_forms() {
+        let x = AxisId {
+            process: 1,
+            axis: 'X',
+        };
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![
+                TickRecord {
+                    t: 0,
+                    positions: vec![(x, 0)],
+                    ..TickRecord::default()
+                },
+                TickRecord {
+                    t: 3,
+                    inputs: vec![(sig("W4K0"), 176)],
+                    positions: vec![(x, 0.1f64.to_bits())],
+                    ..TickRecord::default()
+                },
+            ],
+            part: Some(PartHeader {
+                kernel: "cnc 0.1.0".into(),
+                process: 1,
+                program: Some("PART1".into()),
+                crc32: Some("536205d9".into()),
+                mdi: vec!["G00 X1".into()],
+                ..PartHeader::default()
+            }),
+        };
+        assert_eq!(decode(&encode(&trace).expect("encode")).expect("decode"), trace);
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        assert_eq!(
+            String::from_utf8_lossy(&text),
+            "{\"format\":\"ncplc-trace\",\"version\":1,\"tick_ms\":10,\"part\":{\"kernel\":\"cnc 0.1.0\",\"process\":1,\"program\":\"PART1\",\"crc32\":\"536205d9\",\"mdi\":[\"G00 X1\"]}}\n\
+             {\"t\":0,\"pos\":{\"1X\":\"0000000000000000\"}}\n\
+             {\"t\":3,\"in\":{\"W4K0\":176},\"pos\":{\"1X\":\"3fb999999999999a\"}}\n"
+        );
+        assert_eq!(super::super::text::parse(&text).expect("parse"), trace);
+    }
+
+    #[test]
     fn truncation_is_reported() {
         let trace = Trace {
             part: None,
