@@ -4,7 +4,7 @@
 mod common;
 
 use common::{Cmd, arc, assert_within, line, mill, run};
-use motion::{Kernel, Law, MotionError, PtpAxis};
+use motion::{Kernel, Law, MotionError, Move, Path, PtpAxis};
 
 const DT: f64 = 0.001;
 
@@ -216,4 +216,43 @@ fn stop_at_block_end_holds_at_the_block_end_point() {
     }
     assert_eq!(den, vec![1, 2]);
     assert_eq!(k.position(), &[50.0, 50.0, 0.0]);
+}
+
+/// A 0.1 s dwell lasts 100 ticks of 1 ms even when the feed override is set again every tick (the
+/// CNC kernel does so each logic tick; a replan used to start the dwell over, so it never ended).
+#[test]
+fn a_dwell_ends_while_the_override_is_set_every_tick() {
+    let cfg = common::mill(Law::Linear);
+    let dwell = Move {
+        tag: 1,
+        path: Path::Dwell { seconds: 0.1 },
+        end: vec![0.0; 3],
+        feed_mm_min: None,
+        exact_stop: true,
+        tolerance: None,
+        thread_pitch: None,
+    };
+    let cmds: Vec<(usize, Cmd)> = (0..150).map(|n| (n, Cmd::Override(100))).collect();
+    let r = run(&cfg, &[0.0; 3], &[dwell], &cmds);
+    assert_eq!(r.finished, vec![1]);
+    let mut k = motion::Kernel::new(cfg, &[0.0; 3]).expect("config");
+    k.push(Move {
+        tag: 7,
+        path: Path::Dwell { seconds: 0.1 },
+        end: vec![0.0; 3],
+        feed_mm_min: None,
+        exact_stop: true,
+        tolerance: None,
+        thread_pitch: None,
+    })
+    .expect("dwell");
+    let mut ended = None;
+    for n in 1..=200 {
+        k.set_feed_override(100);
+        if k.tick().finished.contains(&7) {
+            ended = Some(n);
+            break;
+        }
+    }
+    assert_eq!(ended, Some(100));
 }

@@ -360,7 +360,10 @@ mod tests {
                 ..PartHeader::default()
             }),
         };
-        assert_eq!(decode(&encode(&trace).expect("encode")).expect("decode"), trace);
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
         let mut text = Vec::new();
         trace.write_text(&mut text).expect("text");
         assert_eq!(
