@@ -223,8 +223,8 @@ fn stop_at_block_end_holds_at_the_block_end_point() {
 #[test]
 fn a_dwell_ends_while_the_override_is_set_every_tick() {
     let cfg = common::mill(Law::Linear);
-    let dwell = Move {
-        tag: 1,
+    let dwell = |tag| Move {
+        tag,
         path: Path::Dwell { seconds: 0.1 },
         end: vec![0.0; 3],
         feed_mm_min: None,
@@ -233,19 +233,10 @@ fn a_dwell_ends_while_the_override_is_set_every_tick() {
         thread_pitch: None,
     };
     let cmds: Vec<(usize, Cmd)> = (0..150).map(|n| (n, Cmd::Override(100))).collect();
-    let r = run(&cfg, &[0.0; 3], &[dwell], &cmds);
+    let r = run(&cfg, &[0.0; 3], &[dwell(1)], &cmds);
     assert_eq!(r.finished, vec![1]);
     let mut k = motion::Kernel::new(cfg, &[0.0; 3]).expect("config");
-    k.push(Move {
-        tag: 7,
-        path: Path::Dwell { seconds: 0.1 },
-        end: vec![0.0; 3],
-        feed_mm_min: None,
-        exact_stop: true,
-        tolerance: None,
-        thread_pitch: None,
-    })
-    .expect("dwell");
+    k.push(dwell(7)).expect("dwell");
     let mut ended = None;
     for n in 1..=200 {
         k.set_feed_override(100);
