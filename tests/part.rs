@@ -130,7 +130,7 @@ fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
         let got = std::fs::read_to_string(&rec).expect("recorded");
         assert_eq!(got, golden, "{engine}");
         // The feed hold: FOLD at 400, HOLD reached at 403, released by START at 500.
-        assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1}}"));
+        assert!(got.contains("{\"t\":403,\"in\":{\"I1K6\":1},\"pos\":{\"1Z\":"));
     }
 }
 
@@ -292,5 +292,51 @@ fn an_unreferenced_lathe_homes_then_runs_the_part() {
         ),
         "{}",
         String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// MDI blocks are planned from where the axes stand: after homing the lathe stands at X-0.2
+/// Z-0.2 (the MCZ cycle's end); `G01 X-12 F100` moves X alone, 11.8 mm at 100 mm/min = 7.08 s,
+/// and Z stays at -0.2 (planned from zero it would have gone to Z0).
+#[test]
+fn mdi_starts_where_the_axes_stand() {
+    let m = lathe_with(
+        "\n[[axis]]\nname = \"X\"\nstart = -50\nhome_switch = 3\n\
+         \n[[axis]]\nname = \"Z\"\nstart = -100\nhome_switch = 3\n",
+    );
+    let sim = m.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    std::fs::write(
+        &sim,
+        text.replace("referenced = true", "referenced = false"),
+    )
+    .expect("write");
+    let path = m.path().join("traj.jsonl");
+    let out = ncplc(&[
+        "run".as_ref(),
+        m.path().as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--ticks".as_ref(),
+        "20000".as_ref(),
+        "--mdi".as_ref(),
+        "N2 G01 X-12 F100".as_ref(),
+        "--until-end".as_ref(),
+        "--trajectory".as_ref(),
+        path.as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(
+        stdout.contains("cycle time 7.08 s (ticks 1116..1824), ended\n"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&path).expect("trajectory");
+    let mdi: Vec<&str> = text.lines().filter(|l| l.contains("\"block\":0")).collect();
+    assert!(mdi[0].contains("\"p\":[-0.200392,-0.2]"), "{}", mdi[0]);
+    assert!(mdi.iter().all(|l| l.contains(",-0.2],")), "Z never moves");
+    assert_eq!(
+        text.lines().last(),
+        Some(r#"{"t":9119,"p":[-12,-0.2],"block":null,"feed":0}"#)
     );
 }

@@ -23,6 +23,7 @@ pub mod process;
 pub mod signals;
 pub mod state;
 pub mod status;
+pub mod written;
 
 use packets::Signal;
 use partprogram::Canon;
@@ -33,14 +34,22 @@ pub use signals::{MachineSignals, ProcessSignals};
 pub use state::{Command, Interp, Mode, Reject};
 pub use status::ProcessStatus;
 
+/// The kernel's version, named in the header of a part-run trace.
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
 /// Turns MDI text into canonical blocks for a process (the machine's partprogram compiler).
 pub type MdiCompiler = Box<dyn Fn(u8, &str) -> Result<Vec<Canon>, String> + Send>;
+
+/// Turns MDI text into canonical blocks planned from the process's current set points (axis
+/// letter and position), so that MDI moves start where the axes stand.
+pub type MdiCompilerAt = Box<dyn Fn(u8, &str, &[(char, f64)]) -> Result<Vec<Canon>, String> + Send>;
 
 /// The kernel: every process of the machine.
 pub struct Cnc {
     processes: Vec<Process>,
     machine: MachineSignals,
     mdi: Option<MdiCompiler>,
+    mdi_at: Option<MdiCompilerAt>,
 }
 
 /// Why an operator command could not be given.
@@ -64,6 +73,7 @@ impl Cnc {
             processes,
             machine,
             mdi: None,
+            mdi_at: None,
         }
     }
 
@@ -106,6 +116,12 @@ impl Cnc {
         Ok(p)
     }
 
+    /// Sets the compiler of MDI text that plans from the current position (preferred over
+    /// [`Cnc::set_mdi_compiler`]'s).
+    pub fn set_mdi_compiler_at(&mut self, f: MdiCompilerAt) {
+        self.mdi_at = Some(f);
+    }
+
     /// Operator: cycle start of process `n`.
     pub fn start(&mut self, n: u8) -> Result<(), CommandError> {
         self.check(n, Command::Start)?.command(Command::Start);
@@ -134,9 +150,21 @@ impl Cnc {
 
     /// Operator: runs MDI text in process `n` (MDI mode, interpreter idle).
     pub fn mdi(&mut self, n: u8, text: &str) -> Result<(), CommandError> {
-        let blocks = match &self.mdi {
-            Some(f) => f(n, text).map_err(CommandError::Mdi)?,
-            None => return Err(CommandError::Mdi("no MDI compiler".into())),
+        let blocks = match (&self.mdi_at, &self.mdi) {
+            (Some(_), _) => {
+                let p = self.process_mut(n)?;
+                let at: Vec<(char, f64)> = p
+                    .cfg
+                    .axes
+                    .iter()
+                    .map(|a| a.name)
+                    .zip(p.set_points().iter().copied())
+                    .collect();
+                let f = self.mdi_at.as_ref().ok_or(CommandError::NoProcess(n))?;
+                f(n, text, &at).map_err(CommandError::Mdi)?
+            }
+            (None, Some(f)) => f(n, text).map_err(CommandError::Mdi)?,
+            (None, None) => return Err(CommandError::Mdi("no MDI compiler".into())),
         };
         let p = self.check(n, Command::Mdi)?;
         p.load("MDI", blocks)
@@ -148,6 +176,17 @@ impl Cnc {
     /// The status of every process.
     pub fn status(&self) -> Vec<ProcessStatus> {
         self.processes.iter().map(Process::status).collect()
+    }
+
+    /// Marks in `mask` (one byte per image byte) every bit the kernel and its plant write
+    /// ([`written`]); a replay recomputes those bits instead of applying the trace's.
+    pub fn written_mask(&self, mask: &mut [u8]) {
+        if let Some(r) = self.machine.reset {
+            written::mark(mask, r, 1);
+        }
+        for p in &self.processes {
+            p.written_mask(mask);
+        }
     }
 
     /// Every CNC→PLC signal the kernel writes (a sim.toml may not set these).

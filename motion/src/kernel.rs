@@ -504,7 +504,9 @@ impl Kernel {
             let (Some(ex), Some(front)) = (self.exec.as_mut(), self.q.front()) else {
                 break;
             };
-            if self.replan {
+            // A dwell is not replanned: overrides do not change it, and rebuilding its rest
+            // profile would start it over (the CNC kernel sets the overrides every logic tick).
+            if self.replan && !matches!(front.motion, Motion::Dwell(_)) {
                 let tr = ex.prof.replan_time(ex.t, front.dynm.law);
                 if tr - ex.t <= left {
                     left -= tr - ex.t;

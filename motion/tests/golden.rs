@@ -4,7 +4,7 @@
 mod common;
 
 use common::{Cmd, arc, assert_within, line, mill, run};
-use motion::{Kernel, Law, MotionError, PtpAxis};
+use motion::{Kernel, Law, MotionError, Move, Path, PtpAxis};
 
 const DT: f64 = 0.001;
 
@@ -291,4 +291,32 @@ fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
         .fold(0.0, f64::max);
     assert!(gap < 1e-9, "{gap}");
     assert_within(&raised.report, 1e-9);
+/// A 0.1 s dwell lasts 100 ticks of 1 ms even when the feed override is set again every tick (the
+/// CNC kernel does so each logic tick; a replan used to start the dwell over, so it never ended).
+#[test]
+fn a_dwell_ends_while_the_override_is_set_every_tick() {
+    let cfg = common::mill(Law::Linear);
+    let dwell = |tag| Move {
+        tag,
+        path: Path::Dwell { seconds: 0.1 },
+        end: vec![0.0; 3],
+        feed_mm_min: None,
+        exact_stop: true,
+        tolerance: None,
+        thread_pitch: None,
+    };
+    let cmds: Vec<(usize, Cmd)> = (0..150).map(|n| (n, Cmd::Override(100))).collect();
+    let r = run(&cfg, &[0.0; 3], &[dwell(1)], &cmds);
+    assert_eq!(r.finished, vec![1]);
+    let mut k = motion::Kernel::new(cfg, &[0.0; 3]).expect("config");
+    k.push(dwell(7)).expect("dwell");
+    let mut ended = None;
+    for n in 1..=200 {
+        k.set_feed_override(100);
+        if k.tick().finished.contains(&7) {
+            ended = Some(n);
+            break;
+        }
+    }
+    assert_eq!(ended, Some(100));
 }

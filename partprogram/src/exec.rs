@@ -180,7 +180,12 @@ impl<'p> Exec<'p> {
                 lift: None,
                 lead: None,
             },
-            geo: Geometry::new(&m.axes(), m.diameter_x),
+            geo: {
+                let mut g = Geometry::new(&m.axes(), m.diameter_x);
+                g.machine = opts.start;
+                g.prog = opts.start;
+                g
+            },
             frames: vec![Frame {
                 unit: 0,
                 pc: prog.units.first().map_or(0, |u| u.start),

@@ -91,7 +91,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         prog,
         opts,
         axes: axes.iter().copied().take(6).collect(),
-        machine: [0.0; 6],
+        machine: opts.start,
         work: vec![[0.0; 6]; offsets::WORK_ROWS],
         wsel: 0,
         local: [0.0; 6],

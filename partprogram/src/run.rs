@@ -32,6 +32,9 @@ pub struct PlanOptions {
     pub record: bool,
     /// Tool radius compensation settings (G41/G42 corners, arc feed).
     pub radius: crate::radius::RadiusOptions,
+    /// Machine position of each axis (machine axis order) at the start: MDI blocks are planned
+    /// from where the axes stand, a program from zero.
+    pub start: [f64; 6],
 }
 
 impl Default for PlanOptions {
@@ -42,6 +45,7 @@ impl Default for PlanOptions {
             max_blocks: 20_000_000,
             record: true,
             radius: crate::radius::RadiusOptions::default(),
+            start: [0.0; 6],
         }
     }
 }

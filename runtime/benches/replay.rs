@@ -46,7 +46,11 @@ fn record(machine: &Machine) -> Trace {
     s.run(Some(TICKS), |_| true);
     s.finish().unwrap_or_else(|e| panic!("{e}"));
     let ticks = sink.0.lock().map(|v| v.clone()).unwrap_or_default();
-    Trace { tick_ms: 1, ticks }
+    Trace {
+        tick_ms: 1,
+        ticks,
+        part: None,
+    }
 }
 
 fn bench(c: &mut Criterion) {

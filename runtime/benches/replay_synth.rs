@@ -53,6 +53,7 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
             .unwrap_or_else(|e| panic!("{e:?}"));
         recs.push(TickRecord {
             forced: Vec::new(),
+            positions: Vec::new(),
             t,
             inputs: vec![(s, u8::from(rnd(2) == 1))],
             outputs: Vec::new(),
@@ -65,12 +66,14 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
     }
     recs.push(TickRecord {
         forced: Vec::new(),
+        positions: Vec::new(),
         t: ticks - 1,
         ..TickRecord::default()
     });
     Trace {
         tick_ms: 1,
         ticks: recs,
+        part: None,
     }
 }
 

@@ -7,13 +7,33 @@
 //! tick-by-tick replay; the outputs are diffed through [`crate::output_watch`].
 //! Values an HMI force put back after the scan (`forced`) are written after the replay's scan
 //! too; a tick with forces is never skipped.
+//!
+//! A part-run trace (its header names the partprograms) is replayed with a [`ReplayKernel`]: the
+//! CNC kernel, its plant and the operator re-run beside the logic, tick for tick as in `ncplc run`.
+//! The trace's inputs are applied except the bits the kernel owns; those the kernel recomputes,
+//! and the replay compares every input change (the kernel's CNC→PLC signals) and every axis
+//! position with the trace, exactly (positions as f64 bits).
 
 use crate::idle_skip::IdleSkipper;
 use crate::image::Image;
 use crate::output_watch::OutputWatch;
 use crate::program::Loaded;
 use crate::trace::compare::{Comparator, report};
-use crate::trace::{TickRecord, Trace};
+use crate::trace::positions::{PositionComparator, PositionTracker};
+use crate::trace::recorder::InputDiff;
+use crate::trace::{AxisValue, SignalValue, TickRecord, Trace};
+
+/// The CNC side a replay re-runs: a part run's kernel, plant and operator.
+pub trait ReplayKernel {
+    /// One mask byte per image byte of packets A, K and N: the bits the kernel writes.
+    fn written_mask(&self) -> Vec<u8>;
+    /// Tick `t`'s latch: the kernel steps on the outputs published last and writes `packets`.
+    fn latch(&mut self, t: u64, packets: &mut [u8]);
+    /// After tick `t`'s scan: the published packets (the operator acts here, as after a live tick).
+    fn publish(&mut self, t: u64, packets: &[u8]);
+    /// Every axis and its position bits after the latch.
+    fn positions(&mut self, out: &mut Vec<AxisValue>);
+}
 
 /// The result of a replay.
 #[derive(Debug)]
@@ -27,22 +47,30 @@ pub struct Replay {
     pub skipped: u64,
     /// The image after the last tick.
     pub image: Vec<u8>,
+    /// Axis position comparison (empty without a kernel).
+    pub positions: PositionComparator,
 }
 
 impl Replay {
-    /// True when the outputs are identical.
+    /// True when the outputs (and, with a kernel, its signals and the axis positions) are
+    /// identical.
     pub fn identical(&self) -> bool {
-        self.comparator.identical()
+        self.comparator.identical() && self.positions.identical()
     }
 
     /// The divergence report, with `context` ticks around the first divergence.
     pub fn report(&self, expected: &Trace, context: u64) -> String {
-        report(
-            &self.comparator,
-            &expected.ticks,
-            &self.actual.ticks,
-            context,
-        )
+        let mut s = String::new();
+        if !self.comparator.identical() {
+            s = report(
+                &self.comparator,
+                &expected.ticks,
+                &self.actual.ticks,
+                context,
+            );
+        }
+        s.push_str(&self.positions.report());
+        s
     }
 }
 
@@ -73,11 +101,45 @@ pub fn replay(trace: &Trace, loaded: Loaded, t_init: &[u8], progress: impl FnMut
 /// called at least every 65,536 ticks with the ticks done.
 pub fn replay_with(
     trace: &Trace,
+    loaded: Loaded,
+    t_init: &[u8],
+    options: ReplayOptions,
+    progress: impl FnMut(u64),
+) -> Replay {
+    replay_driving(trace, loaded, t_init, options, None, progress)
+}
+
+/// Writes the trace's `inputs` into `image`, leaving the bits of `mask` (the kernel's) alone.
+fn apply_masked(image: &mut [u8], inputs: &[SignalValue], mask: &[u8]) {
+    for (s, v) in inputs {
+        let at = s.image_byte();
+        let m = mask.get(at).copied().unwrap_or(0);
+        match s.bit() {
+            Some(b) if m & (1 << b) == 0 => s.write(image, *v),
+            Some(_) => {}
+            None => {
+                if let Some(slot) = image.get_mut(at) {
+                    *slot = (*slot & m) | (*v & !m);
+                }
+            }
+        }
+    }
+}
+
+/// [`replay_with`], re-running `kernel` beside the logic when given (a part-run trace; no tick is
+/// skipped then).
+pub fn replay_driving(
+    trace: &Trace,
     mut loaded: Loaded,
     t_init: &[u8],
     options: ReplayOptions,
+    mut kernel: Option<&mut dyn ReplayKernel>,
     mut progress: impl FnMut(u64),
 ) -> Replay {
+    let options = ReplayOptions {
+        drives_kernel: options.drives_kernel || kernel.is_some(),
+        ..options
+    };
     let mut image = Image::new(loaded.meta.image_len(), t_init);
     loaded.meta.init_image(image.bytes_mut());
     let mut watch = OutputWatch::new(&loaded.meta.written_signals());
@@ -90,7 +152,17 @@ pub fn replay_with(
     let mut actual = Trace {
         tick_ms: trace.tick_ms,
         ticks: Vec::new(),
+        part: trace.part.clone(),
     };
+    let mask = kernel
+        .as_ref()
+        .map(|k| k.written_mask())
+        .unwrap_or_default();
+    let mut input_diff = InputDiff::default();
+    let mut ins: Vec<SignalValue> = Vec::new();
+    let mut tracker = PositionTracker::default();
+    let mut pcmp = PositionComparator::new(20);
+    let mut pos: Vec<AxisValue> = Vec::new();
     let mut outs = Vec::new();
     let mut next = trace.ticks.iter().peekable();
     let total = trace.len_ticks();
@@ -98,9 +170,23 @@ pub fn replay_with(
     let mut t = 0;
     while t < total {
         let rec = next.next_if(|r| r.t == t);
-        let inputs = rec.map_or(none, |r| r.inputs.as_slice());
-        for (s, v) in inputs {
-            s.write(image.bytes_mut(), *v);
+        let mut inputs = rec.map_or(none, |r| r.inputs.as_slice());
+        if let Some(k) = kernel.as_deref_mut() {
+            input_diff.before_latch(image.bytes());
+            apply_masked(image.bytes_mut(), inputs, &mask);
+            k.latch(t, image.packets_mut());
+            ins.clear();
+            input_diff.after_latch(image.bytes(), &mut ins);
+            cmp.tick(t, inputs, &ins);
+            pos.clear();
+            tracker.diff(|v| k.positions(v), &mut pos);
+            let expected = rec.map_or(&[][..], |r| r.positions.as_slice());
+            pcmp.tick(t, expected, &pos);
+            inputs = &ins;
+        } else {
+            for (s, v) in inputs {
+                s.write(image.bytes_mut(), *v);
+            }
         }
         if let Some(sk) = skipper.as_mut() {
             if inputs.is_empty() {
@@ -121,12 +207,21 @@ pub fn replay_with(
         watch.diff(image.bytes(), &mut outs);
         let expected = rec.map_or(none, |r| r.outputs.as_slice());
         cmp.tick(t, expected, &outs);
-        if !outs.is_empty() || !inputs.is_empty() || !forced.is_empty() || t + 1 == total {
+        if let Some(k) = kernel.as_deref_mut() {
+            k.publish(t, image.packets());
+        }
+        if !outs.is_empty()
+            || !inputs.is_empty()
+            || !forced.is_empty()
+            || !pos.is_empty()
+            || t + 1 == total
+        {
             actual.ticks.push(TickRecord {
                 t,
                 inputs: inputs.to_vec(),
                 outputs: outs.clone(),
                 forced: forced.to_vec(),
+                positions: pos.clone(),
             });
         }
         let mut step = 1;
@@ -149,5 +244,6 @@ pub fn replay_with(
         actual,
         skipped: skipper.map_or(0, |s| s.skipped()),
         image: image.bytes().to_vec(),
+        positions: pcmp,
     }
 }

@@ -44,6 +44,7 @@ fn run(src: &str, tick_ms: u32, trace: &Trace, engine: EngineKind, skip_idle: bo
 fn input_only(t: u64, inputs: &[(&str, u8)]) -> TickRecord {
     TickRecord {
         forced: Vec::new(),
+        positions: Vec::new(),
         t,
         inputs: inputs.iter().map(|&(s, v)| (sig(s), v)).collect(),
         outputs: Vec::new(),
@@ -58,6 +59,7 @@ fn a_running_timer_is_jumped_to_the_tick_of_its_expiry_and_then_to_the_end() {
     // (947) are jumped and the last tick 999 runs.
     let src = "DEF T1 : TON(500ms)\nT1 = I0A0\nU4A0 = T1\n";
     let trace = Trace {
+        part: None,
         tick_ms: 10,
         ticks: vec![input_only(0, &[("I0A0", 1)]), input_only(999, &[])],
     };
@@ -70,6 +72,7 @@ fn a_running_timer_is_jumped_to_the_tick_of_its_expiry_and_then_to_the_end() {
             input_only(0, &[("I0A0", 1)]),
             TickRecord {
                 forced: Vec::new(),
+                positions: Vec::new(),
                 t: 50,
                 inputs: vec![],
                 outputs: vec![(sig("U4A0"), 1)],
@@ -86,6 +89,7 @@ fn a_running_timer_is_jumped_to_the_tick_of_its_expiry_and_then_to_the_end() {
 fn a_replay_that_drives_a_kernel_never_skips() {
     let src = "U4A0 = I0A0\n";
     let trace = Trace {
+        part: None,
         tick_ms: 1,
         ticks: vec![input_only(0, &[("I0A0", 1)]), input_only(9_999, &[])],
     };
@@ -217,6 +221,7 @@ fn sparse_trace() -> impl Strategy<Value = Trace> {
             for (gap, n, v) in changes {
                 ticks.push(TickRecord {
                     forced: Vec::new(),
+                    positions: Vec::new(),
                     t,
                     inputs: vec![(sig(&format!("I0A{n}")), v)],
                     outputs: Vec::new(),
@@ -225,10 +230,15 @@ fn sparse_trace() -> impl Strategy<Value = Trace> {
             }
             ticks.push(TickRecord {
                 forced: Vec::new(),
+                positions: Vec::new(),
                 t: t + tail,
                 ..TickRecord::default()
             });
-            Trace { tick_ms, ticks }
+            Trace {
+                tick_ms,
+                ticks,
+                part: None,
+            }
         })
 }
 

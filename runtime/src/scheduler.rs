@@ -17,6 +17,7 @@ use crate::image::Image;
 use crate::program::Loaded;
 use crate::retain::{RetainLayout, RetainRecord};
 use crate::stats::Stats;
+use crate::trace::positions::{PositionSource, PositionTracker};
 use crate::trace::recorder::{InputDiff, OutputTracker};
 use crate::trace::{TickRecord, TraceError, TraceSink};
 
@@ -85,6 +86,7 @@ pub struct Scheduler {
     last_io_error: Option<TraceError>,
     forces: Forces,
     forced_scratch: Vec<crate::trace::SignalValue>,
+    positions: Option<(PositionSource, PositionTracker)>,
 }
 
 impl Scheduler {
@@ -121,12 +123,19 @@ impl Scheduler {
             last_io_error: None,
             forces: Forces::default(),
             forced_scratch: Vec::new(),
+            positions: None,
         }
     }
 
     /// Records every tick's inputs and changed outputs into `sink`.
     pub fn record_to(&mut self, sink: Box<dyn TraceSink>) {
         self.recording = Some((InputDiff::default(), sink, TickRecord::default()));
+    }
+
+    /// With a recording: every tick's axis positions that changed (a part run's kernel) go into
+    /// its records; `source` lists them after the I/O latched the tick.
+    pub fn record_positions(&mut self, source: PositionSource) {
+        self.positions = Some((source, PositionTracker::default()));
     }
 
     /// Takes new programs from `rx` at tick boundaries.
@@ -216,11 +225,15 @@ impl Scheduler {
             rec.inputs.clear();
             rec.outputs.clear();
             rec.forced.clear();
+            rec.positions.clear();
         }
         self.io.latch_inputs(t, self.image.packets_mut());
         self.forces.apply_before(self.image.bytes_mut());
         if let Some((diff, _, rec)) = &mut self.recording {
             diff.after_latch(self.image.bytes(), &mut rec.inputs);
+            if let Some((source, tracker)) = &mut self.positions {
+                tracker.diff(source, &mut rec.positions);
+            }
         }
         if !self.tripped {
             self.loaded.logic.tick(self.image.bytes_mut());
@@ -235,7 +248,10 @@ impl Scheduler {
         }
         if let Some((_, sink, rec)) = &mut self.recording {
             self.tracker.diff(self.image.bytes(), &mut rec.outputs);
-            if !(rec.inputs.is_empty() && rec.outputs.is_empty() && rec.forced.is_empty())
+            if !(rec.inputs.is_empty()
+                && rec.outputs.is_empty()
+                && rec.forced.is_empty()
+                && rec.positions.is_empty())
                 && let Err(e) = sink.record(rec)
             {
                 self.last_io_error = Some(e);
@@ -347,6 +363,7 @@ impl Scheduler {
                 && rec.inputs.is_empty()
                 && rec.outputs.is_empty()
                 && rec.forced.is_empty()
+                && rec.positions.is_empty()
             {
                 let end = TickRecord {
                     t: self.tick - 1,

@@ -69,7 +69,11 @@ fn record(ticks: u64) -> Trace {
     s.run(Some(ticks), |_| true);
     s.finish().expect("finish");
     let ticks = sink.0.lock().expect("lock").clone();
-    Trace { tick_ms: 10, ticks }
+    Trace {
+        tick_ms: 10,
+        ticks,
+        part: None,
+    }
 }
 
 #[test]

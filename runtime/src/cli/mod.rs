@@ -11,6 +11,7 @@ pub mod nc;
 pub mod nc_plot;
 pub mod nc_run;
 pub mod output;
+pub mod part_replay;
 pub mod part_run;
 pub mod plot;
 pub mod replay;

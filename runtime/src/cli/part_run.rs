@@ -17,7 +17,8 @@ use crate::io::IoKind;
 use crate::machine::Machine;
 use crate::machine_facts::Facts;
 use crate::sim::kernel::{KernelIo, KernelSetup};
-use crate::sim::part::{Part, load_part, plan_text};
+use crate::sim::part::{Part, load_part, plan_text_from};
+use crate::trace::{OtherProgram, PartHeader};
 
 /// The program of another process (`sim.toml [cnc] programs`).
 struct Other {
@@ -61,6 +62,46 @@ pub fn make_interp(
     )?))
 }
 
+/// What the operator of a part run does: the `ncplc run` options a replay needs too.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct PartSpec {
+    /// `--program`.
+    pub program: Option<std::path::PathBuf>,
+    /// `--process`.
+    pub process: u8,
+    /// `--dialect`.
+    pub dialect: Option<String>,
+    /// `--mdi`, in order.
+    pub mdi: Vec<String>,
+}
+
+impl PartSpec {
+    /// The part-run options of `ncplc run`.
+    pub fn of(args: &Args) -> PartSpec {
+        PartSpec {
+            program: args.program.clone(),
+            process: args.process,
+            dialect: args.dialect.clone(),
+            mdi: args.mdi.clone(),
+        }
+    }
+
+    /// The options a trace header names.
+    pub fn from_header(h: &PartHeader) -> PartSpec {
+        PartSpec {
+            program: h.program.as_ref().map(std::path::PathBuf::from),
+            process: h.process,
+            dialect: h.dialect.clone(),
+            mdi: h.mdi.clone(),
+        }
+    }
+}
+
+/// The version of the kernel a trace header names: a replay by another kernel may diverge.
+pub fn kernel_version() -> String {
+    format!("cnc {}", cnc::VERSION)
+}
+
 /// Builds the kernel I/O for `args` and the part run that drives it.
 pub fn start(
     args: &Args,
@@ -70,6 +111,29 @@ pub fn start(
     if args.io != IoKind::Sim {
         return Err("error: --program and --mdi run on the simulated machine (--io sim)".into());
     }
+    let (io, mut run) = start_spec(&PartSpec::of(args), machine, tick_ms)?;
+    if let Some(path) = &args.trajectory {
+        use std::io::Write as _;
+        let header = run
+            .lock()
+            .process_mut(args.process)
+            .ok()
+            .and_then(|p| p.record_trajectory())
+            .ok_or_else(|| format!("error: process {} has no interpolated axes", args.process))?;
+        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let mut w = std::io::BufWriter::new(file);
+        writeln!(w, "{header}").map_err(|e| format!("{}: {e}", path.display()))?;
+        run.trajectory = Some(w);
+    }
+    Ok((io, run))
+}
+
+/// Builds the kernel I/O for a part run of `spec` and the part run that drives it.
+pub fn start_spec(
+    args: &PartSpec,
+    machine: &Machine,
+    tick_ms: u32,
+) -> Result<(Box<dyn PacketIo>, PartRun), String> {
     let facts = Facts::load(&machine.dir).map_err(|e| e.to_string())?;
     let axcfil = &facts.machine.axcfil;
     let interp = |cfg: &ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
@@ -117,9 +181,8 @@ pub fn start(
         cnc,
         process: args.process,
         part,
-        // The blocks run as one MDI program: planned together, they share their modal state (a
-        // program is planned from the machine zero, so one text keeps later blocks' unnamed axes
-        // where the earlier blocks left them).
+        // The blocks run as one MDI program: planned together, they share their modal state; it
+        // is planned from where the axes stand when it starts (`Cnc::set_mdi_compiler_at`).
         mdi: if args.mdi.is_empty() {
             VecDeque::new()
         } else {
@@ -137,20 +200,6 @@ pub fn start(
         others,
         trajectory: None,
     };
-    let mut run = run;
-    if let Some(path) = &args.trajectory {
-        use std::io::Write as _;
-        let header = run
-            .lock()
-            .process_mut(args.process)
-            .ok()
-            .and_then(|p| p.record_trajectory())
-            .ok_or_else(|| format!("error: process {} has no interpolated axes", args.process))?;
-        let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        let mut w = std::io::BufWriter::new(file);
-        writeln!(w, "{header}").map_err(|e| format!("{}: {e}", path.display()))?;
-        run.trajectory = Some(w);
-    }
     {
         let mut c = run.lock();
         let process = c
@@ -159,7 +208,7 @@ pub fn start(
         let _ = process;
         let dir = run.machine.clone();
         let dialect = run.dialect.clone();
-        c.set_mdi_compiler(Box::new(move |_, text| {
+        c.set_mdi_compiler_at(Box::new(move |_, text, at| {
             // MDI blocks become a one-block program of the machine's dialect.
             let fanuc = dialect
                 .as_deref()
@@ -171,13 +220,48 @@ pub fn start(
             } else {
                 format!("%999999\n{text}\n")
             };
-            plan_text(&dir, "MDI", &program, dialect.as_deref(), false)
+            plan_text_from(&dir, "MDI", &program, dialect.as_deref(), false, at)
         }));
     }
     Ok((Box::new(io), run))
 }
 
 impl PartRun {
+    /// The kernel (shared with the I/O, an HMI and a replay).
+    pub fn cnc(&self) -> Arc<Mutex<Cnc>> {
+        Arc::clone(&self.cnc)
+    }
+
+    /// The trace header of this run: the programs with their content hashes and the options.
+    pub fn header(&self, spec: &PartSpec) -> PartHeader {
+        PartHeader {
+            kernel: kernel_version(),
+            process: spec.process,
+            dialect: spec.dialect.clone(),
+            program: self.part.as_ref().map(|p| p.name.clone()),
+            crc32: self.part.as_ref().map(|p| p.hash.clone()),
+            mdi: spec.mdi.clone(),
+            others: self
+                .others
+                .iter()
+                .map(|o| OtherProgram {
+                    process: o.process,
+                    program: o.part.name.clone(),
+                    crc32: o.part.hash.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    /// The programs and their paths as (name in the header, file, CRC-32), for a replay's check.
+    pub fn programs(&self) -> Vec<(String, std::path::PathBuf, String)> {
+        self.part
+            .iter()
+            .chain(self.others.iter().map(|o| &o.part))
+            .map(|p| (p.name.clone(), p.path.clone(), p.hash.clone()))
+            .collect()
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, Cnc> {
         self.cnc.lock().unwrap_or_else(PoisonError::into_inner)
     }

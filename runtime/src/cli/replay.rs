@@ -7,9 +7,10 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::cli::part_replay::replay_trace;
 use crate::compiled::EngineKind;
 use crate::machine::Machine;
-use crate::replay::{ReplayOptions, replay_with};
+use crate::replay::ReplayOptions;
 use crate::trace::recover::recover;
 use crate::trace::{Trace, binary};
 
@@ -82,14 +83,24 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
     let start = std::time::Instant::now();
     let options = ReplayOptions {
         skip_idle: !args.no_skip,
-        // Traces carry no CNC kernel yet; a trace naming a partprogram must set this.
-        drives_kernel: false,
+        // A trace whose header names partprograms re-runs the kernel (set by `replay_trace`).
+        drives_kernel: trace.part.is_some(),
     };
-    let result = replay_with(&trace, loaded, &machine.config.t_init, options, |done| {
+    let result = replay_trace(&machine, &trace, loaded, options, |done| {
         if let Some(b) = &bar {
             b.set_position(done);
         }
     });
+    let result = match result {
+        Ok(r) => r,
+        Err(e) => {
+            if let Some(b) = bar {
+                b.finish_and_clear();
+            }
+            eprintln!("{e}");
+            return Ok(ExitCode::from(1));
+        }
+    };
     if let Some(b) = bar {
         b.finish_and_clear();
     }
@@ -116,9 +127,14 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
     }
     if result.identical() {
         eprintln!(
-            "{}: {total} ticks replayed ({} skipped as idle), outputs identical ({:.1?}, {:.0}x real time)",
+            "{}: {total} ticks replayed ({} skipped as idle), outputs identical{} ({:.1?}, {:.0}x real time)",
             args.trace.display(),
             result.skipped,
+            if trace.part.is_some() {
+                ", kernel signals and axis positions identical"
+            } else {
+                ""
+            },
             elapsed,
             (total as f64 * f64::from(trace.tick_ms) / 1e3) / elapsed.as_secs_f64().max(1e-9)
         );

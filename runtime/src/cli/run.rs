@@ -235,9 +235,21 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             wait_when_full: args.virtual_time,
             ..crate::trace::DurableOptions::default()
         };
-        let sink = crate::trace::create_sink_with(path, tick_ms, options)
+        let header = part
+            .as_ref()
+            .map(|p| p.header(&crate::cli::part_run::PartSpec::of(&args)));
+        let sink = crate::trace::create_part_sink(path, tick_ms, header.as_ref(), options)
             .map_err(|e| format!("{}: {e}", path.display()))?;
         sched.record_to(sink);
+        if let Some(p) = &part {
+            let cnc = p.cnc();
+            sched.record_positions(Box::new(move |out| {
+                let c = cnc
+                    .lock()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                crate::cli::part_replay::axis_positions(&c, out);
+            }));
+        }
     }
     let retain_writer = match (&retain_path, use_retain) {
         (Some(path), true) => Some(start_retain_writer(path.clone(), &mut sched)),

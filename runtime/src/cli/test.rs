@@ -10,9 +10,10 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
+use crate::cli::part_replay::replay_trace;
 use crate::compiled::EngineKind;
 use crate::machine::Machine;
-use crate::replay::replay;
+use crate::replay::ReplayOptions;
 use crate::trace::Trace;
 
 /// Arguments of `ncplc test`.
@@ -103,7 +104,10 @@ pub fn test_one(machine: &Machine, source: &[u8], engine: EngineKind, path: &Pat
         Ok(l) => l,
         Err(e) => return outcome(0, Verdict::Error(e.to_string())),
     };
-    let result = replay(&trace, loaded, &machine.config.t_init, |_| {});
+    let result = match replay_trace(machine, &trace, loaded, ReplayOptions::default(), |_| {}) {
+        Ok(r) => r,
+        Err(e) => return outcome(0, Verdict::Error(e)),
+    };
     let ticks = trace.len_ticks();
     if result.identical() {
         outcome(ticks, Verdict::Pass)

@@ -182,6 +182,7 @@ mod tests {
     #[test]
     fn lanes_follow_inputs_outputs_and_forces_inside_the_window() {
         let trace = Trace {
+            part: None,
             tick_ms: 10,
             ticks: vec![
                 TickRecord {
@@ -198,6 +199,7 @@ mod tests {
                 TickRecord {
                     t: 9,
                     forced: vec![(sig("U4A0"), 1)],
+                    positions: Vec::new(),
                     ..TickRecord::default()
                 },
                 TickRecord {

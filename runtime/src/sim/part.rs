@@ -15,6 +15,8 @@ pub struct Part {
     pub name: String,
     /// CRC-32 of its text, hexadecimal.
     pub hash: String,
+    /// The file it was read from.
+    pub path: PathBuf,
     /// The canonical blocks in execution order.
     pub blocks: Vec<Canon>,
     /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
@@ -39,6 +41,19 @@ pub fn plan_text(
     dialect: Option<&str>,
     block_skip: bool,
 ) -> Result<Vec<Canon>, String> {
+    plan_text_from(dir, name, text, dialect, block_skip, &[])
+}
+
+/// [`plan_text`] starting from the axis positions `start` (axis letter, position; MDI blocks
+/// start where the axes stand). Letters the machine does not have are ignored.
+pub fn plan_text_from(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+    block_skip: bool,
+    start: &[(char, f64)],
+) -> Result<Vec<Canon>, String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
@@ -57,8 +72,15 @@ pub fn plan_text(
     let Some(prog) = prog.filter(|_| !diag::has_errors(&diags)) else {
         return Err(diag::render_human(&diags, &sources));
     };
+    let mut at = [0.0; 6];
+    for (i, a) in prog.machine.axes().iter().take(6).enumerate() {
+        if let Some((_, x)) = start.iter().find(|(c, _)| c == a) {
+            at[i] = *x;
+        }
+    }
     let opts = PlanOptions {
         block_skip,
+        start: at,
         ..PlanOptions::default()
     };
     partprogram::plan(&prog, opts)
@@ -81,6 +103,7 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
     Ok(Part {
         name: program.display().to_string(),
         hash: format!("{:08x}", crc32fast::hash(&bytes)),
+        path,
         blocks,
         skipped,
     })

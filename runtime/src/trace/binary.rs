@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 
 use packets::{Dir, Packet, Signal};
 
-use super::{TickRecord, Trace, TraceError, TraceSink, VERSION};
+use super::{AxisId, AxisValue, PartHeader, TickRecord, Trace, TraceError, TraceSink, VERSION};
 
 /// The name in the header frame.
 pub const FORMAT: &str = "ncplc-trace";
@@ -34,6 +34,10 @@ pub enum Frame {
     /// The `forced` values of the [`Frame::Tick`] that follows (written only when there are any,
     /// so traces without HMI forces keep their encoding).
     Forced(Vec<(u32, u8)>),
+    /// The part-run header (a [`PartHeader`] as JSON), right after [`Frame::Header`].
+    Part(String),
+    /// The `positions` of the [`Frame::Tick`] that follows: (process, axis letter, f64 bits).
+    Positions(Vec<(u8, char, u64)>),
 }
 
 /// A [`TickRecord`] in compact form.
@@ -96,6 +100,7 @@ impl CompactTick {
             inputs: unpack(&self.inputs, Dir::In)?,
             outputs: unpack(&self.outputs, Dir::Out)?,
             forced: Vec::new(),
+            positions: Vec::new(),
         })
     }
 }
@@ -108,13 +113,29 @@ pub struct BinaryWriter<W: Write> {
 
 impl<W: Write> BinaryWriter<W> {
     /// Writes the header frame.
-    pub fn new(mut out: W, tick_ms: u32) -> Result<Self, TraceError> {
+    pub fn new(out: W, tick_ms: u32) -> Result<Self, TraceError> {
+        Self::with_part(out, tick_ms, None)
+    }
+
+    /// Writes the header frame and, for a part run, the [`Frame::Part`] frame.
+    pub fn with_part(
+        mut out: W,
+        tick_ms: u32,
+        part: Option<&PartHeader>,
+    ) -> Result<Self, TraceError> {
         let header = Frame::Header {
             format: FORMAT.into(),
             version: VERSION,
             tick_ms,
         };
         write_frame(&mut out, &header)?;
+        if let Some(p) = part {
+            let json = serde_json::to_string(p).map_err(|e| TraceError::Binary {
+                frame: 1,
+                message: e.to_string(),
+            })?;
+            write_frame(&mut out, &Frame::Part(json))?;
+        }
         Ok(BinaryWriter { out, prev_t: 0 })
     }
 
@@ -139,6 +160,14 @@ impl<W: Write> TraceSink for BinaryWriter<W> {
             let forced = rec.forced.iter().map(|(s, v)| (key(s), *v)).collect();
             write_frame(&mut self.out, &Frame::Forced(forced))?;
         }
+        if !rec.positions.is_empty() {
+            let pos = rec
+                .positions
+                .iter()
+                .map(|(a, bits)| (a.process, a.axis, *bits))
+                .collect();
+            write_frame(&mut self.out, &Frame::Positions(pos))?;
+        }
         let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
         self.prev_t = rec.t;
         write_frame(&mut self.out, &frame)
@@ -153,7 +182,7 @@ impl<W: Write> TraceSink for BinaryWriter<W> {
 /// Encodes a whole trace.
 pub fn encode(trace: &Trace) -> Result<Vec<u8>, TraceError> {
     let mut out = Vec::new();
-    let mut w = BinaryWriter::new(&mut out, trace.tick_ms)?;
+    let mut w = BinaryWriter::with_part(&mut out, trace.tick_ms, trace.part.as_ref())?;
     for r in &trace.ticks {
         TraceSink::record(&mut w, r)?;
     }
@@ -188,14 +217,33 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 format!("not a version-{VERSION} ncplc trace header (version {version})"),
             ));
         }
-        Frame::Tick(_) | Frame::Forced(_) => {
+        Frame::Tick(_) | Frame::Forced(_) | Frame::Part(_) | Frame::Positions(_) => {
             return Err(bad(i, "the first frame must be the header".into()));
         }
     };
     let mut ticks: Vec<TickRecord> = Vec::new();
     let mut forced: Option<(usize, Vec<(u32, u8)>)> = None;
+    let mut positions: Option<(usize, Vec<AxisValue>)> = None;
+    let mut part = None;
     for (i, raw) in frames {
         match decode_one(i, raw)? {
+            Frame::Part(json) if i == 1 => {
+                part = Some(
+                    serde_json::from_str::<PartHeader>(&json)
+                        .map_err(|e| bad(i, format!("part header: {e}")))?,
+                );
+            }
+            Frame::Part(_) => return Err(bad(i, "a part header after the first frames".into())),
+            Frame::Positions(list) => {
+                if positions.is_some() {
+                    return Err(bad(i, "two position frames without a tick between".into()));
+                }
+                let list = list
+                    .into_iter()
+                    .map(|(process, axis, bits)| (AxisId { process, axis }, bits))
+                    .collect();
+                positions = Some((i, list));
+            }
             Frame::Forced(list) => {
                 if forced.is_some() {
                     return Err(bad(i, "two forced frames without a tick between".into()));
@@ -214,6 +262,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                         .collect::<Option<_>>()
                         .ok_or_else(|| bad(i, "a forced signal outside the packets".into()))?;
                 }
+                if let Some((_, list)) = positions.take() {
+                    r.positions = list;
+                }
                 if let Some(prev) = ticks.last()
                     && c.dt == 0
                 {
@@ -230,7 +281,17 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     if let Some((i, _)) = forced {
         return Err(bad(i, "truncated: a forced frame without its tick".into()));
     }
-    Ok(Trace { tick_ms, ticks })
+    if let Some((i, _)) = positions {
+        return Err(bad(
+            i,
+            "truncated: a position frame without its tick".into(),
+        ));
+    }
+    Ok(Trace {
+        tick_ms,
+        ticks,
+        part,
+    })
 }
 
 #[cfg(test)]
@@ -244,6 +305,7 @@ mod tests {
     #[test]
     fn round_trip_and_no_zero_inside_frames() {
         let trace = Trace {
+            part: None,
             tick_ms: 1,
             ticks: vec![
                 TickRecord {
@@ -251,12 +313,14 @@ mod tests {
                     inputs: vec![(sig("W3K0"), 0)],
                     outputs: vec![(sig("U4A0"), 1)],
                     forced: vec![],
+                    positions: Vec::new(),
                 },
                 TickRecord {
                     t: 300,
                     inputs: vec![(sig("I0A0"), 1)],
                     outputs: vec![],
                     forced: vec![(sig("U4A1"), 0)],
+                    positions: Vec::new(),
                 },
             ],
         };
@@ -267,8 +331,54 @@ mod tests {
     }
 
     #[test]
+    fn a_part_header_and_positions_survive_both_forms() {
+        let x = AxisId {
+            process: 1,
+            axis: 'X',
+        };
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![
+                TickRecord {
+                    t: 0,
+                    positions: vec![(x, 0)],
+                    ..TickRecord::default()
+                },
+                TickRecord {
+                    t: 3,
+                    inputs: vec![(sig("W4K0"), 176)],
+                    positions: vec![(x, 0.1f64.to_bits())],
+                    ..TickRecord::default()
+                },
+            ],
+            part: Some(PartHeader {
+                kernel: "cnc 0.1.0".into(),
+                process: 1,
+                program: Some("PART1".into()),
+                crc32: Some("536205d9".into()),
+                mdi: vec!["G00 X1".into()],
+                ..PartHeader::default()
+            }),
+        };
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        assert_eq!(
+            String::from_utf8_lossy(&text),
+            "{\"format\":\"ncplc-trace\",\"version\":1,\"tick_ms\":10,\"part\":{\"kernel\":\"cnc 0.1.0\",\"process\":1,\"program\":\"PART1\",\"crc32\":\"536205d9\",\"mdi\":[\"G00 X1\"]}}\n\
+             {\"t\":0,\"pos\":{\"1X\":\"0000000000000000\"}}\n\
+             {\"t\":3,\"in\":{\"W4K0\":176},\"pos\":{\"1X\":\"3fb999999999999a\"}}\n"
+        );
+        assert_eq!(super::super::text::parse(&text).expect("parse"), trace);
+    }
+
+    #[test]
     fn truncation_is_reported() {
         let trace = Trace {
+            part: None,
             tick_ms: 1,
             ticks: vec![TickRecord {
                 t: 4,
@@ -326,10 +436,20 @@ mod tests {
                 outputs.sort_by_key(|(s, _)| crate::trace::text::canonical_key(s));
                 outputs.dedup_by_key(|(s, _)| *s);
                 let forced = if i % 2 == 1 { outputs.clone() } else { Vec::new() };
-                ticks.push(TickRecord { t, inputs, outputs, forced });
+                ticks.push(TickRecord {
+                    t,
+                    inputs,
+                    outputs,
+                    forced,
+                    positions: Vec::new(),
+                });
                 t += g;
             }
-            let trace = Trace { tick_ms: 3, ticks };
+            let trace = Trace {
+        tick_ms: 3,
+        ticks,
+        part: None,
+    };
             let bytes = encode(&trace).expect("encode");
             proptest::prop_assert_eq!(&decode(&bytes).expect("decode"), &trace);
             let mut text = Vec::new();

@@ -197,12 +197,14 @@ mod tests {
             inputs: vec![(sig("I0A0"), 1)],
             outputs: vec![(sig("U4A0"), 1)],
             forced: vec![],
+            positions: Vec::new(),
         }];
         let act = vec![TickRecord {
             t: 3,
             inputs: vec![],
             outputs: vec![(sig("U4A0"), 1)],
             forced: vec![],
+            positions: Vec::new(),
         }];
         c.tick(2, &exp[0].outputs, &[]);
         c.tick(3, &[], &act[0].outputs);

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 
 use super::binary::BinaryWriter;
 use super::text::TextWriter;
-use super::{TickRecord, TraceError, TraceSink};
+use super::{PartHeader, TickRecord, TraceError, TraceSink};
 
 /// How a durable recording behaves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,12 +91,32 @@ impl DurableSink {
         binary: bool,
         options: DurableOptions,
     ) -> Result<DurableSink, TraceError> {
+        Self::create_with_part(target, partial, tick_ms, None, binary, options)
+    }
+
+    /// [`DurableSink::create`] with a header that names the partprograms of a part run.
+    pub fn create_with_part(
+        target: &Path,
+        partial: PathBuf,
+        tick_ms: u32,
+        part: Option<&PartHeader>,
+        binary: bool,
+        options: DurableOptions,
+    ) -> Result<DurableSink, TraceError> {
         let file = File::create(&partial)?;
         let (ring, consumer) = rtrb::RingBuffer::new(options.ring_bytes.max(1024));
         let encoder = if binary {
-            Encoder::Binary(BinaryWriter::new(Vec::with_capacity(4096), tick_ms)?)
+            Encoder::Binary(BinaryWriter::with_part(
+                Vec::with_capacity(4096),
+                tick_ms,
+                part,
+            )?)
         } else {
-            Encoder::Text(TextWriter::new(Vec::with_capacity(4096), tick_ms)?)
+            Encoder::Text(TextWriter::with_part(
+                Vec::with_capacity(4096),
+                tick_ms,
+                part,
+            )?)
         };
         let stop = Arc::new(AtomicBool::new(false));
         let flush = options.flush.max(Duration::from_millis(1));

@@ -8,6 +8,7 @@
 pub mod binary;
 pub mod compare;
 pub mod durable;
+pub mod positions;
 pub mod recorder;
 pub mod recover;
 pub mod text;
@@ -39,6 +40,86 @@ pub struct TickRecord {
     /// them); a replay writes them after its scan, so a session with forces replays exactly.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub forced: Vec<SignalValue>,
+    /// Axis positions of a part run that changed during the tick (the simulated drives' actual
+    /// positions after the kernel's step, as f64 bits so that a comparison is exact).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub positions: Vec<AxisValue>,
+}
+
+/// An axis of a part-run trace: its process and letter, written `1X` (process 1, axis X).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
+pub struct AxisId {
+    /// The process, 1..5.
+    pub process: u8,
+    /// The axis letter.
+    pub axis: char,
+}
+
+impl std::fmt::Display for AxisId {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}{}", self.process, self.axis)
+    }
+}
+
+impl std::str::FromStr for AxisId {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<AxisId, String> {
+        let mut chars = s.chars();
+        let process = chars
+            .next()
+            .and_then(|c| c.to_digit(10))
+            .filter(|p| (1..=5).contains(p));
+        let axis = chars.next().filter(|c| c.is_ascii_uppercase());
+        match (process, axis, chars.next()) {
+            (Some(p), Some(axis), None) => Ok(AxisId {
+                process: p as u8,
+                axis,
+            }),
+            _ => Err(format!(
+                "`{s}` is not an axis (process 1..5 and a letter: `1X`)"
+            )),
+        }
+    }
+}
+
+/// An axis and its position as the bits of an f64.
+pub type AxisValue = (AxisId, u64);
+
+/// What a part-run trace needs to re-run the CNC kernel in a replay: the partprograms, their
+/// content hashes, and the operator's settings of `ncplc run`.
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct PartHeader {
+    /// The kernel that recorded the trace (the `cnc` crate's version and its trace revision).
+    pub kernel: String,
+    /// The process that runs `program` (`--process`).
+    pub process: u8,
+    /// The `--dialect` override, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dialect: Option<String>,
+    /// The program as given to `--program` (a name in `<machine>/nc/` or a path), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub program: Option<String>,
+    /// CRC-32 of the program's text, 8 hex digits.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crc32: Option<String>,
+    /// The `--mdi` blocks, in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub mdi: Vec<String>,
+    /// The programs of other processes (`sim.toml [cnc] programs`): process, name, CRC-32.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub others: Vec<OtherProgram>,
+}
+
+/// A program of another process named in a [`PartHeader`].
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct OtherProgram {
+    /// The process.
+    pub process: u8,
+    /// The program name (in `<machine>/nc/`) or path.
+    pub program: String,
+    /// CRC-32 of its text, 8 hex digits.
+    pub crc32: String,
 }
 
 /// A whole trace in memory.
@@ -48,6 +129,8 @@ pub struct Trace {
     pub tick_ms: u32,
     /// Records in increasing tick order.
     pub ticks: Vec<TickRecord>,
+    /// The partprograms a part run recorded with (None: a logic-only trace).
+    pub part: Option<PartHeader>,
 }
 
 /// Why a trace could not be read or written.
@@ -97,7 +180,7 @@ impl Trace {
 
     /// Writes the trace in text form.
     pub fn write_text(&self, out: &mut dyn Write) -> Result<(), TraceError> {
-        let mut w = text::TextWriter::new(out, self.tick_ms)?;
+        let mut w = text::TextWriter::with_part(out, self.tick_ms, self.part.as_ref())?;
         for r in &self.ticks {
             w.record(r)?;
         }
@@ -134,14 +217,25 @@ pub fn create_sink_with(
     tick_ms: u32,
     options: DurableOptions,
 ) -> Result<Box<dyn TraceSink>, TraceError> {
+    create_part_sink(path, tick_ms, None, options)
+}
+
+/// [`create_sink_with`] for a part run: the header names the partprograms (`part`).
+pub fn create_part_sink(
+    path: &Path,
+    tick_ms: u32,
+    part: Option<&PartHeader>,
+    options: DurableOptions,
+) -> Result<Box<dyn TraceSink>, TraceError> {
     let binary = matches!(
         path.extension().and_then(|e| e.to_str()),
         Some("ptrace" | "bin")
     );
-    Ok(Box::new(DurableSink::create(
+    Ok(Box::new(DurableSink::create_with_part(
         path,
         partial_path(path),
         tick_ms,
+        part,
         binary,
         options,
     )?))

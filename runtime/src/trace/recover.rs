@@ -111,16 +111,19 @@ mod tests {
     fn trace() -> Trace {
         let sig = |s: &str| s.parse().expect("signal");
         Trace {
+            part: None,
             tick_ms: 2,
             ticks: vec![
                 TickRecord {
                     forced: Vec::new(),
+                    positions: Vec::new(),
                     t: 0,
                     inputs: vec![(sig("I0A5"), 1)],
                     outputs: vec![(sig("U4A0"), 1)],
                 },
                 TickRecord {
                     forced: Vec::new(),
+                    positions: Vec::new(),
                     t: 7,
                     inputs: vec![],
                     outputs: vec![(sig("U4A0"), 0)],

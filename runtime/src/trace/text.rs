@@ -12,7 +12,9 @@ use std::io::Write;
 use packets::Signal;
 use serde_json::Value;
 
-use super::{SignalValue, TickRecord, Trace, TraceError, TraceSink, VERSION};
+use super::{
+    AxisId, AxisValue, PartHeader, SignalValue, TickRecord, Trace, TraceError, TraceSink, VERSION,
+};
 
 /// Streams records as JSON Lines.
 pub struct TextWriter<W: Write> {
@@ -22,11 +24,28 @@ pub struct TextWriter<W: Write> {
 
 impl<W: Write> TextWriter<W> {
     /// Writes the header line.
-    pub fn new(mut out: W, tick_ms: u32) -> Result<Self, TraceError> {
-        writeln!(
+    pub fn new(out: W, tick_ms: u32) -> Result<Self, TraceError> {
+        Self::with_part(out, tick_ms, None)
+    }
+
+    /// Writes the header line, with the `part` object of a part run.
+    pub fn with_part(
+        mut out: W,
+        tick_ms: u32,
+        part: Option<&PartHeader>,
+    ) -> Result<Self, TraceError> {
+        write!(
             out,
-            "{{\"format\":\"ncplc-trace\",\"version\":{VERSION},\"tick_ms\":{tick_ms}}}"
+            "{{\"format\":\"ncplc-trace\",\"version\":{VERSION},\"tick_ms\":{tick_ms}"
         )?;
+        if let Some(p) = part {
+            let json = serde_json::to_string(p).map_err(|e| TraceError::Text {
+                line: 1,
+                message: e.to_string(),
+            })?;
+            write!(out, ",\"part\":{json}")?;
+        }
+        writeln!(out, "}}")?;
         Ok(TextWriter {
             out,
             line: String::new(),
@@ -56,6 +75,14 @@ pub fn format_record(r: &TickRecord, line: &mut String) {
         for (i, (s, v)) in list.iter().enumerate() {
             let sep = if i == 0 { "" } else { "," };
             let _ = write!(line, "{sep}\"{s}\":{v}");
+        }
+        line.push('}');
+    }
+    if !r.positions.is_empty() {
+        line.push_str(",\"pos\":{");
+        for (i, (a, bits)) in r.positions.iter().enumerate() {
+            let sep = if i == 0 { "" } else { "," };
+            let _ = write!(line, "{sep}\"{a}\":\"{bits:016x}\"");
         }
         line.push('}');
     }
@@ -125,6 +152,13 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
         .and_then(|v| u32::try_from(v).ok())
         .filter(|&v| v > 0)
         .ok_or_else(|| err(n, "the header needs a positive \"tick_ms\"".into()))?;
+    let part = match header.get("part") {
+        None => None,
+        Some(v) => Some(
+            serde_json::from_value::<PartHeader>(v.clone())
+                .map_err(|e| err(n, format!("\"part\": {e}")))?,
+        ),
+    };
     let mut ticks: Vec<TickRecord> = Vec::new();
     for (n, line) in lines {
         let v: Value = serde_json::from_str(line).map_err(|e| err(n, e.to_string()))?;
@@ -141,24 +175,30 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
             return Err(err(n, format!("tick {t} does not follow tick {}", prev.t)));
         }
         for key in obj.keys() {
-            if !matches!(key.as_str(), "t" | "in" | "out" | "forced") {
+            if !matches!(key.as_str(), "t" | "in" | "out" | "forced" | "pos") {
                 return Err(err(
                     n,
-                    format!("unknown key \"{key}\" (expected t, in, out, forced)"),
+                    format!("unknown key \"{key}\" (expected t, in, out, forced, pos)"),
                 ));
             }
         }
         let inputs = parse_map(obj.get("in")).map_err(|m| err(n, m))?;
         let outputs = parse_map(obj.get("out")).map_err(|m| err(n, m))?;
         let forced = parse_map(obj.get("forced")).map_err(|m| err(n, m))?;
+        let positions = parse_positions(obj.get("pos")).map_err(|m| err(n, m))?;
         ticks.push(TickRecord {
             t,
             inputs,
             outputs,
             forced,
+            positions,
         });
     }
-    Ok(Trace { tick_ms, ticks })
+    Ok(Trace {
+        tick_ms,
+        ticks,
+        part,
+    })
 }
 
 fn parse_map(v: Option<&Value>) -> Result<Vec<SignalValue>, String> {
@@ -183,6 +223,24 @@ fn parse_map(v: Option<&Value>) -> Result<Vec<SignalValue>, String> {
     Ok(out)
 }
 
+/// Reads `"pos":{"1X":"<16 hex digits>"}`: axis positions as f64 bits.
+fn parse_positions(v: Option<&Value>) -> Result<Vec<AxisValue>, String> {
+    let Some(v) = v else { return Ok(Vec::new()) };
+    let obj = v.as_object().ok_or("\"pos\" must be an object")?;
+    let mut out = Vec::with_capacity(obj.len());
+    for (name, value) in obj {
+        let axis: AxisId = name.parse()?;
+        let bits = value
+            .as_str()
+            .filter(|h| h.len() == 16)
+            .and_then(|h| u64::from_str_radix(h, 16).ok())
+            .ok_or_else(|| format!("{name}: a position is 16 hex digits (the bits of an f64)"))?;
+        out.push((axis, bits));
+    }
+    out.sort_by_key(|(a, _)| *a);
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -194,6 +252,7 @@ mod tests {
     #[test]
     fn round_trip_keeps_records() {
         let trace = Trace {
+            part: None,
             tick_ms: 10,
             ticks: vec![
                 TickRecord {
@@ -201,12 +260,14 @@ mod tests {
                     inputs: vec![(sig("I0A5"), 1), (sig("W3K0"), 145)],
                     outputs: vec![(sig("U4A0"), 1)],
                     forced: vec![],
+                    positions: Vec::new(),
                 },
                 TickRecord {
                     t: 7,
                     inputs: vec![],
                     outputs: vec![(sig("U4A0"), 0)],
                     forced: vec![],
+                    positions: Vec::new(),
                 },
             ],
         };

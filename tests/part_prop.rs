@@ -1,0 +1,185 @@
+//! Property test of part runs: random lathe programs from the bundled dialect subset (rapid and
+//! feed lines, arcs, dwell, S changes, coolant M08/M09, spindle M03/M05, M30), in MEFI and in
+//! Fanuc, run through the CNC kernel on the bundled lathe to M30 without an alarm, and their
+//! recordings replay identically (kernel signals and axis positions) with both engines.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use proptest::prelude::*;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn ncplc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    for e in std::fs::read_dir(from).expect("dir") {
+        let e = e.expect("entry");
+        let dst = to.join(e.file_name());
+        if e.file_type().expect("type").is_dir() {
+            std::fs::create_dir_all(&dst).expect("mkdir");
+            copy_dir(&e.path(), &dst);
+        } else {
+            std::fs::copy(e.path(), &dst).expect("copy");
+        }
+    }
+}
+
+/// The lathe without the scripted feed hold of PART1 (the operator only presses START).
+fn lathe() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let sim = dir.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    let cut = text
+        .find("# Feed hold from the panel during the second pass")
+        .expect("the feed hold of the part script");
+    std::fs::write(&sim, &text[..cut]).expect("write");
+    dir
+}
+
+/// One step of a random program.
+#[derive(Debug, Clone)]
+enum Op {
+    Rapid(i32, i32),
+    Line(i32, i32, u32),
+    /// Quarter arc of radius r: clockwise towards −X, or counter-clockwise towards +X.
+    Arc(bool, i32),
+    Dwell(u32),
+    Speed(u32),
+    Coolant(bool),
+}
+
+fn op() -> impl Strategy<Value = Op> {
+    prop_oneof![
+        (-150i32..=-20, -500i32..=-20).prop_map(|(x, z)| Op::Rapid(x, z)),
+        (-150i32..=-20, -500i32..=-20, 50u32..=400).prop_map(|(x, z, f)| Op::Line(x, z, f)),
+        (any::<bool>(), 2i32..=10).prop_map(|(cw, r)| Op::Arc(cw, r)),
+        (5u32..=50).prop_map(Op::Dwell),
+        (300u32..=1500).prop_map(Op::Speed),
+        any::<bool>().prop_map(Op::Coolant),
+    ]
+}
+
+/// The program text in `fanuc` or MEFI form; arcs that would leave the X −170..−10 / Z −590..
+/// box are left out.
+fn program(ops: &[Op], fanuc: bool) -> String {
+    let mut lines = Vec::new();
+    let (mut x, mut z) = (-40, -50);
+    lines.push("S800 M03".to_string());
+    lines.push(format!("G00 X{x} Z{z}"));
+    for o in ops {
+        match *o {
+            Op::Rapid(a, b) => {
+                (x, z) = (a, b);
+                lines.push(format!("G00 X{x} Z{z}"));
+            }
+            Op::Line(a, b, f) => {
+                (x, z) = (a, b);
+                lines.push(format!("G01 X{x} Z{z} F{f}"));
+            }
+            Op::Arc(cw, r) => {
+                // X is a diameter: the radius change r is 2r in X.
+                let nx = if cw { x - 2 * r } else { x + 2 * r };
+                let nz = z - r;
+                if !(-170..=-10).contains(&nx) || nz < -590 {
+                    continue;
+                }
+                let g = if cw { "G02" } else { "G03" };
+                lines.push(if fanuc {
+                    format!("{g} X{nx} Z{nz} R{r} F200")
+                } else {
+                    format!("{g} X{nx} Z{nz} I-{r} K0 F200")
+                });
+                (x, z) = (nx, nz);
+            }
+            Op::Dwell(cs) => lines.push(if fanuc {
+                format!("G04 P{}", cs * 10)
+            } else {
+                format!("G04 Q{cs}")
+            }),
+            Op::Speed(s) => lines.push(format!("S{s}")),
+            Op::Coolant(on) => lines.push(if on { "M08" } else { "M09" }.to_string()),
+        }
+    }
+    lines.push("M09".into());
+    lines.push("M05".into());
+    lines.push("M30".into());
+    let body: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .map(|(i, l)| format!("N{} {l}", (i + 1) * 10))
+        .collect();
+    if fanuc {
+        format!("O0042\n{}\n", body.join("\n"))
+    } else {
+        format!("%42\n{}\n", body.join("\n"))
+    }
+}
+
+fn run_and_replay(ops: &[Op], fanuc: bool) {
+    let m = lathe();
+    let prog = m.path().join("nc/RANDOM");
+    let text = program(ops, fanuc);
+    std::fs::write(&prog, &text).expect("write program");
+    let rec = m.path().join("random.jsonl");
+    let machine = m.path().to_str().expect("utf-8");
+    let mut args = vec![
+        "run",
+        machine,
+        "--virtual-time",
+        "--no-watch",
+        "--program",
+        "RANDOM",
+        "--ticks",
+        "60000",
+        "--until-end",
+        "--record",
+        rec.to_str().expect("utf-8"),
+    ];
+    if fanuc {
+        args.extend(["--dialect", "fanuc"]);
+    }
+    let out = ncplc(&args);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{text}\n{stdout}{stderr}");
+    assert!(stdout.contains("), ended\n"), "{text}\n{stdout}");
+    assert!(!stdout.contains("alarm:"), "{text}\n{stdout}");
+    for engine in ["jit", "interp"] {
+        let out = ncplc(&[
+            "replay",
+            machine,
+            rec.to_str().expect("utf-8"),
+            "--engine",
+            engine,
+        ]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(0), "{text}\n{engine}: {err}");
+        assert!(
+            err.contains("kernel signals and axis positions identical"),
+            "{err}"
+        );
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 2, ..ProptestConfig::default() })]
+
+    #[test]
+    fn random_mefi_programs_complete_and_replay(ops in prop::collection::vec(op(), 1..6)) {
+        run_and_replay(&ops, false);
+    }
+
+    #[test]
+    fn random_fanuc_programs_complete_and_replay(ops in prop::collection::vec(op(), 1..6)) {
+        run_and_replay(&ops, true);
+    }
+}
