@@ -178,6 +178,11 @@ pub fn start(
 }
 
 impl PartRun {
+    /// The kernel, shared (the web HMI's operator commands and status go to it).
+    pub fn kernel(&self) -> Arc<Mutex<Cnc>> {
+        Arc::clone(&self.cnc)
+    }
+
     fn lock(&self) -> std::sync::MutexGuard<'_, Cnc> {
         self.cnc.lock().unwrap_or_else(PoisonError::into_inner)
     }
