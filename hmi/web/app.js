@@ -328,7 +328,7 @@ function renderMachine() {
     const rows = p.axes.map(a => "<tr data-axis=\"" + a.name + "\"><td>" + a.name + "</td><td class=\"cmd\">" + a.command.toFixed(3) + "</td><td class=\"act\">" +
       a.actual.toFixed(3) + "</td><td class=\"ferr\">" + a.following_error.toFixed(4) + "</td></tr>").join("");
     const html = p.axes.length ? "<tr><th>axis</th><th>command</th><th>actual</th><th>following error</th></tr>" + rows : "";
-    if (dro.innerHTML !== html) dro.innerHTML = html;
+    if (dro.dataset.html !== html) { dro.innerHTML = html; dro.dataset.html = html; }
     const ul = box.querySelector(".alarms");
     const akey = JSON.stringify(p.alarms);
     if (ul.dataset.key !== akey) { ul.replaceChildren(...alarmItems(p.alarms)); ul.dataset.key = akey; }
