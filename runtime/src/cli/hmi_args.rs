@@ -9,6 +9,9 @@ use crate::hmi_link::{HmiLink, catalog, image_cnc::ImageCnc};
 use crate::machine::Machine;
 use crate::sim::HandshakeCounts;
 
+/// A part run's kernel and its partprograms' texts (name, text), for the Machine page.
+pub type PartKernel = (Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>);
+
 /// The web HMI options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct HmiArgs {
@@ -33,7 +36,7 @@ impl HmiArgs {
         source: &[u8],
         tick_ms: u32,
         counts: Option<HandshakeCounts>,
-        kernel: Option<(Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>)>,
+        kernel: Option<PartKernel>,
     ) -> Result<Option<HmiLink>, String> {
         let Some(addr) = self.hmi else {
             return Ok(None);
