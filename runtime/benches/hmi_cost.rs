@@ -102,8 +102,7 @@ fn client(addr: std::net::SocketAddr, stop: Arc<AtomicBool>) -> std::thread::Joi
 fn bench(c: &mut Criterion) {
     let m = lathe();
     let source = m.read_source().unwrap_or_else(|e| panic!("{e}"));
-    let text =
-        std::fs::read_to_string(m.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
+    let text = std::fs::read_to_string(m.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
     let mut g = c.benchmark_group("hmi_cost");
     g.sample_size(10)
         .warm_up_time(Duration::from_secs(1))

@@ -339,12 +339,15 @@ impl Cnc for KernelCnc {
                 continue;
             };
             let prog = p.program();
-            let loaded = (
-                p.program_name().to_string(),
-                prog.len(),
-                prog.as_ptr() as usize,
-            );
-            if loaded != ps.loaded {
+            let same = ps.loaded.0 == p.program_name()
+                && ps.loaded.1 == prog.len()
+                && ps.loaded.2 == prog.as_ptr() as usize;
+            if !same {
+                let loaded = (
+                    p.program_name().to_string(),
+                    prog.len(),
+                    prog.as_ptr() as usize,
+                );
                 let view = view_of(&[ps.view.0, ps.view.1]).unwrap_or(View::Xy);
                 let drawn = pieces(prog, view)
                     .into_iter()
