@@ -5,6 +5,8 @@
 //! 40 Hz publish rate of a real-time run at the lathe's 10 ms tick is one every 2.5 ticks: this is
 //! the dearer bound). The client runs on its own thread, as a browser's server task would.
 
+mod common;
+
 use std::io::{Read, Write};
 use std::net::TcpStream;
 use std::path::PathBuf;
@@ -12,20 +14,12 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use cnc::{Command, Mode};
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use runtime::cli::part_run::make_interp;
-use runtime::clock::VirtualClock;
-use runtime::compiled::EngineKind;
 use runtime::hmi_link::image_cnc::ImageCnc;
 use runtime::hmi_link::kernel_cnc::KernelCnc;
 use runtime::hmi_link::{HmiLink, catalog};
-use runtime::image::Image;
 use runtime::machine::Machine;
-use runtime::machine_facts::Facts;
-use runtime::scheduler::{Scheduler, Settings};
-use runtime::sim::kernel::{KernelIo, KernelSetup};
-use runtime::sim::part::plan_text;
+use runtime::scheduler::Scheduler;
 
 const TICKS: u64 = 2_000;
 
@@ -36,42 +30,7 @@ fn lathe() -> Machine {
 
 /// The lathe with PART1 selected in AUTO (its part script presses START at tick 10).
 fn part_scheduler(m: &Machine, text: &str) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
-    let blocks = plan_text(&m.dir, "PART1", text, None, false).unwrap_or_else(|e| panic!("{e}"));
-    let facts = Facts::load(&m.dir).unwrap_or_else(|e| panic!("{e}"));
-    let axcfil = &facts.machine.axcfil;
-    let interp = |cfg: &cnc::ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
-    let setup = KernelSetup {
-        axcfil,
-        iocfil: facts.machine.iocfil.as_ref(),
-        interface: &m.interface,
-        a_inputs: &m.config.a_inputs,
-        tick_ms: m.config.tick_ms,
-        make_interp: &interp,
-    };
-    let (io, cnc) = KernelIo::new(&setup, m.script.clone()).unwrap_or_else(|e| panic!("{e}"));
-    {
-        let mut c = cnc.lock().unwrap_or_else(|e| panic!("{e}"));
-        let p = c.process_mut(1).unwrap_or_else(|e| panic!("{e}"));
-        p.load("PART1", blocks).unwrap_or_else(|e| panic!("{e}"));
-        p.command(Command::SetMode(Mode::Auto));
-    }
-    let compile = m.compile_fn(EngineKind::Jit, m.config.tick_ms);
-    let loaded = compile(&m.read_source().unwrap_or_else(|e| panic!("{e}")))
-        .unwrap_or_else(|e| panic!("{e}"));
-    let mut image = Image::new(loaded.meta.image_len(), &m.config.t_init);
-    loaded.meta.init_image(image.bytes_mut());
-    let settings = Settings {
-        tick_ns: u64::from(m.config.tick_ms) * 1_000_000,
-        overrun_limit: 0,
-    };
-    let s = Scheduler::new(
-        image,
-        loaded,
-        Box::new(io),
-        Box::new(VirtualClock::new()),
-        settings,
-    );
-    (s, cnc)
+    common::part_scheduler(m, "PART1", text, |io| Box::new(io))
 }
 
 /// A WebSocket client that reads whatever arrived every 50 ms (20 Hz) until `stop`.
