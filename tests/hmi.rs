@@ -88,7 +88,7 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
             "/api/command",
             r#"{"process":1,"command":"jump"}"#,
             400,
-            "unknown command \"jump\" (expected start, hold, reset, mode, mdi)",
+            "unknown command \"jump\" (expected start, hold, reset, mode, mdi, ack)",
         ),
         (
             "POST",
@@ -102,7 +102,7 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
             "/api/command",
             r#"{"process":1,"command":"start"}"#,
             409,
-            "start for process 1: operator commands need the CNC kernel, which is not wired into this build yet",
+            "start for process 1: no CNC kernel runs (the scripted sim plays the CNC); start with --program or --mdi for operator commands",
         ),
         ("DELETE", "/api/force/U4A0", "", 409, "U4A0 is not forced"),
         (

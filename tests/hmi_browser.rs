@@ -1,6 +1,8 @@
 //! The web HMI in a real browser (Debian `chromium` + `chromium-driver`, driven by fantoccini):
 //! the pages load without errors, a signal the sim changes changes on the page, a force set from
-//! the page reaches the image and the recorded trace, the timing diagram draws. A failing step
+//! the page reaches the image and the recorded trace, the timing diagram draws; on the Machine
+//! page of a part run, START moves the DRO and advances the block, FEED HOLD brings the path speed
+//! to 0 and stops the DRO, RESET returns to the first block. A failing step
 //! leaves a screenshot in `target/browser-failures/`. Without `/usr/bin/chromedriver` the test is
 //! skipped with a loud message, except under `CI=true`, where it fails.
 //! `HMI_SCREENSHOTS=DIR` keeps a screenshot of every page.
@@ -12,7 +14,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use fantoccini::{Client, ClientBuilder, Locator};
-use hmi_common::{Hmi, root};
+use hmi_common::{Hmi, operator_lathe, root};
 
 const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
 
@@ -212,13 +214,47 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
     Ok(())
 }
 
+/// True when the browser is there; otherwise says so loudly (and fails under `CI=true`).
+fn have_browser() -> bool {
+    if Path::new(CHROMEDRIVER).exists() {
+        return true;
+    }
+    let msg = "!!! SKIPPED: the browser tests need Debian chromium and chromium-driver \
+               (apt-get install -y --no-install-recommends chromium chromium-driver) !!!";
+    assert!(std::env::var("CI").as_deref() != Ok("true"), "{msg}");
+    eprintln!("{msg}");
+    false
+}
+
+/// Runs `steps` in a fresh browser against `hmi`; on failure keeps a screenshot named `name`
+/// and panics with the step's error. Stops the HMI either way.
+async fn in_browser<F>(hmi: Hmi, name: &str, steps: F)
+where
+    F: for<'a> FnOnce(
+        &'a Client,
+        &'a Hmi,
+        Option<&'a Path>,
+    ) -> std::pin::Pin<
+        Box<dyn std::future::Future<Output = Result<(), String>> + 'a>,
+    >,
+{
+    let (_driver, client) = browser().await;
+    let keep = std::env::var_os("HMI_SCREENSHOTS").map(PathBuf::from);
+    let result = steps(&client, &hmi, keep.as_deref()).await;
+    if let Err(e) = &result {
+        let failures = root().join("target/browser-failures");
+        shot(&client, &failures, name).await;
+        let _ = client.close().await;
+        hmi.stop();
+        panic!("{e} (screenshot: {}/{name}.png)", failures.display());
+    }
+    let _ = client.close().await;
+    hmi.stop();
+}
+
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_pages_show_live_values_and_a_force_from_the_page_reaches_the_image_and_the_trace() {
-    if !Path::new(CHROMEDRIVER).exists() {
-        let msg = "!!! SKIPPED: the browser tests need Debian chromium and chromium-driver \
-                   (apt-get install -y --no-install-recommends chromium chromium-driver) !!!";
-        assert!(std::env::var("CI").as_deref() != Ok("true"), "{msg}");
-        eprintln!("{msg}");
+    if !have_browser() {
         return;
     }
     let dir = tempfile::tempdir().expect("tempdir");
@@ -227,21 +263,122 @@ async fn the_pages_show_live_values_and_a_force_from_the_page_reaches_the_image_
         &root().join("plc-programs/lathe"),
         &["--record", trace.to_str().expect("utf8")],
     );
-    let (_driver, client) = browser().await;
-    let keep = std::env::var_os("HMI_SCREENSHOTS").map(PathBuf::from);
-    let result = steps(&client, &hmi, keep.as_deref()).await;
-    if let Err(e) = &result {
-        let failures = root().join("target/browser-failures");
-        shot(&client, &failures, "hmi").await;
-        let _ = client.close().await;
-        hmi.stop();
-        panic!("{e} (screenshot: {}/hmi.png)", failures.display());
-    }
-    let _ = client.close().await;
-    hmi.stop();
+    in_browser(hmi, "hmi", |c, h, keep| Box::pin(steps(c, h, keep))).await;
     let text = std::fs::read_to_string(&trace).expect("trace");
     assert!(
         text.lines().any(|l| l.contains(r#""forced":{"U5A2":1}"#)),
         "the page's force is in the trace"
     );
+}
+
+/// The DRO's command column of axes X and Z as the page shows them (read in one script: the
+/// table's rows are replaced whenever a value changes).
+async fn dro(c: &Client) -> Option<(String, String)> {
+    let v = js(
+        c,
+        "const t = a => document.querySelector('#proc-1 tr[data-axis=' + a + '] td.cmd'); \
+         return t('X') && t('Z') ? [t('X').textContent, t('Z').textContent] : null",
+    )
+    .await
+    .ok()?;
+    Some((v[0].as_str()?.to_string(), v[1].as_str()?.to_string()))
+}
+
+async fn click(c: &Client, css: &str) -> Result<(), String> {
+    c.find(Locator::Css(css))
+        .await
+        .map_err(|e| format!("{css}: {e}"))?
+        .click()
+        .await
+        .map_err(|e| format!("{css}: {e}"))
+}
+
+/// The block's N number as the page shows it (`N40 (4)`).
+async fn block_n(c: &Client) -> Option<u64> {
+    let t = text(c, "#proc-1 .block").await?;
+    t.strip_prefix('N')?.split(' ').next()?.parse().ok()
+}
+
+async fn machine_steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
+    c.goto(&format!("http://{}/", hmi.addr))
+        .await
+        .map_err(|e| e.to_string())?;
+    page(c, "machine").await?;
+    until("PART1 selected, idle", 20, || async {
+        let state = text(c, "#proc-1 .state").await?;
+        let program = text(c, "#proc-1 .program").await?;
+        (state == "idle" && program == "PART1").then_some(())
+    })
+    .await?;
+    let at_rest = dro(c).await.ok_or("no DRO on the page")?;
+    if at_rest != ("0.000".into(), "0.000".into()) {
+        return Err(format!("the DRO before START: {at_rest:?}"));
+    }
+    click(c, "#proc-1 button.start").await?;
+    until("the DRO moving in block N40 or later", 20, || async {
+        let n = block_n(c).await?;
+        let (x, z) = dro(c).await?;
+        (n >= 40 && x != "0.000" && z != "0.000").then_some(())
+    })
+    .await?;
+    let source = text(c, "#proc-1 .source").await.unwrap_or_default();
+    if !source.starts_with('N') {
+        return Err(format!("the block's source line: {source:?}"));
+    }
+    if let Some(d) = keep {
+        shot(c, d, "machine-running").await;
+    }
+    click(c, "#proc-1 button.hold").await?;
+    let held = until("the path speed 0 under FEED HOLD", 10, || async {
+        let speed = text(c, "#proc-1 .speed").await?;
+        let state = text(c, "#proc-1 .state").await?;
+        (speed == "0.0" && state == "held").then_some(())
+    })
+    .await;
+    held?;
+    let stopped = dro(c).await.ok_or("no DRO")?;
+    tokio::time::sleep(Duration::from_millis(300)).await;
+    let later = dro(c).await.ok_or("no DRO")?;
+    if later != stopped {
+        return Err(format!(
+            "the DRO moved under FEED HOLD: {stopped:?} → {later:?}"
+        ));
+    }
+    // The tool path: the plan's 11 pieces and the sampled set points.
+    let drawn = js(
+        c,
+        "const t = paths.get(1); return [t.programmed.length, t.actual.length > 5, document.querySelector('#proc-1 canvas.toolpath').hidden]",
+    )
+    .await?;
+    if drawn != serde_json::json!([11, true, false]) {
+        return Err(format!("tool path [pieces, sampled, hidden]: {drawn}"));
+    }
+    if let Some(d) = keep {
+        shot(c, d, "machine-held").await;
+    }
+    click(c, "#proc-1 button.reset").await?;
+    until("RESET back to the first block", 10, || async {
+        let state = text(c, "#proc-1 .state").await?;
+        let block = text(c, "#proc-1 .block").await?;
+        (state == "idle" && block == "N10 (1)").then_some(())
+    })
+    .await?;
+    let errors = js(c, "return window.__errors").await?;
+    if errors != serde_json::json!([]) {
+        return Err(format!("errors on the page: {errors}"));
+    }
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn start_and_feed_hold_on_the_machine_page_drive_the_simulated_lathe() {
+    if !have_browser() {
+        return;
+    }
+    let lathe = operator_lathe();
+    let hmi = Hmi::start(lathe.path(), &["--program", "PART1"]);
+    in_browser(hmi, "hmi-machine", |c, h, keep| {
+        Box::pin(machine_steps(c, h, keep))
+    })
+    .await;
 }

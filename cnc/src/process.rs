@@ -636,6 +636,26 @@ impl Process {
     pub fn set_points(&self) -> &[f64] {
         self.interp.position()
     }
+
+    /// The loaded program's canonical blocks (for an HMI's tool path and block display).
+    pub fn program(&self) -> &[Canon] {
+        &self.program
+    }
+
+    /// The loaded program's name.
+    pub fn program_name(&self) -> &str {
+        &self.program_name
+    }
+
+    /// The axis letters of the process, in set-point order.
+    pub fn axis_names(&self) -> Vec<char> {
+        self.cfg.axes.iter().map(|a| a.name).collect()
+    }
+
+    /// True while a feed hold (operator, FOLD) keeps the path stopped.
+    pub fn held(&self) -> bool {
+        self.held
+    }
 }
 
 fn write_opt(image: &mut [u8], s: Option<Signal>, v: u8) {

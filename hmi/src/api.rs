@@ -123,7 +123,7 @@ pub async fn unforce_all(State(state): State<AppState>) -> Result<Response, ApiE
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct CommandBody {
-    process: u8,
+    process: Option<u8>,
     command: String,
     mode: Option<String>,
     line: Option<String>,
@@ -133,12 +133,22 @@ struct CommandBody {
 pub async fn command(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
     writable(&state)?;
     let b: CommandBody = parse_json(&body)?;
-    if !(1..=5).contains(&b.process) {
-        return Err(ApiError::bad_request(format!(
-            "process {} does not exist (processes are 1..5)",
-            b.process
-        )));
-    }
+    let process = match b.process {
+        Some(p) if !(1..=5).contains(&p) => {
+            return Err(ApiError::bad_request(format!(
+                "process {p} does not exist (processes are 1..5)"
+            )));
+        }
+        Some(p) => p,
+        // `ack` without a process acknowledges every alarm.
+        None if b.command == "ack" => 0,
+        None => {
+            return Err(ApiError::bad_request(format!(
+                "command \"{}\" needs \"process\"",
+                b.command
+            )));
+        }
+    };
     let extra = |field: &str, v: &Option<String>| -> Result<(), ApiError> {
         match v {
             Some(_) => Err(ApiError::bad_request(format!(
@@ -149,12 +159,13 @@ pub async fn command(State(state): State<AppState>, body: Bytes) -> Result<Respo
         }
     };
     let command = match b.command.as_str() {
-        "start" | "hold" | "reset" => {
+        "start" | "hold" | "reset" | "ack" => {
             extra("mode", &b.mode)?;
             extra("line", &b.line)?;
             match b.command.as_str() {
                 "start" => Command::Start,
                 "hold" => Command::Hold,
+                "ack" => Command::Ack,
                 _ => Command::Reset,
             }
         }
@@ -176,19 +187,38 @@ pub async fn command(State(state): State<AppState>, body: Bytes) -> Result<Respo
         }
         other => {
             return Err(ApiError::bad_request(format!(
-                "unknown command \"{other}\" (expected start, hold, reset, mode, mdi)"
+                "unknown command \"{other}\" (expected start, hold, reset, mode, mdi, ack)"
             )));
         }
     };
     let tick = ask(
         &state,
         Request::Command {
-            process: b.process,
+            process,
             command: command.clone(),
         },
     )
     .await?;
-    Ok(Json(json!({"process": b.process, "command": command, "tick": tick})).into_response())
+    let process = (process > 0).then_some(process);
+    Ok(Json(json!({"process": process, "command": command, "tick": tick})).into_response())
+}
+
+/// `GET /api/toolpath/<P>`: process P's programmed path and the set points sampled so far.
+pub async fn toolpath(
+    State(state): State<AppState>,
+    Path(process): Path<String>,
+) -> Result<Response, ApiError> {
+    let snap = state.snapshots.borrow().clone();
+    let found = process
+        .parse::<u8>()
+        .ok()
+        .and_then(|n| snap.toolpaths.iter().find(|t| t.process == n));
+    match found {
+        Some(t) => Ok(Json(t).into_response()),
+        None => Err(ApiError::not_found(format!(
+            "process {process} has no tool path (no CNC kernel runs, or the process has no interpolated axes)"
+        ))),
+    }
 }
 
 /// Anything else: a JSON 404.

@@ -16,7 +16,8 @@ pub mod server;
 pub mod ws;
 
 pub use model::{
-    AxisStatus, Catalog, Cnc, Command, Envelope, HandshakeCounts, MachineStatus, NamedSignal,
-    ProcessStatus, Reply, Request, ScanStats, SharedSnapshot, Snapshot, SourceLine,
+    AlarmEntry, AxisStatus, Catalog, Cnc, Command, Envelope, HandshakeCounts, MachineStatus,
+    NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot, Snapshot,
+    SourceLine, Toolpath,
 };
 pub use server::{Running, ServerConfig, StartError, start};

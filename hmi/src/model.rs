@@ -24,14 +24,60 @@ pub struct Snapshot {
     /// Active forces, in image order.
     #[serde(serialize_with = "signal_values")]
     pub forced: Vec<(Signal, u8)>,
-    /// Alarms currently raised.
-    pub alarms: Vec<String>,
+    /// Machine-wide alarms (I/O, overrun trips, the scripted CNC's timeouts) until acknowledged.
+    pub alarms: Vec<AlarmEntry>,
     /// Online change: compiling, running since tick N, or the diagnostics of a refused edit.
     pub online: String,
     /// Per-process CNC state.
     pub machine: MachineStatus,
     /// True after the overrun limit tripped the safe state.
     pub tripped: bool,
+    /// The tool path of each process with interpolated axes (served by `GET /api/toolpath/<P>`,
+    /// not sent on `/ws`).
+    #[serde(skip)]
+    pub toolpaths: Vec<Toolpath>,
+}
+
+/// One entry of an alarm list: listed from the tick it was raised until it is acknowledged
+/// (`POST /api/command {"command":"ack"}`) and its cause has gone.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct AlarmEntry {
+    /// The message.
+    pub text: String,
+    /// Its cause still holds.
+    pub active: bool,
+    /// The operator acknowledged it while its cause held.
+    pub acknowledged: bool,
+    /// The tick it was (last) raised at.
+    pub tick: u64,
+}
+
+/// The tool path of one process in the plane of two of its axes.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Toolpath {
+    /// Process number, 1-based.
+    pub process: u8,
+    /// Changes whenever another program is loaded (the page fetches the path again).
+    pub id: u64,
+    /// The drawn axes: (horizontal, vertical), e.g. `["Z","X"]` on a lathe.
+    pub axes: [String; 2],
+    /// The loaded program's name.
+    pub program: String,
+    /// The programmed path from the plan (rapids and feeds), shared between snapshots.
+    #[serde(serialize_with = "shared")]
+    pub programmed: Arc<Vec<PathPiece>>,
+    /// Set points sampled since the program was loaded (at most a few thousand points: a point is
+    /// kept when the set point has moved on from the last one).
+    pub actual: Vec<[f64; 2]>,
+}
+
+/// A drawn piece of the programmed path.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PathPiece {
+    /// Rapid traverse (drawn dashed) or feed (solid).
+    pub rapid: bool,
+    /// Points in the view's (horizontal, vertical) coordinates.
+    pub points: Vec<[f64; 2]>,
 }
 
 /// Scan timing figures.
@@ -57,12 +103,21 @@ pub struct MachineStatus {
 pub struct ProcessStatus {
     /// Process number, 1-based.
     pub process: u8,
-    /// Operating mode (`auto`, `mdi`, `jog`, … or the raw MODE byte as `code N`).
+    /// Operating mode (`AUTO`, `STEP`, `MDI`, `MANU`, `MANJ`, `HOME`, `IDLE` from the kernel, or
+    /// the raw MODE byte as `code N`).
     pub mode: Option<String>,
+    /// Interpreter state: `idle`, `running`, `held` (feed hold in effect) or `paused`.
+    pub state: Option<String>,
+    /// Machine on (e-stop chain closed, no stopping alarm).
+    pub on: Option<bool>,
+    /// Every axis with a homing cycle is homed.
+    pub homed: Option<bool>,
     /// The running partprogram's name.
     pub program: Option<String>,
-    /// The current block number.
+    /// The current block's number (its N word), when it has one.
     pub block: Option<u64>,
+    /// The current block's position in the program, 1-based.
+    pub block_index: Option<u64>,
     /// The current block's source line.
     pub block_source: Option<String>,
     /// Axes with command, actual and following error.
@@ -73,12 +128,16 @@ pub struct ProcessStatus {
     pub spindle_override: Option<u32>,
     /// Rapid override in %.
     pub rapid_override: Option<u32>,
-    /// Spindle speed (programmed S).
+    /// Actual spindle speed (rev/min).
     pub spindle_speed: Option<f64>,
-    /// Active G and M codes.
+    /// Path speed of the interpolator (mm/min; 0 when stopped or held).
+    pub path_speed: Option<f64>,
+    /// The current block's codes: motion (G00/G01/G02/G03/G04), F, S, T and its M functions.
     pub active_codes: Vec<String>,
-    /// This process's alarms.
-    pub alarms: Vec<String>,
+    /// This process's alarms until acknowledged.
+    pub alarms: Vec<AlarmEntry>,
+    /// The [`Toolpath::id`] of this process's tool path (none: no interpolated axes).
+    pub toolpath: Option<u64>,
     /// Completed M/S/T handshakes and strobe timeouts of this process.
     pub handshakes: Option<HandshakeCounts>,
     /// Which commands this process accepts now (empty: commands are not wired).
@@ -181,6 +240,8 @@ pub enum Command {
         /// The line.
         line: String,
     },
+    /// Acknowledge the alarms (of the process, or all without one).
+    Ack,
 }
 
 /// A request from the HMI to the scan, applied at the next tick boundary.
@@ -194,9 +255,9 @@ pub enum Request {
     Unforce(Signal),
     /// Remove every force.
     UnforceAll,
-    /// An operator command for process `process`.
+    /// An operator command for process `process` (0 for `ack`: every process and the machine).
     Command {
-        /// 1-based process number.
+        /// 1-based process number; 0 only with [`Command::Ack`].
         process: u8,
         /// What to do.
         command: Command,
@@ -228,6 +289,10 @@ fn hex<S: Serializer>(bytes: &[u8], s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(&out)
 }
 
+fn shared<S: Serializer, T: Serialize>(v: &Arc<T>, s: S) -> Result<S::Ok, S::Error> {
+    T::serialize(v, s)
+}
+
 fn display<S: Serializer>(sig: &Signal, s: S) -> Result<S::Ok, S::Error> {
     s.collect_str(sig)
 }
@@ -246,6 +311,18 @@ fn signal_values<S: Serializer>(list: &[(Signal, u8)], s: S) -> Result<S::Ok, S:
 pub trait Cnc: Send {
     /// The per-process state after the scan that left `image`.
     fn status(&self, image: &[u8]) -> MachineStatus;
-    /// Carries out an operator command for `process` at a tick boundary, or says why not.
+    /// Carries out an operator command for `process` at a tick boundary, or says why not
+    /// ([`Command::Ack`] is the HMI's own and never comes here).
     fn command(&mut self, process: u8, command: &Command) -> Result<(), String>;
+    /// Called after every tick with the image the scan left (samples the tool path).
+    fn after_tick(&mut self, _image: &[u8]) {}
+    /// The tool path of every process that has one.
+    fn toolpaths(&self) -> Vec<Toolpath> {
+        Vec::new()
+    }
+    /// True for a machine-wide alarm text that a process's own alarm list already shows (the
+    /// kernel's alarms also reach the runtime as I/O alarms of device `cnc`).
+    fn owns_alarm(&self, _text: &str) -> bool {
+        false
+    }
 }

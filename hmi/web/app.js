@@ -262,65 +262,133 @@ function saveWindow() {
 }
 
 // Machine -------------------------------------------------------------------------------------
+const MODES = ["AUTO", "STEP", "MDI", "MANU", "MANJ", "HOME"];
 let machineBuilt = "";
+const paths = new Map(); // process → { id, axes, programmed, actual, fetching, tick }
+function alarmItems(list) {
+  return list.map(a => el("li", { class: (a.active ? "active" : "gone") + (a.acknowledged ? " acked" : "") },
+    a.text + " (tick " + a.tick + (a.active ? "" : ", gone") + (a.acknowledged ? ", acknowledged" : "") + ")"));
+}
+function buildMachine(ps) {
+  const div = document.getElementById("processes");
+  div.replaceChildren();
+  for (const p of ps) {
+    const mdi = el("input", { class: "mdi-line", placeholder: "MDI block, e.g. G01 X-40 F200", size: 30 });
+    const mode = el("select", { class: "mode-select" }, ...MODES.map(m => el("option", {}, m)));
+    const span = c => el("span", { class: c });
+    div.append(el("div", { class: "proc", id: "proc-" + p.process },
+      el("h3", {}, "Process " + p.process + " ", span("state")),
+      el("div", { class: "info" }),
+      el("div", { class: "facts" },
+        "mode ", span("mode"), " · program ", span("program"), " · block ", span("block"),
+        " ", el("code", { class: "source" }), el("br"),
+        "path speed ", span("speed"), " mm/min · spindle ", span("spindle"), " rev/min · codes ", span("codes")),
+      el("table", { class: "dro" }),
+      el("div", { class: "cmds" },
+        el("button", { class: "start", onclick: () => command(p.process, { command: "start" }) }, "START"),
+        el("button", { class: "hold", onclick: () => command(p.process, { command: "hold" }) }, "FEED HOLD"),
+        el("button", { class: "reset", onclick: () => command(p.process, { command: "reset" }) }, "RESET"),
+        mode, el("button", { class: "set-mode", onclick: () => command(p.process, { command: "mode", mode: mode.value }) }, "Mode"),
+        mdi, el("button", { class: "mdi", onclick: () => command(p.process, { command: "mdi", line: mdi.value }) }, "MDI")),
+      el("div", { class: "alarm-box" }, el("ul", { class: "alarms" }),
+        el("button", { class: "ack", onclick: () => command(p.process, { command: "ack" }) }, "Acknowledge")),
+      el("canvas", { class: "toolpath", width: 560, height: 320, hidden: "" })));
+  }
+}
+function setText(box, css, text) {
+  const e = box.querySelector(css);
+  if (e && e.textContent !== text) e.textContent = text;
+}
 function renderMachine() {
   if (!state.snap) return;
   const ps = state.snap.machine.processes;
-  const div = document.getElementById("processes");
   const key = ps.map(p => p.process).join();
-  if (key !== machineBuilt) {
-    div.replaceChildren();
-    for (const p of ps) {
-      const mdi = el("input", { placeholder: "MDI line", size: 30 });
-      const mode = el("select", {}, ...["auto", "mdi", "jog", "home"].map(m => el("option", {}, m)));
-      div.append(el("div", { class: "proc", id: "proc-" + p.process },
-        el("h3", {}, "Process " + p.process), el("div", { class: "info" }),
-        el("table", { class: "dro" }),
-        el("div", { class: "cmds" },
-          el("button", { onclick: () => command(p.process, { command: "start" }) }, "START"),
-          el("button", { onclick: () => command(p.process, { command: "hold" }) }, "FEED HOLD"),
-          el("button", { onclick: () => command(p.process, { command: "reset" }) }, "RESET"),
-          mode, el("button", { onclick: () => command(p.process, { command: "mode", mode: mode.value }) }, "Mode"),
-          mdi, el("button", { onclick: () => command(p.process, { command: "mdi", line: mdi.value }) }, "MDI"))));
-    }
-    machineBuilt = key;
-  }
+  if (key !== machineBuilt) { buildMachine(ps); machineBuilt = key; }
+  const wide = document.getElementById("machine-alarms");
+  const wideKey = JSON.stringify(state.snap.alarms);
+  if (wide.dataset.key !== wideKey) { wide.replaceChildren(...alarmItems(state.snap.alarms)); wide.dataset.key = wideKey; }
   for (const p of ps) {
     const box = document.getElementById("proc-" + p.process);
     const f = v => v === null || v === undefined ? "—" : String(v);
     const h = p.handshakes;
-    const text = "mode " + f(p.mode) + " · program " + f(p.program) + " · block " + f(p.block) + (p.block_source ? " " + p.block_source : "") +
-      " · F " + f(p.feed_override) + "% S " + f(p.spindle_override) + "% R " + f(p.rapid_override) + "% · spindle " + f(p.spindle_speed) +
-      (h ? " · M/S/T done " + h.m + "/" + h.s + "/" + h.t + ", timeouts " + h.timeouts : "") +
-      (p.active_codes.length ? " · " + p.active_codes.join(" ") : "") + (p.alarms.length ? " · ALARM " + p.alarms.join("; ") : "");
-    const info = box.querySelector(".info");
-    if (info.textContent !== text) info.textContent = text;
+    const text = "F " + f(p.feed_override) + "% S " + f(p.spindle_override) + "% R " + f(p.rapid_override) + "%" +
+      (p.on === null || p.on === undefined ? "" : " · " + (p.on ? "on" : "OFF") + (p.homed ? ", homed" : ", not homed")) +
+      (h ? " · M/S/T done " + h.m + "/" + h.s + "/" + h.t + ", timeouts " + h.timeouts : "");
+    setText(box, ".info", text);
+    setText(box, ".state", f(p.state));
+    setText(box, ".mode", f(p.mode));
+    setText(box, ".program", f(p.program));
+    setText(box, ".block", p.block_index === null || p.block_index === undefined ? "—" :
+      (p.block === null ? "" : "N" + p.block + " ") + "(" + p.block_index + ")");
+    setText(box, ".source", p.block_source || "");
+    setText(box, ".speed", p.path_speed === null || p.path_speed === undefined ? "—" : p.path_speed.toFixed(1));
+    setText(box, ".spindle", p.spindle_speed === null || p.spindle_speed === undefined ? "—" : p.spindle_speed.toFixed(0));
+    setText(box, ".codes", p.active_codes.join(" "));
     const dro = box.querySelector(".dro");
-    const rows = p.axes.map(a => "<tr><td>" + a.name + "</td><td>" + a.command.toFixed(3) + "</td><td>" + a.actual.toFixed(3) + "</td><td>" + a.following_error.toFixed(4) + "</td></tr>").join("");
+    const rows = p.axes.map(a => "<tr data-axis=\"" + a.name + "\"><td>" + a.name + "</td><td class=\"cmd\">" + a.command.toFixed(3) + "</td><td class=\"act\">" +
+      a.actual.toFixed(3) + "</td><td class=\"ferr\">" + a.following_error.toFixed(4) + "</td></tr>").join("");
     const html = p.axes.length ? "<tr><th>axis</th><th>command</th><th>actual</th><th>following error</th></tr>" + rows : "";
-    if (dro.innerHTML !== html) dro.innerHTML = html;
-    drawToolpath(p);
+    if (dro.dataset.html !== html) { dro.innerHTML = html; dro.dataset.html = html; }
+    const ul = box.querySelector(".alarms");
+    const akey = JSON.stringify(p.alarms);
+    if (ul.dataset.key !== akey) { ul.replaceChildren(...alarmItems(p.alarms)); ul.dataset.key = akey; }
+    box.classList.toggle("alarm", p.alarms.some(a => a.active));
+    drawToolpath(p, box.querySelector("canvas.toolpath"));
   }
 }
-const path = [];
-function drawToolpath(p) {
-  if (p.process !== 1 || p.axes.length < 2) return;
-  path.push([p.axes[0].command, p.axes[1].command, p.axes[0].actual, p.axes[1].actual]);
-  if (path.length > 5000) path.shift();
-  const c = document.getElementById("toolpath"), g = c.getContext("2d");
+// The tool path: the plan's pieces (rapids dashed) fetched when the program changes, the set
+// points sampled by the runtime, and the live set point appended from every frame.
+function drawToolpath(p, c) {
+  if (p.toolpath === null || p.toolpath === undefined) return;
+  let tp = paths.get(p.process);
+  if ((!tp || tp.id !== p.toolpath) && !(tp && tp.fetching)) {
+    const fetching = { id: tp ? tp.id : null, fetching: true };
+    paths.set(p.process, fetching);
+    api("GET", "/api/toolpath/" + p.process).then(t => { t.tick = -1; paths.set(p.process, t); })
+      .catch(e => { paths.delete(p.process); message(e.message); });
+    return;
+  }
+  if (!tp || tp.fetching || tp.tick === state.snap.tick) return;
+  tp.tick = state.snap.tick;
+  const ax = n => p.axes.find(a => a.name === n);
+  const h = ax(tp.axes[0]), v = ax(tp.axes[1]);
+  if (h && v) {
+    const last = tp.actual[tp.actual.length - 1];
+    if (!last || last[0] !== h.command || last[1] !== v.command) tp.actual.push([h.command, v.command]);
+    if (tp.actual.length > 8000) tp.actual.splice(0, tp.actual.length - 8000);
+  }
+  c.hidden = false;
+  const g = c.getContext("2d");
+  const pts = tp.programmed.flatMap(pc => pc.points).concat(tp.actual);
+  if (!pts.length) return;
+  let x0 = Infinity, x1 = -Infinity, y0 = Infinity, y1 = -Infinity;
+  for (const [x, y] of pts) { x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y); }
+  const m = 20, s = Math.min((c.width - 2 * m) / ((x1 - x0) || 1), (c.height - 2 * m) / ((y1 - y0) || 1));
+  const X = x => m + (x - x0) * s, Y = y => c.height - m - (y - y0) * s;
   g.clearRect(0, 0, c.width, c.height);
-  const xs = path.flatMap(q => [q[0], q[2]]), ys = path.flatMap(q => [q[1], q[3]]);
-  const x0 = Math.min(...xs), x1 = Math.max(...xs), y0 = Math.min(...ys), y1 = Math.max(...ys);
-  const s = Math.min((c.width - 20) / ((x1 - x0) || 1), (c.height - 20) / ((y1 - y0) || 1));
-  for (const [i, color] of [[0, "#2680c2"], [2, "#d64545"]]) {
-    g.strokeStyle = color; g.beginPath();
-    path.forEach((q, k) => { const x = 10 + (q[i] - x0) * s, y = c.height - 10 - (q[i + 1] - y0) * s; if (k) g.lineTo(x, y); else g.moveTo(x, y); });
+  g.lineWidth = 1;
+  for (const pc of tp.programmed) {
+    g.strokeStyle = pc.rapid ? "#9aa5b1" : "#2680c2";
+    g.setLineDash(pc.rapid ? [5, 4] : []);
+    g.beginPath();
+    pc.points.forEach(([x, y], k) => k ? g.lineTo(X(x), Y(y)) : g.moveTo(X(x), Y(y)));
     g.stroke();
   }
+  g.setLineDash([]);
+  g.strokeStyle = "#d64545"; g.lineWidth = 2;
+  g.beginPath();
+  tp.actual.forEach(([x, y], k) => k ? g.lineTo(X(x), Y(y)) : g.moveTo(X(x), Y(y)));
+  g.stroke();
+  const cur = tp.actual[tp.actual.length - 1];
+  if (cur) { g.fillStyle = "#d64545"; g.beginPath(); g.arc(X(cur[0]), Y(cur[1]), 4, 0, 2 * Math.PI); g.fill(); }
+  g.fillStyle = "#52606d"; g.font = "12px sans-serif";
+  g.fillText(tp.axes[0] + " →   " + tp.axes[1] + " ↑   " + tp.program + " (blue feed, grey rapid, red set points)", 4, 12);
 }
 async function command(process, body) {
-  try { const r = await api("POST", "/api/command", Object.assign({ process }, body)); message(r.command.command + " applied at tick " + r.tick, true); }
-  catch (e) { message(e.message); }
+  try {
+    const r = await api("POST", "/api/command", Object.assign({ process }, body));
+    message(r.command.command + " applied at tick " + r.tick, true);
+  } catch (e) { message(e.message); }
 }
 
 // ---- live data -------------------------------------------------------------------------------
@@ -336,7 +404,7 @@ function onSnapshot(s) {
   state.frames++;
   const st = document.getElementById("status");
   st.textContent = "tick " + s.tick + " · " + s.engine + " · scan " + s.scan.scan_p50_us.toFixed(1) + " µs (max " + s.scan.scan_max_us.toFixed(1) +
-    ") · overruns " + s.scan.overruns + " · " + state.fps + " Hz" + (s.alarms.length ? " · ALARM " + s.alarms.join("; ") : "") + (s.tripped ? " · SAFE STATE" : "");
+    ") · overruns " + s.scan.overruns + " · " + state.fps + " Hz" + (s.alarms.length ? " · ALARM " + s.alarms.map(a => a.text).join("; ") : "") + (s.tripped ? " · SAFE STATE" : "");
   st.dataset.tick = s.tick;
   traceSample();
 }
@@ -353,6 +421,9 @@ function connect() {
 async function start() {
   for (const b of document.querySelectorAll("nav button")) b.addEventListener("click", () => showPage(b.dataset.page));
   document.getElementById("search").addEventListener("input", buildSignalRows);
+  document.getElementById("ack-all").addEventListener("click", async () => {
+    try { const r = await api("POST", "/api/command", { command: "ack" }); message("alarms acknowledged at tick " + r.tick, true); } catch (e) { message(e.message); }
+  });
   document.getElementById("unforce-all").addEventListener("click", async () => {
     try { await api("DELETE", "/api/force"); message("every force removed", true); } catch (e) { message(e.message); }
   });

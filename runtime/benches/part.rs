@@ -6,19 +6,14 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
+mod common;
+
 use packets::PacketIo;
 
-use cnc::{Command, Mode};
 use criterion::{Criterion, criterion_group, criterion_main};
-use runtime::cli::part_run::make_interp;
-use runtime::clock::VirtualClock;
-use runtime::compiled::EngineKind;
-use runtime::image::Image;
 use runtime::machine::Machine;
-use runtime::machine_facts::Facts;
-use runtime::scheduler::{Scheduler, Settings};
-use runtime::sim::kernel::{KernelIo, KernelSetup};
-use runtime::sim::part::plan_text;
+use runtime::scheduler::Scheduler;
+use runtime::sim::kernel::KernelIo;
 
 fn machine(name: &str) -> Machine {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -54,40 +49,10 @@ fn part_scheduler(
     text: &str,
     timed: Option<Arc<Mutex<Vec<u64>>>>,
 ) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
-    let blocks = plan_text(&m.dir, "bench", text, None, false).unwrap_or_else(|e| panic!("{e}"));
-    let facts = Facts::load(&m.dir).unwrap_or_else(|e| panic!("{e}"));
-    let axcfil = &facts.machine.axcfil;
-    let interp = |cfg: &cnc::ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
-    let setup = KernelSetup {
-        axcfil,
-        iocfil: facts.machine.iocfil.as_ref(),
-        interface: &m.interface,
-        a_inputs: &m.config.a_inputs,
-        tick_ms: m.config.tick_ms,
-        make_interp: &interp,
-    };
-    let (io, cnc) = KernelIo::new(&setup, m.script.clone()).unwrap_or_else(|e| panic!("{e}"));
-    {
-        let mut c = cnc.lock().unwrap_or_else(|e| panic!("{e}"));
-        let p = c.process_mut(1).unwrap_or_else(|e| panic!("{e}"));
-        p.load("bench", blocks).unwrap_or_else(|e| panic!("{e}"));
-        p.command(Command::SetMode(Mode::Auto));
-    }
-    let compile = m.compile_fn(EngineKind::Jit, m.config.tick_ms);
-    let loaded = compile(&m.read_source().unwrap_or_else(|e| panic!("{e}")))
-        .unwrap_or_else(|e| panic!("{e}"));
-    let mut image = Image::new(loaded.meta.image_len(), &m.config.t_init);
-    loaded.meta.init_image(image.bytes_mut());
-    let settings = Settings {
-        tick_ns: u64::from(m.config.tick_ms) * 1_000_000,
-        overrun_limit: 0,
-    };
-    let io: Box<dyn PacketIo> = match timed {
+    common::part_scheduler(m, "bench", text, |io| match timed {
         Some(times) => Box::new(Timed { inner: io, times }),
         None => Box::new(io),
-    };
-    let s = Scheduler::new(image, loaded, io, Box::new(VirtualClock::new()), settings);
-    (s, cnc)
+    })
 }
 
 fn ended(cnc: &std::sync::Mutex<cnc::Cnc>) -> bool {

@@ -136,3 +136,62 @@ pub fn http(
     let body = resp.split_once("\r\n\r\n").map_or("", |(_, b)| b);
     (status, body.to_string())
 }
+
+/// A copy of the simulated lathe in which nobody presses CYCLE START during a part run (its
+/// `sim.toml` keeps the power-on inputs and drops the operator's scripted panel presses), so
+/// that the HMI is the operator.
+pub fn operator_lathe() -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let sim = dir.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    let cut = text
+        .find("# The operator presses CYCLE START.")
+        .expect("the lathe's sim.toml presses CYCLE START in its part run");
+    std::fs::write(&sim, &text[..cut]).expect("write sim.toml");
+    dir
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    for e in std::fs::read_dir(from).expect("read_dir") {
+        let e = e.expect("entry");
+        let name = e.file_name();
+        if name == "traces" || name == "retain.bin" {
+            continue;
+        }
+        let dst = to.join(&name);
+        if e.file_type().expect("file type").is_dir() {
+            std::fs::create_dir_all(&dst).expect("mkdir");
+            copy_dir(&e.path(), &dst);
+        } else {
+            std::fs::copy(e.path(), dst).expect("copy");
+        }
+    }
+}
+
+/// `GET /api/status` as JSON.
+pub fn status(hmi: &Hmi) -> serde_json::Value {
+    let (_, body) = hmi.http("GET", "/api/status", None);
+    serde_json::from_str(&body).unwrap_or_default()
+}
+
+/// Polls `GET /api/status` every 20 ms until `probe` holds (at most `secs`); returns that status.
+pub fn wait_status(
+    hmi: &Hmi,
+    what: &str,
+    secs: u64,
+    probe: impl Fn(&serde_json::Value) -> bool,
+) -> serde_json::Value {
+    let deadline = std::time::Instant::now() + Duration::from_secs(secs);
+    loop {
+        let s = status(hmi);
+        if probe(&s) {
+            return s;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "timed out waiting for {what}; last status: {s}"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}

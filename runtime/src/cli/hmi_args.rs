@@ -2,10 +2,15 @@
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
 
+use crate::hmi_link::kernel_cnc::KernelCnc;
 use crate::hmi_link::{HmiLink, catalog, image_cnc::ImageCnc};
 use crate::machine::Machine;
 use crate::sim::HandshakeCounts;
+
+/// A part run's kernel and its partprograms' texts (name, text), for the Machine page.
+pub type PartKernel = (Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>);
 
 /// The web HMI options.
 #[derive(Debug, Clone, clap::Args)]
@@ -23,13 +28,15 @@ pub struct HmiArgs {
 }
 
 impl HmiArgs {
-    /// Starts the HMI when `--hmi` was given.
+    /// Starts the HMI when `--hmi` was given; `kernel` is the CNC kernel of a part run with the
+    /// partprograms' texts (name, text), which then drives the Machine page.
     pub fn start(
         &self,
         machine: &Machine,
         source: &[u8],
         tick_ms: u32,
         counts: Option<HandshakeCounts>,
+        kernel: Option<PartKernel>,
     ) -> Result<Option<HmiLink>, String> {
         let Some(addr) = self.hmi else {
             return Ok(None);
@@ -62,19 +69,18 @@ impl HmiArgs {
                 .map(|p| p.process)
                 .collect()
         };
-        let cnc = ImageCnc::new(&machine.interface, &processes, counts);
+        let image = ImageCnc::new(&machine.interface, &processes, counts);
+        let cnc: Box<dyn hmi::Cnc> = match kernel {
+            Some((k, sources)) => Box::new(KernelCnc::new(k, image, &sources)),
+            None => Box::new(image),
+        };
         let config = hmi::ServerConfig {
             addr,
             token: token.clone(),
             readonly: self.hmi_readonly,
         };
-        let link = HmiLink::start(
-            config,
-            catalog::build(machine, source),
-            Box::new(cnc),
-            tick_ms,
-        )
-        .map_err(|e| format!("error: {e}"))?;
+        let link = HmiLink::start(config, catalog::build(machine, source), cnc, tick_ms)
+            .map_err(|e| format!("error: {e}"))?;
         let bound = link.running.addr;
         match &token {
             Some(t) if self.hmi_token_file.is_none() => {

@@ -225,9 +225,15 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         tick_ns: u64::from(tick_ms) * 1_000_000,
         overrun_limit: args.overrun_limit,
     };
+    let kernel = part.as_ref().map(|p| {
+        (
+            p.cnc(),
+            crate::hmi_link::kernel_cnc::sources(&args, &machine),
+        )
+    });
     let mut hmi = args
         .hmi
-        .start(&machine, &hmi_source, tick_ms, handshakes.clone())?;
+        .start(&machine, &hmi_source, tick_ms, handshakes.clone(), kernel)?;
     let mut sched = Scheduler::new(image, loaded, io, clock, settings);
     if let Some(path) = &args.record {
         let options = crate::trace::DurableOptions {
@@ -306,9 +312,10 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
         {
             return false;
         }
+        let tick = s.tick_count();
         for ev in s.take_events() {
             if let Some(h) = &mut hmi {
-                h.on_event(&ev);
+                h.on_event(&ev, tick);
             }
             match ev {
                 Event::Alarm(a) => {

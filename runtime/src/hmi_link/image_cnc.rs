@@ -1,6 +1,7 @@
 //! The Machine page's data before the CNC kernel is wired in: what the packet image and the
 //! simulated handshakes say about each process (MODE byte, overrides, completed M/S/T functions).
-//! Operator commands are refused with the reason; the kernel's own [`hmi::Cnc`] replaces this.
+//! Operator commands are refused with the reason: without `--program`/`--mdi` no CNC kernel runs
+//! (the scripted sim plays the CNC); with one, [`super::kernel_cnc::KernelCnc`] takes its place.
 
 use compiler::InterfaceMap;
 use hmi::{Cnc, Command, HandshakeCounts, MachineStatus, ProcessStatus};
@@ -79,13 +80,14 @@ impl Cnc for ImageCnc {
             return Err(format!("this machine has no process {process}"));
         }
         Err(format!(
-            "{} for process {process}: operator commands need the CNC kernel, which is not wired into this build yet",
+            "{} for process {process}: no CNC kernel runs (the scripted sim plays the CNC); start with --program or --mdi for operator commands",
             match command {
                 Command::Start => "start",
                 Command::Hold => "hold",
                 Command::Reset => "reset",
                 Command::Mode { .. } => "mode",
                 Command::Mdi { .. } => "mdi",
+                Command::Ack => "ack",
             }
         ))
     }

@@ -3,15 +3,18 @@
 //! commands to the [`hmi::Cnc`]) and publishes a [`Snapshot`] at most every 25 ms (≥ 20 Hz) into a
 //! latest-value channel, so the scan never waits for a browser.
 
+pub mod alarms;
 pub mod catalog;
 pub mod image_cnc;
+pub mod kernel_cnc;
 
 use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
-use hmi::{Cnc, Envelope, Request, ScanStats, ServerConfig, SharedSnapshot, Snapshot};
+use hmi::{Cnc, Command, Envelope, Request, ScanStats, ServerConfig, SharedSnapshot, Snapshot};
 use tokio::sync::watch;
 
+use self::alarms::AlarmList;
 use crate::online::Note;
 use crate::scheduler::{Event, Scheduler};
 
@@ -27,7 +30,8 @@ pub struct HmiLink {
     cnc: Box<dyn Cnc>,
     last_publish: Option<Instant>,
     tick_ms: u32,
-    alarms: Vec<String>,
+    alarms: AlarmList,
+    process_alarms: Vec<(u8, AlarmList)>,
     online: String,
 }
 
@@ -49,20 +53,19 @@ impl HmiLink {
             cnc,
             last_publish: None,
             tick_ms,
-            alarms: Vec::new(),
+            alarms: AlarmList::default(),
+            process_alarms: Vec::new(),
             online: "running".into(),
         })
     }
 
-    /// Keeps the alarm list and the online-change status up to date.
-    pub fn on_event(&mut self, ev: &Event) {
+    /// Keeps the machine-wide alarm list and the online-change status up to date (`tick`: the
+    /// tick the event happened at).
+    pub fn on_event(&mut self, ev: &Event, tick: u64) {
         match ev {
-            Event::Alarm(a) => {
-                if !self.alarms.contains(a) {
-                    self.alarms.push(a.clone());
-                }
-            }
-            Event::Cleared(a) => self.alarms.retain(|x| x != a),
+            Event::Alarm(a) if self.cnc.owns_alarm(a) => {}
+            Event::Alarm(a) => self.alarms.raise(a, tick),
+            Event::Cleared(a) => self.alarms.clear(a),
             Event::Swapped { tick, .. } => self.online = format!("running since tick {tick}"),
         }
     }
@@ -79,7 +82,8 @@ impl HmiLink {
     /// At a tick boundary: applies the pending requests, then publishes when due.
     pub fn service(&mut self, sched: &mut Scheduler) {
         let applied_at = sched.tick_count();
-        for env in self.requests.try_iter() {
+        let pending: Vec<Envelope> = self.requests.try_iter().collect();
+        for env in pending {
             let forces = sched.forces_mut();
             let reply = match &env.request {
                 Request::Write(s, v) => {
@@ -101,12 +105,21 @@ impl HmiLink {
                     forces.unforce_all();
                     Ok(applied_at)
                 }
+                Request::Command {
+                    process,
+                    command: Command::Ack,
+                } => {
+                    self.acknowledge(*process);
+                    Ok(applied_at)
+                }
                 Request::Command { process, command } => {
                     self.cnc.command(*process, command).map(|()| applied_at)
                 }
             };
             let _ = env.reply.send(reply);
         }
+        self.cnc
+            .after_tick(&sched.image().bytes()[..packets::PACKETS_LEN]);
         let due = self
             .last_publish
             .is_none_or(|t| t.elapsed() >= PUBLISH_EVERY);
@@ -116,9 +129,41 @@ impl HmiLink {
         }
     }
 
+    /// Acknowledges the alarms of `process` (0: every process and the machine-wide ones); see
+    /// [`alarms`] for what that means.
+    fn acknowledge(&mut self, process: u8) {
+        if process == 0 {
+            self.alarms.acknowledge();
+        }
+        for (p, list) in &mut self.process_alarms {
+            if process == 0 || *p == process {
+                list.acknowledge();
+            }
+        }
+    }
+
     /// Publishes the current state now.
     pub fn publish(&mut self, sched: &Scheduler) {
         let image = &sched.image().bytes()[..packets::PACKETS_LEN];
+        let tick = sched.tick_count();
+        let mut machine = self.cnc.status(image);
+        for ps in &mut machine.processes {
+            let active: Vec<String> = ps.alarms.drain(..).map(|a| a.text).collect();
+            let list = match self
+                .process_alarms
+                .iter_mut()
+                .position(|(p, _)| *p == ps.process)
+            {
+                Some(i) => &mut self.process_alarms[i].1,
+                None => {
+                    self.process_alarms.push((ps.process, AlarmList::default()));
+                    let last = self.process_alarms.len() - 1;
+                    &mut self.process_alarms[last].1
+                }
+            };
+            list.sync(&active, tick);
+            ps.alarms = list.entries().to_vec();
+        }
         let snap = Snapshot {
             tick: sched.tick_count(),
             engine: sched.engine_name().to_string(),
@@ -130,10 +175,11 @@ impl HmiLink {
             },
             image: image.to_vec(),
             forced: sched.forces().forced().to_vec(),
-            alarms: self.alarms.clone(),
+            alarms: self.alarms.entries().to_vec(),
             online: self.online.clone(),
-            machine: self.cnc.status(image),
+            machine,
             tripped: sched.tripped(),
+            toolpaths: self.cnc.toolpaths(),
         };
         self.snapshots.send_replace(Arc::new(snap));
     }
