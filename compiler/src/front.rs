@@ -55,6 +55,15 @@ pub fn compile_with_threads(
     let text = lexer::decode_source(source);
     let (ast, mut diagnostics) = parser::parse_with_threads(file_name, &text, threads);
     if parser::stopped_early(&diagnostics) {
+        // The stop comes first: it is the cause, and the per-file cap of the CLI would hide it
+        // behind the errors of the lines read (random text has several per line).
+        diagnostics.sort_by_key(|d| {
+            (
+                !matches!(d.code, sema::codes::NOT_TEXT | sema::codes::GAVE_UP),
+                d.line,
+                d.column,
+            )
+        });
         // A file read only in part (not text, or not a PLC program) is not checked further:
         // its names and signals would only add follow-on errors.
         let stats = CompileStats {
