@@ -84,3 +84,19 @@ fn random_text_reports_the_same_whatever_follows() {
     assert_eq!(b.first().map(|d| d.code), Some(1011));
     assert!(b.iter().all(|d| d.span.start < 100_000));
 }
+
+#[test]
+fn an_if_block_across_chunks_compiles_whole() {
+    // 600 statements inside one IF: the block spans the first chunks (256, 512 statement lines)
+    // and is nested after all of them are parsed.
+    let src = format!(
+        "DEF X : INT\nIF I0K0 THEN\n{}END_IF\nU1K0 = [X > 5]\n",
+        "X = X + 1\n".repeat(600)
+    );
+    let c = compile("PLCPRG", src.as_bytes(), &MachineContext::lathe_like());
+    let errors: Vec<_> = c.diagnostics.iter().filter(|d| d.is_error()).collect();
+    assert_eq!(errors, Vec::<&diag::Diagnostic>::new());
+    // 600 assignments + the IF + the last assignment.
+    assert_eq!(c.stats.statements, 602);
+    assert!(c.program.is_some());
+}
