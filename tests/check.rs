@@ -316,3 +316,33 @@ fn empty_characterization_file_is_one_error() {
         )]
     );
 }
+
+/// An io.toml that declares no I/O is a warning that says what `run` will do with it (3050 from
+/// `run --io modbus|canopen`), not "no problems found"; the exit code stays 0 (`--io sim` runs).
+#[test]
+fn io_toml_without_io_is_a_warning() {
+    let dir = copy_machine("lathe");
+    let io = dir.path().join("io.toml");
+    let path = dir.path().display().to_string();
+    for (text, message) in [
+        (
+            "",
+            "io.toml is empty: it declares no I/O; `run --io modbus` and `run --io canopen` refuse it (3050)",
+        ),
+        (
+            "# no devices yet\n",
+            "io.toml declares no I/O (no Modbus device, no CANopen node); `run --io modbus` and `run --io canopen` refuse it (3050)",
+        ),
+    ] {
+        std::fs::write(&io, text).expect("write");
+        let (code, lines) = json_check(&[&path]);
+        assert_eq!(code, Some(0), "{text:?}");
+        let got: Vec<_> = lines.iter().map(brief).collect();
+        assert_eq!(
+            got,
+            [(3050, "io.toml".to_string(), 0, 0, message.to_string())],
+            "{text:?}"
+        );
+        assert_eq!(lines[0]["severity"], "warning");
+    }
+}

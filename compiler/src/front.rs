@@ -54,6 +54,29 @@ pub fn compile_with_threads(
     let start = Instant::now();
     let text = lexer::decode_source(source);
     let (ast, mut diagnostics) = parser::parse_with_threads(file_name, &text, threads);
+    if parser::stopped_early(&diagnostics) {
+        // The stop comes first: it is the cause, and the per-file cap of the CLI would hide it
+        // behind the errors of the lines read (random text has several per line).
+        diagnostics.sort_by_key(|d| {
+            (
+                !matches!(d.code, sema::codes::NOT_TEXT | sema::codes::GAVE_UP),
+                d.line,
+                d.column,
+            )
+        });
+        // A file read only in part (not text, or not a PLC program) is not checked further:
+        // its names and signals would only add follow-on errors.
+        let stats = CompileStats {
+            front_end_micros: u64::try_from(start.elapsed().as_micros()).unwrap_or(u64::MAX),
+            ..CompileStats::default()
+        };
+        return Compilation {
+            program: None,
+            diagnostics,
+            stats,
+            text,
+        };
+    }
     let (checked, mut sema_diags) = sema::check(file_name, &text, &ast, ctx);
     if diag::has_errors(&diagnostics) {
         // Usage is not known after a syntax error: the lines that would use or write a name may

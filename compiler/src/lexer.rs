@@ -417,62 +417,128 @@ impl Tok<'_> {
 /// Tokenizes decoded source text and applies the line rules; returns the tokens (ending with a
 /// [`Tok::Newline`] when there is any token) and the lexer errors.
 pub fn tokenize(text: &str) -> (Vec<Spanned<'_>>, Vec<LexError>) {
+    let mut lexer = Lexer::new(text);
     let mut out: Vec<Spanned<'_>> = Vec::with_capacity(text.len() / 3);
-    let mut errors = Vec::new();
-    let mut depth: u32 = 0;
-    // A newline seen inside brackets: emitted only if the next token starts a new line.
-    let mut held_newline: Option<usize> = None;
-    let mut lex = Tok::lexer(text);
-    while let Some(result) = lex.next() {
-        let span = lex.span();
-        let tok = match result {
-            Ok(t) => t,
-            Err(kind) => {
-                // Merge a run of invalid characters into one error.
-                if let (Some(last), Some((_, Tok::Error, end))) =
-                    (errors.last_mut(), out.last_mut())
-                {
-                    let last: &mut LexError = last;
-                    if *end == span.start && last.kind == kind {
-                        *end = span.end;
-                        last.span.end = span.end;
-                        continue;
-                    }
-                }
-                errors.push(LexError {
-                    kind,
-                    span: span.clone(),
-                });
-                Tok::Error
-            }
+    out.extend(lexer.by_ref());
+    (out, lexer.errors)
+}
+
+/// A logos result with its span.
+type Raw<'a> = (Result<Tok<'a>, LexErrorKind>, std::ops::Range<usize>);
+
+/// The streaming form of [`tokenize`]: yields the same tokens one at a time and collects the
+/// lexer errors as it goes, so that the parser can stop early on a file that is not a PLC program
+/// without tokenizing (and keeping) the rest of it.
+pub struct Lexer<'a> {
+    lex: logos::Lexer<'a, Tok<'a>>,
+    text_len: usize,
+    /// The lexer errors of the tokens yielded so far (a run of invalid characters is one error).
+    pub errors: Vec<LexError>,
+    /// Open `(`/`[` of the current statement.
+    depth: u32,
+    /// A newline seen inside brackets: emitted only if the next token starts a new line.
+    held_newline: Option<usize>,
+    /// Nothing yielded yet, or the last token yielded was a newline.
+    at_line_start: bool,
+    /// The last token yielded continues the statement over a line break.
+    last_continues: bool,
+    /// A logos result read ahead while merging a run of invalid characters.
+    peeked: Option<Raw<'a>>,
+    /// A token to yield after the held newline that precedes it.
+    queued: Option<Spanned<'a>>,
+}
+
+impl<'a> Lexer<'a> {
+    /// A lexer at the start of `text`.
+    pub fn new(text: &'a str) -> Self {
+        Lexer {
+            lex: Tok::lexer(text),
+            text_len: text.len(),
+            errors: Vec::new(),
+            depth: 0,
+            held_newline: None,
+            at_line_start: true,
+            last_continues: false,
+            peeked: None,
+            queued: None,
+        }
+    }
+
+    fn next_raw(&mut self) -> Option<Raw<'a>> {
+        self.peeked
+            .take()
+            .or_else(|| self.lex.next().map(|r| (r, self.lex.span())))
+    }
+
+    /// The next logos token, with a run of adjacent invalid characters of one kind merged into
+    /// one [`Tok::Error`] (recorded in [`Lexer::errors`]).
+    fn raw(&mut self) -> Option<Spanned<'a>> {
+        let (result, span) = self.next_raw()?;
+        let kind = match result {
+            Ok(t) => return Some((span.start, t, span.end)),
+            Err(kind) => kind,
         };
-        if tok == Tok::Newline {
-            let ends = match out.last() {
-                None | Some((_, Tok::Newline, _)) => false,
-                Some((_, last, _)) => !last.continues_line(),
-            };
-            if ends && depth == 0 {
-                out.push((span.start, Tok::Newline, span.end));
-            } else if ends && held_newline.is_none() {
-                held_newline = Some(span.start);
+        let mut end = span.end;
+        loop {
+            match self.next_raw() {
+                Some((Err(k), s)) if k == kind && s.start == end => end = s.end,
+                other => {
+                    self.peeked = other;
+                    break;
+                }
             }
-            continue;
         }
-        if let Some(at) = held_newline.take().filter(|_| tok.starts_line()) {
-            depth = 0;
-            out.push((at, Tok::Newline, at + 1));
-        }
-        match tok {
-            Tok::LParen | Tok::LBracket => depth += 1,
-            Tok::RParen | Tok::RBracket => depth = depth.saturating_sub(1),
-            _ => {}
-        }
-        out.push((span.start, tok, span.end));
+        self.errors.push(LexError {
+            kind,
+            span: span.start..end,
+        });
+        Some((span.start, Tok::Error, end))
     }
-    if !matches!(out.last(), None | Some((_, Tok::Newline, _))) {
-        out.push((text.len(), Tok::Newline, text.len()));
+
+    fn emit(&mut self, t: Spanned<'a>) -> Spanned<'a> {
+        self.at_line_start = t.1 == Tok::Newline;
+        self.last_continues = t.1.continues_line();
+        t
     }
-    (out, errors)
+}
+
+impl<'a> Iterator for Lexer<'a> {
+    type Item = Spanned<'a>;
+
+    fn next(&mut self) -> Option<Spanned<'a>> {
+        if let Some(t) = self.queued.take() {
+            return Some(self.emit(t));
+        }
+        loop {
+            let Some((start, tok, end)) = self.raw() else {
+                if self.at_line_start {
+                    return None;
+                }
+                let n = self.text_len;
+                return Some(self.emit((n, Tok::Newline, n)));
+            };
+            if tok == Tok::Newline {
+                let ends = !self.at_line_start && !self.last_continues;
+                if ends && self.depth == 0 {
+                    return Some(self.emit((start, Tok::Newline, end)));
+                } else if ends && self.held_newline.is_none() {
+                    self.held_newline = Some(start);
+                }
+                continue;
+            }
+            match tok {
+                Tok::LParen | Tok::LBracket => self.depth += 1,
+                Tok::RParen | Tok::RBracket => self.depth = self.depth.saturating_sub(1),
+                _ => {}
+            }
+            if let Some(at) = self.held_newline.take().filter(|_| tok.starts_line()) {
+                self.depth = 0;
+                self.queued = Some((start, tok, end));
+                return Some(self.emit((at, Tok::Newline, at + 1)));
+            }
+            return Some(self.emit((start, tok, end)));
+        }
+    }
 }
 
 #[cfg(test)]

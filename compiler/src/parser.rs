@@ -22,13 +22,134 @@ pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {
     parse_with_threads(file, text, 1)
 }
 
-/// [`parse`] on up to `threads` threads (0: the available cores): a long source is cut at the line
+/// Statement lines in a row with an error after which the parser stops (error
+/// [`codes::GAVE_UP`]): the file is not a PLC program, and one error per line of it would only
+/// bury the cause (the characterization reader's 971 does the same).
+pub const MAX_BAD_LINES: usize = 50;
+
+/// Statement lines of the first chunk the parser reads; every further chunk is twice as long, so
+/// random text stops after a few kilobytes while a long program is parsed in a few large chunks.
+const FIRST_CHUNK_LINES: usize = 256;
+
+/// [`parse`] on up to `threads` threads (0: the available cores): a long chunk is cut at the line
 /// end nearest its middle and both halves go through the grammar at once. The result is always
 /// exactly [`parse`]'s.
+///
+/// The text is lexed and parsed in chunks of whole statement lines (every line is a complete item
+/// of the grammar, so the chunks give what one pass gives). Reading stops at a NUL byte
+/// ([`codes::NOT_TEXT`]), at the second `$` line ([`codes::TEXT_AFTER_END`]) and after
+/// [`MAX_BAD_LINES`] bad statement lines in a row ([`codes::GAVE_UP`]): work and memory stay
+/// bounded by what is read, whatever the file.
 pub fn parse_with_threads(file: &str, text: &str, threads: usize) -> (Program, Vec<Diagnostic>) {
-    let (mut tokens, lex_errors) = lexer::tokenize(text);
-    let mut diags: Vec<Diagnostic> = lex_errors
+    let threads = match threads {
+        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+        n => n,
+    };
+    let mut stop: Option<Diagnostic> = None;
+    let mut readable = text;
+    if let Some(at) = text.find('\0') {
+        readable = &text[..text[..at].rfind('\n').map_or(0, |i| i + 1)];
+        stop = Some(
+            Diagnostic::error(codes::NOT_TEXT, file, at..at + 1, format!("NUL byte at byte {at}: {file} is not a text file"))
+                .with_hint("a PLC program is plain text; check that the right file is named (reading stopped at the line of the NUL)"),
+        );
+    }
+    let mut lexer = lexer::Lexer::new(readable);
+    let mut syntax: Vec<Diagnostic> = Vec::new();
+    let mut all_lines: Vec<Line> = Vec::new();
+    let mut dollars = DollarLines::default();
+    let mut bad_run = 0usize;
+    let mut chunk_lines = FIRST_CHUNK_LINES;
+    // Lexer errors at or after this offset are not reported (text after the end or the stop).
+    let mut cut = readable.len();
+    'chunks: loop {
+        let mut tokens: Vec<Spanned<'_>> = Vec::new();
+        let mut statements = 0;
+        let mut after_end = None;
+        while statements < chunk_lines {
+            let Some(t) = lexer.next() else { break };
+            let newline = t.1 == Tok::Newline;
+            let second_dollar = dollars.see(&t);
+            tokens.push(t);
+            if newline {
+                statements += 1;
+            }
+            if second_dollar {
+                after_end = Some(lexer.next().map(|t| t.0));
+                break;
+            }
+        }
+        if tokens.is_empty() {
+            break;
+        }
+        let (lines, recovered) = if threads > 1 && tokens.len() >= SPLIT_TOKENS {
+            parse_lines_split(&tokens)
+        } else {
+            parse_lines(&tokens).0
+        };
+        let first_new = syntax.len();
+        for r in recovered {
+            if let Some(d) = syntax_diagnostic(file, text, r.error) {
+                syntax.push(d);
+            }
+        }
+        all_lines.extend(lines);
+        // Statement lines with an error, in order: a lexer error or a syntax error inside.
+        let mut starts: Vec<usize> = lexer
+            .errors
+            .iter()
+            .rev()
+            .take_while(|e| e.span.start >= tokens[0].0)
+            .map(|e| e.span.start)
+            .chain(syntax[first_new..].iter().map(|d| d.span.start))
+            .collect();
+        starts.sort_unstable();
+        let mut errs = starts.into_iter().peekable();
+        for &(at, ref tok, end) in &tokens {
+            if *tok != Tok::Newline {
+                continue;
+            }
+            let mut bad = false;
+            while errs.next_if(|&s| s < end).is_some() {
+                bad = true;
+            }
+            bad_run = if bad { bad_run + 1 } else { 0 };
+            if bad_run == MAX_BAD_LINES {
+                let more = tokens.last().is_some_and(|t| t.2 > end) || lexer.next().is_some();
+                if more {
+                    cut = end;
+                    stop = Some(
+                        Diagnostic::error(codes::GAVE_UP, file, at..at, format!("{MAX_BAD_LINES} statement lines in a row have errors; reading of {file} stopped here"))
+                            .with_hint("is this the right file? A PLC program is `DEF` lines, statements such as `U4A0 = I0A0 * I0A1`, `IF … THEN` blocks and `;` comments"),
+                    );
+                    syntax.retain(|d| d.span.start < end);
+                    break 'chunks;
+                }
+            }
+        }
+        if let Some(next) = after_end {
+            if let Some(start) = next {
+                cut = start;
+                syntax.push(
+                    Diagnostic::error(
+                        codes::TEXT_AFTER_END,
+                        file,
+                        start..text.len(),
+                        "text after the second `$` line",
+                    )
+                    .with_hint(
+                        "a second `$` ends the program; delete what follows it or remove that `$`",
+                    ),
+                );
+            }
+            break;
+        }
+        chunk_lines = chunk_lines.saturating_mul(2);
+    }
+    let mut diags: Vec<Diagnostic> = lexer
+        .errors
         .iter()
+        .filter(|e| e.span.start < cut)
         .map(|e| match e.kind {
             LexErrorKind::InvalidChar => Diagnostic::error(codes::INVALID_CHAR, file, e.span.clone(), format!("invalid character `{}`", text.get(e.span.clone()).unwrap_or("?")))
                 .with_hint("outside a `;` comment only ASCII letters, digits, operators and brackets are allowed"),
@@ -36,29 +157,54 @@ pub fn parse_with_threads(file: &str, text: &str, threads: usize) -> (Program, V
                 .with_hint("numbers must fit 32 bits (at most 4294967295 or 0FFFFFFFFH)"),
         })
         .collect();
-    truncate_after_second_dollar(file, text, &mut tokens, &mut diags);
-
-    let threads = match threads {
-        0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
-        n => n,
-    };
-    let (lines, recovered) = if threads > 1 && tokens.len() >= SPLIT_TOKENS {
-        parse_lines_split(&tokens)
+    diags.append(&mut syntax);
+    let program = if stop.is_some() {
+        // Block structure of a file read only in part would be follow-on noise.
+        nest(file, all_lines, &mut Vec::new())
     } else {
-        parse_lines(&tokens).0
+        nest(file, all_lines, &mut diags)
     };
-    for r in recovered {
-        if let Some(d) = syntax_diagnostic(file, text, r.error) {
-            diags.push(d);
-        }
-    }
-    let program = nest(file, lines, &mut diags);
+    diags.extend(stop);
     if diags.is_empty() {
         return (program, diags);
     }
     let lines = lexer::LineIndex::new(text);
     let diags = diags.into_iter().map(|d| lines.locate(d)).collect();
     (program, diags)
+}
+
+/// True when the parser stopped reading `diagnostics`' file early (a NUL byte or too many bad
+/// lines in a row): the program is incomplete and is not checked further.
+pub fn stopped_early(diagnostics: &[Diagnostic]) -> bool {
+    diagnostics
+        .iter()
+        .any(|d| d.code == codes::NOT_TEXT || d.code == codes::GAVE_UP)
+}
+
+/// Finds `$` lines in a token stream: the first splits FAST from SLOW, the second ends the text.
+#[derive(Debug, Default)]
+struct DollarLines {
+    seen: usize,
+    /// The previous token was a `$` at the start of a line.
+    dollar_at_start: bool,
+    /// The previous token was a newline (or there was none).
+    after_newline: bool,
+    started: bool,
+}
+
+impl DollarLines {
+    /// Takes the next token; true when it ends the second `$` line.
+    fn see(&mut self, t: &Spanned<'_>) -> bool {
+        let at_start = !self.started || self.after_newline;
+        self.started = true;
+        let ends_dollar_line = self.dollar_at_start && t.1 == Tok::Newline;
+        self.dollar_at_start = at_start && t.1 == Tok::Dollar;
+        self.after_newline = t.1 == Tok::Newline;
+        if ends_dollar_line {
+            self.seen += 1;
+        }
+        ends_dollar_line && self.seen == 2
+    }
 }
 
 /// Sources shorter than this many tokens are parsed on one thread.
@@ -172,38 +318,6 @@ fn climb_from(
     lhs
 }
 
-/// Finds the second `$` line; drops every token after it and reports them once.
-fn truncate_after_second_dollar(
-    file: &str,
-    text: &str,
-    tokens: &mut Vec<Spanned<'_>>,
-    diags: &mut Vec<Diagnostic>,
-) {
-    let mut seen = 0;
-    let mut at_line_start = true;
-    for i in 0..tokens.len() {
-        let is_dollar_line = at_line_start
-            && tokens[i].1 == Tok::Dollar
-            && matches!(tokens.get(i + 1), Some((_, Tok::Newline, _)));
-        at_line_start = tokens[i].1 == Tok::Newline;
-        if is_dollar_line {
-            seen += 1;
-            if seen == 2 {
-                let rest = i + 2;
-                if rest < tokens.len() {
-                    let start = tokens[rest].0;
-                    diags.push(
-                        Diagnostic::error(codes::TEXT_AFTER_END, file, start..text.len(), "text after the second `$` line")
-                            .with_hint("a second `$` ends the program; delete what follows it or remove that `$`"),
-                    );
-                    tokens.truncate(rest);
-                }
-                return;
-            }
-        }
-    }
-}
-
 fn describe(text: &str, l: usize, t: &Tok<'_>, r: usize) -> String {
     match t {
         Tok::Newline => "end of line".to_string(),
@@ -290,10 +404,13 @@ fn syntax_diagnostic(
             } else {
                 l..(l + 1).min(text.len())
             };
-            let after_def = text
-                .get(..l)
-                .map(|b| b.trim_end().to_ascii_uppercase())
-                .is_some_and(|b| b.ends_with("DEF") && !b.ends_with("_DEF"));
+            // Only the bytes just before the token are looked at: work per error stays constant.
+            let after_def = text.get(..l).map(str::trim_end).is_some_and(|b| {
+                let n = b.len();
+                n >= 3
+                    && b.as_bytes()[n - 3..].eq_ignore_ascii_case(b"DEF")
+                    && (n == 3 || b.as_bytes()[n - 4] != b'_')
+            });
             if after_def && !matches!(t, Tok::Newline | Tok::Error) {
                 let kind = match t {
                     Tok::Signal(_) => "a signal",

@@ -1,10 +1,15 @@
 #![no_main]
 //! Arbitrary bytes read as PGCFIL never panic the reader or the PGCFIL decoder.
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
+//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let started = std::time::Instant::now();
     let (file, _) = characterization::reader::read_with(
         "PGCFIL",
         data,
         characterization::reader::Grammar::PGCFIL,
     );
     let _ = characterization::pgcfil::parse(&file);
+    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
+    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
 });

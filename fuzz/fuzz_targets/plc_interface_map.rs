@@ -1,7 +1,10 @@
 #![no_main]
 //! Interface maps from arbitrary text never panic the reader: every error has a code in 1601..1608
 //! and a span inside the text, and a map that parses merges with the default map without a panic.
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
+//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let started = std::time::Instant::now();
     if let Ok(s) = std::str::from_utf8(data) {
         let checked = compiler::InterfaceMap::parse_all("interface.toml", s)
             .and_then(|o| compiler::InterfaceMap::builtin().with_overrides(o));
@@ -16,4 +19,6 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
             }
         }
     }
+    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
+    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
 });

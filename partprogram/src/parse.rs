@@ -157,10 +157,11 @@ fn parse_error(
             if t == Tok::LexError {
                 return None;
             }
-            (
-                l..r,
-                format!("unexpected `{}`", src.get(l..r).unwrap_or("?")),
-            )
+            let msg = format!("unexpected `{}`", src.get(l..r).unwrap_or("?"));
+            if let Some(hint) = letter_run_hint(src, l) {
+                return Some(Diagnostic::error(codes::SYNTAX, file, l..r, msg).with_hint(hint));
+            }
+            (l..r, msg)
         }
         ParseError::ExtraToken { token: (l, _, r) } => (l..r, "unexpected token".to_string()),
         ParseError::User { .. } => return None,
@@ -169,6 +170,57 @@ fn parse_error(
         Diagnostic::error(codes::SYNTAX, file, span, msg)
             .with_hint("a word is an address letter followed by a number or by R<n>; a declaration is R<n>=<number>"),
     )
+}
+
+/// The three-letter instructions of the process logic (PGCFIL, seed 003 table of chapter 3): a
+/// partprogram block holding one was meant for the process, not for the part.
+const PROCESS_INSTRUCTIONS: &[&str] = &[
+    "CLS", "DPT", "RED", "BNC", "DIS", "SCR", "BGT", "TOF", "WRT", "BLT", "RQU", "BEQ", "RQP",
+    "BNE", "UCG", "BGE", "CLG", "BLE", "DCG", "EPP", "RPT", "DEF", "ERP", "FIL", "UAO", "TGL",
+    "UOT", "DFP", "UIO", "EPF", "MIR", "SPA", "URT", "SPF", "SPP", "CLP", "DLY", "CAN", "RLG",
+    "DLO", "CLO", "BSP", "DSA", "CRE", "ESP", "ASC", "DER", "DSC", "INP", "CTL", "OPN", "DAM",
+    "OUT",
+];
+
+/// A "did you mean" for an unexpected letter that is part of a run of letters (a word of a block
+/// is one letter and a number): the letter `O` typed for the digit `0` (`GO1`), a
+/// process-logic instruction such as `RPT` or `EPP` (or a misspelling of one) in a partprogram.
+/// Looks at the letters around byte `at` only (at most 64), so work per error is constant.
+fn letter_run_hint(src: &str, at: usize) -> Option<String> {
+    let b = src.as_bytes();
+    let is_letter = |i: usize| b.get(i).is_some_and(|c| c.is_ascii_alphabetic());
+    if !is_letter(at) {
+        return None;
+    }
+    let mut start = at;
+    while start > 0 && at - start < 64 && is_letter(start - 1) {
+        start -= 1;
+    }
+    let mut end = at + 1;
+    while end - start < 64 && is_letter(end) {
+        end += 1;
+    }
+    let run = src.get(start..end)?.to_ascii_uppercase();
+    if run.len() < 2 {
+        return None;
+    }
+    let digit_after = b.get(end).is_some_and(u8::is_ascii_digit);
+    if run.len() == 2 && run.as_bytes()[1] == b'O' && digit_after {
+        let fixed = format!("{}0{}", &run[..1], src.get(end..end + 1).unwrap_or(""));
+        return Some(format!(
+            "did you mean `{fixed}`? `O` is a letter; the digit is `0`"
+        ));
+    }
+    let known = PROCESS_INSTRUCTIONS.iter().find(|w| **w == run).copied();
+    let meant = known.or_else(|| diag::nearest(&run, PROCESS_INSTRUCTIONS.iter().copied()))?;
+    let lead = if known.is_some() {
+        format!("`{meant}`")
+    } else {
+        format!("did you mean `{meant}`? That")
+    };
+    Some(format!(
+        "{lead} is an instruction of the process logic (PGCFIL), not a partprogram word; a block holds words of one address letter and a number"
+    ))
 }
 
 fn uint_of(src: &str, span: &std::ops::Range<usize>) -> Option<u64> {

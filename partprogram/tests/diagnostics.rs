@@ -203,3 +203,27 @@ fn undeclared_m_in_a_macro_the_program_calls_is_reported_in_the_macro_file() {
         "L6 is not called, so its M44 is not checked"
     );
 }
+
+/// "did you mean" for letters where a word's number belongs (issue 12): the letter `O` for the
+/// digit `0`, and the process logic's three-letter instructions (or a misspelling of one).
+#[test]
+fn letter_runs_get_a_did_you_mean() {
+    let d = first("%1\nN1 GO1 X10 F100\nN2 M30\n");
+    assert_eq!((d.code, d.line, d.column), (2002, 2, 5));
+    assert_eq!(
+        d.hint,
+        "did you mean `G01`? `O` is a letter; the digit is `0`"
+    );
+    let d = first("%1\nN1 RPT3\nN2 M30\n");
+    assert_eq!((d.code, d.line, d.column), (2002, 2, 5));
+    assert_eq!(
+        d.hint,
+        "`RPT` is an instruction of the process logic (PGCFIL), not a partprogram word; a block holds words of one address letter and a number"
+    );
+    let d = first("%1\nN1 EPX\nN2 M30\n");
+    assert_eq!((d.code, d.line, d.column), (2002, 2, 5));
+    assert_eq!(
+        d.hint,
+        "did you mean `EPP`? That is an instruction of the process logic (PGCFIL), not a partprogram word; a block holds words of one address letter and a number"
+    );
+}

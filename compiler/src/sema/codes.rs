@@ -21,6 +21,10 @@ pub const END_IF_WITHOUT_IF: u32 = 1007;
 pub const IF_WITHOUT_END_IF: u32 = 1008;
 /// A `$` separator inside an `IF` block.
 pub const DOLLAR_IN_IF: u32 = 1009;
+/// A NUL byte: the file is not text (reading stops at its line; the program is not checked).
+pub const NOT_TEXT: u32 = 1010;
+/// Too many statement lines in a row with errors: not a PLC program (reading stops there).
+pub const GAVE_UP: u32 = 1011;
 
 /// A connector number past the packet's last connector.
 pub const CONNECTOR_RANGE: u32 = 1101;
@@ -141,6 +145,8 @@ pub const ALL: &[(u32, &str)] = &[
     (END_IF_WITHOUT_IF, "`END_IF` without `IF`"),
     (IF_WITHOUT_END_IF, "`IF` without `END_IF`"),
     (DOLLAR_IN_IF, "`$` inside `IF`"),
+    (NOT_TEXT, "not a text file"),
+    (GAVE_UP, "not a PLC program: reading stopped"),
     (CONNECTOR_RANGE, "connector out of range"),
     (CONTACT_RANGE, "contact out of range"),
     (BYTE_RANGE, "byte out of range"),

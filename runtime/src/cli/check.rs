@@ -5,7 +5,9 @@
 //!
 //! The I/O map `<machine>/io.toml` is checked too when the machine has one (the fieldbus crate's
 //! located validation, codes 3000–3499, against the connectors IOCFIL declares); a machine without
-//! io.toml runs with `--io sim` only, which is not a problem of the machine.
+//! io.toml runs with `--io sim` only, which is not a problem of the machine; an io.toml that
+//! declares no I/O (empty, or no device and no node) is a warning (3050), since `run --io modbus`
+//! and `--io canopen` refuse it.
 //!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
 //! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
@@ -86,11 +88,37 @@ pub fn check_io_map(
         // No IOCFIL (its own error is reported): check the map without connector rules.
         None => fieldbus::DeclaredConnectors::default(),
     };
-    let (_, diags) = fieldbus::load_map(machine_dir, &declared);
-    if let Ok(text) = std::fs::read_to_string(&path) {
-        sources.add("io.toml", text);
+    let (map, mut diags) = fieldbus::load_map(machine_dir, &declared);
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {
+        diags.push(w);
     }
+    sources.add("io.toml", text);
     diags
+}
+
+/// The warning for an io.toml that declares no I/O at all (empty, or only `[hmi]`/`[affinity]`):
+/// `run --io modbus|canopen` refuses such a map (3050), `run --io sim` ignores it, so check says
+/// so up front instead of "no problems found".
+fn no_io_declared(map: &fieldbus::IoMap, text: &str) -> Option<diag::Diagnostic> {
+    let has_nodes = map.canopen.as_ref().is_some_and(|c| !c.nodes.is_empty());
+    if !map.modbus.is_empty() || has_nodes {
+        return None;
+    }
+    let what = if text.trim().is_empty() {
+        "io.toml is empty: it declares no I/O"
+    } else {
+        "io.toml declares no I/O (no Modbus device, no CANopen node)"
+    };
+    Some(
+        diag::Diagnostic::warning(
+            fieldbus::codes::NO_DEVICES,
+            "io.toml",
+            0..0,
+            format!("{what}; `run --io modbus` and `run --io canopen` refuse it (3050)"),
+        )
+        .with_hint("add a [[modbus.device]] table or a [canopen] table with [[canopen.node]] entries (docs/io-toml.md), or delete io.toml and run with --io sim"),
+    )
 }
 
 /// Runs `ncplc check`.
