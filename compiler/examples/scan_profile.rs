@@ -41,8 +41,14 @@ fn main() {
     };
     let p = Arc::new(p);
     let mut image = p.new_image();
+    // `SCAN_RA`, `SCAN_OPT`, `SCAN_WINDOW`: the settings of `jit-speed` and `text`.
+    let env = |k: &str, d: &'static str| -> &'static str {
+        std::env::var(k).map_or(d, |v| Box::leak(v.into_boxed_str()))
+    };
     let speed = JitOptions {
-        opt_level: "speed",
+        opt_level: env("SCAN_OPT", "speed"),
+        regalloc: env("SCAN_RA", "single_pass"),
+        cache_window: env("SCAN_WINDOW", "1").parse().unwrap_or(1),
         ..JitOptions::default()
     };
     match what {
@@ -66,7 +72,7 @@ fn main() {
         "all" => side_by_side(&p, ticks),
         "ctime" => compile_times(&p),
         "text" => {
-            let e = jit::compile(&p).expect("jit");
+            let e = jit::compile_with(&p, &speed).expect("jit");
             std::fs::write("scan_profile.text", e.machine_code()).expect("write");
         }
         "clif" => print!("{}", jit::emit_clif(&p).expect("clif")),
@@ -93,12 +99,13 @@ fn side_by_side(p: &Arc<compiler::ir::Program>, ticks: u32) {
     let speed = JitOptions {
         opt_level: env("SCAN_OPT", "speed"),
         regalloc: env("SCAN_RA", "single_pass"),
+        cache_window: env("SCAN_WINDOW", "1").parse().unwrap_or(1),
         ..JitOptions::default()
     };
     let mut jit_speed = jit::compile_with(p, &speed).expect("jit");
     let gcc = gcc_scan::GccScan::build(&compiler::cgen::emit_c(p), &["-O2"]).expect("gcc");
     let mut best = [f64::MAX; 3];
-    for _ in 0..15 {
+    for _ in 0..40 {
         let mut ticks_of: [&mut dyn FnMut(&mut [u8]); 3] =
             [&mut |i| jit.tick(i), &mut |i| jit_speed.tick(i), &mut |i| {
                 gcc.tick(i)

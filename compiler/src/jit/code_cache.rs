@@ -86,6 +86,7 @@ pub(super) fn facts(p: &Program, opts: &JitOptions) -> Option<Vec<u8>> {
         pulses,
         p.image_len,
         opts.if_convert_cost,
+        opts.cache_window,
     );
     exact_bytes(&facts)
 }

@@ -43,6 +43,7 @@ struct Key<'a> {
     regalloc: &'a str,
     chunk_cost: u32,
     if_convert_cost: u32,
+    cache_window: u32,
     build: String,
     isa: String,
 }
@@ -81,6 +82,7 @@ impl DiskCache {
             regalloc: opts.regalloc,
             chunk_cost: opts.chunk_cost,
             if_convert_cost: opts.if_convert_cost,
+            cache_window: opts.cache_window,
             build: build_id(),
             isa: isa_id(isa),
         })

@@ -60,6 +60,10 @@ pub struct JitOptions {
     /// IF zones whose [`ir::Stmt::cost`] is at most this run branch-free (both branches with
     /// guarded stores) instead of branching; 0 never, `u32::MAX` always.
     pub if_convert_cost: u32,
+    /// A value loaded from or stored to the image, or a constant, is reused by the statements up
+    /// to this many after the one that made it, and loaded or made again after that (short live
+    /// ranges: fewer spills).
+    pub cache_window: u32,
 }
 
 impl Default for JitOptions {
@@ -70,6 +74,7 @@ impl Default for JitOptions {
             chunk_cost: 2000,
             threads: 1,
             if_convert_cost: 24,
+            cache_window: 1,
         }
     }
 }
@@ -173,6 +178,7 @@ fn build(
 ) {
     let (fctx, caches) = (&mut s.fctx, &mut s.caches);
     caches.clear();
+    caches.window = opts.cache_window;
     let mut b = FunctionBuilder::new(func, fctx);
     let entry = b.create_block();
     b.append_block_params_for_function_params(entry);
