@@ -153,6 +153,25 @@ pub fn lookup(p: &Program, opts: &JitOptions, cache: &DiskCache) -> Option<JitPr
     load_text(target, &text, p.image_len).ok()
 }
 
+/// [`lookup`], and on a hit `code_cache` is filled with the program's functions as if it had
+/// just compiled them (found by their statements), so that the next online change through it
+/// compiles only the functions it changed.
+pub fn lookup_cached(
+    p: &Program,
+    opts: &JitOptions,
+    cache: &DiskCache,
+    code_cache: &mut super::CodeCache,
+) -> Option<JitProgram> {
+    check_len(p).ok()?;
+    let target = isa(opts).ok()?;
+    let text = cache.entry(p, opts, &target)?.load()?;
+    let program = load_text(target, &text, p.image_len).ok()?;
+    if let Some(codes) = text.functions() {
+        super::code_cache::fill(code_cache, p, opts, codes);
+    }
+    Some(program)
+}
+
 /// Removes the oldest entries beyond [`MAX_ENTRIES`].
 fn prune(dir: &Path) {
     let Ok(rd) = std::fs::read_dir(dir) else {

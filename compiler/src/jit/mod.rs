@@ -383,6 +383,14 @@ fn compile_program(
     compile_program_to(p, opts, cache, None)
 }
 
+/// The statements of each function: the chunks of the FAST part, then of each SLOW slice.
+fn program_chunks<'p>(p: &'p Program, opts: &JitOptions) -> Vec<Vec<&'p [Stmt]>> {
+    std::iter::once(&p.fast[..])
+        .chain(p.slow.iter().map(Vec::as_slice))
+        .map(|stmts| chunks(stmts, opts.chunk_cost))
+        .collect()
+}
+
 /// [`compile_program`]; the linked text is also left in `disk` (see [`disk_cache`]).
 fn compile_program_to(
     p: &Program,
@@ -393,10 +401,7 @@ fn compile_program_to(
     check_len(p)?;
     let isa = isa(opts)?;
     let sig = signature(&isa, isa.default_call_conv());
-    let parts: Vec<Vec<&[Stmt]>> = std::iter::once(&p.fast[..])
-        .chain(p.slow.iter().map(Vec::as_slice))
-        .map(|stmts| chunks(stmts, opts.chunk_cost))
-        .collect();
+    let parts = program_chunks(p, opts);
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
     let facts = cache.as_ref().and_then(|_| code_cache::facts(p, opts));
     let lookup = cache.as_deref().zip(facts.as_deref());
@@ -418,6 +423,7 @@ fn compile_program_to(
         offsets,
         align,
         counts: parts.iter().map(Vec::len).collect(),
+        codes: codes.iter().map(|(b, a)| (b.len(), *a)).collect(),
     };
     let program = load_text(isa, &text, p.image_len)?;
     if let Some(disk) = disk {
@@ -435,6 +441,25 @@ pub(crate) struct Text {
     align: u64,
     /// Functions of the FAST part, then of each SLOW slice.
     counts: Vec<usize>,
+    /// Each function's code length (without the padding after it) and alignment, so that the
+    /// functions of a mapped text can fill a [`CodeCache`] (see [`disk_cache::lookup_cached`]).
+    codes: Vec<(usize, u64)>,
+}
+
+impl Text {
+    /// Each function's machine code as compiled (`None` when the layout is inconsistent).
+    fn functions(&self) -> Option<Vec<Code>> {
+        if self.codes.len() != self.offsets.len() {
+            return None;
+        }
+        self.offsets
+            .iter()
+            .zip(&self.codes)
+            .map(|(&at, &(len, align))| {
+                Some((self.bytes.get(at..at.checked_add(len)?)?.to_vec(), align))
+            })
+            .collect()
+    }
 }
 
 /// Maps `text` executable and wraps it as a program over images of `image_len` bytes.
