@@ -284,7 +284,14 @@ pub fn compile_cached(
         tick_ms,
     } = src;
     let ctx = machine_context(cfg, tick_ms, interface.clone());
-    let c = compiler::compile_with_threads(file_name, source, &ctx, threads);
+    // A first load on every core goes through the on-disk front-end cache (beside the code
+    // cache): after `ncplc build` of the same source, nothing is parsed or checked again.
+    let c = if threads == 0 {
+        let disk = compiler::jit::disk_cache::DiskCache::from_env();
+        compiler::front_cache::compile_cached(file_name, source, &ctx, threads, disk.as_ref()).0
+    } else {
+        compiler::compile_with_threads(file_name, source, &ctx, threads)
+    };
     let mut sources = diag::Sources::new();
     sources.add(file_name, c.text.clone());
     match c.program {

@@ -87,7 +87,7 @@ impl DiskCache {
             isa: isa_id(isa),
         })
         .ok()?;
-        let path = self.dir.join(format!("{:016x}.code", fnv1a(&key)));
+        let path = self.path_for(&key, "code");
         Some(Entry { path, key })
     }
 }
@@ -102,23 +102,33 @@ impl Entry {
 
     /// Stores `text` under this key (best-effort; see the module docs).
     pub(super) fn store(&self, text: &Text) {
-        let Some(dir) = self.path.parent() else {
-            return;
-        };
-        let Ok(bytes) = postcard::to_allocvec(&(&self.key, text)) else {
-            return;
-        };
-        if std::fs::create_dir_all(dir).is_err() {
-            return;
+        if let Ok(bytes) = postcard::to_allocvec(&(&self.key, text)) {
+            write_entry(&self.path, &bytes);
         }
-        let tmp = self
-            .path
-            .with_extension(format!("tmp{}", std::process::id()));
-        if std::fs::write(&tmp, &bytes).is_ok() && std::fs::rename(&tmp, &self.path).is_ok() {
-            prune(dir);
-        } else {
-            let _ = std::fs::remove_file(&tmp);
-        }
+    }
+}
+
+impl DiskCache {
+    /// The file of the entry with `key` and extension `ext` (the key's FNV-1a hash names it).
+    pub(crate) fn path_for(&self, key: &[u8], ext: &str) -> PathBuf {
+        self.dir.join(format!("{:016x}.{ext}", fnv1a(key)))
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary file renamed into place, then prunes the
+/// directory's entries with `path`'s extension (best-effort: errors are ignored).
+pub(crate) fn write_entry(path: &Path, bytes: &[u8]) {
+    let (Some(dir), Some(ext)) = (path.parent(), path.extension()) else {
+        return;
+    };
+    if std::fs::create_dir_all(dir).is_err() {
+        return;
+    }
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_ok() {
+        prune(dir, ext);
+    } else {
+        let _ = std::fs::remove_file(&tmp);
     }
 }
 
@@ -172,14 +182,14 @@ pub fn lookup_cached(
     Some(program)
 }
 
-/// Removes the oldest entries beyond [`MAX_ENTRIES`].
-fn prune(dir: &Path) {
+/// Removes the oldest entries with extension `ext` beyond [`MAX_ENTRIES`].
+fn prune(dir: &Path, ext: &std::ffi::OsStr) {
     let Ok(rd) = std::fs::read_dir(dir) else {
         return;
     };
     let mut entries: Vec<(std::time::SystemTime, PathBuf)> = rd
         .filter_map(Result::ok)
-        .filter(|e| e.path().extension().is_some_and(|x| x == "code"))
+        .filter(|e| e.path().extension().is_some_and(|x| x == ext))
         .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
         .collect();
     if entries.len() <= MAX_ENTRIES {
@@ -193,7 +203,7 @@ fn prune(dir: &Path) {
 
 /// The compiler build: package version, and size and modification time of the executable (a
 /// rebuilt compiler never reuses an older build's code).
-fn build_id() -> String {
+pub(crate) fn build_id() -> String {
     let exe = std::env::current_exe()
         .and_then(std::fs::metadata)
         .ok()
