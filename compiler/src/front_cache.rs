@@ -3,7 +3,7 @@
 //! either (decode only: the diagnostics' text).
 //!
 //! Keyed like the code cache: the exact bytes (postcard) of the file name, the source bytes, the
-//! machine context (its `Debug` text, which spells out every field) and the compiler build; the
+//! machine context (its fields, the interface map's entries in file order, as `Debug` text) and the compiler build; the
 //! entry (`<hash>.front`) holds the whole key, compared in full before its program is used. Only
 //! results without errors are stored (a program and its warnings); anything unreadable only
 //! costs a compile.
@@ -19,7 +19,18 @@ type Stored = (Program, Vec<diag::Diagnostic>, [u64; 4]);
 
 /// The full key of `source` compiled as `file_name` for `ctx` by this compiler build.
 fn key(file_name: &str, source: &[u8], ctx: &MachineContext) -> Option<Vec<u8>> {
-    let ctx = format!("{ctx:?}");
+    // Every field (a new one must be decided on here); the interface map by its entries in file
+    // order (its lookup tables are hash maps, whose order differs from process to process).
+    let MachineContext {
+        a_inputs,
+        a_outputs,
+        spl,
+        tick_ms,
+        time_slow_ms,
+        interface,
+    } = ctx;
+    let entries: Vec<_> = interface.iter().collect();
+    let ctx = format!("{a_inputs:?} {a_outputs:?} {spl} {tick_ms} {time_slow_ms} {entries:?}");
     postcard::to_allocvec(&(
         "front 1",
         file_name,
