@@ -18,6 +18,9 @@ use std::sync::Arc;
 use compiler::jit::{self, JitOptions};
 use compiler::{Engine, Interpreter, MachineContext, compile};
 
+/// One engine's tick over an image.
+type Tick<'a> = &'a mut dyn FnMut(&mut [u8]);
+
 /// The benchmark's inputs for `ticks` ticks (the same as `benches/scan.rs`).
 #[inline(never)]
 fn run_ticks(tick: &mut dyn FnMut(&mut [u8]), image: &mut [u8], ticks: u32) {
@@ -106,7 +109,7 @@ fn side_by_side(p: &Arc<compiler::ir::Program>, ticks: u32) {
     let gcc = gcc_scan::GccScan::build(&compiler::cgen::emit_c(p), &["-O2"]).expect("gcc");
     let mut best = [f64::MAX; 3];
     for _ in 0..40 {
-        let mut ticks_of: [&mut dyn FnMut(&mut [u8]); 3] =
+        let mut ticks_of: [Tick; 3] =
             [&mut |i| jit.tick(i), &mut |i| jit_speed.tick(i), &mut |i| {
                 gcc.tick(i)
             }];
