@@ -4,6 +4,8 @@
 
 #[path = "support/gcc_scan.rs"]
 mod gcc_scan;
+#[path = "support/scan_source.rs"]
+mod scan_source;
 
 /// The allocator of the `ncplc` binary, so the figures are what the tool does.
 #[global_allocator]
@@ -16,54 +18,8 @@ use compiler::jit::{self, JitOptions};
 use compiler::{Engine, Interpreter, MachineContext, compile};
 use criterion::{Criterion, criterion_group, criterion_main};
 
-/// A deterministic program of `n` statements: ladder rungs over K/N bits, byte comparisons,
-/// arithmetic on bytes, SET/RES, pulses and inline timers, with a FAST and a SLOW part.
-fn source(n: usize) -> String {
-    let mut s = String::with_capacity(n * 40);
-    let mut x: u32 = 12345;
-    let mut rnd = |m: u32| {
-        x ^= x << 13;
-        x ^= x >> 17;
-        x ^= x << 5;
-        x % m
-    };
-    for i in 0..n {
-        if i == n * 7 / 10 {
-            s.push_str("$\n");
-        }
-        let (c, b) = (100 + rnd(150), rnd(32));
-        let bit = |r: &mut dyn FnMut(u32) -> u32| format!("U{}K{}", 100 + r(150), r(32));
-        match i % 10 {
-            0..=4 => {
-                let (a, b2, d) = (bit(&mut rnd), bit(&mut rnd), bit(&mut rnd));
-                s.push_str(&format!("U{c}K{b}={a}*/{b2}+I0A{}*{d}\n", rnd(32)));
-            }
-            5 => s.push_str(&format!(
-                "U{c}N{b}=[W{}K0={}H]+U{c}N{b}*/I0K1\n",
-                rnd(10),
-                rnd(10) * 10 + 1
-            )),
-            6 => s.push_str(&format!(
-                "W{c}N{}=W{}N{}+W3K0\n",
-                rnd(4),
-                100 + rnd(150),
-                rnd(4)
-            )),
-            7 => s.push_str(&format!("SET U{c}K{b}={}\n", bit(&mut rnd))),
-            8 => s.push_str(&format!("P{}={}\n", (i / 10) % 1024, bit(&mut rnd))),
-            _ => s.push_str(&format!(
-                "U{c}K{b}=TON({}*I0A{}, {}ms)\n",
-                bit(&mut rnd),
-                rnd(32),
-                10 * rnd(50)
-            )),
-        }
-    }
-    s
-}
-
 fn program(n: usize) -> compiler::ir::Program {
-    let src = source(n);
+    let src = scan_source::source(n);
     let c = compile("bench", src.as_bytes(), &MachineContext::lathe_like());
     match c.program {
         Some(p) => p,
@@ -139,7 +95,7 @@ fn same_images_as_the_interpreter(p: &Arc<compiler::ir::Program>, native: &gcc_s
 }
 
 fn compile_time(c: &mut Criterion) {
-    let src = source(10_000);
+    let src = scan_source::source(10_000);
     let ctx = MachineContext::lathe_like();
     let p = program(10_000);
     let mut g = c.benchmark_group("compile_10k");

@@ -5,6 +5,7 @@ pub mod cgen;
 pub mod context;
 pub mod engine;
 pub mod front;
+pub mod front_cache;
 pub mod interface_map;
 pub mod interp;
 pub mod ir;

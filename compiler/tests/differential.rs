@@ -361,8 +361,9 @@ proptest! {
         let mut interp = Interpreter::new(p.clone());
         let mut jit = compiler::jit::compile(&p).expect("jit compiles every valid program");
         // One function per statement, optimized, other register allocator, every IF zone
-        // if-converted (the default converts small ones and branches around larger ones).
-        let opts = JitOptions { opt_level: "speed", regalloc: "backtracking", chunk_cost: 1, threads: 3, if_convert_cost: u32::MAX };
+        // if-converted (the default converts small ones and branches around larger ones), loaded
+        // values and constants reused across the whole block (the default: one statement on).
+        let opts = JitOptions { opt_level: "speed", regalloc: "backtracking", chunk_cost: 1, threads: 3, if_convert_cost: u32::MAX, cache_window: u32::MAX };
         let mut jit2 = compiler::jit::compile_with(&p, &opts).expect("jit compiles every valid program");
         let mut a = p.new_image();
         let mut c = p.new_image();

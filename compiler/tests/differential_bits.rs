@@ -149,8 +149,10 @@ proptest! {
     fn bit_code_agrees_with_the_interpreter(p in program(), ticks in inputs()) {
         let p = Arc::new(p);
         let mut interp = Interpreter::new(p.clone());
-        let mut jits = [24, 0, u32::MAX].map(|if_convert_cost| {
-            let opts = JitOptions { if_convert_cost, ..JitOptions::default() };
+        // IF zones: default, never and always if-converted; loaded values and constants reused
+        // one statement on (default), only within their statement, and across the whole block.
+        let mut jits = [(24, 1), (0, 0), (u32::MAX, u32::MAX)].map(|(if_convert_cost, cache_window)| {
+            let opts = JitOptions { if_convert_cost, cache_window, ..JitOptions::default() };
             compiler::jit::compile_with(&p, &opts).expect("jit compiles every valid program")
         });
         let mut want = p.new_image();

@@ -112,3 +112,39 @@ fn lookup_finds_only_what_a_compile_stored() {
     let found = disk_cache::lookup(&p, &opts, &cache).expect("stored");
     assert_eq!(compiled.machine_code(), found.machine_code());
 }
+
+/// After `ncplc run` mapped a program's code from the disk cache, the first online change
+/// compiles only the functions it changed: the mapped functions fill the in-memory cache.
+#[test]
+fn an_online_change_after_a_mapped_start_compiles_only_the_changed_function() {
+    use compiler::jit::{CodeCache, compile_cached, compile_with};
+    let dir = tempfile::tempdir().expect("tempdir");
+    let cache = DiskCache::new(dir.path());
+    let opts = JitOptions::default();
+    let p = program(300);
+    let (built, _) = disk_cache::compile(&p, &opts, Some(&cache)).expect("compiles");
+    let mut memory = CodeCache::new();
+    let mapped = disk_cache::lookup_cached(&p, &opts, &cache, &mut memory).expect("mapped");
+    assert_eq!(mapped.machine_code(), built.machine_code());
+    let functions = mapped.function_count();
+    assert!(functions >= 3, "FAST and SLOW functions: {functions}");
+    assert_eq!(memory.len(), functions);
+    // Swapping the first two FAST statements changes the first function only (no chunk boundary
+    // can move: the accumulated cost is unchanged past them).
+    let mut edited = p.clone();
+    assert_ne!(edited.fast[0], edited.fast[1]);
+    edited.fast.swap(0, 1);
+    let changed = compile_cached(&edited, &opts, &mut memory).expect("online change");
+    assert_eq!(memory.compiled(), 1);
+    assert_eq!(memory.reused(), functions - 1);
+    assert_eq!(
+        changed.machine_code(),
+        compile_with(&edited, &opts)
+            .expect("uncached")
+            .machine_code()
+    );
+    // Without the mapped functions, the same change compiles every function.
+    let mut empty = CodeCache::new();
+    compile_cached(&edited, &opts, &mut empty).expect("compiles");
+    assert_eq!(empty.compiled(), functions);
+}

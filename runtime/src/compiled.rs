@@ -180,13 +180,17 @@ pub fn load_cached(
                 ..compiler::jit::JitOptions::default()
             };
             match cache {
-                // `ncplc run`'s first load: code an `ncplc build` left on disk is mapped (the
-                // in-memory cache then starts empty: the first online change compiles it all).
-                Some(_)
+                // `ncplc run`'s first load: code an `ncplc build` left on disk is mapped, and
+                // its functions fill the in-memory cache, so the first online change compiles
+                // only what it changed.
+                Some(cache)
                     if threads == 0
                         && let Some(found) = compiler::jit::disk_cache::DiskCache::from_env()
                             .and_then(|d| {
-                                compiler::jit::disk_cache::lookup(&program, &opts, &d)
+                                let mut cache = cache.lock().unwrap_or_else(|e| e.into_inner());
+                                compiler::jit::disk_cache::lookup_cached(
+                                    &program, &opts, &d, &mut cache,
+                                )
                             }) =>
                 {
                     Box::new(found)
@@ -280,7 +284,14 @@ pub fn compile_cached(
         tick_ms,
     } = src;
     let ctx = machine_context(cfg, tick_ms, interface.clone());
-    let c = compiler::compile_with_threads(file_name, source, &ctx, threads);
+    // A first load on every core goes through the on-disk front-end cache (beside the code
+    // cache): after `ncplc build` of the same source, nothing is parsed or checked again.
+    let c = if threads == 0 {
+        let disk = compiler::jit::disk_cache::DiskCache::from_env();
+        compiler::front_cache::compile_cached(file_name, source, &ctx, threads, disk.as_ref()).0
+    } else {
+        compiler::compile_with_threads(file_name, source, &ctx, threads)
+    };
     let mut sources = diag::Sources::new();
     sources.add(file_name, c.text.clone());
     match c.program {

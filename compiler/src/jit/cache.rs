@@ -61,18 +61,29 @@ pub(super) struct Pending {
 }
 
 /// What the translator remembers within one basic block.
+///
+/// Remembered values and constants are reused only within [`Caches::window`] statements of the
+/// one that made them: a value kept live across a long stretch of rungs costs a spill and a
+/// reload (no cheaper than reloading the image byte) and, worse, makes the register allocator
+/// spill around it; reloading keeps live ranges short.
 #[derive(Debug, Default)]
 pub(super) struct Caches {
-    /// Integer constants already materialized in the current block.
-    pub consts: HashMap<(Type, i64), Value, BuildHasherDefault<FxHasher>>,
+    /// Integer constants already materialized in the current block, with the statement that
+    /// made them.
+    consts: HashMap<(Type, i64), (Value, u32), BuildHasherDefault<FxHasher>>,
     /// `mem[o]`: the value of type `Type` the image holds at offset `o`, as far as this block
-    /// loaded or stored it.
-    mem: Vec<Option<(Type, Value)>>,
+    /// loaded or stored it, and the statement that loaded or stored it.
+    mem: Vec<Option<(Type, Value, u32)>>,
     /// Offsets with a `Some` in `mem`.
     touched: Vec<usize>,
     /// Stores held back for a statement, in program order: a store to the same place by the
     /// next statement replaces the held one (coils of one byte become one store).
     pub pending: Vec<Pending>,
+    /// The statement being translated (see [`Caches::window`]).
+    pub now: u32,
+    /// How many statements back a remembered value or constant is still reused (0: only within
+    /// its own statement).
+    pub window: u32,
 }
 
 impl Caches {
@@ -87,10 +98,28 @@ impl Caches {
         }
     }
 
-    /// The value known at `at`, if it has type `ty`.
+    /// True when something made by statement `made` may still be reused now.
+    fn fresh(&self, made: u32) -> bool {
+        self.now.wrapping_sub(made) <= self.window
+    }
+
+    /// The constant `(ty, v)` if it was materialized recently in this block.
+    pub fn konst(&self, ty: Type, v: i64) -> Option<Value> {
+        match self.consts.get(&(ty, v)) {
+            Some(&(c, made)) if self.fresh(made) => Some(c),
+            _ => None,
+        }
+    }
+
+    /// Remembers the constant `(ty, v)` as `c`.
+    pub fn set_konst(&mut self, ty: Type, v: i64, c: Value) {
+        self.consts.insert((ty, v), (c, self.now));
+    }
+
+    /// The value known at `at`, if it has type `ty` and was loaded or stored recently.
     pub fn get(&self, at: usize, ty: Type) -> Option<Value> {
         match self.mem.get(at) {
-            Some(Some((t, v))) if *t == ty => Some(*v),
+            Some(Some((t, v, made))) if *t == ty && self.fresh(*made) => Some(*v),
             _ => None,
         }
     }
@@ -103,7 +132,7 @@ impl Caches {
         if self.mem[at].is_none() {
             self.touched.push(at);
         }
-        self.mem[at] = Some((ty, v));
+        self.mem[at] = Some((ty, v, self.now));
     }
 
     /// A store of `ty` at `at`: values overlapping the written bytes are dropped, then the stored
@@ -111,7 +140,7 @@ impl Caches {
     pub fn stored(&mut self, at: usize, ty: Type, v: Value) {
         let end = (at + ty.bytes() as usize).min(self.mem.len());
         for o in at.saturating_sub(7)..end {
-            if let Some((t, _)) = self.mem[o]
+            if let Some((t, _, _)) = self.mem[o]
                 && o + t.bytes() as usize > at
             {
                 self.mem[o] = None;

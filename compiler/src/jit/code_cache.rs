@@ -86,6 +86,7 @@ pub(super) fn facts(p: &Program, opts: &JitOptions) -> Option<Vec<u8>> {
         pulses,
         p.image_len,
         opts.if_convert_cost,
+        opts.cache_window,
     );
     exact_bytes(&facts)
 }
@@ -286,6 +287,31 @@ impl CodeCache {
             }
         }
     }
+}
+
+/// Fills `cache` with the functions of `p`, whose machine code `codes` (one per function, in
+/// the order of [`super::program_chunks`]) was compiled under `opts` earlier (a text mapped from
+/// the disk cache): found by their statements, so that the next online change compiles only the
+/// functions it changed. Does nothing when the counts disagree or `p` has no exact encoding.
+pub(super) fn fill(cache: &mut CodeCache, p: &Program, opts: &JitOptions, codes: Vec<Code>) {
+    let flat: Vec<&[Stmt]> = super::program_chunks(p, opts)
+        .into_iter()
+        .flatten()
+        .collect();
+    let Some(facts) = facts(p, opts) else {
+        return;
+    };
+    if flat.len() != codes.len() {
+        return;
+    }
+    let functions = flat.iter().zip(codes).map(|(stmts, code)| {
+        let keys = Keys {
+            stmts: stmts_key(stmts),
+            ir: None,
+        };
+        (keys, code, true)
+    });
+    cache.replace(opts, Some(facts), functions);
 }
 
 /// The settings besides the IR that decide the machine code.

@@ -43,6 +43,7 @@ struct Key<'a> {
     regalloc: &'a str,
     chunk_cost: u32,
     if_convert_cost: u32,
+    cache_window: u32,
     build: String,
     isa: String,
 }
@@ -81,11 +82,12 @@ impl DiskCache {
             regalloc: opts.regalloc,
             chunk_cost: opts.chunk_cost,
             if_convert_cost: opts.if_convert_cost,
+            cache_window: opts.cache_window,
             build: build_id(),
             isa: isa_id(isa),
         })
         .ok()?;
-        let path = self.dir.join(format!("{:016x}.code", fnv1a(&key)));
+        let path = self.path_for(&key, "code");
         Some(Entry { path, key })
     }
 }
@@ -100,23 +102,33 @@ impl Entry {
 
     /// Stores `text` under this key (best-effort; see the module docs).
     pub(super) fn store(&self, text: &Text) {
-        let Some(dir) = self.path.parent() else {
-            return;
-        };
-        let Ok(bytes) = postcard::to_allocvec(&(&self.key, text)) else {
-            return;
-        };
-        if std::fs::create_dir_all(dir).is_err() {
-            return;
+        if let Ok(bytes) = postcard::to_allocvec(&(&self.key, text)) {
+            write_entry(&self.path, &bytes);
         }
-        let tmp = self
-            .path
-            .with_extension(format!("tmp{}", std::process::id()));
-        if std::fs::write(&tmp, &bytes).is_ok() && std::fs::rename(&tmp, &self.path).is_ok() {
-            prune(dir);
-        } else {
-            let _ = std::fs::remove_file(&tmp);
-        }
+    }
+}
+
+impl DiskCache {
+    /// The file of the entry with `key` and extension `ext` (the key's FNV-1a hash names it).
+    pub(crate) fn path_for(&self, key: &[u8], ext: &str) -> PathBuf {
+        self.dir.join(format!("{:016x}.{ext}", fnv1a(key)))
+    }
+}
+
+/// Writes `bytes` to `path` through a temporary file renamed into place, then prunes the
+/// directory's entries with `path`'s extension (best-effort: errors are ignored).
+pub(crate) fn write_entry(path: &Path, bytes: &[u8]) {
+    let (Some(dir), Some(ext)) = (path.parent(), path.extension()) else {
+        return;
+    };
+    if std::fs::create_dir_all(dir).is_err() {
+        return;
+    }
+    let tmp = path.with_extension(format!("tmp{}", std::process::id()));
+    if std::fs::write(&tmp, bytes).is_ok() && std::fs::rename(&tmp, path).is_ok() {
+        prune(dir, ext);
+    } else {
+        let _ = std::fs::remove_file(&tmp);
     }
 }
 
@@ -151,14 +163,33 @@ pub fn lookup(p: &Program, opts: &JitOptions, cache: &DiskCache) -> Option<JitPr
     load_text(target, &text, p.image_len).ok()
 }
 
-/// Removes the oldest entries beyond [`MAX_ENTRIES`].
-fn prune(dir: &Path) {
+/// [`lookup`], and on a hit `code_cache` is filled with the program's functions as if it had
+/// just compiled them (found by their statements), so that the next online change through it
+/// compiles only the functions it changed.
+pub fn lookup_cached(
+    p: &Program,
+    opts: &JitOptions,
+    cache: &DiskCache,
+    code_cache: &mut super::CodeCache,
+) -> Option<JitProgram> {
+    check_len(p).ok()?;
+    let target = isa(opts).ok()?;
+    let text = cache.entry(p, opts, &target)?.load()?;
+    let program = load_text(target, &text, p.image_len).ok()?;
+    if let Some(codes) = text.functions() {
+        super::code_cache::fill(code_cache, p, opts, codes);
+    }
+    Some(program)
+}
+
+/// Removes the oldest entries with extension `ext` beyond [`MAX_ENTRIES`].
+fn prune(dir: &Path, ext: &std::ffi::OsStr) {
     let Ok(rd) = std::fs::read_dir(dir) else {
         return;
     };
     let mut entries: Vec<(std::time::SystemTime, PathBuf)> = rd
         .filter_map(Result::ok)
-        .filter(|e| e.path().extension().is_some_and(|x| x == "code"))
+        .filter(|e| e.path().extension().is_some_and(|x| x == ext))
         .filter_map(|e| Some((e.metadata().ok()?.modified().ok()?, e.path())))
         .collect();
     if entries.len() <= MAX_ENTRIES {
@@ -172,7 +203,7 @@ fn prune(dir: &Path) {
 
 /// The compiler build: package version, and size and modification time of the executable (a
 /// rebuilt compiler never reuses an older build's code).
-fn build_id() -> String {
+pub(crate) fn build_id() -> String {
     let exe = std::env::current_exe()
         .and_then(std::fs::metadata)
         .ok()

@@ -60,6 +60,10 @@ pub struct JitOptions {
     /// IF zones whose [`ir::Stmt::cost`] is at most this run branch-free (both branches with
     /// guarded stores) instead of branching; 0 never, `u32::MAX` always.
     pub if_convert_cost: u32,
+    /// A value loaded from or stored to the image, or a constant, is reused by the statements up
+    /// to this many after the one that made it, and loaded or made again after that (short live
+    /// ranges: fewer spills).
+    pub cache_window: u32,
 }
 
 impl Default for JitOptions {
@@ -70,6 +74,7 @@ impl Default for JitOptions {
             chunk_cost: 2000,
             threads: 1,
             if_convert_cost: 24,
+            cache_window: 1,
         }
     }
 }
@@ -173,6 +178,7 @@ fn build(
 ) {
     let (fctx, caches) = (&mut s.fctx, &mut s.caches);
     caches.clear();
+    caches.window = opts.cache_window;
     let mut b = FunctionBuilder::new(func, fctx);
     let entry = b.create_block();
     b.append_block_params_for_function_params(entry);
@@ -377,6 +383,14 @@ fn compile_program(
     compile_program_to(p, opts, cache, None)
 }
 
+/// The statements of each function: the chunks of the FAST part, then of each SLOW slice.
+fn program_chunks<'p>(p: &'p Program, opts: &JitOptions) -> Vec<Vec<&'p [Stmt]>> {
+    std::iter::once(&p.fast[..])
+        .chain(p.slow.iter().map(Vec::as_slice))
+        .map(|stmts| chunks(stmts, opts.chunk_cost))
+        .collect()
+}
+
 /// [`compile_program`]; the linked text is also left in `disk` (see [`disk_cache`]).
 fn compile_program_to(
     p: &Program,
@@ -387,10 +401,7 @@ fn compile_program_to(
     check_len(p)?;
     let isa = isa(opts)?;
     let sig = signature(&isa, isa.default_call_conv());
-    let parts: Vec<Vec<&[Stmt]>> = std::iter::once(&p.fast[..])
-        .chain(p.slow.iter().map(Vec::as_slice))
-        .map(|stmts| chunks(stmts, opts.chunk_cost))
-        .collect();
+    let parts = program_chunks(p, opts);
     let flat: Vec<&[Stmt]> = parts.iter().flatten().copied().collect();
     let facts = cache.as_ref().and_then(|_| code_cache::facts(p, opts));
     let lookup = cache.as_deref().zip(facts.as_deref());
@@ -412,6 +423,7 @@ fn compile_program_to(
         offsets,
         align,
         counts: parts.iter().map(Vec::len).collect(),
+        codes: codes.iter().map(|(b, a)| (b.len(), *a)).collect(),
     };
     let program = load_text(isa, &text, p.image_len)?;
     if let Some(disk) = disk {
@@ -429,6 +441,25 @@ pub(crate) struct Text {
     align: u64,
     /// Functions of the FAST part, then of each SLOW slice.
     counts: Vec<usize>,
+    /// Each function's code length (without the padding after it) and alignment, so that the
+    /// functions of a mapped text can fill a [`CodeCache`] (see [`disk_cache::lookup_cached`]).
+    codes: Vec<(usize, u64)>,
+}
+
+impl Text {
+    /// Each function's machine code as compiled (`None` when the layout is inconsistent).
+    fn functions(&self) -> Option<Vec<Code>> {
+        if self.codes.len() != self.offsets.len() {
+            return None;
+        }
+        self.offsets
+            .iter()
+            .zip(&self.codes)
+            .map(|(&at, &(len, align))| {
+                Some((self.bytes.get(at..at.checked_add(len)?)?.to_vec(), align))
+            })
+            .collect()
+    }
 }
 
 /// Maps `text` executable and wraps it as a program over images of `image_len` bytes.

@@ -66,11 +66,11 @@ impl Translator<'_, '_> {
         } else {
             v & ((1i64 << ty.bits()) - 1)
         };
-        if let Some(&c) = self.c.consts.get(&(ty, v)) {
+        if let Some(c) = self.c.konst(ty, v) {
             return c;
         }
         let c = self.b.ins().iconst(ty, v);
-        self.c.consts.insert((ty, v), c);
+        self.c.set_konst(ty, v, c);
         c
     }
 
@@ -129,6 +129,7 @@ impl Translator<'_, '_> {
     pub(super) fn stmts(&mut self, stmts: &[Stmt]) {
         for s in stmts {
             self.stamp += 1;
+            self.c.now = self.stamp;
             self.stmt(s);
             self.flush_stale();
         }

@@ -96,7 +96,10 @@ pub fn run(args: Args) -> ExitCode {
     let name = super::output::user_path(&path).display().to_string();
     // A build is not beside a running scan: parse on every core (same result as one thread).
     let front_started = Instant::now();
-    let c = compiler::compile_with_threads(&name, &bytes, &ctx, 0);
+    // Through the on-disk front-end cache: a rebuild, `run` or `replay` of the same source for
+    // the same machine does no front-end work.
+    let disk = compiler::jit::disk_cache::DiskCache::from_env();
+    let (c, _) = compiler::front_cache::compile_cached(&name, &bytes, &ctx, 0, disk.as_ref());
     let front_ms = front_started.elapsed().as_secs_f64() * 1000.0;
     let mut emitted = None;
     let mut diagnostics = c.diagnostics.clone();
@@ -114,7 +117,6 @@ pub fn run(args: Args) -> ExitCode {
             ..compiler::jit::JitOptions::default()
         };
         // Through the on-disk code cache: a later `ncplc run`/`replay` of it maps this code.
-        let disk = compiler::jit::disk_cache::DiskCache::from_env();
         match compiler::jit::disk_cache::compile(p, &opts, disk.as_ref()) {
             Ok(_) => jit_ms = Some(jit_started.elapsed().as_secs_f64() * 1000.0),
             Err(e) => diagnostics.push(jit_failed(&name, &e)),
