@@ -27,6 +27,7 @@ pub mod kor;
 pub mod length;
 pub mod lexer;
 mod link;
+pub mod macro_b;
 pub mod machine;
 pub mod parse;
 pub mod program;
