@@ -149,6 +149,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
             params: [0; 96],
             executed: ex.executed,
             messages: Vec::new(),
+            macro_vars: std::mem::take(&mut ex.vars.slots),
         }),
         Err(e) => Err((ex.out, e)),
     }
@@ -197,6 +198,38 @@ impl Ex<'_> {
                 continue;
             }
             let bi = fr.pc;
+            if self.opts.backend == crate::run::Backend::Native
+                && let Some(code) = self.prog.macro_native.as_ref()
+                && let Some(ri) = code.run_at(bi)
+            {
+                use crate::macro_b::native::MacroExit;
+                let max = self.opts.max_blocks;
+                match code.run(ri, bi, &mut self.vars.slots, &mut self.executed, max) {
+                    MacroExit::Next(n) => {
+                        if let Some(fr) = self.frames.last_mut() {
+                            fr.pc = n;
+                        }
+                        continue;
+                    }
+                    MacroExit::Error(at, e) => {
+                        return Err(run_err(
+                            &self.prog.blocks[at],
+                            codes::RUN_MACRO,
+                            e.to_string(),
+                        ));
+                    }
+                    MacroExit::Limit(at) => {
+                        return Err(run_err(
+                            &self.prog.blocks[at],
+                            codes::RUN_LIMIT,
+                            "too many blocks executed: endless loop?",
+                        ));
+                    }
+                }
+            }
+            let Some(fr) = self.frames.last_mut() else {
+                break;
+            };
             fr.pc += 1;
             self.executed += 1;
             if self.executed > self.opts.max_blocks {
@@ -648,18 +681,30 @@ impl Ex<'_> {
                 self.pop_frame();
                 // M99 P<n>: the caller continues at its block N<n> instead of the block after the call.
                 if let Some(n) = p {
-                    let fr = self.frames.last_mut().ok_or_else(|| {
-                        run_err(b, codes::RUN_TARGET, "M99 P without a caller")
-                    })?;
+                    let fr = self
+                        .frames
+                        .last_mut()
+                        .ok_or_else(|| run_err(b, codes::RUN_TARGET, "M99 P without a caller"))?;
                     fr.pc = *prog.units[fr.unit].index.get(&n).ok_or_else(|| {
-                        run_err(b, codes::RUN_TARGET, format!("M99 P{n}: no block N{n} in the calling program"))
+                        run_err(
+                            b,
+                            codes::RUN_TARGET,
+                            format!("M99 P{n}: no block N{n} in the calling program"),
+                        )
                     })?;
                 }
             } else if let Some(n) = p {
                 // M99 P<n> in the main program jumps to its block N<n>.
-                let fr = self.frames.last_mut().ok_or_else(|| run_err(b, codes::RUN_TARGET, "no program"))?;
+                let fr = self
+                    .frames
+                    .last_mut()
+                    .ok_or_else(|| run_err(b, codes::RUN_TARGET, "no program"))?;
                 fr.pc = *prog.units[fr.unit].index.get(&n).ok_or_else(|| {
-                    run_err(b, codes::RUN_TARGET, format!("M99 P{n}: no block N{n} in this program"))
+                    run_err(
+                        b,
+                        codes::RUN_TARGET,
+                        format!("M99 P{n}: no block N{n} in this program"),
+                    )
                 })?;
             } else {
                 // M99 in the main program loops forever on a control; a plan stops here.

@@ -117,6 +117,8 @@ pub struct Program {
     pub machine: MachineSpec,
     /// Native code for arithmetic blocks (None when not compiled or not available).
     pub native: Option<crate::jit::NativeCode>,
+    /// Native code of the Fanuc Macro B runs (None when the program has none).
+    pub macro_native: Option<crate::macro_b::native::MacroCode>,
 }
 
 /// Integer value of a literal written for a count address (None when it has a fraction).
@@ -190,6 +192,7 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         library: HashMap::new(),
         machine: machine.clone(),
         native: None,
+        macro_native: None,
     };
     let mut diags = Vec::new();
     let (parsed, d) = parse(machine.dialect, name, src);
@@ -218,6 +221,17 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
     });
     if diag::has_errors(&diags) {
         return (None, diags);
+    }
+    if machine.dialect == Dialect::Fanuc {
+        match crate::macro_b::native::compile(&prog) {
+            Ok(code) => prog.macro_native = code,
+            Err(e) => diags.push(Diagnostic::warning(
+                codes::RUN_MACRO,
+                name,
+                0..0,
+                format!("native code generation failed, the interpreter runs the macros: {e}"),
+            )),
+        }
     }
     if machine.dialect == Dialect::Mefi {
         match crate::jit::compile_program(&prog) {

@@ -84,7 +84,10 @@ impl Vars for Ex<'_> {
         };
         let v = match u {
             2001..=2099 => self.tool_length_entry(u as usize - 2000)?,
-            2401..=2600 => self.corrections.get(u as usize - 2400).map_or(0.0, |c| c[0]),
+            2401..=2600 => self
+                .corrections
+                .get(u as usize - 2400)
+                .map_or(0.0, |c| c[0]),
             5001..=5006 | 5041..=5046 => {
                 let i = axis(if u < 5041 { 5001 } else { 5041 })?;
                 self.machine[i] - self.origin(i)
@@ -240,7 +243,13 @@ impl Ex<'_> {
         let n = (v >= 0.0 && v.fract() == 0.0 && v <= 99_999_999.0).then_some(v as u32);
         let to = n
             .and_then(|n| self.prog.units[b.unit].index.get(&n).copied())
-            .ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("GOTO {v}: no block N{v} in this program")))?;
+            .ok_or_else(|| {
+                run_err(
+                    b,
+                    codes::RUN_TARGET,
+                    format!("GOTO {v}: no block N{v} in this program"),
+                )
+            })?;
         self.jump_to(b, to);
         Ok(())
     }
@@ -293,7 +302,12 @@ impl Ex<'_> {
     /// Starts the next repetition of the innermost frame (M99 with L left): a `G65` level starts
     /// again from its arguments.
     pub(super) fn restart_locals(&mut self) {
-        if let Some(init) = self.frames.last().and_then(|f| f.level.as_ref()).map(|l| l.init) {
+        if let Some(init) = self
+            .frames
+            .last()
+            .and_then(|f| f.level.as_ref())
+            .map(|l| l.init)
+        {
             self.vars.slots[0..34].copy_from_slice(&init);
         }
     }
@@ -314,7 +328,11 @@ impl Ex<'_> {
                         continue;
                     }
                     let l = lit_of(v).ok_or_else(|| {
-                        run_err(b, codes::RUN_MACRO, format!("value {v} does not fit address {}", w.addr))
+                        run_err(
+                            b,
+                            codes::RUN_MACRO,
+                            format!("value {v} does not fit address {}", w.addr),
+                        )
                     })?;
                     words.push(Word {
                         val: Val::Lit(l),

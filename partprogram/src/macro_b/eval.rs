@@ -211,7 +211,10 @@ pub fn binop(op: BinOp, a: f64, b: f64) -> Result<f64, MacroError> {
                     }
                 }
                 BinOp::Mod => {
-                    let (a, b) = (host_func(Func::Round as i64, a), host_func(Func::Round as i64, b));
+                    let (a, b) = (
+                        host_func(Func::Round as i64, a),
+                        host_func(Func::Round as i64, b),
+                    );
                     if b == 0.0 {
                         Err(MacroError::DivZero)
                     } else {

@@ -35,9 +35,9 @@ enum T<'a> {
 }
 
 const KEYS: [&str; 31] = [
-    "IF", "THEN", "GOTO", "WHILE", "DO", "END", "EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR", "XOR",
-    "MOD", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "ABS", "ROUND", "FIX", "FUP", "LN",
-    "EXP", "BIN", "BCD",
+    "IF", "THEN", "GOTO", "WHILE", "DO", "END", "EQ", "NE", "GT", "GE", "LT", "LE", "AND", "OR",
+    "XOR", "MOD", "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "ABS", "ROUND", "FIX",
+    "FUP", "LN", "EXP", "BIN", "BCD",
 ];
 
 /// Lexes `text` (one block, starting at byte `base` of the file) into tokens with file spans.
@@ -130,7 +130,10 @@ pub fn is_macro(text: &str) -> bool {
         while j < b.len() && b[j] == b'0' {
             j += 1;
         }
-        b[j..].starts_with(b"65") && !b.get(j + 2).is_some_and(|c| c.is_ascii_digit() || *c == b'.')
+        b[j..].starts_with(b"65")
+            && !b
+                .get(j + 2)
+                .is_some_and(|c| c.is_ascii_digit() || *c == b'.')
     })
 }
 
@@ -488,7 +491,7 @@ impl<'a> P<'a> {
                     Val::Expr((self.mac.exprs.len() - 1) as u32)
                 }
             };
-            let end = self.toks.get(self.at - 1).map_or(sp0.1, |t| t.1 .1);
+            let end = self.toks.get(self.at - 1).map_or(sp0.1, |t| t.1.1);
             if a == 'N' {
                 return Err(self.err("the block number comes first"));
             }
@@ -514,8 +517,13 @@ impl<'a> P<'a> {
         let mut args: Vec<(u8, Expr)> = Vec::new();
         for w in std::mem::take(&mut b.words) {
             let bad = |msg: String| {
-                Diagnostic::error(codes::NOT_PARAMETRISABLE, self.file, w.span.0..w.span.1, msg)
-                    .with_hint("G65 P<program> L<count> and arguments A–Z (argument specification I)")
+                Diagnostic::error(
+                    codes::NOT_PARAMETRISABLE,
+                    self.file,
+                    w.span.0..w.span.1,
+                    msg,
+                )
+                .with_hint("G65 P<program> L<count> and arguments A–Z (argument specification I)")
             };
             let value = match w.val {
                 Val::Lit(x) => Expr::Num(x.value()),
