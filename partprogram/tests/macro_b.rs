@@ -43,7 +43,7 @@ fn both(src: &str) -> partprogram::Plan {
 }
 
 /// The run-time error (code, message, line) of `src` on both back ends (they must agree).
-fn run_error(src: &str, opts: PlanOptions) -> (u32, String, usize) {
+fn run_error(src: &str, opts: PlanOptions) -> (u32, String, u32) {
     let (prog, diags) = compile(&haas(), "t", src);
     let prog = prog.unwrap_or_else(|| panic!("{diags:#?}"));
     let run = |backend| match plan(&prog, PlanOptions { backend, ..opts }) {
@@ -55,7 +55,7 @@ fn run_error(src: &str, opts: PlanOptions) -> (u32, String, usize) {
     a
 }
 
-fn static_codes(src: &str) -> Vec<(u32, usize)> {
+fn static_codes(src: &str) -> Vec<(u32, u32)> {
     let (_, diags) = compile(&haas(), "t", src);
     diags.iter().map(|d| (d.code, d.line)).collect()
 }
@@ -334,4 +334,75 @@ fn macro_runs_are_compiled_natively() {
     let code = prog.and_then(|p| p.macro_native).expect("native code");
     // Runs: #1..WHILE (lines 4–6), #1 = …/IF (8–9), #1 = …/END (11–12).
     assert_eq!(code.run_count(), 3);
+}
+
+mod differential {
+    //! Random macro programs: the native back end must give the interpreter's plan, variables (bit
+    //! for bit, null included), block count and errors.
+    use super::*;
+    use proptest::prelude::*;
+
+    fn var() -> impl Strategy<Value = String> {
+        prop::sample::select(vec!["#1", "#2", "#3", "#4", "#100", "#500", "#0", "#30"])
+            .prop_map(str::to_string)
+    }
+
+    fn expr() -> impl Strategy<Value = String> {
+        let leaf = prop_oneof![
+            (-50i32..50).prop_map(|v| v.to_string()),
+            (-500i32..500).prop_map(|v| format!("{}", f64::from(v) / 7.0)),
+            Just("0".to_string()),
+            var(),
+        ];
+        leaf.prop_recursive(3, 16, 2, |inner| {
+            let ops = prop::sample::select(vec![
+                "+", "-", "*", "/", "MOD", "AND", "OR", "XOR", "EQ", "NE", "GT", "GE", "LT", "LE",
+            ]);
+            let funcs = prop::sample::select(vec![
+                "SIN", "COS", "TAN", "ASIN", "ACOS", "ATAN", "SQRT", "ABS", "ROUND", "FIX", "FUP",
+                "LN", "EXP", "BIN", "BCD",
+            ]);
+            prop_oneof![
+                (inner.clone(), ops, inner.clone()).prop_map(|(a, o, b)| format!("[{a} {o} {b}]")),
+                (funcs, inner.clone()).prop_map(|(f, a)| format!("{f}[{a}]")),
+                (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("ATAN[{a}]/[{b}]")),
+                inner.prop_map(|a| format!("-{a}")),
+            ]
+        })
+    }
+
+    fn stmt() -> impl Strategy<Value = String> {
+        let target = prop::sample::select(vec!["#1", "#2", "#3", "#4", "#100", "#500"]);
+        prop_oneof![
+            4 => (target.clone(), expr()).prop_map(|(t, e)| format!("{t} = {e}\n")),
+            1 => (expr(), target.clone(), expr()).prop_map(|(c, t, e)| format!("IF [{c}] THEN {t} = {e}\n")),
+            1 => expr().prop_map(|c| format!("IF [{c}] GOTO 90\n")),
+            1 => (1u8..6, target, expr()).prop_map(|(k, t, e)| {
+                format!("#9 = 0\nWHILE [#9 LT {k}] DO1\n{t} = {e}\n#9 = #9 + 1\nEND1\n")
+            }),
+            1 => (expr(), var()).prop_map(|(x, y)| format!("G01 X[{x}] Y{y} F100.\n")),
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 160, .. ProptestConfig::default() })]
+
+        #[test]
+        fn native_matches_interpreter(stmts in proptest::collection::vec(stmt(), 1..10)) {
+            let mut src = String::from("O1\n");
+            for s in &stmts {
+                src.push_str(s);
+            }
+            src.push_str("N90 G00 X#1 Y#2\nM30\n");
+            let (prog, diags) = compile(&haas(), "diff", &src);
+            let prog = prog.unwrap_or_else(|| panic!("{src}\n{diags:?}"));
+            let run = |backend| match plan(&prog, PlanOptions { backend, ..PlanOptions::default() }) {
+                Ok(p) => Ok((p.blocks, p.macro_vars.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), p.executed)),
+                Err((b, d)) => Err((b, d.code, d.message, d.line)),
+            };
+            let a = run(Backend::Interpreter);
+            let b = run(Backend::Native);
+            prop_assert_eq!(a, b, "{}", src);
+        }
+    }
 }
