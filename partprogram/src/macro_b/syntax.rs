@@ -91,7 +91,10 @@ fn lex(text: &str, base: usize) -> Result<Vec<(T<'_>, (usize, usize))>, (usize, 
                 out.push((tok, (base + start, base + i)));
                 continue;
             }
-            _ => return Err((base + i, base + i + 1)),
+            _ => {
+                let w = text[i..].chars().next().map_or(1, char::len_utf8);
+                return Err((base + i, base + i + w));
+            }
         };
         i += 1;
         out.push((tok, (base + start, base + i)));
@@ -574,7 +577,10 @@ pub fn parse_block(file: &str, text: &str, base: usize) -> Result<Block, Diagnos
             codes::BAD_CHAR,
             file,
             s.0..s.1,
-            format!("`{}` is not allowed here", &text[s.0 - base..s.1 - base]),
+            format!(
+                "`{}` is not allowed here",
+                text.get(s.0 - base..s.1 - base).unwrap_or("?")
+            ),
         )
         .with_hint("Macro B words: # [ ] + - * / = and IF THEN GOTO WHILE DO END EQ NE GT GE LT LE AND OR XOR MOD and the functions")
     })?;
