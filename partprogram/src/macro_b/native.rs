@@ -316,7 +316,13 @@ impl G<'_, '_> {
             Expr::Call(f, x) => {
                 let v = self.expr(x);
                 let v = self.z(v);
-                let r = self.call1(*f, v);
+                // ABS, FIX and SQRT are exact IEEE operations: inline, the same bits as Rust's.
+                let r = match f {
+                    Func::Abs => self.b.ins().fabs(v),
+                    Func::Fix => self.b.ins().trunc(v),
+                    Func::Sqrt => self.b.ins().sqrt(v),
+                    _ => self.call1(*f, v),
+                };
                 self.fin(r)
             }
             Expr::Atan2(a, b) => {
