@@ -102,7 +102,7 @@ pub fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                     }
                 }
                 Stmt::Call { p, .. } => {
-                    if !prog.library.contains_key(p) && !(prog.units[0].l == *p && *p != 0) {
+                    if !(prog.library.contains_key(p) || (prog.units[0].l == *p && *p != 0)) {
                         diags.push(err(
                             prog,
                             b,

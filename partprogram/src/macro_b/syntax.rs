@@ -41,7 +41,10 @@ const KEYS: [&str; 31] = [
 ];
 
 /// Lexes `text` (one block, starting at byte `base` of the file) into tokens with file spans.
-fn lex(text: &str, base: usize) -> Result<Vec<(T<'_>, (usize, usize))>, (usize, usize)> {
+/// Tokens with their file spans.
+type Toks<'a> = Vec<(T<'a>, (usize, usize))>;
+
+fn lex(text: &str, base: usize) -> Result<Toks<'_>, (usize, usize)> {
     let bytes = text.as_bytes();
     let mut out = Vec::new();
     let mut i = 0;
