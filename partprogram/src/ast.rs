@@ -11,6 +11,8 @@ pub enum Val {
     Lit(Lit),
     /// `R<n>`: the number after `R`.
     Param(Lit),
+    /// A Fanuc macro expression: index into the block's [`crate::macro_b::Macro::exprs`].
+    Expr(u32),
 }
 
 /// One item of the flat token-level parse.
@@ -73,6 +75,8 @@ pub struct Block {
     pub decls: Vec<Decl>,
     /// Block skip `/` present.
     pub skip: bool,
+    /// Fanuc Macro B: the block's statement or the expressions of its words.
+    pub mac: Option<Box<crate::macro_b::Macro>>,
 }
 
 /// A parsed file.

@@ -68,6 +68,7 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
         }
         let lit = match w.val {
             Val::Lit(l) => l,
+            Val::Expr(_) => continue,
             Val::Param(p) => {
                 if p.point || p.signed || !(0..=95).contains(&p.int) {
                     diags.push(err(

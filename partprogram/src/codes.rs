@@ -119,6 +119,12 @@ pub const RUN_PLANE_AXIS: u32 = 2513;
 /// Run time (Fanuc/HAAS): a word the block does not execute in the current modal state (no silent
 /// word), located at the word.
 pub const RUN_BAD_WORD: u32 = 2530;
+/// Fanuc Macro B: `WHILE … DO m` / `END m` that do not pair (missing, overlapping, reused number,
+/// nested deeper than 3).
+pub const MACRO_NESTING: u32 = 2037;
+/// Run time (Fanuc Macro B): division by zero, a value out of range, a variable that does not exist
+/// or cannot be written, `#3000` alarms.
+pub const RUN_MACRO: u32 = 2531;
 /// G14/G15/G16 written while the process has no axis of the machine-constant-341 plane they select.
 pub const PLANE_AXIS: u32 = 2036;
 

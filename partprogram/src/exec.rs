@@ -139,6 +139,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
             params: ex.st.r,
             executed: ex.executed,
             messages: std::mem::take(&mut ex.st.messages),
+            macro_vars: Vec::new(),
         }),
         Err(e) => Err((ex.out, e)),
     }

@@ -63,6 +63,8 @@ fn push_unit(
             decls: b.decls,
             arith_ops: 0,
             native: None,
+            mac: b.mac,
+            jump: None,
         });
     }
     prog.units.push(Unit {
@@ -169,7 +171,7 @@ pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagn
 fn lit(v: &Val) -> Option<f64> {
     match v {
         Val::Lit(l) => Some(l.value()),
-        Val::Param(_) => None,
+        Val::Param(_) | Val::Expr(_) => None,
     }
 }
 

@@ -3,6 +3,7 @@
 
 mod comp;
 mod cycles;
+pub mod macros;
 mod offsets;
 mod tlo;
 mod words;
@@ -22,6 +23,8 @@ struct Frame {
     pc: usize,
     target: usize,
     repeat: i64,
+    /// A `G65` level: the caller's locals and the level's arguments.
+    level: Option<Box<macros::MacroLevel>>,
 }
 
 struct Ex<'p> {
@@ -72,6 +75,10 @@ struct Ex<'p> {
     exact_once: bool,
     /// `G64 P<tol>` blending tolerance (mm) until G61 or a G64 without P.
     tolerance: Option<f64>,
+    /// Macro B variables.
+    vars: macros::VarTable,
+    /// External work offset (`#5201`+), added to every work system.
+    ext: [f64; 6],
 }
 
 fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
@@ -132,6 +139,8 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         exact_modal: false,
         exact_once: false,
         tolerance: None,
+        vars: macros::VarTable::default(),
+        ext: [0.0; 6],
     };
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
     match done {
@@ -140,6 +149,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
             params: [0; 96],
             executed: ex.executed,
             messages: Vec::new(),
+            macro_vars: std::mem::take(&mut ex.vars.slots),
         }),
         Err(e) => Err((ex.out, e)),
     }
@@ -152,7 +162,7 @@ impl Ex<'_> {
         match b.word(a)?.val {
             Val::Lit(l) if self.inch => Some(l.value4() * 25.4),
             Val::Lit(l) => Some(l.value()),
-            Val::Param(_) => None,
+            Val::Param(_) | Val::Expr(_) => None,
         }
     }
 
@@ -161,7 +171,7 @@ impl Ex<'_> {
     }
 
     fn origin(&self, i: usize) -> f64 {
-        self.work[self.wsel][i] + self.local[i] + self.g92[i] + self.tlo[i]
+        self.work[self.wsel][i] + self.ext[i] + self.local[i] + self.g92[i] + self.tlo[i]
     }
 
     fn run(&mut self) -> Result<(), RunError> {
@@ -173,6 +183,7 @@ impl Ex<'_> {
             pc: main.start,
             target: main.start,
             repeat: 1,
+            level: None,
         });
         while !self.ended {
             let Some(fr) = self.frames.last_mut() else {
@@ -183,10 +194,42 @@ impl Ex<'_> {
                 if self.frames.len() == 1 {
                     break;
                 }
-                self.frames.pop();
+                self.pop_frame();
                 continue;
             }
             let bi = fr.pc;
+            if self.opts.backend == crate::run::Backend::Native
+                && let Some(code) = self.prog.macro_native.as_ref()
+                && let Some(ri) = code.run_at(bi)
+            {
+                use crate::macro_b::native::MacroExit;
+                let max = self.opts.max_blocks;
+                match code.run(ri, bi, &mut self.vars.slots, &mut self.executed, max) {
+                    MacroExit::Next(n) => {
+                        if let Some(fr) = self.frames.last_mut() {
+                            fr.pc = n;
+                        }
+                        continue;
+                    }
+                    MacroExit::Error(at, e) => {
+                        return Err(run_err(
+                            &self.prog.blocks[at],
+                            codes::RUN_MACRO,
+                            e.to_string(),
+                        ));
+                    }
+                    MacroExit::Limit(at) => {
+                        return Err(run_err(
+                            &self.prog.blocks[at],
+                            codes::RUN_LIMIT,
+                            "too many blocks executed: endless loop?",
+                        ));
+                    }
+                }
+            }
+            let Some(fr) = self.frames.last_mut() else {
+                break;
+            };
             fr.pc += 1;
             self.executed += 1;
             if self.executed > self.opts.max_blocks {
@@ -266,10 +309,26 @@ impl Ex<'_> {
         self.emit(b, kind, Vec::new(), m, None);
     }
 
-    #[allow(clippy::too_many_lines)]
     fn block(&mut self, bi: usize) -> Result<(), RunError> {
         let prog = self.prog;
         let b = &prog.blocks[bi];
+        if let Some(m) = &b.mac {
+            if b.skip && self.opts.block_skip {
+                return Ok(());
+            }
+            if let Some(stmt) = &m.stmt {
+                return self.statement(b, stmt);
+            }
+            let nb = self.substitute(b, m)?;
+            return self.nc_block(&nb);
+        }
+        self.nc_block(b)
+    }
+
+    /// Runs NC block `b` (its words literal).
+    #[allow(clippy::too_many_lines)]
+    fn nc_block(&mut self, b: &CBlock) -> Result<(), RunError> {
+        let prog = self.prog;
         self.rc.check()?;
         if b.skip && self.opts.block_skip {
             return Ok(());
@@ -606,6 +665,7 @@ impl Ex<'_> {
                     pc: target,
                     target,
                     repeat: l,
+                    level: None,
                 });
             }
         } else if ms.contains(&99) {
@@ -615,9 +675,37 @@ impl Ex<'_> {
                 {
                     fr.repeat -= 1;
                     fr.pc = fr.target;
+                    self.restart_locals();
                     return Ok(());
                 }
-                self.frames.pop();
+                self.pop_frame();
+                // M99 P<n>: the caller continues at its block N<n> instead of the block after the call.
+                if let Some(n) = p {
+                    let fr = self
+                        .frames
+                        .last_mut()
+                        .ok_or_else(|| run_err(b, codes::RUN_TARGET, "M99 P without a caller"))?;
+                    fr.pc = *prog.units[fr.unit].index.get(&n).ok_or_else(|| {
+                        run_err(
+                            b,
+                            codes::RUN_TARGET,
+                            format!("M99 P{n}: no block N{n} in the calling program"),
+                        )
+                    })?;
+                }
+            } else if let Some(n) = p {
+                // M99 P<n> in the main program jumps to its block N<n>.
+                let fr = self
+                    .frames
+                    .last_mut()
+                    .ok_or_else(|| run_err(b, codes::RUN_TARGET, "no program"))?;
+                fr.pc = *prog.units[fr.unit].index.get(&n).ok_or_else(|| {
+                    run_err(
+                        b,
+                        codes::RUN_TARGET,
+                        format!("M99 P{n}: no block N{n} in this program"),
+                    )
+                })?;
             } else {
                 // M99 in the main program loops forever on a control; a plan stops here.
                 self.ended = true;

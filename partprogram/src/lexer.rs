@@ -55,7 +55,8 @@ impl Lit {
     }
 }
 
-fn parse_number(s: &str) -> Option<Lit> {
+/// Reads a number as written (sign, digits, point) into a [`Lit`].
+pub(crate) fn parse_number(s: &str) -> Option<Lit> {
     let (negative, signed, body) = match s.as_bytes().first()? {
         b'-' => (true, true, &s[1..]),
         b'+' => (false, true, &s[1..]),

@@ -28,6 +28,7 @@ pub mod length;
 pub mod lexer;
 mod link;
 pub mod machine;
+pub mod macro_b;
 pub mod parse;
 pub mod program;
 pub mod radius;

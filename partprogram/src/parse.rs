@@ -99,7 +99,16 @@ fn parse_unlocated(
             );
         }
     }
-    let mut lexer = Lexer::new(dialect, src, start);
+    // Fanuc Macro B blocks are read by `macro_b::syntax`; the lexer sees them as blank text.
+    let (blanked, macro_blocks) = if dialect == Dialect::Fanuc {
+        let (t, blocks, d) = crate::macro_b::syntax::prepass(file, src);
+        diags.extend(d);
+        (t, blocks)
+    } else {
+        (None, Vec::new())
+    };
+    let lex_src = blanked.as_deref().unwrap_or(src);
+    let mut lexer = Lexer::new(dialect, lex_src, start);
     let mut recovered = Vec::new();
     let result = grammar::ItemsParser::new().parse(&mut recovered, &mut lexer);
     for e in &lexer.errors {
@@ -134,7 +143,7 @@ fn parse_unlocated(
     };
     match dialect {
         Dialect::Mefi => group_mefi(file, src, &items, &mut out, &mut diags, require_header),
-        Dialect::Fanuc => group_fanuc(file, &items, &mut out, &mut diags),
+        Dialect::Fanuc => group_fanuc(file, &items, macro_blocks, &mut out, &mut diags),
     }
     (out, diags)
 }
@@ -362,7 +371,7 @@ fn group_mefi(
                     Val::Lit(l) if !l.point && !l.signed && (1..=99_999_999).contains(&l.int) => {
                         Some(l.int as u32)
                     }
-                    Val::Param(_) => {
+                    Val::Param(_) | Val::Expr(_) => {
                         diags.push(
                             Diagnostic::error(
                                 codes::NOT_PARAMETRISABLE,
@@ -438,7 +447,29 @@ fn no_block(file: &str, sp: std::ops::Range<usize>, diags: &mut Vec<Diagnostic>)
     );
 }
 
-fn group_fanuc(file: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec<Diagnostic>) {
+fn item_start(item: &Item) -> usize {
+    match item {
+        Item::Percent(r)
+        | Item::Star(r)
+        | Item::Slash(r)
+        | Item::Eob(r)
+        | Item::Comment(r)
+        | Item::CycleHeader(r)
+        | Item::Orphan(r)
+        | Item::Word(_, _, r)
+        | Item::Decl(_, _, r)
+        | Item::Error(r) => r.start,
+    }
+}
+
+fn group_fanuc(
+    file: &str,
+    items: &[Item],
+    macro_blocks: Vec<Block>,
+    out: &mut ParsedFile,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let mut macros = macro_blocks.into_iter().peekable();
     let mut cur = Block::default();
     let mut started = false;
     let mut after_slash = false;
@@ -451,6 +482,10 @@ fn group_fanuc(file: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec
         *started = false;
     };
     for item in items {
+        while let Some(m) = macros.next_if(|m| m.span.0 <= item_start(item)) {
+            flush(&mut cur, &mut started, out);
+            out.blocks.push(m);
+        }
         let was_slash = std::mem::replace(&mut after_slash, false);
         match item {
             Item::Eob(_) => flush(&mut cur, &mut started, out),
@@ -517,4 +552,5 @@ fn group_fanuc(file: &str, items: &[Item], out: &mut ParsedFile, diags: &mut Vec
         }
     }
     flush(&mut cur, &mut started, out);
+    out.blocks.extend(macros);
 }

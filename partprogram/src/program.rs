@@ -66,6 +66,11 @@ pub struct CBlock {
     pub arith_ops: u8,
     /// Index of the native function for this block's arithmetic, when compiled.
     pub native: Option<usize>,
+    /// Fanuc Macro B: the block's statement or the expressions of its words.
+    pub mac: Option<Box<crate::macro_b::Macro>>,
+    /// Fanuc Macro B: for `WHILE … DO m` the block of its `END m`, for `END m` the `DO` block, for a
+    /// `GOTO`/`IF … GOTO` with a literal target the target block (resolved by `macro_b::flow`).
+    pub jump: Option<usize>,
 }
 
 impl CBlock {
@@ -112,6 +117,8 @@ pub struct Program {
     pub machine: MachineSpec,
     /// Native code for arithmetic blocks (None when not compiled or not available).
     pub native: Option<crate::jit::NativeCode>,
+    /// Native code of the Fanuc Macro B runs (None when the program has none).
+    pub macro_native: Option<crate::macro_b::native::MacroCode>,
 }
 
 /// Integer value of a literal written for a count address (None when it has a fraction).
@@ -185,6 +192,7 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         library: HashMap::new(),
         machine: machine.clone(),
         native: None,
+        macro_native: None,
     };
     let mut diags = Vec::new();
     let (parsed, d) = parse(machine.dialect, name, src);
@@ -193,6 +201,7 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
     if machine.dialect == Dialect::Fanuc {
         crate::fanuc::build_units(&mut prog, parsed, &mut diags);
         crate::fanuc::check(&mut prog, &mut diags);
+        crate::macro_b::flow::link(&mut prog, &mut diags);
     } else {
         build_main_units(&mut prog, 0, parsed, &mut diags);
         load_library(&mut prog, &machine.macro_dir, &mut diags);
@@ -212,6 +221,17 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
     });
     if diag::has_errors(&diags) {
         return (None, diags);
+    }
+    if machine.dialect == Dialect::Fanuc {
+        match crate::macro_b::native::compile(&prog) {
+            Ok(code) => prog.macro_native = code,
+            Err(e) => diags.push(Diagnostic::warning(
+                codes::RUN_MACRO,
+                name,
+                0..0,
+                format!("native code generation failed, the interpreter runs the macros: {e}"),
+            )),
+        }
     }
     if machine.dialect == Dialect::Mefi {
         match crate::jit::compile_program(&prog) {
@@ -238,7 +258,7 @@ fn g_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
         .filter(|w| w.addr == 'G')
         .filter_map(|w| match w.val {
             Val::Lit(l) => lit_int(&l),
-            Val::Param(_) => None,
+            Val::Param(_) | Val::Expr(_) => None,
         })
 }
 
@@ -248,7 +268,7 @@ fn m_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
         .filter(|w| w.addr == 'M')
         .filter_map(|w| match w.val {
             Val::Lit(l) => lit_int(&l),
-            Val::Param(_) => None,
+            Val::Param(_) | Val::Expr(_) => None,
         })
 }
 
@@ -258,7 +278,7 @@ fn lit_of(b: &Block, a: char) -> Option<i64> {
         .find(|w| w.addr == a)
         .and_then(|w| match w.val {
             Val::Lit(l) => lit_int(&l),
-            Val::Param(_) => None,
+            Val::Param(_) | Val::Expr(_) => None,
         })
 }
 
@@ -276,6 +296,8 @@ fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
         decls: b.decls,
         arith_ops,
         native: None,
+        mac: None,
+        jump: None,
     });
 }
 

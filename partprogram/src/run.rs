@@ -102,4 +102,6 @@ pub struct Plan {
     pub executed: u64,
     /// Messages of arithmetic operation 51.
     pub messages: Vec<crate::arith::Message>,
+    /// Fanuc Macro B variables at the end (slot n is #n; NaN is null; empty for MEFI).
+    pub macro_vars: Vec<f64>,
 }

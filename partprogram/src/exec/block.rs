@@ -32,6 +32,7 @@ impl Exec<'_> {
         for w in &b.words {
             let v = match w.val {
                 Val::Lit(l) => V::Lit(l),
+                Val::Expr(_) => continue,
                 Val::Param(p) => V::R(self.st.r[(p.int as usize).min(NPARAM - 1)]),
             };
             match w.addr {

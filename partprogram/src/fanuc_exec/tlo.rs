@@ -28,7 +28,7 @@ impl Ex<'_> {
         } else {
             b.word('H').and_then(|w| match w.val {
                 Val::Lit(l) => Some(l.value()),
-                Val::Param(_) => None,
+                Val::Param(_) | Val::Expr(_) => None,
             })
         };
         if let Some(h) = h {

@@ -5,7 +5,7 @@
 //! in the functions that define them (HAAS spec §6): I/J/K in an arc of their plane or a G12/G13
 //! pocket, R in an arc, a canned cycle or `G10 L10/L12`, P in G04, G10, G64, G154, M97/M98, the
 //! dwell of G82/G89, Q in the pecks of G73/G83 and the G12/G13 steps, L in M97/M98, G10, canned
-//! cycles and G12/G13. M99 P is not executed and therefore always refused (E, and U/W on a mill,
+//! cycles and G12/G13, P also in M99 (return to line P). (E, and U/W on a mill,
 //! are refused by the static check already).
 
 use super::Ex;
@@ -69,6 +69,7 @@ impl Ex<'_> {
                         || u.g10.is_some()
                         || u.p_value
                         || u.call
+                        || u.ret
                         || matches!(u.cycle, Some(820 | 890))
                 }
                 'Q' => u.pocket || matches!(u.cycle, Some(730 | 830)),
@@ -78,7 +79,6 @@ impl Ex<'_> {
             if !ok {
                 let why = match a {
                     'E' => "E sets the G187 corner accuracy, and G187 is not supported".to_string(),
-                    'P' if u.ret => "M99 P<n> (return to line n) is not supported".to_string(),
                     'I' | 'J' | 'K' if arc => format!(
                         "{a} is not a centre word of the G{} plane ({c1}{c2})",
                         self.plane.g()
@@ -100,6 +100,6 @@ impl Ex<'_> {
 fn lit_text(w: &crate::ast::Word) -> String {
     match w.val {
         crate::ast::Val::Lit(l) => format!("{}", l.value()),
-        crate::ast::Val::Param(_) => String::new(),
+        _ => String::new(),
     }
 }

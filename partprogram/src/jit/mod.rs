@@ -233,8 +233,9 @@ fn codegen(x: &dyn std::fmt::Display) -> NativeError {
     NativeError::Codegen(x.to_string())
 }
 
-/// A cranelift JIT module being filled with functions.
-struct Jit {
+/// A cranelift JIT module being filled with functions (shared with the Macro B compiler,
+/// [`crate::macro_b::native`]).
+pub(crate) struct Jit {
     isa: OwnedTargetIsa,
     module: JITModule,
     ctx: cranelift_codegen::Context,
@@ -247,7 +248,8 @@ struct Jit {
 }
 
 impl Jit {
-    fn new(mode: DoublePrecision) -> Result<Jit, NativeError> {
+    /// A module for the host ISA (`mode`: the MEFI double-precision rule of the ops).
+    pub(crate) fn new(mode: DoublePrecision) -> Result<Jit, NativeError> {
         let mut fb = settings::builder();
         fb.set("opt_level", "speed").map_err(|x| setup(&x))?;
         fb.set("is_pic", "false").map_err(|x| setup(&x))?;
@@ -289,7 +291,7 @@ impl Jit {
     }
 
     /// Declares, builds with `body` and defines one function with signature `sig`.
-    fn define(
+    pub(crate) fn define(
         &mut self,
         sig: Signature,
         body: impl FnOnce(&mut FunctionBuilder, cranelift_codegen::ir::SigRef),
@@ -312,6 +314,39 @@ impl Jit {
             .map_err(|x| NativeError::Codegen(format!("{x:?}")))?;
         self.module.clear_context(&mut self.ctx);
         Ok(id)
+    }
+
+    /// The pointer type of the host.
+    pub(crate) fn pointer_type(&self) -> types::Type {
+        self.isa.pointer_type()
+    }
+
+    /// The signature `fn(*mut ctx, i64) -> i64` of region functions.
+    pub(crate) fn region_signature(&self) -> Signature {
+        self.region_sig.clone()
+    }
+
+    /// A signature in the host's call convention.
+    pub(crate) fn signature(&self, params: &[types::Type], ret: types::Type) -> Signature {
+        let mut s = Signature::new(self.isa.default_call_conv());
+        s.params.extend(params.iter().map(|t| AbiParam::new(*t)));
+        s.returns.push(AbiParam::new(ret));
+        s
+    }
+
+    /// Finalizes the module and returns it with the addresses of functions `ids`.
+    pub(crate) fn finish_raw(
+        mut self,
+        ids: &[FuncId],
+    ) -> Result<(JITModule, Vec<*const u8>), NativeError> {
+        self.module
+            .finalize_definitions()
+            .map_err(|x| codegen(&x))?;
+        let ptrs = ids
+            .iter()
+            .map(|&id| self.module.get_finalized_function(id))
+            .collect();
+        Ok((self.module, ptrs))
     }
 
     fn block_fn(&mut self, words: &[i64]) -> Result<FuncId, NativeError> {
