@@ -291,6 +291,8 @@ fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
         .fold(0.0, f64::max);
     assert!(gap < 1e-9, "{gap}");
     assert_within(&raised.report, 1e-9);
+}
+
 /// A 0.1 s dwell lasts 100 ticks of 1 ms even when the feed override is set again every tick (the
 /// CNC kernel does so each logic tick; a replan used to start the dwell over, so it never ended).
 #[test]
