@@ -6,51 +6,16 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group};
-use motion::{AccParams, AxisLimits, Config, Kernel, Law, Move, bound::lower_bound, samples};
+use motion::{Kernel, Move, bound::lower_bound, samples};
 
-fn cfg() -> Config {
-    let ax = |name| AxisLimits {
-        name,
-        v_max: 100.0,
-        a_max: 1000.0,
-        j_max: None,
-        v_rapid: 100.0,
-        a_rapid: 1000.0,
-        j_rapid: None,
-        soft_min: None,
-        soft_max: None,
-    };
-    Config {
-        axes: vec![ax('X'), ax('Y'), ax('Z')],
-        tick_s: 0.001,
-        tolerance_mm: 0.01,
-        law: Law::Linear,
-        window: 256,
-        acc: AccParams::default(),
-    }
-}
-
-/// Runs to idle; returns the number of ticks.
+/// Runs to idle on the benchmark mill; returns the number of ticks.
 fn run(moves: &[Move], start: [f64; 3]) -> u64 {
-    let mut k = Kernel::new(cfg(), &start).expect("config");
-    let mut next = 0;
-    let mut n = 0;
-    loop {
-        while next < moves.len() && k.space() > 0 {
-            k.push(moves[next].clone()).expect("accepted");
-            next += 1;
-        }
-        if next >= moves.len() && k.is_idle() {
-            return n;
-        }
-        black_box(k.tick());
-        n += 1;
-    }
+    samples::ticks_to_idle(samples::mill(), moves, start).expect("the sample runs")
 }
 
 fn per_tick_cost() {
     let moves = samples::cam(375);
-    let mut k = Kernel::new(cfg(), &samples::start("cam")).expect("config");
+    let mut k = Kernel::new(samples::mill(), &samples::start("cam")).expect("config");
     let mut h = hdrhistogram::Histogram::<u64>::new(3).expect("histogram");
     let mut next = 0;
     loop {
@@ -88,7 +53,7 @@ fn ratios() {
     ] {
         let start = samples::start(name);
         let t = run(&moves, start) as f64 * 0.001;
-        let lb = lower_bound(&cfg(), &start, &moves);
+        let lb = lower_bound(&samples::mill(), &start, &moves);
         println!(
             "{name:>12}: {t:8.3} s, lower bound {lb:8.3} s, ratio {:.4}",
             t / lb

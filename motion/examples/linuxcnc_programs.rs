@@ -5,46 +5,7 @@
 
 use std::fmt::Write;
 
-use motion::{AccParams, AxisLimits, Config, Kernel, Law, Move, Path, bound::lower_bound, samples};
-
-fn cfg() -> Config {
-    let ax = |name| AxisLimits {
-        name,
-        v_max: 100.0,
-        a_max: 1000.0,
-        j_max: None,
-        v_rapid: 100.0,
-        a_rapid: 1000.0,
-        j_rapid: None,
-        soft_min: None,
-        soft_max: None,
-    };
-    Config {
-        axes: vec![ax('X'), ax('Y'), ax('Z')],
-        tick_s: 0.001,
-        tolerance_mm: 0.01,
-        law: Law::Linear,
-        window: 256,
-        acc: AccParams::default(),
-    }
-}
-
-/// Runs to idle; the number of ticks.
-fn ticks(moves: &[Move], start: [f64; 3]) -> Result<u64, String> {
-    let mut k = Kernel::new(cfg(), &start).map_err(|e| e.to_string())?;
-    let (mut next, mut n) = (0, 0);
-    loop {
-        while next < moves.len() && k.space() > 0 {
-            k.push(moves[next].clone()).map_err(|e| e.to_string())?;
-            next += 1;
-        }
-        if next >= moves.len() && k.is_idle() {
-            return Ok(n);
-        }
-        k.tick();
-        n += 1;
-    }
-}
+use motion::{Move, Path, bound::lower_bound, samples};
 
 /// The program as G-code.
 fn gcode(moves: &[Move], start: [f64; 3]) -> Result<String, std::fmt::Error> {
@@ -84,8 +45,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     ] {
         let start = samples::start(name);
         std::fs::write(format!("{dir}/{name}.ngc"), gcode(&moves, start)?)?;
-        let t = ticks(&moves, start)? as f64 * 0.001;
-        let lb = lower_bound(&cfg(), &start, &moves);
+        let t = samples::ticks_to_idle(samples::mill(), &moves, start)? as f64 * 0.001;
+        let lb = lower_bound(&samples::mill(), &start, &moves);
         println!("{name} {t:.3} {lb:.4}");
     }
     Ok(())

@@ -1,7 +1,51 @@
 //! The benchmark programs of issue 10 as moves for a 3-axis machine (X, Y, Z): squares,
 //! circles, a zigzag, a circle of 0.08 mm segments, a spiral pocket and a 3-D CAM-like raster.
 
+use crate::config::{AccParams, AxisLimits, Config, Law};
+use crate::kernel::Kernel;
 use crate::moves::{Move, Path};
+
+/// The issue's benchmark mill the samples are measured on: each axis 100 mm/s and 1000 mm/s²
+/// (rapids alike, no jerk limit), a 1 ms tick, tolerance 0.01 mm, linear law, a 256-block window.
+pub fn mill() -> Config {
+    let ax = |name| AxisLimits {
+        name,
+        v_max: 100.0,
+        a_max: 1000.0,
+        j_max: None,
+        v_rapid: 100.0,
+        a_rapid: 1000.0,
+        j_rapid: None,
+        soft_min: None,
+        soft_max: None,
+    };
+    Config {
+        axes: vec![ax('X'), ax('Y'), ax('Z')],
+        tick_s: 0.001,
+        tolerance_mm: 0.01,
+        law: Law::Linear,
+        window: 256,
+        acc: AccParams::default(),
+    }
+}
+
+/// Runs `moves` from `start` on `cfg` until the kernel is idle, feeding the queue as it empties;
+/// the number of ticks (the motion time in ticks), or the first error as text.
+pub fn ticks_to_idle(cfg: Config, moves: &[Move], start: [f64; 3]) -> Result<u64, String> {
+    let mut k = Kernel::new(cfg, &start).map_err(|e| e.to_string())?;
+    let (mut next, mut n) = (0, 0);
+    loop {
+        while next < moves.len() && k.space() > 0 {
+            k.push(moves[next].clone()).map_err(|e| e.to_string())?;
+            next += 1;
+        }
+        if next >= moves.len() && k.is_idle() {
+            return Ok(n);
+        }
+        k.tick();
+        n += 1;
+    }
+}
 
 fn mv(tag: u64, path: Path, end: [f64; 3], f: f64) -> Move {
     Move {
