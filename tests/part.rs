@@ -1,19 +1,10 @@
 //! End-to-end tests of part runs (`ncplc run --program`): the CNC kernel runs a partprogram
 //! through the bundled PLC logic on the simulated machine.
 
-use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&std::ffi::OsStr]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+mod e2e_common;
+use e2e_common::{copy_dir, ncplc, root};
 
 /// A copy of the lathe with `extra` appended to its sim.toml.
 fn lathe_with(extra: &str) -> tempfile::TempDir {
@@ -25,19 +16,6 @@ fn lathe_with(extra: &str) -> tempfile::TempDir {
     text.push_str(extra);
     std::fs::write(&sim, text).expect("write");
     dir
-}
-
-fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
-    for e in std::fs::read_dir(from).expect("dir") {
-        let e = e.expect("entry");
-        let dst = to.join(e.file_name());
-        if e.file_type().expect("type").is_dir() {
-            std::fs::create_dir_all(&dst).expect("mkdir");
-            copy_dir(&e.path(), &dst);
-        } else {
-            std::fs::copy(e.path(), &dst).expect("copy");
-        }
-    }
 }
 
 fn part_run(machine: &std::path::Path, extra: &[&str]) -> Output {

@@ -3,34 +3,10 @@
 //! Fanuc, run through the CNC kernel on the bundled lathe to M30 without an alarm, and their
 //! recordings replay identically (kernel signals and axis positions) with both engines.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
 use proptest::prelude::*;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    for e in std::fs::read_dir(from).expect("dir") {
-        let e = e.expect("entry");
-        let dst = to.join(e.file_name());
-        if e.file_type().expect("type").is_dir() {
-            std::fs::create_dir_all(&dst).expect("mkdir");
-            copy_dir(&e.path(), &dst);
-        } else {
-            std::fs::copy(e.path(), &dst).expect("copy");
-        }
-    }
-}
+mod e2e_common;
+use e2e_common::{copy_dir, ncplc, root};
 
 /// The lathe without the scripted feed hold of PART1 (the operator only presses START).
 fn lathe() -> tempfile::TempDir {

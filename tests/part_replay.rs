@@ -3,34 +3,12 @@
 //! kernel and its plant beside the logic and compares the kernel's signals and the axis positions.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+mod e2e_common;
+use e2e_common::{copy_dir, ncplc, root};
 
 fn s(p: &Path) -> &str {
     p.to_str().expect("utf-8 path")
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    for e in std::fs::read_dir(from).expect("dir") {
-        let e = e.expect("entry");
-        let dst = to.join(e.file_name());
-        if e.file_type().expect("type").is_dir() {
-            std::fs::create_dir_all(&dst).expect("mkdir");
-            copy_dir(&e.path(), &dst);
-        } else {
-            std::fs::copy(e.path(), &dst).expect("copy");
-        }
-    }
 }
 
 /// A copy of the lathe whose PART1 has `from` replaced by `to`; returns the new text's CRC-32.

@@ -2,19 +2,10 @@
 //! NBP=2 machine whose map does not give process 2 its handshake signals, map errors are located in
 //! `interface.toml`, and the mill runs process 2's M functions through the simulated CNC.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+mod e2e_common;
+use e2e_common::{ncplc, root};
 
 /// A copy of the mill with `interface` as its interface.toml (`None`: no interface.toml).
 fn mill_copy(dir: &Path, interface: Option<&str>) -> String {
