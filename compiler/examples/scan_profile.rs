@@ -44,16 +44,7 @@ fn main() {
     };
     let p = Arc::new(p);
     let mut image = p.new_image();
-    // `SCAN_RA`, `SCAN_OPT`, `SCAN_WINDOW`: the settings of `jit-speed` and `text`.
-    let env = |k: &str, d: &'static str| -> &'static str {
-        std::env::var(k).map_or(d, |v| Box::leak(v.into_boxed_str()))
-    };
-    let speed = JitOptions {
-        opt_level: env("SCAN_OPT", "speed"),
-        regalloc: env("SCAN_RA", "single_pass"),
-        cache_window: env("SCAN_WINDOW", "1").parse().unwrap_or(1),
-        ..JitOptions::default()
-    };
+    let speed = speed_options();
     match what {
         "interp" => {
             let mut e = Interpreter::new(p.clone());
@@ -91,21 +82,25 @@ fn main() {
     println!("{what}: {ticks} ticks, image checksum {sum:016x}");
 }
 
-/// The JIT (default and `speed`) and gcc -O2 timed in alternating rounds; prints the best round's
-/// time per tick of each and the JIT/gcc ratio.
-fn side_by_side(p: &Arc<compiler::ir::Program>, ticks: u32) {
-    let mut jit = jit::compile(p).expect("jit");
-    // `SCAN_RA=backtracking` / `SCAN_OPT=speed` choose the second JIT's settings.
+/// The second JIT's settings (`jit-speed`, `text` and the second column of `all`), from
+/// `SCAN_OPT` (default `speed`), `SCAN_RA` (default `single_pass`) and `SCAN_WINDOW` (default 1).
+fn speed_options() -> JitOptions {
     let env = |k: &str, d: &'static str| -> &'static str {
         std::env::var(k).map_or(d, |v| Box::leak(v.into_boxed_str()))
     };
-    let speed = JitOptions {
+    JitOptions {
         opt_level: env("SCAN_OPT", "speed"),
         regalloc: env("SCAN_RA", "single_pass"),
         cache_window: env("SCAN_WINDOW", "1").parse().unwrap_or(1),
         ..JitOptions::default()
-    };
-    let mut jit_speed = jit::compile_with(p, &speed).expect("jit");
+    }
+}
+
+/// The JIT (default and `speed`) and gcc -O2 timed in alternating rounds; prints the best round's
+/// time per tick of each and the JIT/gcc ratio.
+fn side_by_side(p: &Arc<compiler::ir::Program>, ticks: u32) {
+    let mut jit = jit::compile(p).expect("jit");
+    let mut jit_speed = jit::compile_with(p, &speed_options()).expect("jit");
     let gcc = gcc_scan::GccScan::build(&compiler::cgen::emit_c(p), &["-O2"]).expect("gcc");
     let mut best = [f64::MAX; 3];
     for _ in 0..40 {
