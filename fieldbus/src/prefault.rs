@@ -49,35 +49,34 @@ mod tests {
         u.ru_minflt
     }
 
-    #[test]
-    fn a_prefaulted_stack_takes_no_faults_when_used_later() {
-        // A fresh thread with a fresh stack: first without pre-faulting, a deep use of the stack
-        // faults pages in; after pre-faulting, the same use faults none (or at most a stray one).
-        let fresh = std::thread::Builder::new()
+    /// Minor faults taken by touching [`IO_STACK`] of a fresh thread's stack, after pre-faulting
+    /// it first when `before` is set.
+    fn faults_of_a_fresh_thread(before: bool) -> i64 {
+        std::thread::Builder::new()
             .stack_size(1 << 20)
-            .spawn(|| {
-                let before = thread_minor_faults();
+            .spawn(move || {
+                if before {
+                    prefault_stack(IO_STACK);
+                }
+                let start = thread_minor_faults();
                 prefault_stack(IO_STACK);
-                thread_minor_faults() - before
+                thread_minor_faults() - start
             })
             .expect("thread")
             .join()
-            .expect("join");
+            .expect("join")
+    }
+
+    #[test]
+    fn a_prefaulted_stack_takes_no_faults_when_used_later() {
+        // A fresh stack faults its pages in when first used deeply; once pre-faulted, the same
+        // use faults none (or a stray one).
+        let fresh = faults_of_a_fresh_thread(false);
         assert!(
             fresh >= 16,
             "touching 128 KiB of a new stack faulted only {fresh} pages"
         );
-        let again = std::thread::Builder::new()
-            .stack_size(1 << 20)
-            .spawn(|| {
-                prefault_stack(IO_STACK);
-                let before = thread_minor_faults();
-                prefault_stack(IO_STACK);
-                thread_minor_faults() - before
-            })
-            .expect("thread")
-            .join()
-            .expect("join");
+        let again = faults_of_a_fresh_thread(true);
         assert!(
             again <= 2,
             "a pre-faulted stack faulted {again} pages again"
