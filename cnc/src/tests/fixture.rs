@@ -163,6 +163,7 @@ pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Opti
     Canon {
         exact_stop: false,
         tolerance: None,
+        css: None,
         n: Some(n),
         unit: None,
         kind,
