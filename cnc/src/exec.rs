@@ -63,7 +63,7 @@ impl Process {
 
     /// True when `b` issues no function at all given the S and T already out.
     fn quiet(&self, b: &Canon) -> bool {
-        b.m.is_empty() && s_code(b) == self.last_s && b.t == self.last_t
+        b.m.is_empty() && s_code(b) == self.last_s && b.t == self.last_t && b.css == self.css
     }
 
     /// The groups of functions of block `b` before and after its motion.
@@ -136,6 +136,10 @@ impl Process {
                     return false;
                 };
                 let (before, after) = self.groups(&b);
+                let s_out = before.iter().flatten().any(|(k, _)| *k == Kind::S);
+                if !self.spindle_block(&b, s_out) {
+                    return false;
+                }
                 self.pending_after = after;
                 self.phase = Phase::Before(before, false);
                 true
@@ -197,6 +201,9 @@ impl Process {
             groups.pop_front();
         }
         let front = groups.front()?.clone();
+        if !self.gear_ready(&front) {
+            return Some((groups, false));
+        }
         for (kind, code) in front {
             if kind == Kind::M {
                 match code {
@@ -298,6 +305,7 @@ impl Process {
         self.phase = Phase::Fetch;
         self.mimm = 0;
         self.den = true;
+        self.css = None;
     }
 }
 

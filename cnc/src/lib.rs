@@ -21,6 +21,7 @@ pub mod motion_link;
 pub mod plant;
 pub mod process;
 pub mod signals;
+pub mod spindle;
 pub mod state;
 pub mod status;
 pub mod written;

@@ -76,6 +76,8 @@ pub struct Process {
     pub(crate) last_s: Option<u32>,
     pub(crate) last_t: Option<i64>,
     pub(crate) spindle_dir: i8,
+    pub(crate) css: Option<partprogram::Css>,
+    pub(crate) gear: crate::spindle::Gear,
     pub(crate) mimm: u8,
     pub(crate) uso: bool,
     pub(crate) op_hold: bool,
@@ -127,6 +129,11 @@ impl Process {
             .map(|(i, a)| Drive::new(a.kv, start.get(i).copied().unwrap_or(0.0)))
             .collect();
         let spindle = cfg.spindle.as_ref().map(|s| Spindle::new(s.accel));
+        let gear = crate::spindle::Gear {
+            engaged: u8::from(cfg.spindle.as_ref().is_some_and(|s| s.ranges.len() == 1)),
+            timeout: timing.strobe_timeout_ticks,
+            ..Default::default()
+        };
         let ticks_per_logic = (timing.logic_tick_s / cfg.int_tick_s).round().max(1.0) as usize;
         let homed = cfg.axes.iter().all(|a| !a.needs_homing);
         let homed_axes = cfg.axes.iter().map(|a| !a.needs_homing).collect();
@@ -155,6 +162,8 @@ impl Process {
             last_s: None,
             last_t: None,
             spindle_dir: 0,
+            css: None,
+            gear,
             mimm: 0,
             uso: false,
             op_hold: false,
@@ -298,6 +307,8 @@ impl Process {
         self.den = true;
         self.mimm = 0;
         self.home_stage = None;
+        self.css = None;
+        self.gear.pending = false;
         self.op_hold = false;
         self.rabi_wait = 0;
     }
@@ -324,6 +335,7 @@ impl Process {
     /// One logic tick (see the module docs for the order).
     pub fn step(&mut self, tick: u64, out: &[u8], image: &mut [u8]) {
         self.read_plc(out);
+        self.read_gear(out);
         while let Some(c) = self.commands.pop_front() {
             self.apply(c);
         }
@@ -455,20 +467,23 @@ impl Process {
         let sov = f64::from(signals::read(out, self.sig.overrides[1], 100)) / 100.0;
         let hold_request = fold || self.op_hold;
         self.interp.set_hold(hold_request || !rabi_ok || !self.on);
-        if let (Some(sp), Some(cfg)) = (self.spindle.as_mut(), self.cfg.spindle.as_ref()) {
-            let powered =
-                self.plant.run.is_empty() || self.plant.run.iter().any(|s| s.read(out) == 1);
-            let dir = if powered {
-                f64::from(self.spindle_dir)
-            } else {
-                0.0
-            };
-            let target = f64::from(self.last_s.unwrap_or(0)) * sov * dir;
-            sp.set_target(target.clamp(-cfg.vmax, cfg.vmax));
-        }
+        let powered = self.plant.run.is_empty() || self.plant.run.iter().any(|s| s.read(out) == 1);
+        let dir = if powered {
+            f64::from(self.spindle_dir)
+        } else {
+            0.0
+        };
         let dt = self.cfg.int_tick_s;
         self.held = false;
         for _ in 0..self.ticks_per_logic {
+            if self.spindle.is_some() {
+                // The law at the set points of the last tick (G96 follows the radius).
+                let vmax = self.range_vmax();
+                let target = self.law_rpm(self.interp.position()) * sov * dir;
+                if let Some(sp) = self.spindle.as_mut() {
+                    sp.set_target(target.clamp(-vmax, vmax));
+                }
+            }
             if let Some(sp) = self.spindle.as_mut() {
                 sp.tick(dt);
                 self.interp.set_spindle_rev_s(sp.actual().abs() / 60.0);
@@ -547,7 +562,7 @@ impl Process {
         signals::write(image, s.standby, u8::from(standby));
         signals::write(image, s.mode, self.mode.code());
         signals::write(image, s.mimm, self.mimm);
-        signals::write(image, s.fg96, 0);
+        self.write_spindle(image);
         for (i, ch) in self.channels.iter().enumerate() {
             let (Some(ch), Some(cs)) = (ch, self.sig.channels[i]) else {
                 continue;

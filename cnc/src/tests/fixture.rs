@@ -93,6 +93,9 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("JINC", "W16K1"),
         ("BSKIP", "U12K1"),
         ("MIMM", "W3K1"),
+        ("FG96", "I9K26"),
+        ("GEARREQ", "W6K0"),
+        ("GEARACK", "W47K2"),
     ])
 }
 
@@ -117,6 +120,16 @@ pub fn lathe_m() -> BTreeMap<u16, MTiming> {
 
 /// One process with axis X, the given GPS, strobe timeout and RABI timeout (logic ticks).
 pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
+    cnc_with(parallel, timeout, rabi_timeout, None)
+}
+
+/// [`cnc`] with a spindle (and FG96 I9K26, GEARREQ W6K0, GEARACK W47K2 in the map).
+pub fn cnc_with(
+    parallel: bool,
+    timeout: u64,
+    rabi_timeout: u64,
+    spindle: Option<crate::config::SpindleConfig>,
+) -> Cnc {
     let cfg = ProcessConfig {
         number: 1,
         axes: vec![AxisConfig {
@@ -130,7 +143,7 @@ pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
             jog_speed: 1000.0,
             home: None,
         }],
-        spindle: None,
+        spindle,
         m_timing: lathe_m(),
         parallel,
         int_tick_s: 0.01,

@@ -5,3 +5,4 @@ mod exec;
 mod fixture;
 mod homing;
 mod manual;
+mod spindle;
