@@ -48,6 +48,12 @@ pub struct Counters {
     pub max_following: (f64, char),
     /// Logic ticks with CYCLE = 1.
     pub cycle_ticks: u64,
+    /// Logic ticks with constant surface speed (FG96 = 1).
+    pub css_ticks: u64,
+    /// Highest spindle speed reached (rev/min, unsigned).
+    pub spindle_top: f64,
+    /// Gear range changes engaged for an S function.
+    pub gear_changes: u64,
 }
 
 /// One process.
@@ -350,6 +356,9 @@ impl Process {
         if self.run == Interp::Running {
             self.counters.cycle_ticks += 1;
         }
+        if self.css.is_some() {
+            self.counters.css_ticks += 1;
+        }
         self.write_plc(image);
     }
 
@@ -486,6 +495,8 @@ impl Process {
             }
             if let Some(sp) = self.spindle.as_mut() {
                 sp.tick(dt);
+                let top = &mut self.counters.spindle_top;
+                *top = top.max(sp.actual().abs());
                 self.interp.set_spindle_rev_s(sp.actual().abs() / 60.0);
             }
             self.tick_out.finished.clear();

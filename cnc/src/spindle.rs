@@ -151,6 +151,7 @@ impl Process {
         }
         if self.gear.engaged == self.gear.request {
             self.gear.pending = false;
+            self.counters.gear_changes += 1;
             return true;
         }
         self.gear.waited += 1;

@@ -438,6 +438,15 @@ impl PartRun {
                     format!("{:.3} mm ({})", k.max_following.0, k.max_following.1)
                 }
             ));
+            if k.css_ticks > 0 || k.gear_changes > 0 {
+                s.push_str(&format!(
+                    "process {} spindle: G96 (FG96) for {:.2} s; top speed {:.1} rev/min; gear changes {}\n",
+                    p.number(),
+                    secs(k.css_ticks),
+                    k.spindle_top,
+                    k.gear_changes
+                ));
+            }
         }
         for a in &self.alarms {
             s.push_str(&format!("alarm: {a}\n"));
