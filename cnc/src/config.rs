@@ -83,6 +83,8 @@ pub struct ProcessConfig {
     pub parallel: bool,
     /// Interpolation tick in seconds.
     pub int_tick_s: f64,
+    /// PGCFIL QFD: the alternative feed (mm/min) QCKFD selects (None: QCKFD is ignored).
+    pub qfd: Option<f64>,
 }
 
 fn axis_config(a: &Axis) -> AxisConfig {
@@ -193,6 +195,7 @@ impl ProcessConfig {
                         .unwrap_or_default(),
                     parallel: io.is_some_and(|io| io.sequencing() == Sequencing::Parallel),
                     int_tick_s: f64::from(int_ticks) / 1000.0,
+                    qfd: None,
                 }
             })
             .collect()

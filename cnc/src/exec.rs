@@ -152,7 +152,11 @@ impl Process {
                 None => {
                     let b = self.program[self.next].clone();
                     if is_motion(&b) {
-                        if let Err(e) = self.interp.push(self.next as u64 + 1, &b) {
+                        let alt = crate::alt_feed::apply(&b, self.cfg.qfd, self.qckfd);
+                        if let Err(e) = self
+                            .interp
+                            .push(self.next as u64 + 1, alt.as_ref().unwrap_or(&b))
+                        {
                             let block = self.block_label();
                             self.raise(format!("motion of {block}: {e}"), true);
                             return false;
@@ -247,7 +251,12 @@ impl Process {
             if !is_motion(&next) || !self.quiet(&next) {
                 return;
             }
-            if self.interp.push(last as u64 + 2, &next).is_err() {
+            let alt = crate::alt_feed::apply(&next, self.cfg.qfd, self.qckfd);
+            if self
+                .interp
+                .push(last as u64 + 2, alt.as_ref().unwrap_or(&next))
+                .is_err()
+            {
                 return;
             }
             self.in_motion.push_back(last + 1);

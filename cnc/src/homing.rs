@@ -72,6 +72,7 @@ impl Process {
             exact_stop: true,
             tolerance: None,
             css: None,
+            feed_g94: false,
         };
         if let Err(e) = self.interp.push(0, &block) {
             let name = self.cfg.axes[i].name;

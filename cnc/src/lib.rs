@@ -11,6 +11,7 @@
 //! Read in this order: [`state`] (the rule table), [`signals`], [`config`], [`process`],
 //! [`exec`], [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
 
+pub mod alt_feed;
 pub mod config;
 pub mod exec;
 pub mod handshake;

@@ -111,6 +111,7 @@ impl Process {
             exact_stop: true,
             tolerance: None,
             css: None,
+            feed_g94: false,
         };
         let name = a.name;
         if let Err(e) = self.interp.push(0, &block) {

@@ -86,6 +86,7 @@ pub struct Process {
     pub(crate) gear: crate::spindle::Gear,
     pub(crate) mimm: u8,
     pub(crate) uso: bool,
+    pub(crate) qckfd: bool,
     pub(crate) op_hold: bool,
     pub(crate) rabi_wait: u64,
     pub(crate) den: bool,
@@ -172,6 +173,7 @@ impl Process {
             gear,
             mimm: 0,
             uso: false,
+            qckfd: false,
             op_hold: false,
             rabi_wait: 0,
             den: true,
@@ -221,6 +223,11 @@ impl Process {
         self.load(name, plain.clone())?;
         self.programs = Some((plain, skipped));
         Ok(())
+    }
+
+    /// Sets the alternative feed PGCFIL QFD (mm/min) that QCKFD selects.
+    pub fn set_alternative_feed(&mut self, qfd: Option<f64>) {
+        self.cfg.qfd = qfd;
     }
 
     /// Marks every axis referenced (an absolute-encoder machine, or a test without homing).
@@ -369,6 +376,7 @@ impl Process {
         let modereq = s.mode_request.map(|m| m.read(out));
         let (last_start, last_ers, last_req) = self.last_plc;
         self.uso = signals::read(out, s.uso, 0) == 1;
+        self.qckfd = signals::read(out, s.qckfd, 0) == 1;
         self.block_skip = signals::read(out, s.block_skip, 0) == 1;
         let fov = signals::read(out, s.overrides[0], 100);
         let rov = signals::read(out, s.overrides[2], 100);

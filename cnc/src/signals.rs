@@ -48,6 +48,8 @@ pub struct ProcessSignals {
     pub gear_request: Option<Signal>,
     /// PLC→CNC: the spindle gear range engaged (GEARACK byte).
     pub gear_ack: Option<Signal>,
+    /// PLC→CNC: alternative feed request (QCKFD).
+    pub qckfd: Option<Signal>,
     /// PLC→CNC: feed hold (FOLD).
     pub fold: Option<Signal>,
     /// PLC→CNC: axis enables RABI1..8.
@@ -123,6 +125,7 @@ impl ProcessSignals {
             gear_request: lookup("GEARREQ"),
             gear_ack: lookup("GEARACK"),
             fold: lookup("FOLD"),
+            qckfd: lookup("QCKFD"),
             rabi: numbered("RABI"),
             start: lookup("START"),
             ers: lookup("ERS"),

@@ -127,6 +127,9 @@ pub struct Canon {
     pub tolerance: Option<f64>,
     /// Constant surface speed (MEFI KŘR G96/G97, Fanuc G96) active in this block.
     pub css: Option<Css>,
+    /// F was programmed under G94 (feed per minute without KŘR; always for Fanuc): the PLC's
+    /// QCKFD may replace it with the alternative feed PGCFIL QFD.
+    pub feed_g94: bool,
 }
 
 /// Constant surface speed: the kernel computes the spindle speed from the radius every tick.

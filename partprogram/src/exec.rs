@@ -361,6 +361,7 @@ impl<'p> Exec<'p> {
             exact_stop: !self.modal.smooth,
             tolerance: None,
             css: self.css(),
+            feed_g94: self.modal.feed_mode == 94,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
@@ -397,6 +398,7 @@ impl<'p> Exec<'p> {
             exact_stop: !self.modal.smooth,
             tolerance: None,
             css: self.css(),
+            feed_g94: self.modal.feed_mode == 94,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);

@@ -302,6 +302,7 @@ impl Ex<'_> {
             exact_stop: self.exact_modal || self.exact_once,
             tolerance: self.tolerance,
             css: self.css(),
+            feed_g94: true,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);

@@ -94,7 +94,7 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("BSKIP", "U12K1"),
         ("MIMM", "W3K1"),
         ("FG96", "I9K26"),
-        ("GEARREQ", "W6K0"),
+        ("GEARREQ", "W8K0"),
         ("GEARACK", "W47K2"),
     ])
 }
@@ -123,7 +123,7 @@ pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
     cnc_with(parallel, timeout, rabi_timeout, None)
 }
 
-/// [`cnc`] with a spindle (and FG96 I9K26, GEARREQ W6K0, GEARACK W47K2 in the map).
+/// [`cnc`] with a spindle (and FG96 I9K26, GEARREQ W8K0, GEARACK W47K2 in the map).
 pub fn cnc_with(
     parallel: bool,
     timeout: u64,
@@ -147,6 +147,7 @@ pub fn cnc_with(
         m_timing: lathe_m(),
         parallel,
         int_tick_s: 0.01,
+        qfd: None,
     };
     let r = roles();
     let signals = ProcessSignals::from_roles(|role| r.get(role).map(|a| sig(a)));
@@ -177,6 +178,7 @@ pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Opti
         exact_stop: false,
         tolerance: None,
         css: None,
+        feed_g94: true,
         n: Some(n),
         unit: None,
         kind,

@@ -2,7 +2,7 @@
 //! programs' S and T) and a test interpolator whose moves take one tick per millimetre.
 
 mod exec;
-mod fixture;
+pub(crate) mod fixture;
 mod homing;
 mod manual;
 mod spindle;

@@ -139,7 +139,7 @@ fn a_new_range_is_requested_and_s_waits_for_gearack() {
         ],
     );
     // t2: S1200 needs range 2 (GM1 500 < 1200 ≤ GM2 2000); SSTB stays low while GEARACK = 0.
-    assert_eq!(sig("W6K0").read(&b.image), 2);
+    assert_eq!(sig("W8K0").read(&b.image), 2);
     let rows = b.run(5, &Plc::default());
     assert!(rows.iter().all(|r| r[1] == 0), "{rows:?}");
     sig("W47K2").write(&mut b.out, 2);

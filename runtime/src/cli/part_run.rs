@@ -148,6 +148,15 @@ pub fn start_spec(
     let sim_path = machine.dir.join("sim.toml");
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
         .map_err(|e| format!("{}: {e}", sim_path.display()))?;
+    if let (Some(pg), Ok(mut c)) = (facts.machine.pgcfil.as_ref(), cnc.lock()) {
+        for p in &pg.processes {
+            if let Ok(n) = u8::try_from(p.number)
+                && let Ok(proc_) = c.process_mut(n)
+            {
+                proc_.set_alternative_feed(p.qfd);
+            }
+        }
+    }
     let mut others = Vec::new();
     for (k, name) in &machine.script.cnc.programs {
         let process: u8 = k
