@@ -1,4 +1,4 @@
-//! End-to-end: the spindle in part runs — G96 constant surface speed on the lathe (FACE96), gear
+//! End-to-end: the spindle and the alternative feed in part runs — G96 constant surface speed on the lathe (FACE96), gear
 //! ranges with the GEARREQ/GEARACK handshake on a two-range copy of the lathe, and the alarm for
 //! an S no range reaches.
 
@@ -7,6 +7,19 @@ use e2e_common::{copy_dir, ncplc, root};
 
 fn s(p: &std::path::Path) -> &str {
     p.to_str().expect("utf-8 path")
+}
+
+/// Replaces `from` by `to` in the file at `path`, byte for byte (the machine files are CP866).
+fn patch(path: &std::path::Path, from: &str, to: &str) {
+    let bytes = std::fs::read(path).expect("read");
+    let at = bytes
+        .windows(from.len())
+        .position(|w| w == from.as_bytes())
+        .unwrap_or_else(|| panic!("{from:?} not in {}", path.display()));
+    let mut out = bytes[..at].to_vec();
+    out.extend_from_slice(to.as_bytes());
+    out.extend_from_slice(&bytes[at + from.len()..]);
+    std::fs::write(path, out).expect("write");
 }
 
 fn run(machine: &std::path::Path, program: &str, extra: &[&str]) -> (bool, String) {
@@ -61,20 +74,16 @@ fn the_lathe_faces_at_constant_surface_speed_and_replays() {
 fn two_range_lathe() -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("tempdir");
     copy_dir(&root().join("plc-programs/lathe"), dir.path());
-    // AXCFIL is CP866: edit it as Latin-1 so the Cyrillic comments survive byte for byte.
-    let ax = dir.path().join("MP0/AXCFIL");
-    let text: String = std::fs::read(&ax)
-        .expect("AXCFIL")
-        .iter()
-        .map(|&b| char::from(b))
-        .collect();
-    let text = text.replace("GM1=3000,8.5,6,,", "GM1=1000,8.5,6,,\nGM2=3000,8.5,6,,");
-    let bytes: Vec<u8> = text.chars().map(|c| c as u8).collect();
-    std::fs::write(&ax, bytes).expect("write");
-    let plc = dir.path().join("MP0/PLCPRG");
-    let text = std::fs::read_to_string(&plc).expect("PLCPRG");
-    let text = text.replace("TFIN = TSTB\n", "TFIN = TSTB\nGEARACK = GEARREQ\n");
-    std::fs::write(&plc, text).expect("write");
+    patch(
+        &dir.path().join("MP0/AXCFIL"),
+        "GM1=3000,8.5,6,,",
+        "GM1=1000,8.5,6,,\nGM2=3000,8.5,6,,",
+    );
+    patch(
+        &dir.path().join("MP0/PLCPRG"),
+        "TFIN = TSTB\n",
+        "TFIN = TSTB\nGEARACK = GEARREQ\n",
+    );
     dir
 }
 
@@ -103,4 +112,37 @@ fn an_s_beyond_every_range_stops_the_part_with_a_located_alarm() {
         ),
         "{text}"
     );
+}
+
+/// QCKFD = 1 (a lathe copy whose PLC holds it) runs every F move of PART1 (F300, F150 under G94)
+/// at the lathe's PGCFIL QFD = 500 mm/min; rapid moves keep their speed.
+#[test]
+fn qckfd_runs_the_g94_feed_moves_at_qfd() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    patch(
+        &dir.path().join("MP0/PLCPRG"),
+        "TFIN = TSTB\n",
+        "TFIN = TSTB\nQCKFD = 1\n",
+    );
+    let traj = dir.path().join("t.jsonl");
+    let (ok, text) = run(dir.path(), "PART1", &["--trajectory", s(&traj)]);
+    assert!(ok, "{text}");
+    let mut top = std::collections::BTreeMap::<u64, f64>::new();
+    for line in std::fs::read_to_string(&traj)
+        .expect("trajectory")
+        .lines()
+        .skip(1)
+    {
+        let r: serde_json::Value = serde_json::from_str(line).expect("json");
+        if let (Some(b), Some(f)) = (r["block"].as_u64(), r["feed"].as_f64()) {
+            let e = top.entry(b).or_insert(0.0);
+            *e = e.max(f);
+        }
+    }
+    // Blocks 3, 4, 7, 8 (F300) and 11, 12 (F150) are the feed moves (0-based block indices).
+    for b in [3, 4, 7, 8, 11, 12] {
+        assert_eq!(top.get(&b), Some(&500.0), "block {b}: {top:?}");
+    }
+    assert!(top.get(&2).is_some_and(|f| *f > 10_000.0), "{top:?}");
 }
