@@ -1,6 +1,7 @@
-//! End-to-end: the spindle and the alternative feed in part runs — G96 constant surface speed on the lathe (FACE96), gear
-//! ranges with the GEARREQ/GEARACK handshake on a two-range copy of the lathe, and the alarm for
-//! an S no range reaches.
+//! End-to-end tests of the spindle, the alternative feed and the tool-correction request in part
+//! runs: G96 on the lathe (FACE96), gear ranges with GEARREQ/GEARACK on a two-range copy of the
+//! lathe, the alarm for an S no range reaches, QCKFD with PGCFIL QFD, and `--kor-change` taken at
+//! the mill's M06 (m_request 14).
 
 mod e2e_common;
 use e2e_common::{copy_dir, ncplc, root};
@@ -145,4 +146,54 @@ fn qckfd_runs_the_g94_feed_moves_at_qfd() {
         assert_eq!(top.get(&b), Some(&500.0), "block {b}: {top:?}");
     }
     assert!(top.get(&2).is_some_and(|f| *f > 10_000.0), "{top:?}");
+}
+
+/// The mill's M06 (`M06=02,14,62`: tool-correction request) re-plans the following blocks with
+/// the table `--kor-change` gives: entry 2's Z length −120.25 → −119.75 moves the next block's
+/// end point from Z−170.25 (−50 − 120.25) to exactly Z−169.75; the header names the table so
+/// that the replay re-runs it.
+#[test]
+fn a_tool_correction_request_takes_the_changed_offset_for_the_following_block() {
+    let mill = root().join("plc-programs/mill");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("TLEN");
+    std::fs::write(
+        &prog,
+        "%3\nN10 D2 &0010\nN20 T2 M06\nN30 G54 G00 X-100 Y-100 Z-50\nN40 M30\n",
+    )
+    .expect("write");
+    let kor = dir.path().join("NEW.KOR");
+    let table = std::fs::read_to_string(mill.join("MP0/TAB0.KOR")).expect("TAB0.KOR");
+    std::fs::write(
+        &kor,
+        table.replace("02: R=8.0 Z=-120.25", "02: R=8.0 Z=-119.75"),
+    )
+    .expect("write");
+    let last_z = |extra: &[&str]| {
+        let traj = dir.path().join("t.jsonl");
+        let mut args = vec!["--trajectory", s(&traj)];
+        args.extend_from_slice(extra);
+        let (ok, text) = run(&mill, s(&prog), &args);
+        assert!(ok, "{text}");
+        let t = std::fs::read_to_string(&traj).expect("trajectory");
+        let r: serde_json::Value =
+            serde_json::from_str(t.lines().last().expect("a line")).expect("json");
+        (r["p"][2].as_f64().expect("z"), text)
+    };
+    let (z, text) = last_z(&[]);
+    assert_eq!(z, -170.25);
+    assert!(
+        text.contains("process 1: tool-correction requests 1"),
+        "{text}"
+    );
+    let trace = dir.path().join("k.jsonl");
+    let (z, _) = last_z(&["--kor-change", s(&kor), "--record", s(&trace)]);
+    assert_eq!(z, -169.75);
+    let out = ncplc(&["replay", s(&mill), s(&trace)]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("kernel signals and axis positions identical"),
+        "{err}"
+    );
 }

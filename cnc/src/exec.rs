@@ -45,6 +45,7 @@ pub enum Phase {
 
 const REQ_OPTIONAL_STOP: u8 = 0x02;
 const REQ_STOP: u8 = 0x08;
+const REQ_CORRECTION: u8 = 0x10;
 const REQ_RESET: u8 = 0x20;
 const TYPE_IMMEDIATE: u8 = 0x10;
 
@@ -290,6 +291,12 @@ impl Process {
         self.counters.blocks += 1;
         self.next += 1;
         self.phase = Phase::Fetch;
+        if req & REQ_CORRECTION != 0 {
+            self.correction_request();
+            if self.run != Interp::Running {
+                return false;
+            }
+        }
         if req & REQ_RESET != 0 {
             self.counters.ended += 1;
             self.finish_program();

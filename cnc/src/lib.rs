@@ -13,6 +13,7 @@
 
 pub mod alt_feed;
 pub mod config;
+pub mod correction;
 pub mod exec;
 pub mod handshake;
 pub mod homing;

@@ -54,6 +54,8 @@ pub struct Counters {
     pub spindle_top: f64,
     /// Gear range changes engaged for an S function.
     pub gear_changes: u64,
+    /// Tool-correction requests that re-planned the following blocks.
+    pub corrections: u64,
 }
 
 /// One process.
@@ -87,6 +89,8 @@ pub struct Process {
     pub(crate) mimm: u8,
     pub(crate) uso: bool,
     pub(crate) qckfd: bool,
+    pub(crate) replanner: Option<crate::correction::Replanner>,
+    pub(crate) skip_selected: bool,
     pub(crate) op_hold: bool,
     pub(crate) rabi_wait: u64,
     pub(crate) den: bool,
@@ -174,6 +178,8 @@ impl Process {
             mimm: 0,
             uso: false,
             qckfd: false,
+            replanner: None,
+            skip_selected: false,
             op_hold: false,
             rabi_wait: 0,
             den: true,
@@ -415,6 +421,7 @@ impl Process {
                     && self.next == 0
                     && let Some((plain, skipped)) = &self.programs
                 {
+                    self.skip_selected = self.block_skip;
                     self.program = if self.block_skip {
                         skipped.clone()
                     } else {
