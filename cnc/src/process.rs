@@ -6,8 +6,10 @@
 //! 1. read the PLC→CNC levels and edges (FOLD, RABI, overrides, START, ERS, mode request, USO);
 //! 2. apply queued commands (operator channel first, then the PLC's edges) through [`decide`];
 //! 3. step the handshake channels with the FINs; advance the block executor; strobe what it issued;
-//! 4. run the interpolation ticks that fit the logic tick, the drives following each set point,
-//!    collecting DEN tags; advance the executor again so that the next block starts without a gap;
+//! 4. run the interpolation ticks that fit the logic tick: each sets the spindle reference from
+//!    the law at the last set points ([`crate::spindle`]: G96 follows the radius), the drives
+//!    follow each set point, DEN tags are collected; advance the executor again so that the next
+//!    block starts without a gap;
 //! 5. write the CNC→PLC signals into `image`.
 
 use std::collections::VecDeque;

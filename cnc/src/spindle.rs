@@ -22,6 +22,7 @@ use partprogram::{Canon, Css};
 use crate::handshake::Kind;
 use crate::process::Process;
 use crate::signals;
+use crate::state::Mode;
 
 /// The gear state of a process.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -68,10 +69,17 @@ impl Process {
         self.axis_index(name).map(|i| (name, i))
     }
 
+    /// G96 of the executing block, outside the manual modes (they do not perform it, 000:1231).
+    fn css_active(&self) -> Option<&Css> {
+        self.css
+            .as_ref()
+            .filter(|_| matches!(self.mode, Mode::Auto | Mode::Step | Mode::Mdi))
+    }
+
     /// The spindle speed (rev/min, unsigned, before the override) the law asks for at the set
     /// points `pos`: G96 from the radius, else the last S.
     pub(crate) fn law_rpm(&self, pos: &[f64]) -> f64 {
-        match (&self.css, self.master()) {
+        match (self.css_active(), self.master()) {
             (Some(c), Some((name, i))) => {
                 let rpm = c.rpm_at(name, pos.get(i).copied().unwrap_or(0.0));
                 rpm.min(c.max_rpm.unwrap_or(f64::INFINITY))
@@ -99,6 +107,10 @@ impl Process {
             Some(c) => self.css_start_rpm(c),
             None => f64::from(self.last_s.unwrap_or(0)),
         };
+        if rpm == 0.0 {
+            // S0 stops the spindle in whatever range is engaged.
+            return true;
+        }
         let top = |r: u8| self.ranges().get(usize::from(r) - 1).copied();
         let need = match self.gear.fixed {
             Some(r) => match top(r) {
@@ -177,7 +189,7 @@ impl Process {
 
     /// Writes GEARREQ and FG96.
     pub(crate) fn write_spindle(&self, image: &mut [u8]) {
-        signals::write(image, self.sig.fg96, u8::from(self.css.is_some()));
+        signals::write(image, self.sig.fg96, u8::from(self.css_active().is_some()));
         if self.ranges().len() > 1 {
             signals::write(image, self.sig.gear_request, self.gear.request);
         }
