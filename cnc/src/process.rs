@@ -374,6 +374,7 @@ impl Process {
         if self.css.is_some() {
             self.counters.css_ticks += 1;
         }
+        self.watch_gear();
         self.write_plc(image);
     }
 

@@ -37,6 +37,8 @@ pub struct Gear {
     pub pending: bool,
     /// Logic ticks waited for GEARACK.
     pub waited: u64,
+    /// The S function was held back for the range in this tick.
+    pub waiting: bool,
     /// Timeout in logic ticks (the strobe timeout; 0: none).
     pub timeout: u64,
 }
@@ -166,6 +168,16 @@ impl Process {
             self.counters.gear_changes += 1;
             return true;
         }
+        self.gear.waiting = true;
+        false
+    }
+
+    /// Once per logic tick: counts a tick the S function waited for GEARACK; the strobe timeout
+    /// raises a stopping alarm naming the range and the block.
+    pub(crate) fn watch_gear(&mut self) {
+        if !std::mem::take(&mut self.gear.waiting) || !self.gear.pending {
+            return;
+        }
         self.gear.waited += 1;
         if self.gear.timeout > 0 && self.gear.waited == self.gear.timeout {
             let block = self.block_label();
@@ -175,7 +187,6 @@ impl Process {
                 true,
             );
         }
-        false
     }
 
     /// Reads GEARACK (multi-range spindles only).

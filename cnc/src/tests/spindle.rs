@@ -188,7 +188,10 @@ fn an_s_no_range_reaches_is_a_stopping_alarm_naming_the_block() {
 fn an_unanswered_gear_request_times_out_with_an_alarm() {
     let mut b = Bench::new(cnc_with(false, 4, 0, Some(spindle(&[500.0, 2000.0]))));
     start(&mut b, vec![block(10, Aux, 0.0, &[3], Some(1200.0), None)]);
-    b.run(4, &Plc::default());
+    // Waited at t2, t3, t4: no alarm yet; the fourth tick (t5) reaches the timeout of 4.
+    b.run(2, &Plc::default());
+    assert!(b.cnc.processes()[0].alarms().is_empty());
+    b.run(1, &Plc::default());
     assert_eq!(
         b.cnc.processes()[0].alarms()[0].message,
         "process 1: gear range 2 not engaged (GEARACK) within the strobe timeout (block 1 (N10))"
