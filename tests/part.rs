@@ -131,11 +131,16 @@ fn the_mill_runs_part1_with_its_tool_change() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.contains("cycle time 33.35 s (ticks 12..3347), ended\n"),
+        stdout.contains("cycle time 34.26 s (ticks 12..3438), ended\n"),
         "{stdout}"
     );
     assert!(
         stdout.contains("process 1: 13 blocks; handshakes M 6 S 1 T 1;"),
+        "{stdout}"
+    );
+    // S2000 needs GM2 (GM1 reaches 1500 rev/min): one gear change acknowledged by the PLC.
+    assert!(
+        stdout.contains("top speed 2000.0 rev/min; gear changes 1\n"),
         "{stdout}"
     );
     // Process 2, the magazine, runs its program (M30) alongside: `sim.toml [cnc] programs`.

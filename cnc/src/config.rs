@@ -52,6 +52,10 @@ pub struct SpindleConfig {
     pub name: char,
     /// Top speed of range 1 (rev/min).
     pub vmax: f64,
+    /// Top speed of every gear range GM1, GM2, … in range order (rev/min; 3000 when not given).
+    pub ranges: Vec<f64>,
+    /// The controlling axis of constant surface speed G96 (ASM; X when not given).
+    pub master: char,
     /// Acceleration (rev/min per s) from TSM: 2·Vmax reversed in `max_inver_time`.
     pub accel: f64,
     /// POM max_deviation_speed (fraction; at speed within it).
@@ -79,6 +83,8 @@ pub struct ProcessConfig {
     pub parallel: bool,
     /// Interpolation tick in seconds.
     pub int_tick_s: f64,
+    /// PGCFIL QFD: the alternative feed (mm/min) QCKFD selects (None: QCKFD is ignored).
+    pub qfd: Option<f64>,
 }
 
 fn axis_config(a: &Axis) -> AxisConfig {
@@ -119,9 +125,21 @@ fn spindle_config(a: &Axis) -> SpindleConfig {
     let gm1 = a.gm.iter().find(|g| g.range == 1).or(a.gm.first());
     let vmax = gm1.and_then(|g| g.vmax).unwrap_or(3000.0);
     let inver = a.tsm.and_then(|t| t.a).filter(|t| *t > 0.0).unwrap_or(2.0);
+    let mut gms: Vec<_> = a.gm.iter().filter(|g| g.range >= 1).collect();
+    gms.sort_by_key(|g| g.range);
+    let mut ranges: Vec<f64> = gms.iter().map(|g| g.vmax.unwrap_or(3000.0)).collect();
+    if ranges.is_empty() {
+        ranges.push(vmax);
+    }
     SpindleConfig {
         name: a.name,
         vmax,
+        ranges,
+        master: a
+            .asm
+            .as_deref()
+            .and_then(|s| s.trim().chars().next())
+            .map_or('X', |c| c.to_ascii_uppercase()),
         accel: 2.0 * vmax / inver,
         max_deviation: a.pom.as_ref().and_then(|p| p.max_deviation).unwrap_or(0.1),
         at_speed_signal: a.pom.as_ref().and_then(|p| p.input_speed),
@@ -177,6 +195,7 @@ impl ProcessConfig {
                         .unwrap_or_default(),
                     parallel: io.is_some_and(|io| io.sequencing() == Sequencing::Parallel),
                     int_tick_s: f64::from(int_ticks) / 1000.0,
+                    qfd: None,
                 }
             })
             .collect()

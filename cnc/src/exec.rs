@@ -45,6 +45,7 @@ pub enum Phase {
 
 const REQ_OPTIONAL_STOP: u8 = 0x02;
 const REQ_STOP: u8 = 0x08;
+const REQ_CORRECTION: u8 = 0x10;
 const REQ_RESET: u8 = 0x20;
 const TYPE_IMMEDIATE: u8 = 0x10;
 
@@ -63,7 +64,7 @@ impl Process {
 
     /// True when `b` issues no function at all given the S and T already out.
     fn quiet(&self, b: &Canon) -> bool {
-        b.m.is_empty() && s_code(b) == self.last_s && b.t == self.last_t
+        b.m.is_empty() && s_code(b) == self.last_s && b.t == self.last_t && b.css == self.css
     }
 
     /// The groups of functions of block `b` before and after its motion.
@@ -136,6 +137,10 @@ impl Process {
                     return false;
                 };
                 let (before, after) = self.groups(&b);
+                let s_out = before.iter().flatten().any(|(k, _)| *k == Kind::S);
+                if !self.spindle_block(&b, s_out) {
+                    return false;
+                }
                 self.pending_after = after;
                 self.phase = Phase::Before(before, false);
                 true
@@ -148,7 +153,11 @@ impl Process {
                 None => {
                     let b = self.program[self.next].clone();
                     if is_motion(&b) {
-                        if let Err(e) = self.interp.push(self.next as u64 + 1, &b) {
+                        let alt = crate::alt_feed::apply(&b, self.cfg.qfd, self.qckfd);
+                        if let Err(e) = self
+                            .interp
+                            .push(self.next as u64 + 1, alt.as_ref().unwrap_or(&b))
+                        {
                             let block = self.block_label();
                             self.raise(format!("motion of {block}: {e}"), true);
                             return false;
@@ -197,6 +206,9 @@ impl Process {
             groups.pop_front();
         }
         let front = groups.front()?.clone();
+        if !self.gear_ready(&front) {
+            return Some((groups, false));
+        }
         for (kind, code) in front {
             if kind == Kind::M {
                 match code {
@@ -240,7 +252,12 @@ impl Process {
             if !is_motion(&next) || !self.quiet(&next) {
                 return;
             }
-            if self.interp.push(last as u64 + 2, &next).is_err() {
+            let alt = crate::alt_feed::apply(&next, self.cfg.qfd, self.qckfd);
+            if self
+                .interp
+                .push(last as u64 + 2, alt.as_ref().unwrap_or(&next))
+                .is_err()
+            {
                 return;
             }
             self.in_motion.push_back(last + 1);
@@ -274,6 +291,12 @@ impl Process {
         self.counters.blocks += 1;
         self.next += 1;
         self.phase = Phase::Fetch;
+        if req & REQ_CORRECTION != 0 {
+            self.correction_request();
+            if self.run != Interp::Running {
+                return false;
+            }
+        }
         if req & REQ_RESET != 0 {
             self.counters.ended += 1;
             self.finish_program();
@@ -298,6 +321,7 @@ impl Process {
         self.phase = Phase::Fetch;
         self.mimm = 0;
         self.den = true;
+        self.css = None;
     }
 }
 

@@ -71,6 +71,8 @@ impl Process {
             // A point-to-point move of the kernel's own ends at rest.
             exact_stop: true,
             tolerance: None,
+            css: None,
+            feed_g94: false,
         };
         if let Err(e) = self.interp.push(0, &block) {
             let name = self.cfg.axes[i].name;

@@ -9,9 +9,13 @@
 //! published once) switches every process off with an alarm; a reset pulses RESET for one tick.
 //!
 //! Read in this order: [`state`] (the rule table), [`signals`], [`config`], [`process`],
-//! [`exec`], [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
+//! [`exec`], [`spindle`] (G96 and gear ranges), [`alt_feed`] (QCKFD), [`correction`] (the
+//! tool-correction request), [`plant`], [`status`], [`interp`] (the interpolator as the kernel
+//! sees it).
 
+pub mod alt_feed;
 pub mod config;
+pub mod correction;
 pub mod exec;
 pub mod handshake;
 pub mod homing;
@@ -21,6 +25,7 @@ pub mod motion_link;
 pub mod plant;
 pub mod process;
 pub mod signals;
+pub mod spindle;
 pub mod state;
 pub mod status;
 pub mod written;

@@ -110,6 +110,8 @@ impl Process {
             // A point-to-point move of the kernel's own ends at rest.
             exact_stop: true,
             tolerance: None,
+            css: None,
+            feed_g94: false,
         };
         let name = a.name;
         if let Err(e) = self.interp.push(0, &block) {

@@ -6,8 +6,10 @@
 //! 1. read the PLC→CNC levels and edges (FOLD, RABI, overrides, START, ERS, mode request, USO);
 //! 2. apply queued commands (operator channel first, then the PLC's edges) through [`decide`];
 //! 3. step the handshake channels with the FINs; advance the block executor; strobe what it issued;
-//! 4. run the interpolation ticks that fit the logic tick, the drives following each set point,
-//!    collecting DEN tags; advance the executor again so that the next block starts without a gap;
+//! 4. run the interpolation ticks that fit the logic tick: each sets the spindle reference from
+//!    the law at the last set points ([`crate::spindle`]: G96 follows the radius), the drives
+//!    follow each set point, DEN tags are collected; advance the executor again so that the next
+//!    block starts without a gap;
 //! 5. write the CNC→PLC signals into `image`.
 
 use std::collections::VecDeque;
@@ -48,6 +50,14 @@ pub struct Counters {
     pub max_following: (f64, char),
     /// Logic ticks with CYCLE = 1.
     pub cycle_ticks: u64,
+    /// Logic ticks with constant surface speed (FG96 = 1).
+    pub css_ticks: u64,
+    /// Highest spindle speed reached (rev/min, unsigned).
+    pub spindle_top: f64,
+    /// Gear range changes engaged for an S function.
+    pub gear_changes: u64,
+    /// Tool-correction requests that re-planned the following blocks.
+    pub corrections: u64,
 }
 
 /// One process.
@@ -76,8 +86,13 @@ pub struct Process {
     pub(crate) last_s: Option<u32>,
     pub(crate) last_t: Option<i64>,
     pub(crate) spindle_dir: i8,
+    pub(crate) css: Option<partprogram::Css>,
+    pub(crate) gear: crate::spindle::Gear,
     pub(crate) mimm: u8,
     pub(crate) uso: bool,
+    pub(crate) qckfd: bool,
+    pub(crate) replanner: Option<crate::correction::Replanner>,
+    pub(crate) skip_selected: bool,
     pub(crate) op_hold: bool,
     pub(crate) rabi_wait: u64,
     pub(crate) den: bool,
@@ -127,6 +142,11 @@ impl Process {
             .map(|(i, a)| Drive::new(a.kv, start.get(i).copied().unwrap_or(0.0)))
             .collect();
         let spindle = cfg.spindle.as_ref().map(|s| Spindle::new(s.accel));
+        let gear = crate::spindle::Gear {
+            engaged: u8::from(cfg.spindle.as_ref().is_some_and(|s| s.ranges.len() == 1)),
+            timeout: timing.strobe_timeout_ticks,
+            ..Default::default()
+        };
         let ticks_per_logic = (timing.logic_tick_s / cfg.int_tick_s).round().max(1.0) as usize;
         let homed = cfg.axes.iter().all(|a| !a.needs_homing);
         let homed_axes = cfg.axes.iter().map(|a| !a.needs_homing).collect();
@@ -155,8 +175,13 @@ impl Process {
             last_s: None,
             last_t: None,
             spindle_dir: 0,
+            css: None,
+            gear,
             mimm: 0,
             uso: false,
+            qckfd: false,
+            replanner: None,
+            skip_selected: false,
             op_hold: false,
             rabi_wait: 0,
             den: true,
@@ -206,6 +231,11 @@ impl Process {
         self.load(name, plain.clone())?;
         self.programs = Some((plain, skipped));
         Ok(())
+    }
+
+    /// Sets the alternative feed PGCFIL QFD (mm/min) that QCKFD selects.
+    pub fn set_alternative_feed(&mut self, qfd: Option<f64>) {
+        self.cfg.qfd = qfd;
     }
 
     /// Marks every axis referenced (an absolute-encoder machine, or a test without homing).
@@ -298,6 +328,8 @@ impl Process {
         self.den = true;
         self.mimm = 0;
         self.home_stage = None;
+        self.css = None;
+        self.gear.pending = false;
         self.op_hold = false;
         self.rabi_wait = 0;
     }
@@ -324,6 +356,7 @@ impl Process {
     /// One logic tick (see the module docs for the order).
     pub fn step(&mut self, tick: u64, out: &[u8], image: &mut [u8]) {
         self.read_plc(out);
+        self.read_gear(out);
         while let Some(c) = self.commands.pop_front() {
             self.apply(c);
         }
@@ -338,6 +371,10 @@ impl Process {
         if self.run == Interp::Running {
             self.counters.cycle_ticks += 1;
         }
+        if self.css.is_some() {
+            self.counters.css_ticks += 1;
+        }
+        self.watch_gear();
         self.write_plc(image);
     }
 
@@ -348,6 +385,7 @@ impl Process {
         let modereq = s.mode_request.map(|m| m.read(out));
         let (last_start, last_ers, last_req) = self.last_plc;
         self.uso = signals::read(out, s.uso, 0) == 1;
+        self.qckfd = signals::read(out, s.qckfd, 0) == 1;
         self.block_skip = signals::read(out, s.block_skip, 0) == 1;
         let fov = signals::read(out, s.overrides[0], 100);
         let rov = signals::read(out, s.overrides[2], 100);
@@ -386,6 +424,7 @@ impl Process {
                     && self.next == 0
                     && let Some((plain, skipped)) = &self.programs
                 {
+                    self.skip_selected = self.block_skip;
                     self.program = if self.block_skip {
                         skipped.clone()
                     } else {
@@ -455,22 +494,27 @@ impl Process {
         let sov = f64::from(signals::read(out, self.sig.overrides[1], 100)) / 100.0;
         let hold_request = fold || self.op_hold;
         self.interp.set_hold(hold_request || !rabi_ok || !self.on);
-        if let (Some(sp), Some(cfg)) = (self.spindle.as_mut(), self.cfg.spindle.as_ref()) {
-            let powered =
-                self.plant.run.is_empty() || self.plant.run.iter().any(|s| s.read(out) == 1);
-            let dir = if powered {
-                f64::from(self.spindle_dir)
-            } else {
-                0.0
-            };
-            let target = f64::from(self.last_s.unwrap_or(0)) * sov * dir;
-            sp.set_target(target.clamp(-cfg.vmax, cfg.vmax));
-        }
+        let powered = self.plant.run.is_empty() || self.plant.run.iter().any(|s| s.read(out) == 1);
+        let dir = if powered {
+            f64::from(self.spindle_dir)
+        } else {
+            0.0
+        };
         let dt = self.cfg.int_tick_s;
         self.held = false;
         for _ in 0..self.ticks_per_logic {
+            if self.spindle.is_some() {
+                // The law at the set points of the last tick (G96 follows the radius).
+                let vmax = self.range_vmax();
+                let target = self.law_rpm(self.interp.position()) * sov * dir;
+                if let Some(sp) = self.spindle.as_mut() {
+                    sp.set_target(target.clamp(-vmax, vmax));
+                }
+            }
             if let Some(sp) = self.spindle.as_mut() {
                 sp.tick(dt);
+                let top = &mut self.counters.spindle_top;
+                *top = top.max(sp.actual().abs());
                 self.interp.set_spindle_rev_s(sp.actual().abs() / 60.0);
             }
             self.tick_out.finished.clear();
@@ -547,7 +591,7 @@ impl Process {
         signals::write(image, s.standby, u8::from(standby));
         signals::write(image, s.mode, self.mode.code());
         signals::write(image, s.mimm, self.mimm);
-        signals::write(image, s.fg96, 0);
+        self.write_spindle(image);
         for (i, ch) in self.channels.iter().enumerate() {
             let (Some(ch), Some(cs)) = (ch, self.sig.channels[i]) else {
                 continue;

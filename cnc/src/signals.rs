@@ -44,6 +44,12 @@ pub struct ProcessSignals {
     pub mimm: Option<Signal>,
     /// CNC→PLC: constant surface speed active (FG96).
     pub fg96: Option<Signal>,
+    /// CNC→PLC: the spindle gear range needed (GEARREQ byte).
+    pub gear_request: Option<Signal>,
+    /// PLC→CNC: the spindle gear range engaged (GEARACK byte).
+    pub gear_ack: Option<Signal>,
+    /// PLC→CNC: alternative feed request (QCKFD).
+    pub qckfd: Option<Signal>,
     /// PLC→CNC: feed hold (FOLD).
     pub fold: Option<Signal>,
     /// PLC→CNC: axis enables RABI1..8.
@@ -116,7 +122,10 @@ impl ProcessSignals {
             mode: lookup("MODE"),
             mimm: lookup("MIMM"),
             fg96: lookup("FG96"),
+            gear_request: lookup("GEARREQ"),
+            gear_ack: lookup("GEARACK"),
             fold: lookup("FOLD"),
+            qckfd: lookup("QCKFD"),
             rabi: numbered("RABI"),
             start: lookup("START"),
             ers: lookup("ERS"),
@@ -142,6 +151,7 @@ impl ProcessSignals {
             self.mode,
             self.mimm,
             self.fg96,
+            self.gear_request,
         ]
         .into_iter()
         .flatten()

@@ -37,6 +37,11 @@ impl Process {
         {
             mark(mask, sig, 1);
         }
+        if let (Some(g), Some(cfg)) = (s.gear_request, &self.cfg.spindle)
+            && cfg.ranges.len() > 1
+        {
+            mark(mask, g, 1);
+        }
         for (i, c) in s.channels.iter().enumerate() {
             if let Some(c) = c {
                 mark(mask, c.strobe, 1);

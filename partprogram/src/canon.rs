@@ -125,6 +125,45 @@ pub struct Canon {
     pub exact_stop: bool,
     /// Path blending tolerance in mm set by Fanuc `G64 P<tol>` (None: the machine's default).
     pub tolerance: Option<f64>,
+    /// Constant surface speed (MEFI KŘR G96/G97, Fanuc G96) active in this block.
+    pub css: Option<Css>,
+    /// F was programmed under G94 (feed per minute without KŘR; always for Fanuc): the PLC's
+    /// QCKFD may replace it with the alternative feed PGCFIL QFD.
+    pub feed_g94: bool,
+}
+
+/// Constant surface speed: the kernel computes the spindle speed from the radius every tick.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Css {
+    /// Cutting speed in m/min.
+    pub m_min: f64,
+    /// Top spindle speed (rev/min) set by Fanuc `G50 S` (None: the gear range's limit).
+    pub max_rpm: Option<f64>,
+    /// Machine-frame position of the program zero of every axis (the rotation axis lies on the
+    /// controlling axis's zero).
+    pub origin: Vec<(char, f64)>,
+    /// X is programmed as a diameter (the radius is half the distance from the zero).
+    pub diameter: bool,
+}
+
+impl Css {
+    /// Spindle speed (rev/min) for the controlling axis `axis` at machine position `pos`, before
+    /// the top-speed clamp: v·1000 / (2π·r); `f64::INFINITY` on the rotation axis.
+    pub fn rpm_at(&self, axis: char, pos: f64) -> f64 {
+        let zero = self
+            .origin
+            .iter()
+            .find(|(c, _)| *c == axis)
+            .map_or(0.0, |(_, v)| *v);
+        let mut r = (pos - zero).abs();
+        if self.diameter && axis == 'X' {
+            r /= 2.0;
+        }
+        if r == 0.0 {
+            return f64::INFINITY;
+        }
+        self.m_min * 1000.0 / (2.0 * std::f64::consts::PI * r)
+    }
 }
 
 /// Formats a coordinate: rounded to 1 nm, shortest decimal form, no `-0`.
@@ -206,6 +245,13 @@ impl Canon {
         if let Some(t) = self.tolerance {
             let _ = write!(s, ",\"tolerance\":{}", num(t));
         }
+        if let Some(c) = &self.css {
+            let _ = write!(s, ",\"css\":{{\"m_min\":{}", num(c.m_min));
+            if let Some(m) = c.max_rpm {
+                let _ = write!(s, ",\"max_rpm\":{}", num(m));
+            }
+            s.push('}');
+        }
         s.push('}');
         s
     }
@@ -250,6 +296,12 @@ impl Canon {
         }
         if self.thread {
             s.push_str(" thread");
+        }
+        if let Some(c) = &self.css {
+            let _ = write!(s, " G96 {}m/min", num(c.m_min));
+            if let Some(m) = c.max_rpm {
+                let _ = write!(s, " max {}", num(m));
+            }
         }
         s
     }

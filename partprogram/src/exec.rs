@@ -31,6 +31,8 @@ pub(crate) struct Modal {
     pub cycle: Option<u16>,
     pub feed: Option<f64>,
     pub per_rev: bool,
+    /// Constant cutting speed (KŘR) on: G96 (feed per minute) or G97 (feed per revolution).
+    pub css: bool,
     pub s: Option<f64>,
     pub t: Option<i64>,
     pub d: i64,
@@ -172,6 +174,7 @@ impl<'p> Exec<'p> {
                 cycle: None,
                 feed: None,
                 per_rev: false,
+                css: false,
                 s: None,
                 t: None,
                 d: 0,
@@ -357,9 +360,22 @@ impl<'p> Exec<'p> {
             thread,
             exact_stop: !self.modal.smooth,
             tolerance: None,
+            css: self.css(),
+            feed_g94: self.modal.feed_mode == 94,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+    }
+
+    /// KŘR of the block: S is the cutting speed in tenths of m/min (000:1239).
+    fn css(&self) -> Option<crate::canon::Css> {
+        let s = self.modal.s.filter(|_| self.modal.css)?;
+        Some(crate::canon::Css {
+            m_min: s / 10.0,
+            max_rpm: None,
+            origin: self.geo.origin(),
+            diameter: self.geo.diameter,
+        })
     }
 
     fn emit_dwell(&mut self, b: &CBlock, secs: f64, m: &[MFunc]) {
@@ -381,6 +397,8 @@ impl<'p> Exec<'p> {
             thread: false,
             exact_stop: !self.modal.smooth,
             tolerance: None,
+            css: self.css(),
+            feed_g94: self.modal.feed_mode == 94,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);

@@ -3,10 +3,11 @@
 //! Blocks end at the line end or `;`; `( … )` are comments; `O<n>` names a program (the first the
 //! main program, every further one a program M98 can call). Supported: G00–G03 (I/J/K or R arcs, full
 //! circles with I/J/K), G04 P, G09/G61/G64 P, G10 L2/L10/L12/L20, G17–G19, G20/G21, G28, G40–G42 D,
-//! G43/G44/G49 H, G52, G53, G54–G59, G110–G129, G154 P, G90/G91, G92, G94, G97, G98/G99 with the
-//! canned cycles G73, G74, G81–G86, G89 and L repeats (G80, G00/G01 cancel), G12/G13 circular pockets,
-//! G7.1 cylinder interpolation, M97/M98 P L, M99; G50/G69/G100 are no-ops (their functions are
-//! refused). Everything else is refused with a located error; the table is docs/fanuc-conformance.md.
+//! G43/G44/G49 H, G52, G53, G54–G59, G110–G129, G154 P, G90/G91, G92, G94, G96/G97 (G50 S: top
+//! speed of G96), G98/G99 with the canned cycles G73, G74, G81–G86, G89 and L repeats (G80, G00/G01
+//! cancel), G12/G13 circular pockets, G7.1 cylinder interpolation, M97/M98 P L, M99; G50 without S,
+//! G69 and G100 are no-ops (their functions are refused). Everything else is refused with a located
+//! error; the table is docs/fanuc-conformance.md.
 //! The manual gives no peck retract amount for G73: 0.5 mm is used (documented in DIAGNOSTICS.md).
 
 use std::collections::HashMap;

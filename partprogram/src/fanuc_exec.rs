@@ -43,6 +43,10 @@ struct Ex<'p> {
     inch: bool,
     feed: Option<f64>,
     s: Option<f64>,
+    /// G96 constant surface speed (S in m/min, ft/min under G20) until G97.
+    css: bool,
+    /// G50 S: top spindle speed under G96 (rev/min).
+    max_rpm: Option<f64>,
     t: Option<i64>,
     cycle: Option<u16>,
     g99: bool,
@@ -109,6 +113,8 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         inch: false,
         feed: None,
         s: None,
+        css: false,
+        max_rpm: None,
         t: None,
         cycle: None,
         g99: false,
@@ -295,9 +301,24 @@ impl Ex<'_> {
             thread: false,
             exact_stop: self.exact_modal || self.exact_once,
             tolerance: self.tolerance,
+            css: self.css(),
+            feed_g94: true,
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+    }
+
+    /// G96 of the block: the surface speed in m/min, radius from the work origin.
+    fn css(&self) -> Option<crate::canon::Css> {
+        let s = self.s.filter(|_| self.css)?;
+        Some(crate::canon::Css {
+            m_min: if self.inch { s * 0.3048 } else { s },
+            max_rpm: self.max_rpm,
+            origin: (0..self.axes.len())
+                .map(|i| (self.axes[i], self.origin(i)))
+                .collect(),
+            diameter: self.diameter,
+        })
     }
 
     fn move_to(&mut self, b: &CBlock, kind: Kind, target: [Option<f64>; 6], m: &[MFunc]) {
@@ -401,9 +422,17 @@ impl Ex<'_> {
                 210 => self.inch = false,
                 900 => self.abs = true,
                 910 => self.abs = false,
-                // G94 feed per minute, G97 constant rpm: the planner's only modes. G50, G69 and
-                // G100 cancel scaling, rotation and mirroring, which are refused: nothing to cancel.
-                940 | 970 | 500 | 690 | 1000 => {}
+                // G94 feed per minute: the planner's only feed mode. G69 and G100 cancel rotation
+                // and mirroring, which are refused: nothing to cancel. G50 with S is the top
+                // spindle speed of G96; without S it cancels scaling (refused: nothing to cancel).
+                940 | 690 | 1000 => {}
+                960 => self.css = true,
+                970 => self.css = false,
+                500 => {
+                    if let Some(s) = num('S') {
+                        self.max_rpm = Some(s);
+                    }
+                }
                 90 => self.exact_once = true,
                 610 => {
                     self.exact_modal = true;
@@ -444,7 +473,9 @@ impl Ex<'_> {
         if g154 {
             self.g154(b, num('P'))?;
         }
-        if let Some(s) = num('S') {
+        if let Some(s) = num('S')
+            && !gs.contains(&500)
+        {
             self.s = Some(s);
         }
         if let Some(t) = num('T') {

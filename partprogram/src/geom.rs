@@ -253,6 +253,17 @@ impl Geometry {
     }
 
     /// The machine position as (axis, mm) pairs.
+    /// The machine-frame position of the program zero of every axis (constant surface speed
+    /// measures the radius from it).
+    pub fn origin(&self) -> Vec<(char, f64)> {
+        self.axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (*a, self.fwd(i, 0.0) + self.offset[i] + self.length[i]))
+            .collect()
+    }
+
+    /// The machine position of every axis (axis letter, mm).
     pub fn end_list(&self) -> Vec<(char, f64)> {
         self.axes
             .iter()

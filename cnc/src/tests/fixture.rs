@@ -93,6 +93,9 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("JINC", "W16K1"),
         ("BSKIP", "U12K1"),
         ("MIMM", "W3K1"),
+        ("FG96", "I9K26"),
+        ("GEARREQ", "W8K0"),
+        ("GEARACK", "W47K2"),
     ])
 }
 
@@ -109,6 +112,7 @@ pub fn lathe_m() -> BTreeMap<u16, MTiming> {
         (2, t(0x02, 0x24)),
         (3, t(0x45, 0x00)),
         (5, t(0x06, 0x00)),
+        (6, t(0x02, 0x14)),
         (8, t(0x45, 0x00)),
         (30, t(0x02, 0x24)),
         (50, t(0x10, 0x00)),
@@ -117,6 +121,16 @@ pub fn lathe_m() -> BTreeMap<u16, MTiming> {
 
 /// One process with axis X, the given GPS, strobe timeout and RABI timeout (logic ticks).
 pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
+    cnc_with(parallel, timeout, rabi_timeout, None)
+}
+
+/// [`cnc`] with a spindle (and FG96 I9K26, GEARREQ W8K0, GEARACK W47K2 in the map).
+pub fn cnc_with(
+    parallel: bool,
+    timeout: u64,
+    rabi_timeout: u64,
+    spindle: Option<crate::config::SpindleConfig>,
+) -> Cnc {
     let cfg = ProcessConfig {
         number: 1,
         axes: vec![AxisConfig {
@@ -130,10 +144,11 @@ pub fn cnc(parallel: bool, timeout: u64, rabi_timeout: u64) -> Cnc {
             jog_speed: 1000.0,
             home: None,
         }],
-        spindle: None,
+        spindle,
         m_timing: lathe_m(),
         parallel,
         int_tick_s: 0.01,
+        qfd: None,
     };
     let r = roles();
     let signals = ProcessSignals::from_roles(|role| r.get(role).map(|a| sig(a)));
@@ -163,6 +178,8 @@ pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Opti
     Canon {
         exact_stop: false,
         tolerance: None,
+        css: None,
+        feed_g94: true,
         n: Some(n),
         unit: None,
         kind,

@@ -1,7 +1,9 @@
 //! Kernel tests against a scripted PLC (FIN = strobe within the same scan, like the bundled
 //! programs' S and T) and a test interpolator whose moves take one tick per millimetre.
 
+mod correction;
 mod exec;
-mod fixture;
+pub(crate) mod fixture;
 mod homing;
 mod manual;
+mod spindle;

@@ -123,7 +123,10 @@ impl Exec<'_> {
                     self.geo.select_offset(&self.st, self.modal.offset);
                 }
                 58 | 59 => block_offset = Some(usize::from(g - 53)),
-                94..=97 => self.modal.feed_mode = g,
+                94..=97 => {
+                    self.modal.feed_mode = g;
+                    self.modal.css = g >= 96;
+                }
                 80 => {
                     self.modal.cycle = None;
                     cancel_cycle = true;
@@ -252,6 +255,17 @@ impl Exec<'_> {
         mfuncs.sort_by_key(|m| !m.before);
         // 6. Tables, transformations, motion.
         let any_axis = axes.iter().any(Option::is_some);
+        if self.modal.feed_mode == 97 && any_axis && matches!(self.modal.motion, 1..=3) {
+            // The feed in mm/min would follow the spindle speed every tick; the planner's feed is
+            // fixed per block.
+            return Err(run_err(
+                b,
+                codes::RUN_BAD_G,
+                "G97 (constant cutting speed with feed per revolution) is not implemented for \
+                 feed moves; use G96 (feed per minute)"
+                    .to_string(),
+            ));
+        }
         let mut moved = false;
         if g92 {
             if d.is_some() {

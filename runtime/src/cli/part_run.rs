@@ -73,6 +73,8 @@ pub struct PartSpec {
     pub dialect: Option<String>,
     /// `--mdi`, in order.
     pub mdi: Vec<String>,
+    /// `--kor-change`.
+    pub kor_change: Option<std::path::PathBuf>,
 }
 
 impl PartSpec {
@@ -83,6 +85,7 @@ impl PartSpec {
             process: args.process,
             dialect: args.dialect.clone(),
             mdi: args.mdi.clone(),
+            kor_change: args.kor_change.clone(),
         }
     }
 
@@ -93,6 +96,7 @@ impl PartSpec {
             process: h.process,
             dialect: h.dialect.clone(),
             mdi: h.mdi.clone(),
+            kor_change: h.kor_change.as_ref().map(std::path::PathBuf::from),
         }
     }
 }
@@ -148,6 +152,15 @@ pub fn start_spec(
     let sim_path = machine.dir.join("sim.toml");
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
         .map_err(|e| format!("{}: {e}", sim_path.display()))?;
+    if let (Some(pg), Ok(mut c)) = (facts.machine.pgcfil.as_ref(), cnc.lock()) {
+        for p in &pg.processes {
+            if let Ok(n) = u8::try_from(p.number)
+                && let Ok(proc_) = c.process_mut(n)
+            {
+                proc_.set_alternative_feed(p.qfd);
+            }
+        }
+    }
     let mut others = Vec::new();
     for (k, name) in &machine.script.cnc.programs {
         let process: u8 = k
@@ -222,6 +235,17 @@ pub fn start_spec(
             };
             plan_text_from(&dir, "MDI", &program, dialect.as_deref(), false, at)
         }));
+        if let Some(part) = &run.part {
+            let replan = crate::sim::part::replanner(
+                &run.machine,
+                part,
+                run.dialect.clone(),
+                args.kor_change.clone(),
+            )?;
+            c.process_mut(args.process)
+                .map_err(|e| format!("error: {e}"))?
+                .set_replanner(replan);
+        }
     }
     Ok((Box::new(io), run))
 }
@@ -241,6 +265,7 @@ impl PartRun {
             program: self.part.as_ref().map(|p| p.name.clone()),
             crc32: self.part.as_ref().map(|p| p.hash.clone()),
             mdi: spec.mdi.clone(),
+            kor_change: spec.kor_change.as_ref().map(|p| p.display().to_string()),
             others: self
                 .others
                 .iter()
@@ -438,6 +463,22 @@ impl PartRun {
                     format!("{:.3} mm ({})", k.max_following.0, k.max_following.1)
                 }
             ));
+            if k.corrections > 0 {
+                s.push_str(&format!(
+                    "process {}: tool-correction requests {} (following blocks re-planned)\n",
+                    p.number(),
+                    k.corrections
+                ));
+            }
+            if k.css_ticks > 0 || k.gear_changes > 0 {
+                s.push_str(&format!(
+                    "process {} spindle: G96 (FG96) for {:.2} s; top speed {:.1} rev/min; gear changes {}\n",
+                    p.number(),
+                    secs(k.css_ticks),
+                    k.spindle_top,
+                    k.gear_changes
+                ));
+            }
         }
         for a in &self.alarms {
             s.push_str(&format!("alarm: {a}\n"));

@@ -88,6 +88,11 @@ pub struct Args {
     /// Run these blocks in MDI mode (one option per block text), before --program.
     #[arg(long)]
     pub mdi: Vec<String>,
+    /// With --program: the correction table (a TAB0.KOR file) the operator enters during the
+    /// run; the following blocks take its offsets at each tool-correction request (IOCFIL
+    /// m_request 10, e.g. M06). Without it a request re-reads the machine's own table.
+    #[arg(long, value_name = "FILE")]
+    pub kor_change: Option<PathBuf>,
     /// With --program/--mdi: write the set points of every interpolation tick of the process as
     /// JSON Lines (header, then `{"t":…,"p":[…],"block":…,"feed":…}`; the `ncplc nc run` format).
     #[arg(long)]

@@ -44,6 +44,27 @@ pub fn plan_text(
     plan_text_from(dir, name, text, dialect, block_skip, &[])
 }
 
+/// The re-planner of `part` for the kernel's tool-correction request: the same text planned with
+/// the correction table `kor` (the machine's own when None), read again at each request.
+pub fn replanner(
+    dir: &Path,
+    part: &Part,
+    dialect: Option<String>,
+    kor: Option<PathBuf>,
+) -> Result<cnc::correction::Replanner, String> {
+    let bytes = std::fs::read(&part.path).map_err(|e| format!("{}: {e}", part.path.display()))?;
+    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let dir = dir.to_path_buf();
+    let selected = part.name.clone();
+    let name = source_name(&part.path);
+    Ok(Box::new(move |program: &str, skip: bool| {
+        (program == selected).then(|| {
+            compile_text(&dir, &name, &text, dialect.as_deref(), kor.as_deref())
+                .and_then(|c| c.plan(skip, &[]))
+        })
+    }))
+}
+
 /// [`plan_text`] starting from the axis positions `start` (axis letter, position; MDI blocks
 /// start where the axes stand). Letters the machine does not have are ignored.
 pub fn plan_text_from(
@@ -54,7 +75,7 @@ pub fn plan_text_from(
     block_skip: bool,
     start: &[(char, f64)],
 ) -> Result<Vec<Canon>, String> {
-    compile_text(dir, name, text, dialect)?.plan(block_skip, start)
+    compile_text(dir, name, text, dialect, None)?.plan(block_skip, start)
 }
 
 /// A partprogram compiled with the machine's view, ready to be planned (once per block-skip
@@ -64,17 +85,19 @@ pub struct Compiled {
     sources: diag::Sources,
 }
 
-/// Compiles `text` (named `name`) for the machine in `dir`; the error is the rendered diagnostics.
+/// Compiles `text` (named `name`) for the machine in `dir` with the correction table `kor` (the
+/// machine's own when None); the error is the rendered diagnostics.
 pub fn compile_text(
     dir: &Path,
     name: &str,
     text: &str,
     dialect: Option<&str>,
+    kor: Option<&Path>,
 ) -> Result<Compiled, String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
-    if let Some((kname, ktext, kdiags)) = load_corrections(dir, None, &mut spec)
+    if let Some((kname, ktext, kdiags)) = load_corrections(dir, kor, &mut spec)
         && diag::has_errors(&kdiags)
     {
         sources.add(kname, ktext);
@@ -113,17 +136,22 @@ impl Compiled {
     }
 }
 
+/// The name a program's diagnostics give its file: `nc/<file name>`.
+fn source_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| format!("nc/{}", n.to_string_lossy()),
+    )
+}
+
 /// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
 /// block skip).
 pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Part, String> {
     let path = program_path(dir, program);
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
-    let name = path.file_name().map_or_else(
-        || path.display().to_string(),
-        |n| format!("nc/{}", n.to_string_lossy()),
-    );
-    let compiled = compile_text(dir, &name, &text, dialect)?;
+    let name = source_name(&path);
+    let compiled = compile_text(dir, &name, &text, dialect, None)?;
     let blocks = compiled.plan(false, &[])?;
     let skipped = compiled.plan(true, &[])?;
     Ok(Part {

@@ -106,6 +106,9 @@ pub struct PartHeader {
     /// The `--mdi` blocks, in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub mdi: Vec<String>,
+    /// The `--kor-change` correction table (the file as given).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kor_change: Option<String>,
     /// The programs of other processes (`sim.toml [cnc] programs`): process, name, CRC-32.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub others: Vec<OtherProgram>,
