@@ -300,16 +300,25 @@ impl Kernel {
         self.cfg.window.saturating_sub(self.moves)
     }
 
-    /// Feed override, percent (0–255); ramped within the limits from the current tick.
+    /// Feed override, percent (0–255); ramped within the limits from the current tick. An
+    /// unchanged value costs nothing (no retune, no replan: the look-ahead stays deferred).
     pub fn set_feed_override(&mut self, pct: u16) {
-        self.feed_pct = pct.min(255);
+        let pct = pct.min(255);
+        if pct == self.feed_pct {
+            return;
+        }
+        self.feed_pct = pct;
         self.retune();
         self.replan_all();
     }
 
-    /// Rapid override, percent (0–255).
+    /// Rapid override, percent (0–255); an unchanged value costs nothing.
     pub fn set_rapid_override(&mut self, pct: u16) {
-        self.rapid_pct = pct.min(255);
+        let pct = pct.min(255);
+        if pct == self.rapid_pct {
+            return;
+        }
+        self.rapid_pct = pct;
         self.retune();
         self.replan_all();
     }
@@ -505,7 +514,8 @@ impl Kernel {
                 break;
             };
             // A dwell is not replanned: overrides do not change it, and rebuilding its rest
-            // profile would start it over (the CNC kernel sets the overrides every logic tick).
+            // profile would start it over (an override knob turned during a dwell would hold
+            // the program there for as long as it moves).
             if self.replan && !matches!(front.motion, Motion::Dwell(_)) {
                 let tr = ex.prof.replan_time(ex.t, front.dynm.law);
                 if tr - ex.t <= left {
