@@ -43,6 +43,44 @@ fn one_line_takes_the_trapezoid_time() {
     assert!(s.contains("X            0.400         1.000"), "{s}");
 }
 
+/// The lathe's X is a diameter axis (AXCFIL `TPA=41`): X-100 is programmed and shown as a
+/// diameter but moves the slide 50 mm. At F4800 (80 mm/s) with X's MAN acceleration 200 mm/s²:
+/// T = 50/80 + 80/200 = 1.025 s → 513 ticks of 2 ms (100 mm of slide would take 1.65 s). At
+/// t = 0.512 s the slide is at 16 + 80 · 0.112 = 24.96 mm: the set point shows diameter 49.92.
+#[test]
+fn a_diameter_axis_moves_the_slide_by_the_radius() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("DIAX");
+    std::fs::write(&prog, "%1\nN10 G53 G1 X-100 F4800\nN20 M30\n").expect("write");
+    let traj = dir.path().join("t.jsonl");
+    let out = ncplc(&[
+        "nc",
+        "run",
+        "plc-programs/lathe",
+        prog.to_str().expect("utf-8"),
+        "--trajectory",
+        traj.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(
+        s.contains("motion time: 1.026 s (513 ticks of 2.0 ms)\n"),
+        "{s}"
+    );
+    // Peak X speed 80 / 166.667 mm/s (GM0 10000 mm/min) of the slide.
+    assert!(s.contains("X            0.480         1.000"), "{s}");
+    let t = std::fs::read_to_string(&traj).expect("trajectory");
+    let lines: Vec<&str> = t.lines().collect();
+    assert_eq!(
+        lines[257],
+        r#"{"t":256,"p":[-49.92,0.0],"block":0,"feed":4800.0}"#
+    );
+    assert_eq!(
+        lines.last().copied(),
+        Some(r#"{"t":513,"p":[-100.0,0.0],"block":1,"feed":0.0}"#)
+    );
+}
+
 /// In the machine frame (G53, offset 0) Z50 lies above the mill's LO1 zone (Z -450..0): refused
 /// before any motion; `--soft-limits off` still runs it.
 #[test]
