@@ -49,7 +49,7 @@ fn axis_track(trace: &str, axis: &str) -> Vec<(u64, u64)> {
 
 #[test]
 fn part_traces_rerun_the_kernel_with_both_engines() {
-    for (machine, ticks) in [("lathe", 4585), ("mill", 3347)] {
+    for (machine, ticks) in [("lathe", 4252), ("mill", 3347)] {
         let m = root().join("plc-programs").join(machine);
         let trace = golden(machine);
         let text = std::fs::read_to_string(&trace).expect("golden");
