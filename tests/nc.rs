@@ -292,6 +292,45 @@ fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
     assert_eq!(xyz(&k), [0.0, 0.0, 7.5]);
 }
 
+/// A bad zero-offset table is a located error of `nc check`, `nc plan` and `nc run` (no motion).
+#[test]
+fn errors_in_the_zero_offset_table_fail_check_plan_and_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("lathe");
+    copy_machine("lathe", &m);
+    // The lathe has no axis Y.
+    std::fs::write(
+        m.join("MP0/TAB0.POS"),
+        "comment\n$POS\nG54: X=-150 Y=-300\n",
+    )
+    .expect("pos");
+    let machine = m.to_str().unwrap_or_default();
+    for cmd in ["check", "plan", "run"] {
+        let out = ncplc(&["nc", cmd, machine, "G84THREAD", "--format", "json"]);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert!(
+            out.stdout.is_empty() || cmd == "check",
+            "nothing is planned"
+        );
+        let diags = json_lines(&out.stderr);
+        assert_eq!(
+            (
+                &diags[0]["code"],
+                &diags[0]["file"],
+                &diags[0]["line"],
+                &diags[0]["column"]
+            ),
+            (
+                &serde_json::json!(2072),
+                &serde_json::json!(format!("{machine}/MP0/TAB0.POS")),
+                &serde_json::json!(3),
+                &serde_json::json!(13)
+            ),
+            "{cmd}"
+        );
+    }
+}
+
 #[test]
 fn errors_in_the_correction_table_fail_check_and_plan() {
     let dir = tempfile::tempdir().expect("tempdir");
