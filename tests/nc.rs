@@ -305,7 +305,7 @@ fn errors_in_the_zero_offset_table_fail_check_plan_and_run() {
     )
     .expect("pos");
     let machine = m.to_str().unwrap_or_default();
-    for cmd in ["check", "plan", "run"] {
+    for cmd in ["check", "plan"] {
         let out = ncplc(&["nc", cmd, machine, "G84THREAD", "--format", "json"]);
         assert_eq!(out.status.code(), Some(1), "{cmd}");
         assert!(
@@ -329,6 +329,15 @@ fn errors_in_the_zero_offset_table_fail_check_plan_and_run() {
             "{cmd}"
         );
     }
+    let out = ncplc(&["nc", "run", machine, "G84THREAD"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty(), "nothing runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("error[E2072]: `Y` is not an axis of the machine\n")
+            && err.contains("/MP0/TAB0.POS:3:13\n"),
+        "{err}"
+    );
 }
 
 #[test]
