@@ -311,6 +311,7 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
             notes.push(format!("help: {}", d.hint));
         }
         let mut excerpt = None;
+        let mut shortened = false;
         let snippet = ids.get(d.file.as_str()).and_then(|&id| {
             let text = files.get(id).ok()?.source();
             if let Some(e) = long_line_excerpt(text, d.span.start) {
@@ -328,6 +329,12 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
                 while !text.is_char_boundary(end) {
                     end += 1;
                 }
+                if let Some(cut) = span_cut(text, start, end) {
+                    // A span over thousands of lines (text after the end of a program) would
+                    // print them all, and the renderer's work grows with them.
+                    end = cut;
+                    shortened = true;
+                }
                 Label::primary(id, start..end)
             })
         });
@@ -341,6 +348,11 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
                 notes.insert(0, at);
             }
         }
+        if shortened {
+            notes.push(format!(
+                "the marked text goes on beyond the {MAX_SNIPPET_LINES} lines shown"
+            ));
+        }
         cs = cs.with_notes(notes);
         if term::emit_to_write_style(&mut out, &config, &files, &cs).is_err() {
             // Rendering into memory only fails on a bad span; fall back to the one-line form.
@@ -348,6 +360,24 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
         }
     }
     String::from_utf8_lossy(&out.into_inner()).into_owned()
+}
+
+/// A diagnostic's marked text is printed over at most this many lines.
+pub const MAX_SNIPPET_LINES: usize = 8;
+
+/// Where to cut the span `start..end` of `text` so that it covers at most [`MAX_SNIPPET_LINES`]
+/// lines (the end of the last of them), or `None` when it already does. Looks at no more than
+/// those lines, whatever the span's length.
+fn span_cut(text: &str, start: usize, end: usize) -> Option<usize> {
+    let mut newlines = text.as_bytes()[start..end]
+        .iter()
+        .enumerate()
+        .filter(|&(_, &b)| b == b'\n')
+        .map(|(i, _)| start + i);
+    let last = newlines.nth(MAX_SNIPPET_LINES - 1)?;
+    // More text after the last shown line's end: cut there (a span ending with that newline
+    // itself is left alone).
+    (last + 1 < end).then_some(last)
 }
 
 /// Source lines longer than this (in bytes) are not printed under a diagnostic; an excerpt
@@ -421,6 +451,27 @@ mod tests {
         assert_eq!(v["code"], 61);
         assert_eq!(v["severity"], "error");
         assert_eq!(v["message"], "connector out of range");
+    }
+
+    #[test]
+    fn a_span_over_many_lines_is_shown_over_its_first_eight() {
+        // Lines "L1".."L20"; the span runs from the start of L3 to the end of the text.
+        let src: String = (1..=20).map(|i| format!("L{i}\n")).collect();
+        let start = src.find("L3").expect("L3");
+        let mut sources = Sources::new();
+        sources.add("P", src.as_str());
+        let d = Diagnostic::error(1005, "P", start..src.len(), "text after the end").locate(&src);
+        let text = render_human(&[d], &sources);
+        assert!(text.contains("L10"), "{text}");
+        assert!(!text.contains("L11"), "{text}");
+        assert!(
+            text.contains("the marked text goes on beyond the 8 lines shown"),
+            "{text}"
+        );
+        // Eight lines exactly (ending with the eighth line's newline): shown whole, no note.
+        let end = src.find("L11").expect("L11");
+        assert_eq!(span_cut(&src, start, end), None);
+        assert_eq!(span_cut(&src, start, end + 1), Some(end - 1));
     }
 
     #[test]

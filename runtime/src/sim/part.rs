@@ -54,6 +54,23 @@ pub fn plan_text_from(
     block_skip: bool,
     start: &[(char, f64)],
 ) -> Result<Vec<Canon>, String> {
+    compile_text(dir, name, text, dialect)?.plan(block_skip, start)
+}
+
+/// A partprogram compiled with the machine's view, ready to be planned (once per block-skip
+/// setting: compiling reads the machine and compiles its macro library, planning does not).
+pub struct Compiled {
+    prog: partprogram::Program,
+    sources: diag::Sources,
+}
+
+/// Compiles `text` (named `name`) for the machine in `dir`; the error is the rendered diagnostics.
+pub fn compile_text(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+) -> Result<Compiled, String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
@@ -69,23 +86,31 @@ pub fn plan_text_from(
             sources.add(f.name.clone(), f.text.clone());
         }
     }
-    let Some(prog) = prog.filter(|_| !diag::has_errors(&diags)) else {
-        return Err(diag::render_human(&diags, &sources));
-    };
-    let mut at = [0.0; 6];
-    for (i, a) in prog.machine.axes().iter().take(6).enumerate() {
-        if let Some((_, x)) = start.iter().find(|(c, _)| c == a) {
-            at[i] = *x;
-        }
+    match prog.filter(|_| !diag::has_errors(&diags)) {
+        Some(prog) => Ok(Compiled { prog, sources }),
+        None => Err(diag::render_human(&diags, &sources)),
     }
-    let opts = PlanOptions {
-        block_skip,
-        start: at,
-        ..PlanOptions::default()
-    };
-    partprogram::plan(&prog, opts)
-        .map(|p| p.blocks)
-        .map_err(|(_, d)| diag::render_human(&[d], &sources))
+}
+
+impl Compiled {
+    /// Plans the program from the axis positions `start` (axis letter, position; letters the
+    /// machine does not have are ignored), with or without block skip.
+    pub fn plan(&self, block_skip: bool, start: &[(char, f64)]) -> Result<Vec<Canon>, String> {
+        let mut at = [0.0; 6];
+        for (i, a) in self.prog.machine.axes().iter().take(6).enumerate() {
+            if let Some((_, x)) = start.iter().find(|(c, _)| c == a) {
+                at[i] = *x;
+            }
+        }
+        let opts = PlanOptions {
+            block_skip,
+            start: at,
+            ..PlanOptions::default()
+        };
+        partprogram::plan(&self.prog, opts)
+            .map(|p| p.blocks)
+            .map_err(|(_, d)| diag::render_human(&[d], &self.sources))
+    }
 }
 
 /// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
@@ -98,8 +123,9 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
         || path.display().to_string(),
         |n| format!("nc/{}", n.to_string_lossy()),
     );
-    let blocks = plan_text(dir, &name, &text, dialect, false)?;
-    let skipped = plan_text(dir, &name, &text, dialect, true)?;
+    let compiled = compile_text(dir, &name, &text, dialect)?;
+    let blocks = compiled.plan(false, &[])?;
+    let skipped = compiled.plan(true, &[])?;
     Ok(Part {
         name: program.display().to_string(),
         hash: format!("{:08x}", crc32fast::hash(&bytes)),
