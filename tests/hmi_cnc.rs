@@ -65,7 +65,7 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
             &json!(true),
             &json!(10),
             &json!(1),
-            &json!("N10 G54 S1200 M03                \" Spindle on, waits at speed")
+            &json!("N10 G53 S1200 M03                \" Machine frame; spindle on, waits at speed")
         )
     );
     assert_eq!(axis(&s, "X").0, 0.0);

@@ -39,6 +39,17 @@ fn json_lines(out: &[u8]) -> Vec<serde_json::Value> {
         .collect()
 }
 
+/// G54 of the mill's `MP0/TAB0.POS` (X, Y, Z): machine = programmed + offset. The expected
+/// values below are the programs' part coordinates; the plan's machine coordinates less this.
+const MILL_G54: [f64; 3] = [-400.0, -250.0, -200.0];
+/// G54 of the lathe's `MP0/TAB0.POS` (X in diameter, Z).
+const LATHE_G54: [f64; 2] = [-150.0, -300.0];
+
+/// Rounds to the µm of a MEFI coordinate (undoes the rounding of adding an offset).
+fn um(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0
+}
+
 #[test]
 fn plan_grid_macro_writes_twelve_drilling_feeds_in_json() {
     let out = ncplc(&[
@@ -60,8 +71,8 @@ fn plan_grid_macro_writes_twelve_drilling_feeds_in_json() {
         .filter(|v| v["unit"] == "L81" && v["kind"] == "linear")
         .map(|v| {
             (
-                v["end"]["X"].as_f64().unwrap_or(f64::NAN),
-                v["end"]["Y"].as_f64().unwrap_or(f64::NAN),
+                v["end"]["X"].as_f64().unwrap_or(f64::NAN) - MILL_G54[0],
+                v["end"]["Y"].as_f64().unwrap_or(f64::NAN) - MILL_G54[1],
             )
         })
         .collect();
@@ -79,7 +90,7 @@ fn plan_grid_macro_writes_twelve_drilling_feeds_in_json() {
         .find(|v| v["kind"] == "linear")
         .expect("a feed move");
     assert_eq!(drill["feed"], 150.0);
-    assert_eq!(drill["end"]["Z"], -10.0);
+    assert_eq!(drill["end"]["Z"], -10.0 + MILL_G54[2]);
 }
 
 #[test]
@@ -195,7 +206,8 @@ fn fanuc_programs_are_detected_and_planned() {
     let n120 = lines.iter().find(|v| v["n"] == 120).expect("N120");
     assert_eq!(n120["kind"], "arc_cw");
     assert_eq!(n120["plane"], "YZ");
-    assert_eq!(n120["center"]["Z"], -25.0);
+    // Z-25 in the part frame, G54 (the Fanuc power-up system) Z -300 of the lathe's TAB0.POS.
+    assert_eq!(n120["center"]["Z"], -25.0 + LATHE_G54[1]);
     let out = ncplc(&[
         "nc",
         "check",
@@ -237,8 +249,13 @@ fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
             .map(|v| v["end"]["Z"].as_f64().unwrap_or(f64::NAN))
             .collect::<Vec<_>>()
     };
-    assert_eq!(z(15), vec![-148.0]);
-    assert_eq!(z(17), vec![-125.0], "G00 Z25. keeps the length");
+    // Under G54 (TAB0.POS Z -200): -148 - 200.
+    assert_eq!(z(15), vec![-148.0 + MILL_G54[2]]);
+    assert_eq!(
+        z(17),
+        vec![-125.0 + MILL_G54[2]],
+        "G00 Z25. keeps the length"
+    );
     assert_eq!(z(18), vec![0.0], "G53 G49 Z0. is machine zero");
     // MEFI on a copy of the mill: method A by default, method B from nc/CONSTANTS.
     let dir = tempfile::tempdir().expect("tempdir");
@@ -273,6 +290,54 @@ fn plan_uses_the_machines_tab0_kor_for_g43_and_length_correction() {
         kor.to_str().unwrap_or_default(),
     ]);
     assert_eq!(xyz(&k), [0.0, 0.0, 7.5]);
+}
+
+/// A bad zero-offset table is a located error of `nc check`, `nc plan` and `nc run` (no motion).
+#[test]
+fn errors_in_the_zero_offset_table_fail_check_plan_and_run() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("lathe");
+    copy_machine("lathe", &m);
+    // The lathe has no axis Y.
+    std::fs::write(
+        m.join("MP0/TAB0.POS"),
+        "comment\n$POS\nG54: X=-150 Y=-300\n",
+    )
+    .expect("pos");
+    let machine = m.to_str().unwrap_or_default();
+    for cmd in ["check", "plan"] {
+        let out = ncplc(&["nc", cmd, machine, "G84THREAD", "--format", "json"]);
+        assert_eq!(out.status.code(), Some(1), "{cmd}");
+        assert!(
+            out.stdout.is_empty() || cmd == "check",
+            "nothing is planned"
+        );
+        let diags = json_lines(&out.stderr);
+        assert_eq!(
+            (
+                &diags[0]["code"],
+                &diags[0]["file"],
+                &diags[0]["line"],
+                &diags[0]["column"]
+            ),
+            (
+                &serde_json::json!(2072),
+                &serde_json::json!(format!("{machine}/MP0/TAB0.POS")),
+                &serde_json::json!(3),
+                &serde_json::json!(13)
+            ),
+            "{cmd}"
+        );
+    }
+    let out = ncplc(&["nc", "run", machine, "G84THREAD"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty(), "nothing runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("error[E2072]: `Y` is not an axis of the machine\n")
+            && err.contains("/MP0/TAB0.POS:3:13\n"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -347,16 +412,16 @@ fn plan_cuts_the_lathe_thread_with_the_run_out_of_machine_constant_8() {
         .iter()
         .filter(|v| v["thread"] == true)
         .map(|v| {
-            let x = v["end"]["X"].as_f64().unwrap_or(f64::NAN);
-            let z = v["end"]["Z"].as_f64().unwrap_or(f64::NAN);
-            ((x * 1000.0).round() / 1000.0, z)
+            let x = v["end"]["X"].as_f64().unwrap_or(f64::NAN) - LATHE_G54[0];
+            let z = v["end"]["Z"].as_f64().unwrap_or(f64::NAN) - LATHE_G54[1];
+            (um(x), z)
         })
         .collect();
     // 64 + 2·12·tan 20° = 72.735 at the end of the 12 mm run-out.
     assert_eq!(threads, vec![(64.0, -88.0), (72.735, -100.0)]);
 }
 
-/// (N, kind, X, Y, feed) of the motion blocks of a JSON plan.
+/// (N, kind, X, Y, feed) of the motion blocks of a JSON plan of the mill, X and Y in the G54 frame.
 fn xy_path(lines: &[serde_json::Value]) -> Vec<(u64, String, f64, f64, f64)> {
     lines
         .iter()
@@ -365,8 +430,8 @@ fn xy_path(lines: &[serde_json::Value]) -> Vec<(u64, String, f64, f64, f64)> {
             (
                 v["n"].as_u64().unwrap_or(0),
                 v["kind"].as_str().unwrap_or("").to_string(),
-                v["end"]["X"].as_f64().unwrap_or(f64::NAN),
-                v["end"]["Y"].as_f64().unwrap_or(f64::NAN),
+                v["end"]["X"].as_f64().unwrap_or(f64::NAN) - MILL_G54[0],
+                v["end"]["Y"].as_f64().unwrap_or(f64::NAN) - MILL_G54[1],
                 v["feed"].as_f64().unwrap_or(0.0),
             )
         })
@@ -406,7 +471,7 @@ fn plan_applies_radius_compensation_in_both_corner_modes() {
     let centre = &lines[4]["center"];
     assert_eq!(
         (centre["X"].as_f64(), centre["Y"].as_f64()),
-        (Some(0.0), Some(40.0))
+        (Some(MILL_G54[0]), Some(40.0 + MILL_G54[1]))
     );
     let out = ncplc(&[
         "nc",
@@ -539,8 +604,9 @@ fn o00023_takes_h03_length_and_d03_radius_from_the_mills_table() {
     );
     let lines = json_lines(&out.stdout);
     let end = |v: &serde_json::Value| {
-        let e = |a: &str| v["end"][a].as_f64().unwrap_or(f64::NAN);
-        (e("X"), e("Y"), e("Z"))
+        // Part coordinates: less G54 of the mill's TAB0.POS.
+        let e = |a: &str, i: usize| v["end"][a].as_f64().unwrap_or(f64::NAN) - MILL_G54[i];
+        (e("X", 0), e("Y", 1), e("Z", 2))
     };
     // G01 Z-16. F500. after G43 H03: Z -16 - 135.5.
     let plunge = lines
@@ -585,8 +651,8 @@ fn plan_runs_the_lathe_thread_cycle_g84_from_pevnecy5() {
         .map(|v| {
             (
                 v["n"].as_u64().unwrap_or(0),
-                v["end"]["X"].as_f64().unwrap_or(f64::NAN),
-                v["end"]["Z"].as_f64().unwrap_or(f64::NAN),
+                um(v["end"]["X"].as_f64().unwrap_or(f64::NAN) - LATHE_G54[0]),
+                um(v["end"]["Z"].as_f64().unwrap_or(f64::NAN) - LATHE_G54[1]),
                 v["feed"].as_f64().unwrap_or(f64::NAN),
             )
         })

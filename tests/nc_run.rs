@@ -43,47 +43,91 @@ fn one_line_takes_the_trapezoid_time() {
     assert!(s.contains("X            0.400         1.000"), "{s}");
 }
 
+/// The lathe's X is a diameter axis (AXCFIL `TPA=41`): X-100 is programmed and shown as a
+/// diameter but moves the slide 50 mm. At F4800 (80 mm/s) with X's MAN acceleration 200 mm/s²:
+/// T = 50/80 + 80/200 = 1.025 s → 513 ticks of 2 ms (100 mm of slide would take 1.65 s). At
+/// t = 0.512 s the slide is at 16 + 80 · 0.112 = 24.96 mm: the set point shows diameter 49.92.
+#[test]
+fn a_diameter_axis_moves_the_slide_by_the_radius() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("DIAX");
+    std::fs::write(&prog, "%1\nN10 G53 G1 X-100 F4800\nN20 M30\n").expect("write");
+    let traj = dir.path().join("t.jsonl");
+    let out = ncplc(&[
+        "nc",
+        "run",
+        "plc-programs/lathe",
+        prog.to_str().expect("utf-8"),
+        "--trajectory",
+        traj.to_str().expect("utf-8"),
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let s = text(&out.stdout);
+    assert!(
+        s.contains("motion time: 1.026 s (513 ticks of 2.0 ms)\n"),
+        "{s}"
+    );
+    // Peak X speed 80 / 166.667 mm/s (GM0 10000 mm/min) of the slide.
+    assert!(s.contains("X            0.480         1.000"), "{s}");
+    let t = std::fs::read_to_string(&traj).expect("trajectory");
+    let lines: Vec<&str> = t.lines().collect();
+    assert_eq!(
+        lines[257],
+        r#"{"t":256,"p":[-49.92,0.0],"block":0,"feed":4800.0}"#
+    );
+    assert_eq!(
+        lines.last().copied(),
+        Some(r#"{"t":513,"p":[-100.0,0.0],"block":1,"feed":0.0}"#)
+    );
+}
+
+/// In the machine frame (G53, offset 0) Z50 lies above the mill's LO1 zone (Z -450..0): refused
+/// before any motion; `--soft-limits off` still runs it.
 #[test]
 fn soft_limit_refuses_the_block_before_motion() {
-    let out = ncplc(&["nc", "run", "plc-programs/mill", "CONTOUR"]);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("HIGHZ");
+    std::fs::write(&prog, "%1\nN10 G53 G0 X-10 Z50\nN20 M30\n").expect("write");
+    let p = prog.to_str().expect("utf-8");
+    let out = ncplc(&["nc", "run", "plc-programs/mill", p]);
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(
-        text(&out.stderr),
-        "error: plc-programs/mill/nc/CONTOUR (N20): block 0: axis Z would reach 50.0000 mm, beyond its soft limit 0.0000 mm\n"
+    let err = text(&out.stderr);
+    assert!(
+        err.ends_with(
+            "HIGHZ (N10): block 0: axis Z would reach 50.0000 mm, beyond its soft limit 0.0000 mm\n"
+        ),
+        "{err}"
     );
     assert!(out.stdout.is_empty());
+    let off = ncplc(&["nc", "run", "plc-programs/mill", p, "--soft-limits", "off"]);
+    assert!(off.status.success(), "{}", text(&off.stderr));
 }
 
 #[test]
 fn bundled_programs_run_end_to_end() {
     let dir = tempfile::tempdir().expect("tempdir");
-    for (machine, prog) in [
-        ("mill", "CONTOUR"),
-        ("mill", "GRID"),
-        ("mill", "O00023.nc"),
-        ("mill", "O00050.nc"),
-        ("lathe", "G84THREAD"),
-        ("lathe", "G84ALTERN"),
-        ("lathe", "G85RUNOUT"),
-        ("lathe", "G86CHAMFER"),
-        ("lathe", "G87TAPER"),
+    // Soft limits on: each machine's TAB0.POS puts G54 inside its LO1 zones.
+    for (machine, prog, laws) in [
+        ("mill", "CONTOUR", &["linear", "s", "exp"][..]),
+        ("mill", "GRID", &["linear", "s", "exp"]),
+        ("mill", "O00023.nc", &["linear", "s", "exp"]),
+        ("mill", "O00050.nc", &["linear", "s", "exp"]),
+        ("mill", "O01000.nc", &["linear"]),
+        ("mill", "SUBPRG", &["linear"]),
+        ("mill", "PART1", &["linear"]),
+        ("lathe", "G84THREAD", &["linear", "s", "exp"]),
+        ("lathe", "G84ALTERN", &["linear", "s", "exp"]),
+        ("lathe", "G85RUNOUT", &["linear", "s", "exp"]),
+        ("lathe", "G86CHAMFER", &["linear", "s", "exp"]),
+        ("lathe", "G87TAPER", &["linear", "s", "exp"]),
+        ("lathe", "THREAD", &["linear", "s"]),
+        ("lathe", "PART1", &["linear"]),
     ] {
-        for law in ["linear", "s", "exp"] {
+        for &law in laws {
             let traj = dir.path().join(format!("{prog}.{law}.jsonl"));
             let m = format!("plc-programs/{machine}");
             let t = traj.to_str().expect("utf-8");
-            let args = [
-                "nc",
-                "run",
-                &m,
-                prog,
-                "--soft-limits",
-                "off",
-                "--law",
-                law,
-                "--trajectory",
-                t,
-            ];
+            let args = ["nc", "run", &m, prog, "--law", law, "--trajectory", t];
             let out = ncplc(&args);
             assert!(out.status.success(), "{prog} {law}: {}", text(&out.stderr));
             let plan = ncplc(&["nc", "plan", &m, prog]);
@@ -156,8 +200,6 @@ fn trajectory_header_states_the_limits_used() {
         "run",
         "plc-programs/mill",
         "O00050.nc",
-        "--soft-limits",
-        "off",
         "--law",
         "s",
         "--trajectory",
@@ -177,17 +219,20 @@ fn trajectory_header_states_the_limits_used() {
 
 #[test]
 fn a_linear_move_without_feed_is_refused_with_its_block() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let prog = dir.path().join("NOFEED");
+    // The priority block leaves G1 and F0: a positioning block without G0 or F cannot move.
+    std::fs::write(&prog, "%1\nN10 M03 S50\nN20 Z5. X64.\nN30 M30\n").expect("write");
     let out = ncplc(&[
         "nc",
         "run",
         "plc-programs/lathe",
-        "THREAD",
-        "--soft-limits",
-        "off",
+        prog.to_str().expect("utf-8"),
     ]);
     assert_eq!(out.status.code(), Some(1));
-    assert_eq!(
-        text(&out.stderr),
-        "error: plc-programs/lathe/nc/THREAD (N20): block 1: linear move without a feed (F)\n"
+    let err = text(&out.stderr);
+    assert!(
+        err.ends_with("NOFEED (N20): block 1: linear move without a feed (F)\n"),
+        "{err}"
     );
 }

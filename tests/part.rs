@@ -93,11 +93,11 @@ fn the_lathe_runs_part1_to_m30_identically_with_both_engines() {
             String::from_utf8_lossy(&out.stderr)
         );
         assert!(
-            stdout.contains("part PART1 (crc32 536205d9): 17 canonical blocks\n"),
+            stdout.contains("part PART1 (crc32 222f87ef): 17 canonical blocks\n"),
             "{stdout}"
         );
         assert!(
-            stdout.contains("cycle time 45.73 s (ticks 12..4585), ended\n"),
+            stdout.contains("cycle time 42.40 s (ticks 12..4252), ended\n"),
             "{stdout}"
         );
         assert!(
@@ -191,11 +191,11 @@ fn trajectory_of_the_lathe_part() {
         lines[0],
         r#"{"tick_s":0.002,"axes":["X","Z"],"limits":{"X":{"v":166.666667,"a":200,"j":540},"Z":{"v":200,"a":200,"j":450}},"tolerance_mm":0.01,"law":"linear"}"#
     );
-    // 4585 logic ticks of 10 ms = 22 925 interpolation ticks.
-    assert_eq!(lines.len(), 1 + 22_925);
+    // 4252 logic ticks of 10 ms = 21 260 interpolation ticks.
+    assert_eq!(lines.len(), 1 + 21_260);
     assert_eq!(
         lines[lines.len() - 1],
-        r#"{"t":22924,"p":[-20,-50],"block":null,"feed":0}"#
+        r#"{"t":21259,"p":[-20,-50],"block":null,"feed":0}"#
     );
     // During the first pass (N40, block index 3) Z feeds at 300 mm/min: 0.01 mm per tick.
     assert_eq!(
@@ -205,7 +205,8 @@ fn trajectory_of_the_lathe_part() {
 }
 
 /// `--mdi` blocks run in MDI mode (one program, shared modal state) and `--until-end` stops after
-/// them: rapid to X-10 Z-20, then 2 mm of X at F100 (1.2 s).
+/// them: rapid to X-10 Z-20, then X-12: 2 mm of diameter, 1 mm of the X slide (a diameter
+/// axis) at F100 (0.6 s).
 #[test]
 fn mdi_blocks_run_and_end() {
     let machine = root().join("plc-programs/lathe");
@@ -228,14 +229,14 @@ fn mdi_blocks_run_and_end() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.contains("cycle time 1.52 s (ticks 4..156), ended\n"),
+        stdout.contains("cycle time 0.92 s (ticks 4..96), ended\n"),
         "{stdout}"
     );
     assert!(stdout.contains("process 1: 2 blocks;"), "{stdout}");
     let text = std::fs::read_to_string(&path).expect("trajectory");
     assert_eq!(
         text.lines().last(),
-        Some(r#"{"t":779,"p":[-12,-20],"block":null,"feed":0}"#)
+        Some(r#"{"t":479,"p":[-12,-20],"block":null,"feed":0}"#)
     );
 }
 
@@ -266,7 +267,7 @@ fn an_unreferenced_lathe_homes_then_runs_the_part() {
     );
     // The first START (tick 10) falls into the homing cycle and is refused; the second runs it.
     assert!(
-        stdout.contains("cycle time 44.72 s (ticks 1502..5974), ended\n"),
+        stdout.contains("cycle time 41.40 s (ticks 1502..5642), ended\n"),
         "{stdout}"
     );
     assert!(
@@ -278,8 +279,9 @@ fn an_unreferenced_lathe_homes_then_runs_the_part() {
     );
 }
 
-/// MDI blocks are planned from where the axes stand: after homing the lathe stands at X-0.2
-/// Z-0.2 (the MCZ cycle's end); `G01 X-12 F100` moves X alone, 11.8 mm at 100 mm/min = 7.08 s,
+/// MDI blocks are planned from where the axes stand: after homing the lathe stands at X-0.4
+/// Z-0.2 (the MCZ cycle's end: each slide stops 0.2 mm past the mark, shown on X as a diameter);
+/// `G01 X-12 F100` moves X alone, 11.6 mm of diameter = 5.8 mm of slide at 100 mm/min = 3.48 s,
 /// and Z stays at -0.2 (planned from zero it would have gone to Z0).
 #[test]
 fn mdi_starts_where_the_axes_stand() {
@@ -311,15 +313,15 @@ fn mdi_starts_where_the_axes_stand() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     assert!(
-        stdout.contains("cycle time 7.08 s (ticks 1116..1824), ended\n"),
+        stdout.contains("cycle time 3.48 s (ticks 986..1334), ended\n"),
         "{stdout}"
     );
     let text = std::fs::read_to_string(&path).expect("trajectory");
     let mdi: Vec<&str> = text.lines().filter(|l| l.contains("\"block\":0")).collect();
-    assert!(mdi[0].contains("\"p\":[-0.200392,-0.2]"), "{}", mdi[0]);
+    assert!(mdi[0].contains("\"p\":[-0.400784,-0.2]"), "{}", mdi[0]);
     assert!(mdi.iter().all(|l| l.contains(",-0.2],")), "Z never moves");
     assert_eq!(
         text.lines().last(),
-        Some(r#"{"t":9119,"p":[-12,-0.2],"block":null,"feed":0}"#)
+        Some(r#"{"t":6669,"p":[-12,-0.2],"block":null,"feed":0}"#)
     );
 }

@@ -21,7 +21,7 @@ fn ncplc_test_passes_the_golden_traces_and_fails_a_tampered_one_in_junit() {
         out.starts_with(
             "ok       plc-programs/lathe/traces/basic.jsonl  (2000 ticks)\n\
          ok       plc-programs/lathe/traces/estop-handwritten.jsonl  (31 ticks)\n\
-         ok       plc-programs/lathe/traces/part1.jsonl  (4585 ticks)\n\
+         ok       plc-programs/lathe/traces/part1.jsonl  (4252 ticks)\n\
          3 traces on "
         ),
         "{out}"

@@ -105,6 +105,8 @@ pub struct Process {
     pub(crate) commands: VecDeque<Command>,
     pub(crate) rejected: Vec<(Command, Reject)>,
     pub(crate) last_plc: (u8, u8, Option<u8>),
+    /// The feed and rapid overrides last given to the interpolator (None: none yet).
+    last_overrides: Option<(u8, u8)>,
     pub(crate) counters: Counters,
     pub(crate) rabi_timeout_ticks: u64,
     pub(crate) ticks_per_logic: usize,
@@ -194,6 +196,7 @@ impl Process {
             commands: VecDeque::new(),
             rejected: Vec::new(),
             last_plc: (0, 0, None),
+            last_overrides: None,
             counters: Counters::default(),
             rabi_timeout_ticks: timing.rabi_timeout_ticks,
             ticks_per_logic,
@@ -389,11 +392,15 @@ impl Process {
         self.block_skip = signals::read(out, s.block_skip, 0) == 1;
         let fov = signals::read(out, s.overrides[0], 100);
         let rov = signals::read(out, s.overrides[2], 100);
-        self.interp.set_feed_override(u16::from(fov));
+        // Only a changed override reaches the interpolator (a change replans its look-ahead).
+        if self.last_overrides != Some((fov, rov)) {
+            self.interp.set_feed_override(u16::from(fov));
+            self.interp.set_rapid_override(u16::from(rov));
+            self.last_overrides = Some((fov, rov));
+        }
         // plc-interface-map.md: ACC1 ACC2 = 00 linear, 01 S-shaped, 10 exponential.
         let law = (signals::read(out, s.acc[0], 0) << 1) | signals::read(out, s.acc[1], 0);
         self.interp.set_law(law);
-        self.interp.set_rapid_override(u16::from(rov));
         if ers == 1 && last_ers == 0 {
             self.commands.push_back(Command::Reset);
         }

@@ -57,10 +57,14 @@ pub struct AxisLimits {
     pub a_rapid: f64,
     /// Jerk of rapids under the S law, mm/s³ (derived from ACC; None: no jerk limit).
     pub j_rapid: Option<f64>,
-    /// Lower software limit, mm (None: unchecked).
+    /// Lower software limit, mm in programmed units (None: unchecked).
     pub soft_min: Option<f64>,
-    /// Upper software limit, mm (None: unchecked).
+    /// Upper software limit, mm in programmed units (None: unchecked).
     pub soft_max: Option<f64>,
+    /// A diameter axis (TPA code 0040, a lathe's X): programmed and shown as a diameter, moved
+    /// as a radius. Positions in and out of the kernel are diameters; the speed, acceleration and
+    /// jerk limits, the feed and the path geometry are those of the radius (the slide).
+    pub diameter: bool,
 }
 
 /// The four ACC parameters (AXCFIL section 1, ECDF).
@@ -113,6 +117,16 @@ pub struct Config {
     pub window: usize,
     /// The ACC parameters that define the S and exponential laws.
     pub acc: AccParams,
+}
+
+impl Config {
+    /// The factor from programmed units to the slide's mm per axis: 0.5 for a diameter axis.
+    pub fn slide_scale(&self) -> Vec<f64> {
+        self.axes
+            .iter()
+            .map(|a| if a.diameter { 0.5 } else { 1.0 })
+            .collect()
+    }
 }
 
 /// A configuration that cannot drive the kernel.
@@ -298,5 +312,6 @@ fn axis_limits(ax: &Axis, acc: &AccParams) -> Result<AxisLimits, ConfigError> {
         j_rapid: acc.s_jerk(a_rapid, v_rapid),
         soft_min,
         soft_max,
+        diameter: ax.axis_type().diameter,
     })
 }

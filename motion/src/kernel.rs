@@ -60,6 +60,11 @@ pub struct Kernel {
     soft: bool,
     /// Arc ceilings raised by an override change: (queue index, old cap, old acceleration).
     undo: Vec<(usize, f64, f64)>,
+    /// Programmed units → slide mm per axis (0.5 for a diameter axis); the kernel plans and
+    /// interpolates in slide mm, and takes and reports positions in programmed units.
+    scale: Vec<f64>,
+    /// Some axis has a factor other than 1.
+    scaled: bool,
 }
 
 impl Kernel {
@@ -72,7 +77,10 @@ impl Kernel {
                 want: cfg.axes.len(),
             });
         }
-        let pos = vector(start);
+        let scale = cfg.slide_scale();
+        let scaled = scale.iter().any(|k| *k != 1.0);
+        let slide: Vec<f64> = start.iter().zip(&scale).map(|(x, k)| x * k).collect();
+        let pos = vector(&slide);
         let cfg_soft = cfg
             .axes
             .iter()
@@ -101,6 +109,8 @@ impl Kernel {
             final_to: 0,
             soft: cfg_soft,
             undo: Vec::new(),
+            scale,
+            scaled,
         })
     }
 
@@ -112,6 +122,11 @@ impl Kernel {
     /// Queues a move; refused (before any motion) when its path leaves a soft limit, it lacks a
     /// feed, it is malformed or the queue is full.
     pub fn push(&mut self, m: Move) -> Result<(), MotionError> {
+        let m = if self.scaled {
+            m.scaled(&self.scale)
+        } else {
+            m
+        };
         let n = self.cfg.axes.len();
         if self.moves >= self.cfg.window {
             return Err(MotionError::QueueFull { tag: m.tag });
@@ -271,24 +286,26 @@ impl Kernel {
         }
         let (lo, hi) = seg.bounds();
         for (i, ax) in self.cfg.axes.iter().enumerate() {
+            // The limits are in programmed units (a diameter axis's in diameters).
+            let (lo, hi) = (lo[i] / self.scale[i], hi[i] / self.scale[i]);
             if let Some(max) = ax.soft_max
-                && hi[i] > max
+                && hi > max
             {
                 return Err(MotionError::SoftLimit {
                     tag,
                     axis: ax.name,
                     limit: max,
-                    reach: hi[i],
+                    reach: hi,
                 });
             }
             if let Some(min) = ax.soft_min
-                && lo[i] < min
+                && lo < min
             {
                 return Err(MotionError::SoftLimit {
                     tag,
                     axis: ax.name,
                     limit: min,
-                    reach: lo[i],
+                    reach: lo,
                 });
             }
         }
@@ -300,16 +317,25 @@ impl Kernel {
         self.cfg.window.saturating_sub(self.moves)
     }
 
-    /// Feed override, percent (0–255); ramped within the limits from the current tick.
+    /// Feed override, percent (0–255); ramped within the limits from the current tick. An
+    /// unchanged value costs nothing (no retune, no replan: the look-ahead stays deferred).
     pub fn set_feed_override(&mut self, pct: u16) {
-        self.feed_pct = pct.min(255);
+        let pct = pct.min(255);
+        if pct == self.feed_pct {
+            return;
+        }
+        self.feed_pct = pct;
         self.retune();
         self.replan_all();
     }
 
-    /// Rapid override, percent (0–255).
+    /// Rapid override, percent (0–255); an unchanged value costs nothing.
     pub fn set_rapid_override(&mut self, pct: u16) {
-        self.rapid_pct = pct.min(255);
+        let pct = pct.min(255);
+        if pct == self.rapid_pct {
+            return;
+        }
+        self.rapid_pct = pct;
         self.retune();
         self.replan_all();
     }
@@ -505,7 +531,8 @@ impl Kernel {
                 break;
             };
             // A dwell is not replanned: overrides do not change it, and rebuilding its rest
-            // profile would start it over (the CNC kernel sets the overrides every logic tick).
+            // profile would start it over (an override knob turned during a dwell would hold
+            // the program there for as long as it moves).
             if self.replan && !matches!(front.motion, Motion::Dwell(_)) {
                 let tr = ex.prof.replan_time(ex.t, front.dynm.law);
                 if tr - ex.t <= left {
@@ -567,8 +594,14 @@ impl Kernel {
             _ => (self.pos, None, 0.0),
         };
         self.pos = pos;
-        for (o, x) in self.out.position.iter_mut().zip(pos.iter()) {
-            *o = *x;
+        for ((o, x), k) in self
+            .out
+            .position
+            .iter_mut()
+            .zip(pos.iter())
+            .zip(&self.scale)
+        {
+            *o = *x / *k;
         }
         self.out.tag = tag;
         self.out.feed_mm_min = v * 60.0;

@@ -39,13 +39,19 @@ pub struct Monitor {
     index: BTreeMap<u64, usize>,
     hist: Vec<(Vector, bool)>,
     report: Report,
+    /// Programmed units → slide mm (see [`Config::slide_scale`]): the checks are on the slide.
+    scale: Vec<f64>,
 }
 
 impl Monitor {
     /// A monitor for a kernel built from `cfg` starting at `start`, checking against `law`.
     pub fn new(cfg: &Config, start: &[f64], law: Law) -> Monitor {
         let n = cfg.axes.len();
+        let scale = cfg.slide_scale();
+        let start: Vec<f64> = start.iter().zip(&scale).map(|(x, k)| x * k).collect();
+        let start = start.as_slice();
         Monitor {
+            scale,
             cfg: cfg.clone(),
             law,
             end: vector(start),
@@ -64,6 +70,7 @@ impl Monitor {
 
     /// Records the programmed geometry of a move the kernel accepted.
     pub fn push(&mut self, m: &Move) {
+        let m = &m.scaled(&self.scale);
         let end = vector(&m.end);
         let seg = plan::segment(m, &self.end, &end).ok().flatten();
         self.index.insert(m.tag, self.segs.len());
@@ -73,7 +80,13 @@ impl Monitor {
 
     /// Samples one tick.
     pub fn sample(&mut self, t: &Tick) {
-        let p = vector(&t.position);
+        let slide: Vec<f64> = t
+            .position
+            .iter()
+            .zip(&self.scale)
+            .map(|(x, k)| x * k)
+            .collect();
+        let p = vector(&slide);
         let idx = t.tag.and_then(|g| self.index.get(&g).copied());
         let rapid = idx.is_some_and(|i| self.segs[i].1);
         if let Some(i) = idx {

@@ -90,6 +90,22 @@ pub enum MotionError {
 }
 
 impl Move {
+    /// The move with every coordinate (end point, arc centre) multiplied by its axis's factor
+    /// ([`crate::Config::slide_scale`]: a diameter becomes the slide's radius). An arc of a
+    /// diameter axis is a circle in the radius frame (its centre was found there).
+    pub fn scaled(&self, scale: &[f64]) -> Move {
+        let k = |i: usize| scale.get(i).copied().unwrap_or(1.0);
+        let mut m = self.clone();
+        for (i, e) in m.end.iter_mut().enumerate() {
+            *e *= k(i);
+        }
+        if let Path::Arc { plane, center, .. } = &mut m.path {
+            center[0] *= k(plane.0);
+            center[1] *= k(plane.1);
+        }
+        m
+    }
+
     /// Converts a canonical block: `axes` are the kernel's axes in Config order (every one must be
     /// in `c.end`). Aux blocks become zero-length dwells (their M/S/T functions are the caller's).
     ///

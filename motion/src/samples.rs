@@ -18,6 +18,7 @@ pub fn mill() -> Config {
         j_rapid: None,
         soft_min: None,
         soft_max: None,
+        diameter: false,
     };
     Config {
         axes: vec![ax('X'), ax('Y'), ax('Z')],

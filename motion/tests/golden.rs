@@ -293,8 +293,9 @@ fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
     assert_within(&raised.report, 1e-9);
 }
 
-/// A 0.1 s dwell lasts 100 ticks of 1 ms even when the feed override is set again every tick (the
-/// CNC kernel does so each logic tick; a replan used to start the dwell over, so it never ended).
+/// A 0.1 s dwell lasts 100 ticks of 1 ms even when the feed override is set again every tick, to
+/// the same value or to a new one (a change replans; a replan used to start the dwell over, so a
+/// dwell under a moving override knob never ended).
 #[test]
 fn a_dwell_ends_while_the_override_is_set_every_tick() {
     let cfg = common::mill(Law::Linear);
@@ -316,6 +317,17 @@ fn a_dwell_ends_while_the_override_is_set_every_tick() {
     for n in 1..=200 {
         k.set_feed_override(100);
         if k.tick().finished.contains(&7) {
+            ended = Some(n);
+            break;
+        }
+    }
+    assert_eq!(ended, Some(100));
+    let mut k = motion::Kernel::new(common::mill(Law::Linear), &[0.0; 3]).expect("config");
+    k.push(dwell(8)).expect("dwell");
+    let mut ended = None;
+    for n in 1..=200u16 {
+        k.set_feed_override(if n % 2 == 0 { 100 } else { 50 });
+        if k.tick().finished.contains(&8) {
             ended = Some(n);
             break;
         }

@@ -98,6 +98,18 @@ pub const KOR_DUPLICATE_FIELD: u32 = 2047;
 pub const KOR_SECOND_TABLE: u32 = 2048;
 /// `TAB*.KOR`: the file cannot be read (reported by the runtime).
 pub const KOR_IO: u32 = 2049;
+/// `TAB0.POS`: no `$POS` keyword.
+pub const POS_NO_KEYWORD: u32 = 2070;
+/// `TAB0.POS`: a line that is not `G53`…`G59`, `:` and `axis=value` fields.
+pub const POS_LINE: u32 = 2071;
+/// `TAB0.POS`: a field naming no axis of the machine.
+pub const POS_AXIS: u32 = 2072;
+/// `TAB0.POS`: a value that is not a number of at most ±99999.999.
+pub const POS_VALUE: u32 = 2073;
+/// `TAB0.POS`: a row written twice.
+pub const POS_DUPLICATE: u32 = 2074;
+/// `TAB0.POS`: the file cannot be read (reported by the runtime).
+pub const POS_IO: u32 = 2075;
 /// Fanuc `G43`/`G44` without `H` in the block.
 pub const G43_WITHOUT_H: u32 = 2034;
 /// G41/G42/G40 written in a G02/G03 block: compensation is switched only in linear blocks (S15).

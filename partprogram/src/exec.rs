@@ -159,6 +159,7 @@ impl<'p> Exec<'p> {
         let mut st = Box::<ArithState>::default();
         st.double = m.double_precision;
         st.corrections = m.corrections.rows();
+        st.offsets = m.zero_offsets.rows;
         st.g_groups[1] = plane.g();
         Exec {
             prog,

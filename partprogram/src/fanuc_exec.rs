@@ -103,7 +103,17 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         opts,
         axes: axes.iter().copied().take(6).collect(),
         machine: opts.start,
-        work: vec![[0.0; 6]; offsets::WORK_ROWS],
+        // G54–G59 from the machine's zero-offset table (rows G54..G59 of `TAB0.POS`).
+        work: (0..offsets::WORK_ROWS)
+            .map(|k| {
+                prog.machine
+                    .zero_offsets
+                    .rows
+                    .get(k + 1)
+                    .copied()
+                    .unwrap_or([0.0; 6])
+            })
+            .collect(),
         wsel: 0,
         local: [0.0; 6],
         g92: [0.0; 6],

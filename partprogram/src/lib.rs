@@ -30,6 +30,7 @@ mod link;
 pub mod machine;
 pub mod macro_b;
 pub mod parse;
+pub mod pos;
 pub mod program;
 pub mod radius;
 pub mod run;
@@ -39,6 +40,7 @@ pub use canon::{Canon, Css, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};
 pub use kor::{CorrectionTable, KorEntry, parse_kor};
 pub use machine::{Dialect, DoublePrecision, LengthMethod, MTiming, MachineSpec, ProcessSpec};
+pub use pos::{ZeroOffsets, parse_pos};
 pub use program::{Program, compile};
 
 /// Plans a compiled program: runs it and returns its canonical blocks, or the blocks emitted before a

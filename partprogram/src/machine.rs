@@ -145,6 +145,9 @@ pub struct MachineSpec {
     /// The correction table at power-up (the machine's `TAB0.KOR`); empty: all zero.
     #[serde(default)]
     pub corrections: CorrectionTable,
+    /// The zero-offset table at power-up (the machine's `TAB0.POS`); default: all zero.
+    #[serde(default)]
+    pub zero_offsets: crate::pos::ZeroOffsets,
     /// MEFI length correction method (machine constant 329, decade 7).
     #[serde(default)]
     pub length_method: LengthMethod,
@@ -176,6 +179,7 @@ impl MachineSpec {
             circle_tolerance: 0.002,
             check_m_declared: false,
             corrections: CorrectionTable::default(),
+            zero_offsets: crate::pos::ZeroOffsets::default(),
             length_method: LengthMethod::A,
             thread_constant: 0,
             planes_341: 0,

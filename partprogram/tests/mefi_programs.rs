@@ -72,6 +72,18 @@ fn f07_subprograms_run_q_times_and_return() {
             (Some(320), 0.0, 0.0)
         ]
     );
+    // N10 positions in rapid (G0); N20's G1 F300 is modal into the subprograms' moves.
+    let kinds: Vec<(Kind, Option<f64>)> = p.blocks[..5].iter().map(|c| (c.kind, c.feed)).collect();
+    assert_eq!(
+        kinds,
+        vec![
+            (Kind::Rapid, None),
+            (Kind::Linear, Some(300.0)),
+            (Kind::Linear, Some(300.0)),
+            (Kind::Linear, Some(300.0)),
+            (Kind::Linear, Some(300.0)),
+        ]
+    );
     assert_eq!(p.blocks[2].unit.as_deref(), Some("sub100"));
 }
 
@@ -362,6 +374,21 @@ fn lathe_g81_longitudinal_roughing_with_two_finishing_passes() {
         .collect();
     // 17 roughing cuts of 4 moves each, then 2 finishing passes of 5 moves each.
     assert_eq!(cyc.len(), 17 * 4 + 2 * 5);
+    // The main program positions in rapid: N20 G0 X0 Z300, N30 X128 Z4 (G0 modal).
+    let main: Vec<(Option<u32>, Kind, f64, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.unit.is_none() && c.kind != Kind::Aux)
+        .take(2)
+        .map(|c| (c.n, c.kind, end(c, 'X'), end(c, 'Z')))
+        .collect();
+    assert_eq!(
+        main,
+        vec![
+            (Some(20), Kind::Rapid, 0.0, 300.0),
+            (Some(30), Kind::Rapid, 128.0, 4.0)
+        ]
+    );
     for k in 1..=17 {
         let cut = &cyc[(k - 1) * 4..k * 4];
         let x = 120.0 - 4.0 * k as f64;

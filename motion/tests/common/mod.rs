@@ -17,6 +17,7 @@ pub fn axis(name: char, v: f64, a: f64, j: Option<f64>) -> AxisLimits {
         j_rapid: j,
         soft_min: None,
         soft_max: None,
+        diameter: false,
     }
 }
 

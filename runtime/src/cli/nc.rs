@@ -228,32 +228,56 @@ pub fn kor_file(dir: &Path, kor: Option<&Path>) -> Option<(PathBuf, String)> {
     })
 }
 
-/// Reads the correction table into `spec` (see [`kor_file`]); returns the file's name and text for
-/// rendering, and its diagnostics (an unreadable file is error 2049).
+/// Reads the correction table into `spec` (see [`kor_file`]) and the zero-offset table
+/// `MP0/TAB0.POS` when the machine has one; returns each file's name and text for rendering, and
+/// its diagnostics (an unreadable file is error 2049 / 2075).
 pub fn load_corrections(
     dir: &Path,
     kor: Option<&Path>,
     spec: &mut MachineSpec,
-) -> Option<(String, String, Vec<diag::Diagnostic>)> {
-    let (path, name) = kor_file(dir, kor)?;
-    match std::fs::read(&path) {
-        Ok(bytes) => {
-            let text = String::from_utf8_lossy(&bytes).into_owned();
-            let (table, diags) = partprogram::parse_kor(&name, &text, &spec.axes());
-            spec.corrections = table;
-            Some((name, text, diags))
-        }
-        Err(e) => {
-            let d = diag::Diagnostic::error(
-                partprogram::codes::KOR_IO,
-                name.clone(),
-                0..0,
-                format!("cannot read the correction table: {e}"),
-            )
-            .locate("");
-            Some((name, String::new(), vec![d]))
-        }
+) -> Vec<(String, String, Vec<diag::Diagnostic>)> {
+    let mut files = Vec::new();
+    if let Some((path, name)) = kor_file(dir, kor) {
+        files.push(match std::fs::read(&path) {
+            Ok(bytes) => {
+                let text = String::from_utf8_lossy(&bytes).into_owned();
+                let (table, diags) = partprogram::parse_kor(&name, &text, &spec.axes());
+                spec.corrections = table;
+                (name, text, diags)
+            }
+            Err(e) => unreadable(partprogram::codes::KOR_IO, name, "correction table", &e),
+        });
     }
+    let pos = dir.join("MP0").join("TAB0.POS");
+    if pos.is_file() {
+        let name = crate::cli::output::user_path(&pos).display().to_string();
+        files.push(match std::fs::read(&pos) {
+            Ok(bytes) => {
+                let text = String::from_utf8_lossy(&bytes).into_owned();
+                let (table, diags) = partprogram::parse_pos(&name, &text, &spec.axes());
+                spec.zero_offsets = table;
+                (name, text, diags)
+            }
+            Err(e) => unreadable(partprogram::codes::POS_IO, name, "zero-offset table", &e),
+        });
+    }
+    files
+}
+
+fn unreadable(
+    code: u32,
+    name: String,
+    what: &str,
+    e: &std::io::Error,
+) -> (String, String, Vec<diag::Diagnostic>) {
+    let d = diag::Diagnostic::error(
+        code,
+        name.clone(),
+        0..0,
+        format!("cannot read the {what}: {e}"),
+    )
+    .locate("");
+    (name, String::new(), vec![d])
 }
 
 /// Fanuc when the first word of the program (after `%` lines and comments) is an `O<number>`.
@@ -414,8 +438,8 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
     sources.add(name.clone(), text.clone());
     let mut kor_failed = false;
     let mut diags = diags;
-    if let Some((kname, ktext, kdiags)) = kor {
-        kor_failed = diag::has_errors(&kdiags);
+    for (kname, ktext, kdiags) in kor.into_iter().rev() {
+        kor_failed |= diag::has_errors(&kdiags);
         sources.add(kname, ktext);
         diags.splice(0..0, kdiags);
     }

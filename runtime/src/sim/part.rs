@@ -97,11 +97,11 @@ pub fn compile_text(
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
-    if let Some((kname, ktext, kdiags)) = load_corrections(dir, kor, &mut spec)
-        && diag::has_errors(&kdiags)
-    {
-        sources.add(kname, ktext);
-        return Err(diag::render_human(&kdiags, &sources));
+    for (kname, ktext, kdiags) in load_corrections(dir, kor, &mut spec) {
+        if diag::has_errors(&kdiags) {
+            sources.add(kname, ktext);
+            return Err(diag::render_human(&kdiags, &sources));
+        }
     }
     let (prog, diags) = partprogram::compile(&spec, name, text);
     if let Some(p) = &prog {
