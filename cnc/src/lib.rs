@@ -14,6 +14,7 @@
 pub mod config;
 pub mod exec;
 pub mod handshake;
+pub mod handwheel;
 pub mod homing;
 pub mod interp;
 pub mod manual;
@@ -24,6 +25,7 @@ pub mod signals;
 pub mod state;
 pub mod status;
 pub mod written;
+pub mod zones;
 
 use packets::Signal;
 use partprogram::Canon;

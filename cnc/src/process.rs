@@ -93,6 +93,10 @@ pub struct Process {
     pub(crate) counters: Counters,
     pub(crate) rabi_timeout_ticks: u64,
     pub(crate) ticks_per_logic: usize,
+    pub(crate) hand: crate::handwheel::Handwheels,
+    pub(crate) zone2: bool,
+    pub(crate) cub_on: bool,
+    pub(crate) queued_end: Vec<f64>,
     tick_out: TickOut,
     trajectory: Option<(u64, String)>,
 }
@@ -172,6 +176,10 @@ impl Process {
             counters: Counters::default(),
             rabi_timeout_ticks: timing.rabi_timeout_ticks,
             ticks_per_logic,
+            hand: Default::default(),
+            zone2: false,
+            cub_on: false,
+            queued_end: start.to_vec(),
             tick_out: TickOut::default(),
             trajectory: None,
         }
@@ -243,7 +251,7 @@ impl Process {
             on: self.on,
             mode: self.mode,
             interp: self.run,
-            moving: !self.interp.is_idle(),
+            moving: !self.interp.is_idle() || self.hand.moving(),
             homed: self.homed,
             program: !self.program.is_empty(),
         }
@@ -298,6 +306,7 @@ impl Process {
         self.den = true;
         self.mimm = 0;
         self.home_stage = None;
+        self.stop_handwheels();
         self.op_hold = false;
         self.rabi_wait = 0;
     }
@@ -331,6 +340,7 @@ impl Process {
         self.advance();
         self.step_channels(tick, out, true);
         self.manual(out);
+        self.handwheels(out, image);
         self.run_interpolation(out);
         self.homing();
         self.advance();
@@ -349,6 +359,8 @@ impl Process {
         let (last_start, last_ers, last_req) = self.last_plc;
         self.uso = signals::read(out, s.uso, 0) == 1;
         self.block_skip = signals::read(out, s.block_skip, 0) == 1;
+        self.zone2 = signals::read(out, s.zone2, 0) == 1;
+        self.cub_on = signals::read(out, s.cub, 0) == 1;
         let fov = signals::read(out, s.overrides[0], 100);
         let rov = signals::read(out, s.overrides[2], 100);
         self.interp.set_feed_override(u16::from(fov));
@@ -475,6 +487,7 @@ impl Process {
             }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);
+            self.tick_handwheels();
             self.held |= self.tick_out.held && hold_request;
             for tag in std::mem::take(&mut self.tick_out.finished) {
                 self.motion_finished(tag);
@@ -538,7 +551,7 @@ impl Process {
 
     fn write_plc(&self, image: &mut [u8]) {
         let s = &self.sig;
-        let standby = self.interp.is_idle();
+        let standby = self.interp.is_idle() && !self.hand.moving();
         signals::write(image, s.conp, u8::from(self.on));
         signals::write(image, s.den, u8::from(self.den));
         signals::write(image, s.alarm, u8::from(!self.alarms.is_empty()));

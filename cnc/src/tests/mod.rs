@@ -3,5 +3,7 @@
 
 mod exec;
 mod fixture;
+mod handwheel;
 mod homing;
 mod manual;
+mod zones;
