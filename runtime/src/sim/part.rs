@@ -1,6 +1,8 @@
 //! The partprogram of a part run: found (a name in `<machine>/nc/`, or a path), compiled with the
 //! machine's view (`cli::nc::machine_spec`, its correction table) and planned into canonical
-//! blocks, with a content hash for the trace header and the summary.
+//! blocks, with a content hash for the trace header and the summary, and the CRC-32 of every
+//! other file the compile read ([`Part::files`]: macro and cycle files, the correction table,
+//! `nc/CONSTANTS`, `nc/DIALECT`), so that a replay names the file that changed.
 
 use std::path::{Path, PathBuf};
 
@@ -21,6 +23,36 @@ pub struct Part {
     pub blocks: Vec<Canon>,
     /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
     pub skipped: Vec<Canon>,
+    /// Every other file the compile read: (path relative to the machine directory, CRC-32), in
+    /// name order.
+    pub files: Vec<(String, String)>,
+}
+
+/// CRC-32 of `bytes`, 8 hex digits.
+pub fn crc32_hex(bytes: &[u8]) -> String {
+    format!("{:08x}", crc32fast::hash(bytes))
+}
+
+/// The machine files every compile reads when they exist: (name, CRC-32).
+fn machine_files(dir: &Path) -> Vec<(String, String)> {
+    let kor = crate::cli::nc::kor_file(dir, None).map(|(p, _)| p);
+    [
+        Some(dir.join("nc").join("CONSTANTS")),
+        Some(dir.join("nc").join("DIALECT")),
+        kor,
+    ]
+    .into_iter()
+    .flatten()
+    .filter_map(|p| {
+        let bytes = std::fs::read(&p).ok()?;
+        let name = p
+            .strip_prefix(dir)
+            .unwrap_or(&p)
+            .to_string_lossy()
+            .into_owned();
+        Some((name, crc32_hex(&bytes)))
+    })
+    .collect()
 }
 
 /// `program` as a path when it exists, else `<machine>/nc/<program>`.
@@ -54,6 +86,29 @@ pub fn plan_text_from(
     block_skip: bool,
     start: &[(char, f64)],
 ) -> Result<Vec<Canon>, String> {
+    plan_with_files(dir, name, text, dialect, block_skip, start).map(|(b, _)| b)
+}
+
+/// The files besides `name` that compiling and planning `text` reads (see [`Part::files`]).
+pub fn files_read(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+) -> Result<Vec<(String, String)>, String> {
+    plan_with_files(dir, name, text, dialect, false, &[]).map(|(_, f)| f)
+}
+
+/// [`plan_text_from`] that also names the files the compile read besides `name` (see
+/// [`Part::files`]).
+fn plan_with_files(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+    block_skip: bool,
+    start: &[(char, f64)],
+) -> Result<(Vec<Canon>, Vec<(String, String)>), String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
@@ -83,8 +138,16 @@ pub fn plan_text_from(
         start: at,
         ..PlanOptions::default()
     };
+    let mut files = machine_files(dir);
+    files.extend(
+        prog.files
+            .iter()
+            .skip(1)
+            .map(|f| (f.name.clone(), crc32_hex(f.text.as_bytes()))),
+    );
+    files.sort();
     partprogram::plan(&prog, opts)
-        .map(|p| p.blocks)
+        .map(|p| (p.blocks, files))
         .map_err(|(_, d)| diag::render_human(&[d], &sources))
 }
 
@@ -98,13 +161,14 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
         || path.display().to_string(),
         |n| format!("nc/{}", n.to_string_lossy()),
     );
-    let blocks = plan_text(dir, &name, &text, dialect, false)?;
+    let (blocks, files) = plan_with_files(dir, &name, &text, dialect, false, &[])?;
     let skipped = plan_text(dir, &name, &text, dialect, true)?;
     Ok(Part {
         name: program.display().to_string(),
-        hash: format!("{:08x}", crc32fast::hash(&bytes)),
+        hash: crc32_hex(&bytes),
         path,
         blocks,
         skipped,
+        files,
     })
 }
