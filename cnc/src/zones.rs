@@ -130,7 +130,11 @@ impl Process {
     /// Checks the motion of block `b` from `start` against the active zone and the CUB box.
     pub(crate) fn check_zones(&self, start: &[f64], b: &Canon) -> Result<(), ZoneError> {
         let names = self.cfg.axis_names();
-        let m = motion::Move::from_canon(0, b, &names)
+        // As the interpolator does: coordinates of axes the process does not interpolate (the
+        // Fanuc lathe's C) are not part of the path.
+        let mut b = b.clone();
+        b.end.retain(|(a, _)| names.contains(a));
+        let m = motion::Move::from_canon(0, &b, &names)
             .map_err(|e| ZoneError::Geometry(e.to_string()))?;
         let seg = motion::plan::segment(&m, &vector(start), &vector(&m.end))
             .map_err(|e| ZoneError::Geometry(e.to_string()))?;
