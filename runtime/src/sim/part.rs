@@ -25,8 +25,11 @@ pub struct Part {
     pub skipped: Vec<Canon>,
     /// Every other file the compile read: (path relative to the machine directory, CRC-32), in
     /// name order.
-    pub files: Vec<(String, String)>,
+    pub files: Vec<FileCrc>,
 }
+
+/// A file the compile read: (path relative to the machine directory, CRC-32).
+pub type FileCrc = (String, String);
 
 /// CRC-32 of `bytes`, 8 hex digits.
 pub fn crc32_hex(bytes: &[u8]) -> String {
@@ -34,7 +37,7 @@ pub fn crc32_hex(bytes: &[u8]) -> String {
 }
 
 /// The machine files every compile reads when they exist: (name, CRC-32).
-fn machine_files(dir: &Path) -> Vec<(String, String)> {
+fn machine_files(dir: &Path) -> Vec<FileCrc> {
     let kor = crate::cli::nc::kor_file(dir, None).map(|(p, _)| p);
     [
         Some(dir.join("nc").join("CONSTANTS")),
@@ -95,7 +98,7 @@ pub fn files_read(
     name: &str,
     text: &str,
     dialect: Option<&str>,
-) -> Result<Vec<(String, String)>, String> {
+) -> Result<Vec<FileCrc>, String> {
     plan_with_files(dir, name, text, dialect, false, &[]).map(|(_, f)| f)
 }
 
@@ -108,7 +111,7 @@ fn plan_with_files(
     dialect: Option<&str>,
     block_skip: bool,
     start: &[(char, f64)],
-) -> Result<(Vec<Canon>, Vec<(String, String)>), String> {
+) -> Result<(Vec<Canon>, Vec<FileCrc>), String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
