@@ -9,7 +9,8 @@
 //! published once) switches every process off with an alarm; a reset pulses RESET for one tick.
 //!
 //! Read in this order: [`state`] (the rule table), [`signals`], [`config`], [`process`],
-//! [`exec`], [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
+//! [`exec`], [`zones`] (the active soft limits), [`manual`], [`handwheel`], [`plant`], [`status`],
+//! [`interp`] (the interpolator as the kernel sees it).
 
 pub mod config;
 pub mod exec;
