@@ -41,6 +41,7 @@ pub mod exchange;
 pub mod health;
 pub mod map;
 pub mod modbus;
+pub mod prefault;
 pub mod rt;
 pub mod tick_io;
 pub mod validate;

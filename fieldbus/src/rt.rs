@@ -53,12 +53,14 @@ impl IoThreads {
         }
     }
 
-    /// The runtime's `on_thread_start` hook: records the new thread.
+    /// The runtime's `on_thread_start` hook: pre-faults the new thread's stack
+    /// ([`crate::prefault`]), pins it when CPUs were given, and records it.
     pub fn on_start(&self) -> impl Fn() + Send + Sync + 'static {
         let tids = self.tids.clone();
         let cpus = self.cpus.clone();
         let pin = self.pin.clone();
         move || {
+            crate::prefault::prefault_stack(crate::prefault::IO_STACK);
             if !cpus.is_empty() {
                 match crate::affinity::pin_thread(0, &cpus) {
                     Ok(()) => {

@@ -168,7 +168,7 @@ pub fn enable_realtime(priority: i32) -> RealtimeStatus {
     let fifo =
         unsafe { libc::pthread_setschedparam(libc::pthread_self(), libc::SCHED_FIFO, &param) } == 0;
     let locked = lock_memory();
-    prefault_stack();
+    fieldbus::prefault::prefault_stack(fieldbus::prefault::SCAN_STACK);
     // The kernel may delay a timer wake-up by the thread's timer slack (50 µs by default), which is
     // most of the scan's median wake latency; 1 ns asks for the deadline itself. Best effort: a
     // kernel that refuses keeps the default, which only costs latency.
@@ -190,21 +190,6 @@ fn lock_memory() -> bool {
     let onfault = unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE | MCL_ONFAULT) };
     // SAFETY: as above.
     onfault == 0 || unsafe { libc::mlockall(libc::MCL_CURRENT | libc::MCL_FUTURE) } == 0
-}
-
-/// Bytes of the scan thread's stack touched before the first tick.
-const PREFAULT_STACK: usize = 256 * 1024;
-
-/// Touches the next [`PREFAULT_STACK`] bytes of the calling thread's stack, so that (with
-/// `MCL_ONFAULT`) they are faulted in and locked now instead of during a tick.
-#[inline(never)]
-fn prefault_stack() {
-    let mut block = [0u8; PREFAULT_STACK];
-    // Write every page; black_box keeps the writes.
-    for b in block.iter_mut().step_by(4096) {
-        *std::hint::black_box(b) = 1;
-    }
-    std::hint::black_box(&block);
 }
 
 #[cfg(test)]

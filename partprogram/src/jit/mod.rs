@@ -253,6 +253,14 @@ impl Jit {
         let mut fb = settings::builder();
         fb.set("opt_level", "speed").map_err(|x| setup(&x))?;
         fb.set("is_pic", "false").map_err(|x| setup(&x))?;
+        // As in the PLC JIT: the IR verifier re-checks every function; debug builds (all tests)
+        // keep it, release builds skip it (it was 17 % of a part run's start-up).
+        let verify = if cfg!(debug_assertions) {
+            "true"
+        } else {
+            "false"
+        };
+        fb.set("enable_verifier", verify).map_err(|x| setup(&x))?;
         fb.set("use_colocated_libcalls", "false")
             .map_err(|x| setup(&x))?;
         let isa = cranelift_native::builder()

@@ -142,13 +142,17 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     }
     // The I/O starts (connects, configures its nodes) on its own thread while the program
     // compiles: the first tick waits for the slower of the two, not for their sum.
-    // A part run (`--program`/`--mdi`) puts the CNC kernel in front of the simulated I/O; it is
-    // started after the compile (it plans the partprogram with the machine's view).
+    // A part run (`--program`/`--mdi`) puts the CNC kernel in front of the simulated I/O; its
+    // start (planning the partprogram with the machine's view) likewise runs beside the compile.
     let part_run = args.program.is_some() || !args.mdi.is_empty();
     let declared = machine.declared_connectors();
+    let mut started_part = None;
     let (compiled, opened) = std::thread::scope(|s| {
         if part_run {
-            return (first(&source), None);
+            let part = s.spawn(|| crate::cli::part_run::start(&args, &machine, tick_ms));
+            let compiled = first(&source);
+            started_part = Some(part.join());
+            return (compiled, None);
         }
         let io = s.spawn(|| {
             open_io_with(
@@ -173,7 +177,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     };
     let (io, handshakes, mut part) = match opened {
         None => {
-            let (io, run) = crate::cli::part_run::start(&args, &machine, tick_ms)?;
+            let (io, run) = started_part
+                .ok_or("error: the part run did not start")?
+                .map_err(|_| "error: the part-run start-up thread panicked".to_string())??;
             (io, None, Some(run))
         }
         Some(opened) => {

@@ -58,6 +58,16 @@ fn machine_files(dir: &Path) -> Vec<FileCrc> {
     .collect()
 }
 
+/// The files besides `name` that compiling and planning `text` reads (see [`Part::files`]).
+pub fn files_read(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+) -> Result<Vec<FileCrc>, String> {
+    Ok(compile_text(dir, name, text, dialect)?.files(dir))
+}
+
 /// `program` as a path when it exists, else `<machine>/nc/<program>`.
 pub fn program_path(machine: &Path, program: &Path) -> PathBuf {
     if program.exists() {
@@ -89,29 +99,23 @@ pub fn plan_text_from(
     block_skip: bool,
     start: &[(char, f64)],
 ) -> Result<Vec<Canon>, String> {
-    plan_with_files(dir, name, text, dialect, block_skip, start).map(|(b, _)| b)
+    compile_text(dir, name, text, dialect)?.plan(block_skip, start)
 }
 
-/// The files besides `name` that compiling and planning `text` reads (see [`Part::files`]).
-pub fn files_read(
+/// A partprogram compiled with the machine's view, ready to be planned (once per block-skip
+/// setting: compiling reads the machine and compiles its macro library, planning does not).
+pub struct Compiled {
+    prog: partprogram::Program,
+    sources: diag::Sources,
+}
+
+/// Compiles `text` (named `name`) for the machine in `dir`; the error is the rendered diagnostics.
+pub fn compile_text(
     dir: &Path,
     name: &str,
     text: &str,
     dialect: Option<&str>,
-) -> Result<Vec<FileCrc>, String> {
-    plan_with_files(dir, name, text, dialect, false, &[]).map(|(_, f)| f)
-}
-
-/// [`plan_text_from`] that also names the files the compile read besides `name` (see
-/// [`Part::files`]).
-fn plan_with_files(
-    dir: &Path,
-    name: &str,
-    text: &str,
-    dialect: Option<&str>,
-    block_skip: bool,
-    start: &[(char, f64)],
-) -> Result<(Vec<Canon>, Vec<FileCrc>), String> {
+) -> Result<Compiled, String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
@@ -127,31 +131,46 @@ fn plan_with_files(
             sources.add(f.name.clone(), f.text.clone());
         }
     }
-    let Some(prog) = prog.filter(|_| !diag::has_errors(&diags)) else {
-        return Err(diag::render_human(&diags, &sources));
-    };
-    let mut at = [0.0; 6];
-    for (i, a) in prog.machine.axes().iter().take(6).enumerate() {
-        if let Some((_, x)) = start.iter().find(|(c, _)| c == a) {
-            at[i] = *x;
-        }
+    match prog.filter(|_| !diag::has_errors(&diags)) {
+        Some(prog) => Ok(Compiled { prog, sources }),
+        None => Err(diag::render_human(&diags, &sources)),
     }
-    let opts = PlanOptions {
-        block_skip,
-        start: at,
-        ..PlanOptions::default()
-    };
-    let mut files = machine_files(dir);
-    files.extend(
-        prog.files
-            .iter()
-            .skip(1)
-            .map(|f| (f.name.clone(), crc32_hex(f.text.as_bytes()))),
-    );
-    files.sort();
-    partprogram::plan(&prog, opts)
-        .map(|p| (p.blocks, files))
-        .map_err(|(_, d)| diag::render_human(&[d], &sources))
+}
+
+impl Compiled {
+    /// Every file besides the main one that the compile of the machine in `dir` read, in name
+    /// order (see [`Part::files`]).
+    pub fn files(&self, dir: &Path) -> Vec<FileCrc> {
+        let mut files = machine_files(dir);
+        files.extend(
+            self.prog
+                .files
+                .iter()
+                .skip(1)
+                .map(|f| (f.name.clone(), crc32_hex(f.text.as_bytes()))),
+        );
+        files.sort();
+        files
+    }
+
+    /// Plans the program from the axis positions `start` (axis letter, position; letters the
+    /// machine does not have are ignored), with or without block skip.
+    pub fn plan(&self, block_skip: bool, start: &[(char, f64)]) -> Result<Vec<Canon>, String> {
+        let mut at = [0.0; 6];
+        for (i, a) in self.prog.machine.axes().iter().take(6).enumerate() {
+            if let Some((_, x)) = start.iter().find(|(c, _)| c == a) {
+                at[i] = *x;
+            }
+        }
+        let opts = PlanOptions {
+            block_skip,
+            start: at,
+            ..PlanOptions::default()
+        };
+        partprogram::plan(&self.prog, opts)
+            .map(|p| p.blocks)
+            .map_err(|(_, d)| diag::render_human(&[d], &self.sources))
+    }
 }
 
 /// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
@@ -164,14 +183,15 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
         || path.display().to_string(),
         |n| format!("nc/{}", n.to_string_lossy()),
     );
-    let (blocks, files) = plan_with_files(dir, &name, &text, dialect, false, &[])?;
-    let skipped = plan_text(dir, &name, &text, dialect, true)?;
+    let compiled = compile_text(dir, &name, &text, dialect)?;
+    let blocks = compiled.plan(false, &[])?;
+    let skipped = compiled.plan(true, &[])?;
     Ok(Part {
         name: program.display().to_string(),
         hash: crc32_hex(&bytes),
         path,
         blocks,
         skipped,
-        files,
+        files: compiled.files(dir),
     })
 }
