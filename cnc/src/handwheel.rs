@@ -16,8 +16,9 @@
 //!   jerk limit), its target is the position at activation + pulses × step (exact: the pulses are
 //!   counted in whole micrometres), clipped to the active zone and the CUB box ([`crate::zones`]).
 //!
-//! A scale code above 2 or an axis number beyond the process's axes raises a (non-stopping)
-//! alarm naming the channel and the value; the channel then does nothing.
+//! A scale code above 2, an axis number beyond the process's axes or an axis PGCFIL MAS does not
+//! list raises a (non-stopping) alarm naming the channel and the value; the channel then does
+//! nothing.
 
 use motion::PtpAxis;
 
@@ -62,6 +63,12 @@ impl Handwheels {
 }
 
 impl Process {
+    /// PGCFIL MAS: the axes that manual moves may use (None: every axis); a handwheel that
+    /// selects another raises an alarm and does nothing.
+    pub fn set_manual_axes(&mut self, axes: Option<Vec<char>>) {
+        self.manual_axes = axes;
+    }
+
     /// Wires the packet-A pulse counters of handwheel channels 1 and 2.
     pub fn set_handwheel_counters(&mut self, counters: [Option<packets::Signal>; 2]) {
         self.hand.counters = counters;
@@ -106,6 +113,21 @@ impl Process {
                         c + 1,
                         c + 1,
                         self.cfg.axes.len()
+                    ),
+                    false,
+                );
+                continue;
+            }
+            let name = self.cfg.axes[i].name;
+            if self
+                .manual_axes
+                .as_ref()
+                .is_some_and(|mas| !mas.contains(&name))
+            {
+                self.raise(
+                    format!(
+                        "handwheel channel {}: axis {name} is not in PGCFIL MAS (the axes of manual moves)",
+                        c + 1
                     ),
                     false,
                 );

@@ -97,6 +97,7 @@ pub struct Process {
     pub(crate) zone2: bool,
     pub(crate) cub_on: bool,
     pub(crate) queued_end: Vec<f64>,
+    pub(crate) manual_axes: Option<Vec<char>>,
     tick_out: TickOut,
     trajectory: Option<(u64, String)>,
 }
@@ -180,6 +181,7 @@ impl Process {
             zone2: false,
             cub_on: false,
             queued_end: start.to_vec(),
+            manual_axes: None,
             tick_out: TickOut::default(),
             trajectory: None,
         }

@@ -118,3 +118,19 @@ fn pulses_turned_while_a_program_runs_are_dropped() {
     b.run(10, &wheel(1, 100));
     assert_eq!(x(&b), -3.0);
 }
+
+#[test]
+fn an_axis_outside_pgcfil_mas_is_refused_with_an_alarm() {
+    let mut b = manual();
+    b.cnc
+        .process_mut(1)
+        .expect("p1")
+        .set_manual_axes(Some(vec!['Z']));
+    b.run(2, &wheel(1, 0));
+    b.run(10, &wheel(1, 50));
+    assert_eq!(x(&b), 0.0);
+    assert_eq!(
+        b.cnc.processes()[0].alarms()[0].message,
+        "process 1: handwheel channel 1: axis X is not in PGCFIL MAS (the axes of manual moves)"
+    );
+}

@@ -161,6 +161,18 @@ pub fn start_spec(
     let sim_path = machine.dir.join("sim.toml");
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
         .map_err(|e| format!("{}: {e}", sim_path.display()))?;
+    if let Some(pg) = &facts.machine.pgcfil {
+        let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
+        for n in 1..=5u8 {
+            let mas = pg
+                .process(u32::from(n))
+                .map(|p| p.mas.clone())
+                .filter(|m| !m.is_empty());
+            if let Ok(p) = c.process_mut(n) {
+                p.set_manual_axes(mas);
+            }
+        }
+    }
     let mut others = Vec::new();
     for (k, name) in &machine.script.cnc.programs {
         let process: u8 = k
