@@ -77,6 +77,9 @@ impl Process {
     /// Reads the handwheels of this tick (`image`: the inputs the scan reads; `out`: the PLC's
     /// last outputs) and sets the targets of their moves.
     pub(crate) fn handwheels(&mut self, out: &[u8], image: &[u8]) {
+        if self.hand.counters == [None, None] {
+            return;
+        }
         let s = &self.sig;
         let common = self.on
             && self.run == Interp::Idle
@@ -192,7 +195,7 @@ impl Process {
 
     /// One interpolation tick of the handwheel moves: their axes' set points.
     pub(crate) fn tick_handwheels(&mut self) {
-        if self.hand.moves.iter().all(Option::is_none) {
+        if self.hand.moves[0].is_none() && self.hand.moves[1].is_none() {
             return;
         }
         if !self.interp.is_idle() {

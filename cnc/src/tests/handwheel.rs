@@ -70,7 +70,16 @@ fn pulses_times_the_step_is_the_distance_and_the_limit_stops_it() {
 #[test]
 fn feed_hold_stops_a_handwheel_move_and_drops_the_rest() {
     let mut b = manual();
-    b.run(2, &wheel(2, 0));
+    // FOLD = 1: 20 pulses turned are dropped (X stays 0, also after FOLD returns to 0).
+    let held = |w| Plc {
+        fold: 1,
+        ..wheel(2, w)
+    };
+    b.run(2, &held(236));
+    b.run(5, &held(0));
+    b.run(20, &wheel(2, 0));
+    assert_eq!(x(&b), 0.0);
+    // FOLD during a move: the move stops on the way and the rest is dropped.
     b.step(&wheel(2, 20)); // +20 × 100 µm = 2 mm
     b.step(&wheel(2, 20));
     let hold = Plc {
