@@ -1,7 +1,9 @@
 //! Property test of part runs: random lathe programs from the bundled dialect subset (rapid and
 //! feed lines, arcs, dwell, S changes, coolant M08/M09, spindle M03/M05, M30), in MEFI and in
 //! Fanuc, run through the CNC kernel on the bundled lathe to M30 without an alarm, and their
-//! recordings replay identically (kernel signals and axis positions) with both engines.
+//! recordings replay identically (kernel signals and axis positions) with both engines; the same
+//! for random mill programs (T2 M06 through the magazine of process 2, XYZ lines, XY arcs, the
+//! scripted feed hold).
 
 use proptest::prelude::*;
 
@@ -104,10 +106,87 @@ fn program(ops: &[Op], fanuc: bool) -> String {
 }
 
 fn run_and_replay(ops: &[Op], fanuc: bool) {
-    let m = lathe();
+    run_and_replay_on(&lathe(), &program(ops, fanuc), fanuc);
+}
+
+/// One step of a random mill program (mm, within X −800..0, Y −500..0, Z −450..0).
+#[derive(Debug, Clone)]
+enum MillOp {
+    Rapid(i32, i32, i32),
+    Line(i32, i32, i32, u32),
+    /// Quarter arc of radius r in XY around (x, y − r): clockwise to (x + r, y − r), else
+    /// counter-clockwise to (x − r, y − r).
+    Arc(bool, i32),
+    Dwell(u32),
+    Speed(u32),
+    Coolant(bool),
+}
+
+fn mill_op() -> impl Strategy<Value = MillOp> {
+    prop_oneof![
+        (-700i32..=-50, -450i32..=-50, -400i32..=-10).prop_map(|(x, y, z)| MillOp::Rapid(x, y, z)),
+        (-700i32..=-50, -450i32..=-50, -400i32..=-10, 100u32..=900)
+            .prop_map(|(x, y, z, f)| MillOp::Line(x, y, z, f)),
+        (any::<bool>(), 2i32..=40).prop_map(|(cw, r)| MillOp::Arc(cw, r)),
+        (5u32..=50).prop_map(MillOp::Dwell),
+        (500u32..=3000).prop_map(MillOp::Speed),
+        any::<bool>().prop_map(MillOp::Coolant),
+    ]
+}
+
+/// The mill program text (MEFI); arcs that would leave the X −750..−10 / Y −480.. box are left out.
+fn mill_program(ops: &[MillOp]) -> String {
+    let (mut x, mut y, mut z) = (-100, -100, -50);
+    let mut lines = vec![
+        "T2 M06".to_string(),
+        "S2000 M03".to_string(),
+        format!("G00 X{x} Y{y} Z{z}"),
+    ];
+    for o in ops {
+        match *o {
+            MillOp::Rapid(a, b, c) => {
+                (x, y, z) = (a, b, c);
+                lines.push(format!("G00 X{x} Y{y} Z{z}"));
+            }
+            MillOp::Line(a, b, c, f) => {
+                (x, y, z) = (a, b, c);
+                lines.push(format!("G01 X{x} Y{y} Z{z} F{f}"));
+            }
+            MillOp::Arc(cw, r) => {
+                let nx = if cw { x + r } else { x - r };
+                let ny = y - r;
+                if !(-750..=-10).contains(&nx) || ny < -480 {
+                    continue;
+                }
+                let g = if cw { "G02" } else { "G03" };
+                lines.push(format!("{g} X{nx} Y{ny} I0 J-{r} F500"));
+                (x, y) = (nx, ny);
+            }
+            MillOp::Dwell(cs) => lines.push(format!("G04 Q{cs}")),
+            MillOp::Speed(s) => lines.push(format!("S{s}")),
+            MillOp::Coolant(on) => lines.push(if on { "M08" } else { "M09" }.to_string()),
+        }
+    }
+    lines.extend(["M09", "M05", "M30"].map(String::from));
+    let body: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .map(|(i, l)| format!("N{} {l}", (i + 1) * 10))
+        .collect();
+    format!("%42\n{}\n", body.join("\n"))
+}
+
+/// MEFI only: `--dialect fanuc` would apply to process 2's MEFI MAGAZINE program too.
+fn mill_run_and_replay(ops: &[MillOp]) {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/mill"), dir.path());
+    run_and_replay_on(&dir, &mill_program(ops), false);
+}
+
+/// Runs `text` as program RANDOM of the machine copy `m` to its end and replays the recording.
+fn run_and_replay_on(m: &tempfile::TempDir, text: &str, fanuc: bool) {
     let prog = m.path().join("nc/RANDOM");
-    let text = program(ops, fanuc);
-    std::fs::write(&prog, &text).expect("write program");
+    std::fs::write(&prog, text).expect("write program");
     let rec = m.path().join("random.jsonl");
     let machine = m.path().to_str().expect("utf-8");
     let mut args = vec![
@@ -160,5 +239,10 @@ proptest! {
     #[test]
     fn random_fanuc_programs_complete_and_replay(ops in prop::collection::vec(op(), 1..6)) {
         run_and_replay(&ops, true);
+    }
+
+    #[test]
+    fn random_mill_programs_complete_and_replay(ops in prop::collection::vec(mill_op(), 1..6)) {
+        mill_run_and_replay(&ops);
     }
 }

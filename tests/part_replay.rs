@@ -212,3 +212,78 @@ fn a_changed_position_or_kernel_signal_in_the_trace_is_reported_exactly() {
         )
     );
 }
+
+/// The header lists every file the run's compile read with its CRC-32; a replay after one of them
+/// changed (a macro file, the correction table) or vanished (nc/CONSTANTS) names it and fails.
+#[test]
+fn a_changed_macro_correction_table_or_constants_file_is_named_by_the_replay() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("lathe");
+    std::fs::create_dir(&m).expect("mkdir");
+    copy_dir(&root().join("plc-programs/lathe"), &m);
+    let rec = dir.path().join("mdi.jsonl");
+    let out = ncplc(&[
+        "run",
+        s(&m),
+        "--virtual-time",
+        "--no-watch",
+        "--mdi",
+        "N1 G00 X-10 Z-20",
+        "--ticks",
+        "30",
+        "--record",
+        s(&rec),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let header = std::fs::read_to_string(&rec).expect("trace");
+    let crc = |f: &str| {
+        format!(
+            "{:08x}",
+            crc32fast::hash(&std::fs::read(m.join(f)).expect(f))
+        )
+    };
+    assert!(
+        header.starts_with(&format!(
+            "{{\"format\":\"ncplc-trace\",\"version\":1,\"tick_ms\":10,\"part\":{{\"kernel\":\"cnc 0.1.0\",\"process\":1,\"mdi\":[\"N1 G00 X-10 Z-20\"],\"files\":[{{\"file\":\"MP0/TAB0.KOR\",\"crc32\":\"{}\"}},{{\"file\":\"macros/PEVNECY5.NCP\",\"crc32\":\"{}\"}},{{\"file\":\"nc/CONSTANTS\",\"crc32\":\"{}\"}}]}}}}\n",
+            crc("MP0/TAB0.KOR"),
+            crc("macros/PEVNECY5.NCP"),
+            crc("nc/CONSTANTS")
+        )),
+        "{header}"
+    );
+    for (file, edit) in [
+        ("macros/PEVNECY5.NCP", true),
+        ("MP0/TAB0.KOR", true),
+        ("nc/CONSTANTS", false),
+    ] {
+        let copy = dir.path().join("edited");
+        std::fs::create_dir(&copy).expect("mkdir");
+        copy_dir(&m, &copy);
+        let then = crc(file);
+        let path = copy.join(file);
+        let expected = if edit {
+            let mut text = std::fs::read(&path).expect("read");
+            text.push(b'\n');
+            std::fs::write(&path, &text).expect("write");
+            format!(
+                "error: {}: changed since the trace was recorded (crc32 {then} in the trace, {:08x} now)\n",
+                path.display(),
+                crc32fast::hash(&text)
+            )
+        } else {
+            std::fs::remove_file(&path).expect("remove");
+            format!(
+                "error: {}: read when the trace was recorded, not now\n",
+                path.display()
+            )
+        };
+        let out = ncplc(&["replay", s(&copy), s(&rec)]);
+        assert_eq!(out.status.code(), Some(1), "{file}");
+        assert_eq!(String::from_utf8_lossy(&out.stderr), expected);
+        std::fs::remove_dir_all(&copy).expect("clean");
+    }
+}

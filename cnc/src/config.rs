@@ -24,8 +24,14 @@ pub struct AxisConfig {
     pub needs_homing: bool,
     /// MFC limit-switch inputs (+, −).
     pub limit_inputs: (Option<Signal>, Option<Signal>),
-    /// Soft limits of LO1 (−, +) in mm.
+    /// Soft limits of LO1 (or LOP) (−, +) in mm: the zone while ZONE2 = 0.
     pub soft: (Option<f64>, Option<f64>),
+    /// Soft limits of LO2 (−, +) in mm: the zone while ZONE2 = 1 (none without an LO2 record).
+    pub soft2: (Option<f64>, Option<f64>),
+    /// CUB: this axis's side of the protected box (−, +, space), mm (checked while CUB = 1).
+    pub cub: Option<(f64, f64, f64)>,
+    /// Acceleration of point-to-point moves (handwheel), mm/s²: MAN acc, else RAP fast_accel.
+    pub accel: f64,
     /// Jog speed (MAN max_man_speed, mm/min; 1000 when not given).
     pub jog_speed: f64,
     /// The MCZ homing cycle, when the axis has one.
@@ -85,6 +91,23 @@ pub struct ProcessConfig {
     pub int_tick_s: f64,
     /// PGCFIL QFD: the alternative feed (mm/min) QCKFD selects (None: QCKFD is ignored).
     pub qfd: Option<f64>,
+    /// IOCFIL ADV: handwheel channels 1 and 2 declared (external control from the PLC).
+    pub handwheels: [bool; 2],
+}
+
+/// LOx number `n` as (−, +); both 0 (or absent) means no check (003:2480-2492).
+fn zone(a: &Axis, n: u32) -> (Option<f64>, Option<f64>) {
+    let z = a.lo.iter().find(|z| z.number == n).map(|z| (z.neg, z.pos));
+    let z = if n == 1 {
+        z.or(a.lop.map(|l| (l.b, l.a)))
+    } else {
+        z
+    };
+    match z {
+        Some((Some(lo), Some(hi))) if lo == 0.0 && hi == 0.0 => (None, None),
+        Some(z) => z,
+        None => (None, None),
+    }
 }
 
 fn axis_config(a: &Axis) -> AxisConfig {
@@ -97,11 +120,18 @@ fn axis_config(a: &Axis) -> AxisConfig {
         srv_moving: srv[2].or(srv[1]).unwrap_or(0.0),
         needs_homing: a.mcz.is_some(),
         limit_inputs: a.mfc.unwrap_or((None, None)),
-        soft: a
-            .lo
-            .iter()
-            .find(|z| z.number == 1)
-            .map_or((None, None), |z| (z.neg, z.pos)),
+        soft: zone(a, 1),
+        soft2: zone(a, 2),
+        cub: a
+            .cub
+            .as_ref()
+            .and_then(|z| Some((z.neg?, z.pos?, z.space.unwrap_or(0.0)))),
+        accel: a
+            .man
+            .and_then(|m| m.b)
+            .or(a.rap.and_then(|r| r.b))
+            .filter(|v| *v > 0.0)
+            .unwrap_or(1000.0),
         jog_speed: a
             .man
             .and_then(|m| m.a)
@@ -196,6 +226,9 @@ impl ProcessConfig {
                     parallel: io.is_some_and(|io| io.sequencing() == Sequencing::Parallel),
                     int_tick_s: f64::from(int_ticks) / 1000.0,
                     qfd: None,
+                    handwheels: io
+                        .and_then(|io| io.adv)
+                        .map_or([false; 2], |adv| adv.map(|h| h.is_some())),
                 }
             })
             .collect()

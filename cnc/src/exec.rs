@@ -153,6 +153,11 @@ impl Process {
                 None => {
                     let b = self.program[self.next].clone();
                     if is_motion(&b) {
+                        if let Err(e) = self.zone_check(&b) {
+                            let block = self.block_label();
+                            self.raise(format!("{block} refused: {e}"), true);
+                            return false;
+                        }
                         let alt = crate::alt_feed::apply(&b, self.cfg.qfd, self.qckfd);
                         if let Err(e) = self
                             .interp
@@ -162,6 +167,7 @@ impl Process {
                             self.raise(format!("motion of {block}: {e}"), true);
                             return false;
                         }
+                        self.queued_end = end_point(&self.cfg.axis_names(), &b, &self.queued_end);
                         self.in_motion.push_back(self.next);
                         self.den = false;
                         self.phase = Phase::Motion;
@@ -253,13 +259,15 @@ impl Process {
                 return;
             }
             let alt = crate::alt_feed::apply(&next, self.cfg.qfd, self.qckfd);
-            if self
-                .interp
-                .push(last as u64 + 2, alt.as_ref().unwrap_or(&next))
-                .is_err()
+            if self.zone_check(&next).is_err()
+                || self
+                    .interp
+                    .push(last as u64 + 2, alt.as_ref().unwrap_or(&next))
+                    .is_err()
             {
                 return;
             }
+            self.queued_end = end_point(&self.cfg.axis_names(), &next, &self.queued_end);
             self.in_motion.push_back(last + 1);
             self.next = last + 1;
         }
@@ -328,4 +336,27 @@ impl Process {
 /// The S code of a block (rounded rev/min).
 fn s_code(b: &Canon) -> Option<u32> {
     b.s.map(|s| s.round().clamp(0.0, u32::MAX as f64) as u32)
+}
+
+/// Where block `b` leaves the axes (`before` for the axes it does not name).
+fn end_point(axes: &[char], b: &Canon, before: &[f64]) -> Vec<f64> {
+    axes.iter()
+        .enumerate()
+        .map(|(i, a)| {
+            b.end_of(*a)
+                .unwrap_or_else(|| before.get(i).copied().unwrap_or(0.0))
+        })
+        .collect()
+}
+
+impl Process {
+    /// The active limits' check of motion block `b` from where the queued motion ends.
+    fn zone_check(&self, b: &Canon) -> Result<(), crate::zones::ZoneError> {
+        let start = if self.interp.is_idle() {
+            self.interp.position()
+        } else {
+            &self.queued_end
+        };
+        self.check_zones(start, b)
+    }
 }

@@ -10,14 +10,15 @@
 //!
 //! Read in this order: [`state`] (the rule table), [`signals`], [`config`], [`process`],
 //! [`exec`], [`spindle`] (G96 and gear ranges), [`alt_feed`] (QCKFD), [`correction`] (the
-//! tool-correction request), [`plant`], [`status`], [`interp`] (the interpolator as the kernel
-//! sees it).
+//! tool-correction request), [`zones`] (the active soft limits), [`manual`], [`handwheel`],
+//! [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
 
 pub mod alt_feed;
 pub mod config;
 pub mod correction;
 pub mod exec;
 pub mod handshake;
+pub mod handwheel;
 pub mod homing;
 pub mod interp;
 pub mod manual;
@@ -29,6 +30,7 @@ pub mod spindle;
 pub mod state;
 pub mod status;
 pub mod written;
+pub mod zones;
 
 use packets::Signal;
 use partprogram::Canon;

@@ -1,5 +1,6 @@
 //! MANU and MANJ: jogging from the PLC's jog signals (JOGP1..8 / JOGM1..8, plc-interface-map
-//! project signals) through the interpolator, within the LO1 soft limits.
+//! project signals) through the interpolator, within the active soft limits
+//! (LO1 or LO2 by ZONE2, and the CUB box: [`crate::zones`]).
 //!
 //! MANU: while a jog bit is 1 the axis moves at its MAN speed towards its soft limit (1000 mm away
 //! when it has none); when the bit drops the move is aborted (the fastest in-limit stop). MANJ:
@@ -62,22 +63,23 @@ impl Process {
         }
         let a = &self.cfg.axes[axis];
         let here = self.interp.position().get(axis).copied().unwrap_or(0.0);
-        let (lo, hi) = a.soft;
-        let far = if dir > 0.0 {
-            hi.unwrap_or(here + 1000.0)
-        } else {
-            lo.unwrap_or(here - 1000.0)
-        };
         let target = match self.mode {
             Mode::Manj => {
                 let Some(step) = increment(signals::read(out, self.sig.jog_increment, 0)) else {
                     return;
                 };
-                let t = here + dir * step;
-                if dir > 0.0 { t.min(far) } else { t.max(far) }
+                here + dir * step
             }
-            _ => far,
+            _ => {
+                let (lo, hi) = self.active_limits(axis);
+                if dir > 0.0 {
+                    hi.unwrap_or(here + 1000.0)
+                } else {
+                    lo.unwrap_or(here - 1000.0)
+                }
+            }
         };
+        let target = self.clip_single_axis(axis, here, target);
         if (target - here).abs() < 1e-9 {
             return;
         }

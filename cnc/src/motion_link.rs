@@ -10,7 +10,6 @@ use crate::interp::{Interpolator, TickOut};
 pub struct MotionKernel {
     kernel: motion::Kernel,
     axes: Vec<char>,
-    limits: Vec<(Option<f64>, Option<f64>)>,
 }
 
 impl MotionKernel {
@@ -31,13 +30,14 @@ impl MotionKernel {
                 cfg.axis_names()
             ));
         }
-        let limits = mc.axes.iter().map(|a| (a.soft_min, a.soft_max)).collect();
+        // The process checks the active zone (LO1 or LO2 by ZONE2) and the CUB box itself
+        // (`crate::zones`): the motion kernel's own LO1 check would refuse what LO2 allows.
+        let mut mc = mc;
+        for a in &mut mc.axes {
+            (a.soft_min, a.soft_max) = (None, None);
+        }
         let kernel = motion::Kernel::new(mc, start).map_err(|e| format!("motion: {e}"))?;
-        Ok(MotionKernel {
-            kernel,
-            axes,
-            limits,
-        })
+        Ok(MotionKernel { kernel, axes })
     }
 }
 
@@ -79,11 +79,10 @@ impl Interpolator for MotionKernel {
     fn is_idle(&self) -> bool {
         self.kernel.is_idle()
     }
-    fn set_soft_limits(&mut self, on: bool) -> Result<(), String> {
-        let mut cfg = self.kernel.config().clone();
-        for (a, (lo, hi)) in cfg.axes.iter_mut().zip(&self.limits) {
-            (a.soft_min, a.soft_max) = if on { (*lo, *hi) } else { (None, None) };
-        }
+    fn set_soft_limits(&mut self, _on: bool) -> Result<(), String> {
+        // The limits are the process's (`crate::zones`); the kernel restarts at rest where it
+        // stands, as homing expects.
+        let cfg = self.kernel.config().clone();
         let pos = self.kernel.position().to_vec();
         self.kernel = motion::Kernel::new(cfg, &pos).map_err(|e| format!("motion: {e}"))?;
         Ok(())

@@ -110,6 +110,11 @@ pub struct Process {
     pub(crate) counters: Counters,
     pub(crate) rabi_timeout_ticks: u64,
     pub(crate) ticks_per_logic: usize,
+    pub(crate) hand: crate::handwheel::Handwheels,
+    pub(crate) zone2: bool,
+    pub(crate) cub_on: bool,
+    pub(crate) queued_end: Vec<f64>,
+    pub(crate) manual_axes: Option<Vec<char>>,
     tick_out: TickOut,
     trajectory: Option<(u64, String)>,
 }
@@ -200,6 +205,11 @@ impl Process {
             counters: Counters::default(),
             rabi_timeout_ticks: timing.rabi_timeout_ticks,
             ticks_per_logic,
+            hand: Default::default(),
+            zone2: false,
+            cub_on: false,
+            queued_end: start.to_vec(),
+            manual_axes: None,
             tick_out: TickOut::default(),
             trajectory: None,
         }
@@ -276,7 +286,7 @@ impl Process {
             on: self.on,
             mode: self.mode,
             interp: self.run,
-            moving: !self.interp.is_idle(),
+            moving: !self.interp.is_idle() || self.hand.moving(),
             homed: self.homed,
             program: !self.program.is_empty(),
         }
@@ -333,6 +343,7 @@ impl Process {
         self.home_stage = None;
         self.css = None;
         self.gear.pending = false;
+        self.stop_handwheels();
         self.op_hold = false;
         self.rabi_wait = 0;
     }
@@ -367,6 +378,7 @@ impl Process {
         self.advance();
         self.step_channels(tick, out, true);
         self.manual(out);
+        self.handwheels(out, image);
         self.run_interpolation(out);
         self.homing();
         self.advance();
@@ -390,6 +402,8 @@ impl Process {
         self.uso = signals::read(out, s.uso, 0) == 1;
         self.qckfd = signals::read(out, s.qckfd, 0) == 1;
         self.block_skip = signals::read(out, s.block_skip, 0) == 1;
+        self.zone2 = signals::read(out, s.zone2, 0) == 1;
+        self.cub_on = signals::read(out, s.cub, 0) == 1;
         let fov = signals::read(out, s.overrides[0], 100);
         let rov = signals::read(out, s.overrides[2], 100);
         // Only a changed override reaches the interpolator (a change replans its look-ahead).
@@ -526,6 +540,7 @@ impl Process {
             }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);
+            self.tick_handwheels();
             self.held |= self.tick_out.held && hold_request;
             for tag in std::mem::take(&mut self.tick_out.finished) {
                 self.motion_finished(tag);
@@ -589,7 +604,7 @@ impl Process {
 
     fn write_plc(&self, image: &mut [u8]) {
         let s = &self.sig;
-        let standby = self.interp.is_idle();
+        let standby = self.interp.is_idle() && !self.hand.moving();
         signals::write(image, s.conp, u8::from(self.on));
         signals::write(image, s.den, u8::from(self.den));
         signals::write(image, s.alarm, u8::from(!self.alarms.is_empty()));

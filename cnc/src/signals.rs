@@ -72,6 +72,18 @@ pub struct ProcessSignals {
     pub jog_increment: Option<Signal>,
     /// PLC→CNC: acceleration law bits ACC1 and ACC2 (`ACC1 ACC2` = 00 linear, 01 S, 10 exp).
     pub acc: [Option<Signal>; 2],
+    /// PLC→CNC: handwheel permission (COMU).
+    pub comu: Option<Signal>,
+    /// PLC→CNC: the soft-limit zone (ZONE2, U10N1: 0 LO1, 1 LO2).
+    pub zone2: Option<Signal>,
+    /// PLC→CNC: the CUB protected-box check on (CUB, U10N0).
+    pub cub: Option<Signal>,
+    /// PLC→CNC: the axis of handwheel channels 1 and 2 (HW_AXIS1/2, W15N0/W15N1; 1-based).
+    pub hw_axis: [Option<Signal>; 2],
+    /// PLC→CNC: the handwheel scale byte (HW_SCALE, W15N2; a nibble per channel).
+    pub hw_scale: Option<Signal>,
+    /// PLC→CNC: handwheel channels 1 and 2 active (HW_ON1/2, U15N24/U15N25).
+    pub hw_on: [Option<Signal>; 2],
 }
 
 /// Signals that belong to the machine, not to a process.
@@ -136,6 +148,12 @@ impl ProcessSignals {
             jog: [numbered("JOGP"), numbered("JOGM")],
             jog_increment: lookup("JINC"),
             acc: [lookup("ACC1"), lookup("ACC2")],
+            comu: lookup("COMU"),
+            zone2: lookup("ZONE2"),
+            cub: lookup("CUB"),
+            hw_axis: [lookup("HW_AXIS1"), lookup("HW_AXIS2")],
+            hw_scale: lookup("HW_SCALE"),
+            hw_on: [lookup("HW_ON1"), lookup("HW_ON2")],
         }
     }
 

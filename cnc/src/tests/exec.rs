@@ -5,6 +5,11 @@ use partprogram::canon::Kind::{Aux, Linear};
 use super::fixture::{Bench, Plc, block, cnc, sig};
 use crate::state::Interp;
 
+/// These moves run past the fixture's LO1 (+3 mm): the tests are about stopping them.
+fn no_soft_limits(b: &mut Bench) {
+    b.cnc.process_mut(1).expect("p1").cfg.axes[0].soft = (None, None);
+}
+
 /// The part: N10 S1200 T5 M03 (no motion); N20 G01 X3; N30 M30.
 fn part() -> Vec<partprogram::Canon> {
     vec![
@@ -162,6 +167,7 @@ fn unanswered_strobe_raises_one_stopping_alarm_naming_function_and_block() {
 #[test]
 fn estop_during_motion_stops_and_alarms_and_ers_resets() {
     let mut b = Bench::new(cnc(false, 0, 0));
+    no_soft_limits(&mut b);
     b.start_program(vec![block(10, Linear, 10.0, &[30], None, None)]);
     b.run(1, &Plc::default());
     b.step(&Plc {
@@ -201,6 +207,7 @@ fn estop_during_motion_stops_and_alarms_and_ers_resets() {
 #[test]
 fn rabi_dropped_holds_the_move_then_alarms_after_the_timeout() {
     let mut b = Bench::new(cnc(false, 0, 4));
+    no_soft_limits(&mut b);
     b.start_program(vec![block(10, Linear, 10.0, &[30], None, None)]);
     b.run(1, &Plc::default());
     b.step(&Plc {
@@ -228,6 +235,7 @@ fn rabi_dropped_holds_the_move_then_alarms_after_the_timeout() {
 #[test]
 fn reset_during_motion_returns_to_the_program_start() {
     let mut b = Bench::new(cnc(false, 0, 0));
+    no_soft_limits(&mut b);
     b.start_program(vec![
         block(10, Linear, 5.0, &[], None, None),
         block(20, Aux, 5.0, &[30], None, None),
@@ -265,6 +273,7 @@ fn two_processes_run_their_programs_side_by_side() {
                 parallel: false,
                 int_tick_s: 0.01,
                 qfd: None,
+                handwheels: [false; 2],
             },
             ProcessSignals::default(),
             Box::new(crate::interp::NoMotion),
@@ -293,6 +302,7 @@ fn two_processes_run_their_programs_side_by_side() {
             parallel: false,
             int_tick_s: 0.01,
             qfd: None,
+            handwheels: [false; 2],
         },
         ProcessSignals::from_roles(|r| roles.iter().find(|(n, _)| *n == r).map(|(_, a)| sig(a))),
         Box::new(crate::interp::NoMotion),

@@ -96,6 +96,14 @@ fn roles() -> BTreeMap<&'static str, &'static str> {
         ("FG96", "I9K26"),
         ("GEARREQ", "W8K0"),
         ("GEARACK", "W47K2"),
+        ("COMU", "U11K6"),
+        ("CUB", "U10N0"),
+        ("ZONE2", "U10N1"),
+        ("HW_AXIS1", "W15N0"),
+        ("HW_AXIS2", "W15N1"),
+        ("HW_SCALE", "W15N2"),
+        ("HW_ON1", "U15N24"),
+        ("HW_ON2", "U15N25"),
     ])
 }
 
@@ -141,6 +149,9 @@ pub fn cnc_with(
             needs_homing: false,
             limit_inputs: (None, None),
             soft: (Some(-5.0), Some(3.0)),
+            soft2: (Some(-8.0), Some(6.0)),
+            cub: None,
+            accel: 1000.0,
             jog_speed: 1000.0,
             home: None,
         }],
@@ -149,6 +160,7 @@ pub fn cnc_with(
         parallel,
         int_tick_s: 0.01,
         qfd: None,
+        handwheels: [true, true],
     };
     let r = roles();
     let signals = ProcessSignals::from_roles(|role| r.get(role).map(|a| sig(a)));
@@ -162,7 +174,8 @@ pub fn cnc_with(
         strobe_timeout_ticks: timeout,
         rabi_timeout_ticks: rabi_timeout,
     };
-    let p = Process::new(cfg, signals, Box::new(stepper), &[0.0], timing);
+    let mut p = Process::new(cfg, signals, Box::new(stepper), &[0.0], timing);
+    p.set_handwheel_counters([Some(sig("W2A0")), None]);
     Cnc::new(
         vec![p],
         MachineSignals {
@@ -222,6 +235,16 @@ pub struct Plc {
     pub jinc: u8,
     /// BSKIP.
     pub bskip: u8,
+    /// COMU.
+    pub comu: u8,
+    /// ZONE2 and CUB.
+    pub zone2: u8,
+    /// CUB.
+    pub cub: u8,
+    /// Handwheel channel 1: HW_ON1, HW_AXIS1, HW_SCALE.
+    pub hw: (u8, u8, u8),
+    /// The handwheel counter of channel 1 (packet-A byte W2A0), as the machine latches it.
+    pub wheel: u8,
 }
 
 impl Default for Plc {
@@ -237,6 +260,11 @@ impl Default for Plc {
             jog: (0, 0),
             jinc: 0,
             bskip: 0,
+            comu: 0,
+            zone2: 0,
+            cub: 0,
+            hw: (0, 0, 0),
+            wheel: 0,
         }
     }
 }
@@ -264,6 +292,7 @@ impl Bench {
 
     /// One tick with the PLC `plc`; returns the watched CNC→PLC bits.
     pub fn step(&mut self, plc: &Plc) -> Row {
+        sig("W2A0").write(&mut self.image, plc.wheel);
         self.cnc.step(self.tick, &self.out, &mut self.image);
         self.tick += 1;
         // the scan: FINs follow the strobes, levels as scripted
@@ -283,6 +312,12 @@ impl Bench {
         w(&mut self.out, "U13K8", plc.jog.1);
         w(&mut self.out, "W16K1", plc.jinc);
         w(&mut self.out, "U12K1", plc.bskip);
+        w(&mut self.out, "U11K6", plc.comu);
+        w(&mut self.out, "U10N0", plc.cub);
+        w(&mut self.out, "U10N1", plc.zone2);
+        w(&mut self.out, "U15N24", plc.hw.0);
+        w(&mut self.out, "W15N0", plc.hw.1);
+        w(&mut self.out, "W15N2", plc.hw.2);
         row
     }
 

@@ -4,6 +4,8 @@
 mod correction;
 mod exec;
 pub(crate) mod fixture;
+mod handwheel;
 mod homing;
 mod manual;
 mod spindle;
+mod zones;

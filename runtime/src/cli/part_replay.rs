@@ -44,6 +44,7 @@ impl KernelReplay {
                 ));
             }
         }
+        check_files(machine, header, &run.files())?;
         if header.kernel != kernel_version() {
             eprintln!(
                 "note: the trace was recorded by {}, this is {}; positions may differ",
@@ -61,6 +62,48 @@ impl KernelReplay {
     fn lock(&self) -> std::sync::MutexGuard<'_, Cnc> {
         self.cnc.lock().unwrap_or_else(PoisonError::into_inner)
     }
+}
+
+/// The files the trace's run read against what the run reads now: a changed, new or vanished
+/// file is an error naming it. A trace without `files` (recorded before they were listed) checks
+/// the programs only.
+fn check_files(
+    machine: &Machine,
+    header: &PartHeader,
+    now: &[(String, String)],
+) -> Result<(), String> {
+    if header.files.is_empty() {
+        return Ok(());
+    }
+    let path = |f: &str| machine.dir.join(f).display().to_string();
+    for then in &header.files {
+        match now.iter().find(|(f, _)| *f == then.file) {
+            Some((_, crc)) if *crc == then.crc32 => {}
+            Some((_, crc)) => {
+                return Err(format!(
+                    "error: {}: changed since the trace was recorded (crc32 {} in the trace, {crc} now)",
+                    path(&then.file),
+                    then.crc32
+                ));
+            }
+            None => {
+                return Err(format!(
+                    "error: {}: read when the trace was recorded, not now",
+                    path(&then.file)
+                ));
+            }
+        }
+    }
+    if let Some((f, _)) = now
+        .iter()
+        .find(|(f, _)| !header.files.iter().any(|h| h.file == *f))
+    {
+        return Err(format!(
+            "error: {}: read now but not when the trace was recorded",
+            path(f)
+        ));
+    }
+    Ok(())
 }
 
 /// Every axis of `cnc` with its drive's actual position bits.

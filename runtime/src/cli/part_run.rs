@@ -17,8 +17,8 @@ use crate::io::IoKind;
 use crate::machine::Machine;
 use crate::machine_facts::Facts;
 use crate::sim::kernel::{KernelIo, KernelSetup};
-use crate::sim::part::{Part, load_part, plan_text_from};
-use crate::trace::{OtherProgram, PartHeader};
+use crate::sim::part::{Part, files_read, load_part, plan_text_from};
+use crate::trace::{FileCrc, OtherProgram, PartHeader};
 
 /// The program of another process (`sim.toml [cnc] programs`).
 struct Other {
@@ -44,7 +44,20 @@ pub struct PartRun {
     program_selected: bool,
     homing_started: bool,
     others: Vec<Other>,
+    mdi_files: Vec<(String, String)>,
     trajectory: Option<std::io::BufWriter<std::fs::File>>,
+}
+
+/// MDI text as a program of the machine's dialect (`--dialect`, else `nc/DIALECT`).
+fn mdi_program(dir: &std::path::Path, dialect: Option<&str>, text: &str) -> String {
+    let fanuc = dialect.is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
+        || std::fs::read_to_string(dir.join("nc").join("DIALECT"))
+            .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
+    if fanuc {
+        format!("O9999\n{text}\n")
+    } else {
+        format!("%999999\n{text}\n")
+    }
 }
 
 /// The interpolator of a process: the `motion` crate's kernel (none for a process without
@@ -152,12 +165,14 @@ pub fn start_spec(
     let sim_path = machine.dir.join("sim.toml");
     let (io, cnc) = KernelIo::new(&setup, machine.script.clone())
         .map_err(|e| format!("{}: {e}", sim_path.display()))?;
-    if let (Some(pg), Ok(mut c)) = (facts.machine.pgcfil.as_ref(), cnc.lock()) {
-        for p in &pg.processes {
-            if let Ok(n) = u8::try_from(p.number)
-                && let Ok(proc_) = c.process_mut(n)
-            {
-                proc_.set_alternative_feed(p.qfd);
+    if let Some(pg) = &facts.machine.pgcfil {
+        let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
+        for n in 1..=5u8 {
+            let cfg = pg.process(u32::from(n));
+            let mas = cfg.map(|p| p.mas.clone()).filter(|m| !m.is_empty());
+            if let Ok(p) = c.process_mut(n) {
+                p.set_manual_axes(mas);
+                p.set_alternative_feed(cfg.and_then(|p| p.qfd));
             }
         }
     }
@@ -190,7 +205,15 @@ pub fn start_spec(
         Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref())?),
         None => None,
     };
+    // The files the MDI blocks' compile reads (macros, correction table, constants).
+    let mdi_files = if args.mdi.is_empty() {
+        Vec::new()
+    } else {
+        let text = mdi_program(&machine.dir, args.dialect.as_deref(), &args.mdi.join("\n"));
+        files_read(&machine.dir, "MDI", &text, args.dialect.as_deref())?
+    };
     let run = PartRun {
+        mdi_files,
         cnc,
         process: args.process,
         part,
@@ -222,17 +245,7 @@ pub fn start_spec(
         let dir = run.machine.clone();
         let dialect = run.dialect.clone();
         c.set_mdi_compiler_at(Box::new(move |_, text, at| {
-            // MDI blocks become a one-block program of the machine's dialect.
-            let fanuc = dialect
-                .as_deref()
-                .is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
-                || std::fs::read_to_string(dir.join("nc").join("DIALECT"))
-                    .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
-            let program = if fanuc {
-                format!("O9999\n{text}\n")
-            } else {
-                format!("%999999\n{text}\n")
-            };
+            let program = mdi_program(&dir, dialect.as_deref(), text);
             plan_text_from(&dir, "MDI", &program, dialect.as_deref(), false, at)
         }));
         if let Some(part) = &run.part {
@@ -275,7 +288,26 @@ impl PartRun {
                     crc32: o.part.hash.clone(),
                 })
                 .collect(),
+            files: self
+                .files()
+                .into_iter()
+                .map(|(file, crc32)| FileCrc { file, crc32 })
+                .collect(),
         }
+    }
+
+    /// Every other file the programs' compile read, with its CRC-32, in name order.
+    pub fn files(&self) -> Vec<(String, String)> {
+        let mut v: Vec<(String, String)> = self
+            .part
+            .iter()
+            .chain(self.others.iter().map(|o| &o.part))
+            .flat_map(|p| p.files.iter().cloned())
+            .chain(self.mdi_files.iter().cloned())
+            .collect();
+        v.sort();
+        v.dedup();
+        v
     }
 
     /// The programs and their paths as (name in the header, file, CRC-32), for a replay's check.

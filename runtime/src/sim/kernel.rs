@@ -23,6 +23,7 @@ use cnc::{Cnc, MachineSignals, Process, ProcessConfig, ProcessSignals, Timing};
 use compiler::InterfaceMap;
 use packets::{IoAlarm, Packet, PacketIo, Signal};
 
+use super::handwheel::HandwheelSim;
 use super::{CncSignals, Script, Sim, SimError};
 
 /// Builds an interpolator for a process: (process, axes in order, start position).
@@ -48,6 +49,7 @@ pub struct KernelSetup<'a> {
 /// The kernel and the scripted rest of the machine.
 pub struct KernelIo {
     sim: Sim,
+    hand: HandwheelSim,
     cnc: Arc<Mutex<Cnc>>,
     last_out: Vec<u8>,
     alarms: Vec<IoAlarm>,
@@ -145,6 +147,9 @@ fn check_script(setup: &KernelSetup, script: &Script) -> Result<(), SimError> {
     for f in &script.follow {
         declared(setup, parse(&f.input)?, &f.input)?;
     }
+    for h in &script.handwheel {
+        declared(setup, parse(&h.counter)?, &h.counter)?;
+    }
     Ok(())
 }
 
@@ -178,8 +183,21 @@ impl KernelIo {
             script.follow = part.follow;
             script.period = None;
         }
+        let adv = |p: u8, c: u8| {
+            setup
+                .iocfil
+                .and_then(|f| f.process(u32::from(p)))
+                .and_then(|io| io.adv)
+                .is_some_and(|adv| (1..=2).contains(&c) && adv[usize::from(c) - 1].is_some())
+        };
+        let hand = HandwheelSim::new(&script.handwheel, &mut script.at, adv)?;
         check_script(setup, &script)?;
-        let cnc = build_cnc(setup, &script)?;
+        let mut cnc = build_cnc(setup, &script)?;
+        for n in 1..=5u8 {
+            if let Ok(p) = cnc.process_mut(n) {
+                p.set_handwheel_counters(hand.counters(n));
+            }
+        }
         let signals = CncSignals {
             reset: setup
                 .interface
@@ -192,6 +210,7 @@ impl KernelIo {
         Ok((
             KernelIo {
                 sim,
+                hand,
                 cnc: Arc::clone(&cnc),
                 last_out: vec![0; packets::PACKETS_LEN],
                 alarms: Vec::new(),
@@ -208,6 +227,7 @@ impl PacketIo for KernelIo {
 
     fn latch_inputs(&mut self, tick: u64, packets: &mut [u8]) {
         self.sim.latch_inputs(tick, packets);
+        self.hand.latch(tick, packets);
         let mut cnc = self.cnc.lock().unwrap_or_else(PoisonError::into_inner);
         cnc.step(tick, &self.last_out, packets);
         for n in 1..=5u8 {

@@ -27,6 +27,7 @@
 //! reset clears every process's strobes. Processes are stepped in order, process 1 first, and
 //! everything happens at tick numbers, so `run --virtual-time --record` gives reproducible traces.
 
+pub mod handwheel;
 pub mod kernel;
 pub mod part;
 mod process;
@@ -124,6 +125,12 @@ impl Sim {
                 }
             }
             check_functions(&at, &signals)?;
+            if !at.turn.is_empty() {
+                return Err(SimError::Invalid(format!(
+                    "tick {}: `turn` turns a handwheel of the CNC kernel: it belongs to [[part.at]] of a part run",
+                    at.tick
+                )));
+            }
             schedule.entry(at.tick).or_default().push(at);
         }
         let follow = script

@@ -1,6 +1,8 @@
 //! The partprogram of a part run: found (a name in `<machine>/nc/`, or a path), compiled with the
 //! machine's view (`cli::nc::machine_spec`, its correction table) and planned into canonical
-//! blocks, with a content hash for the trace header and the summary.
+//! blocks, with a content hash for the trace header and the summary, and the CRC-32 of every
+//! other file the compile read ([`Part::files`]: macro and cycle files, the correction table,
+//! `nc/CONSTANTS`, `nc/DIALECT`), so that a replay names the file that changed.
 
 use std::path::{Path, PathBuf};
 
@@ -21,6 +23,51 @@ pub struct Part {
     pub blocks: Vec<Canon>,
     /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
     pub skipped: Vec<Canon>,
+    /// Every other file the compile read: (path relative to the machine directory, CRC-32), in
+    /// name order.
+    pub files: Vec<FileCrc>,
+}
+
+/// A file the compile read: (path relative to the machine directory, CRC-32).
+pub type FileCrc = (String, String);
+
+/// CRC-32 of `bytes`, 8 hex digits.
+pub fn crc32_hex(bytes: &[u8]) -> String {
+    format!("{:08x}", crc32fast::hash(bytes))
+}
+
+/// The machine files every compile reads when they exist: (name, CRC-32).
+fn machine_files(dir: &Path) -> Vec<FileCrc> {
+    let kor = crate::cli::nc::kor_file(dir, None).map(|(p, _)| p);
+    [
+        Some(dir.join("nc").join("CONSTANTS")),
+        Some(dir.join("nc").join("DIALECT")),
+        // The zero-offset table (`cli::nc::load_corrections` reads it beside the KOR).
+        Some(dir.join("MP0").join("TAB0.POS")),
+        kor,
+    ]
+    .into_iter()
+    .flatten()
+    .filter_map(|p| {
+        let bytes = std::fs::read(&p).ok()?;
+        let name = p
+            .strip_prefix(dir)
+            .unwrap_or(&p)
+            .to_string_lossy()
+            .into_owned();
+        Some((name, crc32_hex(&bytes)))
+    })
+    .collect()
+}
+
+/// The files besides `name` that compiling and planning `text` reads (see [`Part::files`]).
+pub fn files_read(
+    dir: &Path,
+    name: &str,
+    text: &str,
+    dialect: Option<&str>,
+) -> Result<Vec<FileCrc>, String> {
+    Ok(compile_text(dir, name, text, dialect, None)?.files(dir))
 }
 
 /// `program` as a path when it exists, else `<machine>/nc/<program>`.
@@ -116,6 +163,21 @@ pub fn compile_text(
 }
 
 impl Compiled {
+    /// Every file besides the main one that the compile of the machine in `dir` read, in name
+    /// order (see [`Part::files`]).
+    pub fn files(&self, dir: &Path) -> Vec<FileCrc> {
+        let mut files = machine_files(dir);
+        files.extend(
+            self.prog
+                .files
+                .iter()
+                .skip(1)
+                .map(|f| (f.name.clone(), crc32_hex(f.text.as_bytes()))),
+        );
+        files.sort();
+        files
+    }
+
     /// Plans the program from the axis positions `start` (axis letter, position; letters the
     /// machine does not have are ignored), with or without block skip.
     pub fn plan(&self, block_skip: bool, start: &[(char, f64)]) -> Result<Vec<Canon>, String> {
@@ -156,9 +218,10 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
     let skipped = compiled.plan(true, &[])?;
     Ok(Part {
         name: program.display().to_string(),
-        hash: format!("{:08x}", crc32fast::hash(&bytes)),
+        hash: crc32_hex(&bytes),
         path,
         blocks,
         skipped,
+        files: compiled.files(dir),
     })
 }

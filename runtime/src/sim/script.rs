@@ -36,6 +36,22 @@ pub struct Script {
     /// instead of the top-level `at`/`follow` (whose strobes are the scripted CNC's).
     #[serde(default)]
     pub part: Option<PartScript>,
+    /// `[[handwheel]]`: the packet-A pulse counters of the handwheels (IOCFIL ADV channels).
+    #[serde(default)]
+    pub handwheel: Vec<HandwheelWiring>,
+}
+
+/// `[[handwheel]]`: where a handwheel channel's pulse counter is wired (kernel runs).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HandwheelWiring {
+    /// The process (1..5, default 1).
+    #[serde(default = "process_one")]
+    pub process: u8,
+    /// The ADV channel, 1 or 2.
+    pub channel: u8,
+    /// The packet-A input byte that counts the pulses modulo 256 (`W1A3`).
+    pub counter: String,
 }
 
 /// `[[axis]]`: one axis of the simulated machine (positions on the machine's own scale, mm).
@@ -133,6 +149,9 @@ pub struct At {
     pub s: Option<u32>,
     /// T function to issue.
     pub t: Option<u32>,
+    /// Handwheels to turn (part runs): ADV channel → pulses (signed, 100 per revolution).
+    #[serde(default)]
+    pub turn: BTreeMap<String, i64>,
 }
 
 impl Default for At {
@@ -144,6 +163,7 @@ impl Default for At {
             m: Vec::new(),
             s: None,
             t: None,
+            turn: BTreeMap::new(),
         }
     }
 }

@@ -112,6 +112,19 @@ pub struct PartHeader {
     /// The programs of other processes (`sim.toml [cnc] programs`): process, name, CRC-32.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub others: Vec<OtherProgram>,
+    /// Every other file the programs' compile read (macros and cycles, the correction table,
+    /// `nc/CONSTANTS`, `nc/DIALECT`), relative to the machine directory, in name order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub files: Vec<FileCrc>,
+}
+
+/// A file a part run read and its CRC-32.
+#[derive(Debug, Clone, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub struct FileCrc {
+    /// Path relative to the machine directory (`macros/L9001`, `MP0/TAB0.KOR`).
+    pub file: String,
+    /// CRC-32 of its content, 8 hex digits.
+    pub crc32: String,
 }
 
 /// A program of another process named in a [`PartHeader`].

@@ -1,0 +1,177 @@
+//! End to end: a handwheel of the lathe (IOCFIL `ADV=0,0`) turned by the simulated machine
+//! (`sim.toml [[handwheel]]`, `[[part.at]] turn`) moves Z by pulses × step through the PLC's
+//! COMU, HW_ON1, HW_AXIS1 and HW_SCALE, and the recording replays identically; a block beyond the
+//! active soft limits (LO1, or LO2 when the PLC sets ZONE2) is refused with an alarm.
+
+use std::path::Path;
+
+mod e2e_common;
+use e2e_common::{copy_dir, ncplc, root};
+
+/// The lathe with channel 1 on Z (axis 2) at 10 µm per pulse while the panel switch I1A1 is on.
+fn lathe_with_handwheel(turns: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let edit = |file: &str, f: &dyn Fn(String) -> String| {
+        let p = dir.path().join(file);
+        let text = std::fs::read_to_string(&p).expect("read");
+        std::fs::write(&p, f(text)).expect("write");
+    };
+    edit("MP0/IOCFIL", &|t| t.replace("ASM=S\n", "ASM=S\nADV=0,0\n"));
+    edit("MP0/PLCPRG", &|t| {
+        // Before the `$` that ends the fast logic.
+        let end = t.rfind('$').expect("the closing $");
+        format!(
+            "{}; handwheel channel 1: Z at 10 um per pulse while the panel switch I1A1 is on\n\
+             COMU = I1A1\nHW_ON1 = I1A1\nHW_AXIS1 = 2\nHW_SCALE = 1\n{}",
+            &t[..end],
+            &t[end..]
+        )
+    });
+    edit("sim.toml", &|t| {
+        t + "\n[[handwheel]]\nchannel = 1\ncounter = \"W1A3\"\n\n\
+             [[part.at]]\ntick = 300\nset = { I1A1 = 1 }\n"
+            + turns
+    });
+    dir
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().expect("utf-8 path")
+}
+
+/// The last set points of the trajectory file.
+fn last_set_points(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).expect("trajectory");
+    let last = text.lines().last().expect("a line");
+    let v: serde_json::Value = serde_json::from_str(last).expect("json");
+    v["p"].to_string()
+}
+
+#[test]
+fn pulses_times_the_step_move_z_and_the_run_replays() {
+    // −250 pulses (2.5 revolutions, delivered at 100 per tick) × 10 µm = −2.5 mm (the run stops
+    // before the bundled script presses CYCLE START again at tick 500).
+    let m = lathe_with_handwheel("[[part.at]]\ntick = 310\nturn = { 1 = -250 }\n");
+    let traj = m.path().join("hw.traj");
+    let rec = m.path().join("hw.jsonl");
+    let out = ncplc(&[
+        "run",
+        s(m.path()),
+        "--virtual-time",
+        "--no-watch",
+        "--mdi",
+        "N1 G00 X-10 Z-20",
+        "--ticks",
+        "450",
+        "--trajectory",
+        s(&traj),
+        "--record",
+        s(&rec),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(last_set_points(&traj), "[-10,-22.5]");
+    let out = ncplc(&["replay", s(m.path()), s(&rec)]);
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{text}");
+    assert!(
+        text.contains("kernel signals and axis positions identical"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_turn_of_an_unwired_channel_is_an_error() {
+    let m = lathe_with_handwheel("[[part.at]]\ntick = 310\nturn = { 2 = 5 }\n");
+    let out = ncplc(&[
+        "run",
+        s(m.path()),
+        "--virtual-time",
+        "--no-watch",
+        "--mdi",
+        "N1 G00 X-10 Z-20",
+        "--ticks",
+        "10",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.ends_with("sim script: tick 310: turn `2`: process 1 has no [[handwheel]] channel 2\n"),
+        "{err}"
+    );
+}
+
+fn mdi(machine: &Path, block: &str) -> std::process::Output {
+    ncplc(&[
+        "run",
+        s(machine),
+        "--virtual-time",
+        "--no-watch",
+        "--mdi",
+        block,
+        "--ticks",
+        "300",
+        "--until-end",
+    ])
+}
+
+#[test]
+fn a_block_beyond_lo1_is_refused_and_zone2_selects_lo2() {
+    let lathe = root().join("plc-programs/lathe");
+    // Z's LO1 is 5 … −600 mm.
+    let out = mdi(&lathe, "N1 G00 X-10 Z10");
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains(
+            "alarm: process 1: block 1 (N1) refused: axis Z would reach 10.0000 mm, beyond the LO1 limit 5.0000 mm\n"
+        ),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    // LO2 = 20 … −600 for Z, selected by the panel switch I1A1 through ZONE2.
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&lathe, dir.path());
+    let edit = |file: &str, f: &dyn Fn(String) -> String| {
+        let p = dir.path().join(file);
+        let text = std::fs::read_to_string(&p).expect("read");
+        std::fs::write(&p, f(text)).expect("write");
+    };
+    // AXCFIL is not UTF-8 (its comments are in the Russian code page): edit its bytes.
+    let axcfil = dir.path().join("MP0/AXCFIL");
+    let bytes = std::fs::read(&axcfil).expect("AXCFIL");
+    let z = b"LO1=5,-600,2\r\n";
+    let at = bytes
+        .windows(z.len())
+        .position(|w| w == z)
+        .expect("Z's LO1")
+        + z.len();
+    let edited = [&bytes[..at], b"LO2=20,-600,2\r\n", &bytes[at..]].concat();
+    std::fs::write(&axcfil, edited).expect("write");
+    edit("MP0/PLCPRG", &|t| {
+        let end = t.rfind('$').expect("the closing $");
+        format!("{}ZONE2 = I1A1\n{}", &t[..end], &t[end..])
+    });
+    edit("sim.toml", &|t| {
+        t + "\n[[part.at]]\ntick = 1\nset = { I1A1 = 1 }\n"
+    });
+    let out = mdi(dir.path(), "N1 G00 X-10 Z10");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(!stdout.contains("alarm"), "{stdout}");
+    let out = mdi(dir.path(), "N1 G00 X-10 Z25");
+    assert!(
+        String::from_utf8_lossy(&out.stdout).contains(
+            "alarm: process 1: block 1 (N1) refused: axis Z would reach 25.0000 mm, beyond the LO2 limit 20.0000 mm\n"
+        ),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+}
