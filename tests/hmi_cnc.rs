@@ -33,6 +33,24 @@ fn axis(s: &Value, name: &str) -> (f64, f64) {
     )
 }
 
+/// The modal codes in effect at block `n` of the lathe's PART1 (N30 onwards, up to N140), by hand
+/// from its text: N10 S1200 M03, N20 M08, then G00/G01 and F300 until N120 sets F150 (F stays in
+/// effect across rapids); the lathe interpolates in the ZX plane (G18).
+fn part1_modal(n: u64) -> Vec<&'static str> {
+    let (g, f) = match n {
+        30 => ("G00", None),
+        40 | 50 | 80 | 90 => ("G01", Some("F300")),
+        60 | 70 | 100 | 110 => ("G00", Some("F300")),
+        120 | 130 => ("G01", Some("F150")),
+        140 => ("G00", Some("F150")),
+        _ => panic!("PART1 has no motion block N{n}"),
+    };
+    let mut v = vec![g, "G18"];
+    v.extend(f);
+    v.extend(["S1200", "M03", "M08"]);
+    v
+}
+
 #[test]
 fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason() {
     let lathe = operator_lathe();
@@ -70,6 +88,7 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     );
     assert_eq!(axis(&s, "X").0, 0.0);
     assert_eq!(p["active_codes"], json!(["S1200", "M03"]));
+    assert_eq!(p["modal_codes"], json!(["S1200", "M03"]));
     // MDI in AUTO: the kernel's reason.
     let (code, v) = post(
         &hmi,
@@ -110,6 +129,11 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     let held = wait_status(&hmi, "the path held", 10, |s| {
         p1(s)["state"] == "held" && p1(s)["path_speed"] == 0.0
     });
+    assert_eq!(
+        p1(&held)["modal_codes"],
+        json!(part1_modal(p1(&held)["block"].as_u64().unwrap_or(0))),
+        "{held}"
+    );
     std::thread::sleep(std::time::Duration::from_millis(300));
     let later = status(&hmi);
     assert!(later["tick"].as_u64() >= Some(held["tick"].as_u64().unwrap_or(0) + 10));
@@ -128,6 +152,8 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     let s = wait_status(&hmi, "the reset", 10, |s| {
         p1(s)["state"] == "idle" && p1(s)["block_index"] == 1 && p1(s)["path_speed"] == 0.0
     });
+    // Back at the first block: the modal codes are folded again from the start.
+    assert_eq!(p1(&s)["modal_codes"], json!(["S1200", "M03"]));
     let (x, z) = (axis(&s, "X").0, axis(&s, "Z").0);
     assert!(
         x < 0.0 && z < 0.0,

@@ -134,6 +134,9 @@ pub struct ProcessStatus {
     pub path_speed: Option<f64>,
     /// The current block's codes: motion (G00/G01/G02/G03/G04), F, S, T and its M functions.
     pub active_codes: Vec<String>,
+    /// The modal codes in effect at the current block: motion mode, plane, F, S, T, spindle
+    /// and coolant M functions (from the kernel's program; empty without a kernel).
+    pub modal_codes: Vec<String>,
     /// This process's alarms until acknowledged.
     pub alarms: Vec<AlarmEntry>,
     /// The [`Toolpath::id`] of this process's tool path (none: no interpolated axes).
@@ -304,25 +307,4 @@ fn signal_values<S: Serializer>(list: &[(Signal, u8)], s: S) -> Result<S::Ok, S:
         seq.serialize_element(&serde_json::json!({"signal": sig.to_string(), "value": v}))?;
     }
     seq.end()
-}
-
-/// The CNC kernel as the HMI sees it: the runtime implements it over whatever drives the
-/// processes (today the image and the simulated handshakes; the kernel once it is wired in).
-pub trait Cnc: Send {
-    /// The per-process state after the scan that left `image`.
-    fn status(&self, image: &[u8]) -> MachineStatus;
-    /// Carries out an operator command for `process` at a tick boundary, or says why not
-    /// ([`Command::Ack`] is the HMI's own and never comes here).
-    fn command(&mut self, process: u8, command: &Command) -> Result<(), String>;
-    /// Called after every tick with the image the scan left (samples the tool path).
-    fn after_tick(&mut self, _image: &[u8]) {}
-    /// The tool path of every process that has one.
-    fn toolpaths(&self) -> Vec<Toolpath> {
-        Vec::new()
-    }
-    /// True for a machine-wide alarm text that a process's own alarm list already shows (the
-    /// kernel's alarms also reach the runtime as I/O alarms of device `cnc`).
-    fn owns_alarm(&self, _text: &str) -> bool {
-        false
-    }
 }

@@ -282,7 +282,7 @@ function buildMachine(ps) {
       el("div", { class: "facts" },
         "mode ", span("mode"), " · program ", span("program"), " · block ", span("block"),
         " ", el("code", { class: "source" }), el("br"),
-        "path speed ", span("speed"), " mm/min · spindle ", span("spindle"), " rev/min · codes ", span("codes")),
+        "path speed ", span("speed"), " mm/min · spindle ", span("spindle"), " rev/min · codes ", span("codes"), " · modal ", span("modal")),
       el("table", { class: "dro" }),
       el("div", { class: "cmds" },
         el("button", { class: "start", onclick: () => command(p.process, { command: "start" }) }, "START"),
@@ -324,6 +324,7 @@ function renderMachine() {
     setText(box, ".speed", p.path_speed === null || p.path_speed === undefined ? "—" : p.path_speed.toFixed(1));
     setText(box, ".spindle", p.spindle_speed === null || p.spindle_speed === undefined ? "—" : p.spindle_speed.toFixed(0));
     setText(box, ".codes", p.active_codes.join(" "));
+    setText(box, ".modal", p.modal_codes.join(" "));
     const dro = box.querySelector(".dro");
     const rows = p.axes.map(a => "<tr data-axis=\"" + a.name + "\"><td>" + a.name + "</td><td class=\"cmd\">" + a.command.toFixed(3) + "</td><td class=\"act\">" +
       a.actual.toFixed(3) + "</td><td class=\"ferr\">" + a.following_error.toFixed(4) + "</td></tr>").join("");

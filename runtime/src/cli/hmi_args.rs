@@ -70,7 +70,7 @@ impl HmiArgs {
                 .collect()
         };
         let image = ImageCnc::new(&machine.interface, &processes, counts);
-        let cnc: Box<dyn hmi::Cnc> = match kernel {
+        let cnc: Box<dyn crate::hmi_link::Cnc> = match kernel {
             Some((k, sources)) => Box::new(KernelCnc::new(k, image, &sources)),
             None => Box::new(image),
         };
