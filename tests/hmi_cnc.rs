@@ -266,3 +266,86 @@ fn acknowledge_clears_gone_alarms_and_a_persisting_one_comes_back() {
     });
     hmi.stop();
 }
+
+/// `ncplc replay MACHINE TRACE`: (success, stderr).
+fn replay(machine: &std::path::Path, trace: &std::path::Path) -> (bool, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
+        .output()
+        .expect("replay");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
+    let lathe = operator_lathe();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let trace = dir.path().join("session.jsonl");
+    let hmi = Hmi::start(
+        lathe.path(),
+        &[
+            "--program",
+            "PART1",
+            "--record",
+            trace.to_str().expect("utf8"),
+        ],
+    );
+    wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
+        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
+    });
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"start"}"#);
+    assert_eq!(code, 200, "{v}");
+    let started = v["tick"].as_u64().expect("tick");
+    wait_status(&hmi, "the axes moving", 30, |s| {
+        p1(s)["path_speed"].as_f64() > Some(0.0)
+    });
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"hold"}"#);
+    assert_eq!(code, 200, "{v}");
+    let held = v["tick"].as_u64().expect("tick");
+    wait_status(&hmi, "the path held", 10, |s| {
+        p1(s)["state"] == "held" && p1(s)["path_speed"] == 0.0
+    });
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"start"}"#);
+    assert_eq!(code, 200, "{v}");
+    let resumed = v["tick"].as_u64().expect("tick");
+    let s = wait_status(&hmi, "the path resumed", 10, |s| {
+        p1(s)["state"] == "running" && p1(s)["path_speed"].as_f64() > Some(0.0)
+    });
+    hmi.wait_tick(s["tick"].as_u64().unwrap_or(0) + 20);
+    hmi.stop();
+    // Each command is in the record of the tick whose latch first saw it: the tick its reply
+    // named.
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let cmds: Vec<(u64, Value)> = text
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r.get("cmd").is_some())
+        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
+        .collect();
+    let start = json!([{"process": 1, "command": "start"}]);
+    let hold = json!([{"process": 1, "command": "hold"}]);
+    assert_eq!(
+        cmds,
+        vec![(started, start.clone()), (held, hold), (resumed, start)]
+    );
+    let (ok, err) = replay(lathe.path(), &trace);
+    assert!(ok, "the recorded session replays:\n{err}");
+    assert!(
+        err.contains("kernel signals and axis positions identical"),
+        "{err}"
+    );
+    // Without the recorded HOLD the replay runs through it: the positions diverge.
+    let without: String = text
+        .lines()
+        .map(|l| l.replace(r#","cmd":[{"process":1,"command":"hold"}]"#, ""))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_ne!(without.len(), text.trim_end().len(), "the HOLD was removed");
+    let edited = dir.path().join("without-hold.jsonl");
+    std::fs::write(&edited, without + "\n").expect("write");
+    let (ok, err) = replay(lathe.path(), &edited);
+    assert!(!ok, "a replay without the HOLD diverges:\n{err}");
+}

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use packets::Signal;
-use serde::{Serialize, Serializer};
+use serde::{Deserialize, Serialize, Serializer};
 
 /// One published state of the running controller (the latest value of the live channel).
 #[derive(Debug, Clone, Default, Serialize)]
@@ -223,8 +223,9 @@ impl Catalog {
     }
 }
 
-/// An operator command for a CNC process (the same channel the CLI uses).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+/// An operator command for a CNC process (the same channel the CLI uses; traces record it in the
+/// same JSON form).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "command", rename_all = "lowercase")]
 pub enum Command {
     /// CYCLE START.

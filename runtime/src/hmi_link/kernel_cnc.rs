@@ -170,6 +170,24 @@ impl KernelCnc {
     }
 }
 
+/// Gives operator command `command` for `process` to the kernel (the HMI's and a replay's way in),
+/// or says why the kernel refused it.
+pub fn apply_command(c: &mut cnc::Cnc, process: u8, command: &Command) -> Result<(), String> {
+    let r = match command {
+        Command::Start => c.start(process),
+        Command::Hold => c.hold(process),
+        Command::Reset => {
+            c.process_mut(process).map_err(|e| e.to_string())?;
+            c.reset();
+            Ok(())
+        }
+        Command::Mode { mode } => c.mode(process, parse_mode(mode)?),
+        Command::Mdi { line } => c.mdi(process, line),
+        Command::Ack => Ok(()),
+    };
+    r.map_err(|e| e.to_string())
+}
+
 fn lock(cnc: &Mutex<cnc::Cnc>) -> MutexGuard<'_, cnc::Cnc> {
     cnc.lock().unwrap_or_else(PoisonError::into_inner)
 }
@@ -183,27 +201,12 @@ impl Cnc for KernelCnc {
 
 impl CncScan for KernelScan {
     fn command(&mut self, process: u8, command: &Command) -> Result<(), String> {
-        let mut c = lock(&self.cnc);
-        let r = match command {
-            Command::Start => c.start(process),
-            Command::Hold => c.hold(process),
-            Command::Reset => {
-                c.process_mut(process).map_err(|e| e.to_string())?;
-                c.reset();
-                Ok(())
-            }
-            Command::Mode { mode } => c.mode(process, parse_mode(mode)?),
-            Command::Mdi { line } => {
-                let r = c.mdi(process, line);
-                if r.is_ok() {
-                    self.mdi.0 += 1;
-                    self.mdi.1.clone_from(line);
-                }
-                r
-            }
-            Command::Ack => Ok(()),
-        };
-        r.map_err(|e| e.to_string())
+        apply_command(&mut lock(&self.cnc), process, command)?;
+        if let Command::Mdi { line } = command {
+            self.mdi.0 += 1;
+            self.mdi.1.clone_from(line);
+        }
+        Ok(())
     }
 
     fn capture(&mut self, out: &mut Frame) {

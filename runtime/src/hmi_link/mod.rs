@@ -164,7 +164,14 @@ impl HmiLink {
                     Ok(applied_at)
                 }
                 Request::Command { process, command } => {
-                    self.cnc.command(*process, command).map(|()| applied_at)
+                    let r = self.cnc.command(*process, command);
+                    if r.is_ok() {
+                        sched.record_command(crate::trace::OperatorCommand {
+                            process: *process,
+                            command: command.clone(),
+                        });
+                    }
+                    r.map(|()| applied_at)
                 }
             };
             let _ = env.reply.send(reply);
