@@ -32,6 +32,10 @@ pub struct Snapshot {
     pub machine: MachineStatus,
     /// True after the overrun limit tripped the safe state.
     pub tripped: bool,
+    /// Power flow from the scan: `[line, value]` per statement of the PLC program (the assigned
+    /// value, or the condition of IF/SET/RES/one-shot/timer/counter inputs), in source order of
+    /// the statements; empty when the program was not compiled for it.
+    pub flow: Vec<(u32, f64)>,
     /// The tool path of each process with interpolated axes (served by `GET /api/toolpath/<P>`,
     /// not sent on `/ws`).
     #[serde(skip)]

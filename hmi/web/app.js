@@ -163,19 +163,29 @@ function buildProgram() {
     const vals = el("span", { class: "sv" });
     const line = el("span", { class: "line" }, el("span", { class: "ln" }, String(l.line)), l.text, vals);
     pre.append(line, "\n");
-    if (l.writes.length || l.reads.length) sourceRows.push({ l, line, vals });
+    sourceRows.push({ l, line, vals });
   }
 }
 function renderProgram() {
   if (!state.snap) return;
   document.getElementById("online").textContent = state.snap.online;
+  // Power flow from the scan: [line, value] per statement; a line's last one is its rung.
+  const flow = new Map();
+  for (const [line, v] of (state.snap.flow || [])) {
+    if (!flow.has(line)) flow.set(line, []);
+    flow.get(line).push(v);
+  }
   for (const r of sourceRows) {
     const parts = [];
+    const fv = flow.get(r.l.line);
+    if (fv) parts.push("⇒ " + fv.join(" "));
     for (const s of r.l.writes) parts.push(s + "=" + readAddr(s));
     if (r.l.reads.length) parts.push("← " + r.l.reads.map(s => s + "=" + readAddr(s)).join(" "));
     const text = parts.join("  ");
     if (r.vals.textContent !== text) r.vals.textContent = text;
-    if (r.l.writes.length) {
+    if (fv) {
+      r.line.className = "line " + (fv[fv.length - 1] !== 0 ? "on" : "off");
+    } else if (r.l.writes.length) {
       const on = r.l.writes.some(s => readAddr(s) > 0);
       r.line.className = "line " + (on ? "on" : "off");
     }

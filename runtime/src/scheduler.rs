@@ -190,6 +190,11 @@ impl Scheduler {
         self.tripped
     }
 
+    /// Where the running program writes its power flow, when it was compiled for it.
+    pub fn flow(&self) -> Option<&std::sync::Arc<compiler::ir::flow::FlowMap>> {
+        self.loaded.meta.flow()
+    }
+
     /// The running engine's name.
     pub fn engine_name(&self) -> &str {
         self.loaded.logic.name()

@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 
+use compiler::ir::flow::FlowMap;
 use hmi::AlarmEntry;
 use packets::Signal;
 use partprogram::canon::Canon;
@@ -36,6 +37,9 @@ pub struct Frame {
     pub tripped: bool,
     /// Acknowledge commands so far, per process (index 0: `ack` for every process).
     pub acks: [u64; MAX_PROCESSES],
+    /// The power-flow area of the image and where each statement's slot is in it (none: the
+    /// program was not compiled for power flow).
+    pub flow: (Vec<u8>, Option<Arc<FlowMap>>),
     /// The CNC kernel's processes (empty without a kernel).
     pub kernel: Vec<RawProcess>,
     /// The last MDI line the kernel accepted and how many it accepted so far.

@@ -220,6 +220,19 @@ impl HmiLink {
         f.online.clone_from(&self.online);
         f.tripped = sched.tripped();
         f.acks = self.acks;
+        let (area, map) = &mut f.flow;
+        area.clear();
+        match sched.flow() {
+            Some(m) => {
+                if !map.as_ref().is_some_and(|old| Arc::ptr_eq(old, m)) {
+                    *map = Some(Arc::clone(m));
+                }
+                let image = sched.image().bytes();
+                let (a, b) = (m.area.0.min(image.len()), m.area.1.min(image.len()));
+                area.extend_from_slice(&image[a..b]);
+            }
+            None => *map = None,
+        }
         self.cnc.capture(f);
         self.frames.publish();
     }

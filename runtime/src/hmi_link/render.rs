@@ -8,6 +8,8 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
+use compiler::ir::Ty;
+use compiler::ir::flow::FlowMap;
 use fieldbus::exchange::TripleReader;
 use hmi::{ScanStats, SharedSnapshot, Snapshot};
 use tokio::sync::watch;
@@ -80,9 +82,36 @@ impl Renderer {
             online: f.online.clone(),
             machine,
             tripped: f.tripped,
+            flow: flow_values(&f.flow.0, f.flow.1.as_deref()),
             toolpaths: self.view.toolpaths(),
         }
     }
+}
+
+/// Each statement's `(line, value)` from the copied flow area `area` laid out by `map`.
+pub fn flow_values(area: &[u8], map: Option<&FlowMap>) -> Vec<(u32, f64)> {
+    let Some(map) = map else {
+        return Vec::new();
+    };
+    map.slots
+        .iter()
+        .filter_map(|s| {
+            let at = s.offset.checked_sub(map.area.0)?;
+            let b = area.get(at..at + s.ty.size())?;
+            let mut raw = [0u8; 8];
+            raw[..b.len()].copy_from_slice(b);
+            let v = match s.ty {
+                Ty::Bool | Ty::Byte => f64::from(b[0]),
+                Ty::Word => f64::from(u16::from_le_bytes([raw[0], raw[1]])),
+                Ty::Int => f64::from(i16::from_le_bytes([raw[0], raw[1]])),
+                Ty::Dword => f64::from(u32::from_le_bytes([raw[0], raw[1], raw[2], raw[3]])),
+                Ty::Dint => f64::from(i32::from_le_bytes([raw[0], raw[1], raw[2], raw[3]])),
+                Ty::Real => f64::from(f32::from_le_bytes([raw[0], raw[1], raw[2], raw[3]])),
+                Ty::Lreal => f64::from_le_bytes(raw),
+            };
+            Some((s.line, v))
+        })
+        .collect()
 }
 
 /// The running render thread; dropping it stops the thread.
