@@ -17,7 +17,10 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
     let dir = tempfile::tempdir().expect("tempdir");
     let trace = dir.path().join("session.jsonl");
     let machine = root().join("plc-programs/lathe");
-    let hmi = Hmi::start(&machine, &["--record", trace.to_str().expect("utf8")]);
+    let hmi = Hmi::start(
+        &machine,
+        &["--record", trace.to_str().expect("utf8"), "--hmi-flow"],
+    );
     hmi.wait_tick(20);
     // The sim closes the e-stop chain at tick 0.
     let (code, body) = hmi.http("GET", "/api/signal/I0A0", None);

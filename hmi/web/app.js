@@ -175,6 +175,8 @@ function renderProgram() {
     if (!flow.has(line)) flow.set(line, []);
     flow.get(line).push(v);
   }
+  const note = document.getElementById("flow-note");
+  if (note) note.hidden = (state.snap.flow || []).length > 0;
   for (const r of sourceRows) {
     const parts = [];
     const fv = flow.get(r.l.line);
