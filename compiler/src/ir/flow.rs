@@ -113,7 +113,7 @@ impl Pass<'_> {
         let via = |pass: &mut Self, e: Expr, out: &mut Vec<Stmt>| {
             let place = pass.slot(Ty::Bool);
             out.push(Stmt::Assign {
-                place: place.clone(),
+                place,
                 value: e,
             });
             Expr::Load(place)
@@ -123,7 +123,7 @@ impl Pass<'_> {
                 let ty = self.place_ty(&place);
                 let slot = self.slot(ty);
                 out.push(Stmt::Assign {
-                    place: place.clone(),
+                    place,
                     value,
                 });
                 out.push(Stmt::Assign {
