@@ -87,7 +87,7 @@ pub struct PathPiece {
 /// Scan timing figures.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct ScanStats {
-    /// Median scan time in µs.
+    /// Median scan time in µs (of the scans sampled at each published frame).
     pub scan_p50_us: f64,
     /// Longest scan time in µs.
     pub scan_max_us: f64,

@@ -112,20 +112,14 @@ impl Pass<'_> {
     fn stmt(&mut self, s: Stmt, out: &mut Vec<Stmt>) {
         let via = |pass: &mut Self, e: Expr, out: &mut Vec<Stmt>| {
             let place = pass.slot(Ty::Bool);
-            out.push(Stmt::Assign {
-                place,
-                value: e,
-            });
+            out.push(Stmt::Assign { place, value: e });
             Expr::Load(place)
         };
         match s {
             Stmt::Assign { place, value } => {
                 let ty = self.place_ty(&place);
                 let slot = self.slot(ty);
-                out.push(Stmt::Assign {
-                    place,
-                    value,
-                });
+                out.push(Stmt::Assign { place, value });
                 out.push(Stmt::Assign {
                     place: slot,
                     value: Expr::Load(place),

@@ -23,7 +23,7 @@ pub struct Frame {
     pub tick: u64,
     /// The running engine's name.
     pub engine: String,
-    /// Median and longest scan time in ns, overruns.
+    /// The last tick's and the longest scan time in ns, overruns.
     pub scan: (u64, u64, u64),
     /// Packets A, K, N and T.
     pub image: Vec<u8>,

@@ -31,9 +31,6 @@ use crate::scheduler::{Event, Scheduler};
 /// How often a snapshot is published (40 Hz).
 pub const PUBLISH_EVERY: Duration = Duration::from_millis(25);
 
-/// Publishes between two recomputations of the median scan time (a histogram walk): once a second.
-const P50_EVERY: u64 = 40;
-
 /// The CNC behind the Machine page, before it is split between the two threads.
 pub trait Cnc: Send {
     /// The scan thread's half and the render thread's half.
@@ -76,7 +73,6 @@ pub struct HmiLink {
     alarms: AlarmList,
     acks: [u64; MAX_PROCESSES],
     online: String,
-    p50_ns: u64,
     _render: RenderThread,
 }
 
@@ -105,7 +101,6 @@ impl HmiLink {
             alarms: AlarmList::default(),
             acks: [0; MAX_PROCESSES],
             online: "running".into(),
-            p50_ns: 0,
             _render: render,
         })
     }
@@ -199,9 +194,6 @@ impl HmiLink {
     /// the render thread.
     pub fn publish(&mut self, sched: &Scheduler) {
         self.seq += 1;
-        if self.seq % P50_EVERY == 1 {
-            self.p50_ns = sched.stats.scan.value_at_quantile(0.5);
-        }
         let f = self.frames.buf();
         f.seq = self.seq;
         f.tick = sched.tick_count();
@@ -210,7 +202,11 @@ impl HmiLink {
             f.engine.clear();
             f.engine.push_str(engine);
         }
-        f.scan = (self.p50_ns, sched.stats.scan.max(), sched.stats.overruns);
+        f.scan = (
+            sched.stats.last_scan_ns,
+            sched.stats.scan.max(),
+            sched.stats.overruns,
+        );
         f.image.clear();
         f.image
             .extend_from_slice(&sched.image().bytes()[..packets::PACKETS_LEN]);

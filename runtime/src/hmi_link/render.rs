@@ -27,6 +27,8 @@ pub struct Renderer {
     tick_ms: u32,
     process_alarms: Vec<(u8, AlarmList)>,
     acks: [u64; MAX_PROCESSES],
+    /// The scan times sampled at each frame (the median the page shows).
+    scans: hdrhistogram::Histogram<u64>,
 }
 
 impl Renderer {
@@ -37,12 +39,18 @@ impl Renderer {
             tick_ms,
             process_alarms: Vec::new(),
             acks: [0; MAX_PROCESSES],
+            scans: hdrhistogram::Histogram::new_with_bounds(1, 100_000_000_000, 3).unwrap_or_else(
+                |_| hdrhistogram::Histogram::new(3).unwrap_or_else(|_| unreachable!()),
+            ),
         }
     }
 
     /// The snapshot of frame `f`.
     pub fn render(&mut self, f: &Frame) -> Snapshot {
         let mut machine = self.view.status(f);
+        if f.scan.0 > 0 {
+            self.scans.saturating_record(f.scan.0);
+        }
         for (p, list) in &mut self.process_alarms {
             let i = usize::from(*p).min(MAX_PROCESSES - 1);
             if f.acks[0] != self.acks[0] || f.acks[i] != self.acks[i] {
@@ -72,7 +80,7 @@ impl Renderer {
             engine: f.engine.clone(),
             tick_ms: self.tick_ms,
             scan: ScanStats {
-                scan_p50_us: f.scan.0 as f64 / 1e3,
+                scan_p50_us: self.scans.value_at_quantile(0.5) as f64 / 1e3,
                 scan_max_us: f.scan.1 as f64 / 1e3,
                 overruns: f.scan.2,
             },
