@@ -17,7 +17,10 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
     let dir = tempfile::tempdir().expect("tempdir");
     let trace = dir.path().join("session.jsonl");
     let machine = root().join("plc-programs/lathe");
-    let hmi = Hmi::start(&machine, &["--record", trace.to_str().expect("utf8")]);
+    let hmi = Hmi::start(
+        &machine,
+        &["--record", trace.to_str().expect("utf8"), "--hmi-flow"],
+    );
     hmi.wait_tick(20);
     // The sim closes the e-stop chain at tick 0.
     let (code, body) = hmi.http("GET", "/api/signal/I0A0", None);
@@ -50,6 +53,34 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
         v["forced"],
         serde_json::json!([{"signal": "U5A2", "value": 1}])
     );
+    // Power flow from the scan (PLCPRG): the e-stop chain is closed (lines 62–64 compute 1), and
+    // the LUBE_LAMP rung (line 123) shows what the logic computed — 0, lube level fine — while
+    // the force holds the output at 1.
+    let v = json(&hmi.http("GET", "/api/flow", None).1);
+    let flow: Vec<(u64, f64)> = v["flow"]
+        .as_array()
+        .expect("flow")
+        .iter()
+        .map(|p| {
+            (
+                p[0].as_u64().unwrap_or(0),
+                p[1].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    let at = |line: u64| -> Vec<f64> {
+        flow.iter()
+            .filter(|(l, _)| *l == line)
+            .map(|(_, v)| *v)
+            .collect()
+    };
+    assert_eq!(
+        (at(62), at(63), at(64), at(123)),
+        (vec![1.0], vec![1.0], vec![1.0], vec![0.0]),
+        "{v}"
+    );
+    // Lines 113/114: SET/RES LUBE_ALARM conditions, both 0 with a full tank and no RESET.
+    assert_eq!((at(113), at(114)), (vec![0.0], vec![0.0]));
     // A write once: CYCLE START pressed for one scan (the sim releases it again at its next latch).
     let (code, _) = hmi.http("POST", "/api/write", Some(r#"{"signal":"I0A3","value":1}"#));
     assert_eq!(code, 200);

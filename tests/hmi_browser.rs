@@ -174,6 +174,20 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
             .filter(|t| t.contains("SPINDLE_CW") && t.contains("U4A0="))
     })
     .await?;
+    // Power flow from the scan (`--hmi-flow`): line 62 (CHAIN_OK = ESTOP_PB_OK * OVERTRAVEL_OK)
+    // computed 1 and is drawn energised.
+    until("power flow on line 62", 5, || async {
+        let v = js(
+            c,
+            "const e = [...document.querySelectorAll('#source .line')].find(e => e.querySelector('.ln').textContent === '62'); \
+             return e ? [e.className, e.querySelector('.sv').textContent] : null",
+        )
+        .await
+        .ok()?;
+        let (class, vals) = (v[0].as_str()?, v[1].as_str()?);
+        (class == "line on" && vals.starts_with("⇒ 1  ← ")).then_some(())
+    })
+    .await?;
     if let Some(d) = keep {
         shot(c, d, "program").await;
     }
@@ -261,7 +275,7 @@ async fn the_pages_show_live_values_and_a_force_from_the_page_reaches_the_image_
     let trace = dir.path().join("browser.jsonl");
     let hmi = Hmi::start(
         &root().join("plc-programs/lathe"),
-        &["--record", trace.to_str().expect("utf8")],
+        &["--record", trace.to_str().expect("utf8"), "--hmi-flow"],
     );
     in_browser(hmi, "hmi", |c, h, keep| Box::pin(steps(c, h, keep))).await;
     let text = std::fs::read_to_string(&trace).expect("trace");

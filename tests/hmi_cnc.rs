@@ -33,6 +33,24 @@ fn axis(s: &Value, name: &str) -> (f64, f64) {
     )
 }
 
+/// The modal codes in effect at block `n` of the lathe's PART1 (N30 onwards, up to N140), by hand
+/// from its text: N10 S1200 M03, N20 M08, then G00/G01 and F300 until N120 sets F150 (F stays in
+/// effect across rapids); the lathe interpolates in the ZX plane (G18).
+fn part1_modal(n: u64) -> Vec<&'static str> {
+    let (g, f) = match n {
+        30 => ("G00", None),
+        40 | 50 | 80 | 90 => ("G01", Some("F300")),
+        60 | 70 | 100 | 110 => ("G00", Some("F300")),
+        120 | 130 => ("G01", Some("F150")),
+        140 => ("G00", Some("F150")),
+        _ => panic!("PART1 has no motion block N{n}"),
+    };
+    let mut v = vec![g, "G18"];
+    v.extend(f);
+    v.extend(["S1200", "M03", "M08"]);
+    v
+}
+
 #[test]
 fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason() {
     let lathe = operator_lathe();
@@ -70,6 +88,7 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     );
     assert_eq!(axis(&s, "X").0, 0.0);
     assert_eq!(p["active_codes"], json!(["S1200", "M03"]));
+    assert_eq!(p["modal_codes"], json!(["S1200", "M03"]));
     // MDI in AUTO: the kernel's reason.
     let (code, v) = post(
         &hmi,
@@ -110,6 +129,11 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     let held = wait_status(&hmi, "the path held", 10, |s| {
         p1(s)["state"] == "held" && p1(s)["path_speed"] == 0.0
     });
+    assert_eq!(
+        p1(&held)["modal_codes"],
+        json!(part1_modal(p1(&held)["block"].as_u64().unwrap_or(0))),
+        "{held}"
+    );
     std::thread::sleep(std::time::Duration::from_millis(300));
     let later = status(&hmi);
     assert!(later["tick"].as_u64() >= Some(held["tick"].as_u64().unwrap_or(0) + 10));
@@ -128,6 +152,8 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     let s = wait_status(&hmi, "the reset", 10, |s| {
         p1(s)["state"] == "idle" && p1(s)["block_index"] == 1 && p1(s)["path_speed"] == 0.0
     });
+    // Back at the first block: the modal codes are folded again from the start.
+    assert_eq!(p1(&s)["modal_codes"], json!(["S1200", "M03"]));
     let (x, z) = (axis(&s, "X").0, axis(&s, "Z").0);
     assert!(
         x < 0.0 && z < 0.0,
@@ -239,4 +265,87 @@ fn acknowledge_clears_gone_alarms_and_a_persisting_one_comes_back() {
         p1(s)["alarms"] == json!([])
     });
     hmi.stop();
+}
+
+/// `ncplc replay MACHINE TRACE`: (success, stderr).
+fn replay(machine: &std::path::Path, trace: &std::path::Path) -> (bool, String) {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
+        .output()
+        .expect("replay");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
+    let lathe = operator_lathe();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let trace = dir.path().join("session.jsonl");
+    let hmi = Hmi::start(
+        lathe.path(),
+        &[
+            "--program",
+            "PART1",
+            "--record",
+            trace.to_str().expect("utf8"),
+        ],
+    );
+    wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
+        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
+    });
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"start"}"#);
+    assert_eq!(code, 200, "{v}");
+    let started = v["tick"].as_u64().expect("tick");
+    wait_status(&hmi, "the axes moving", 30, |s| {
+        p1(s)["path_speed"].as_f64() > Some(0.0)
+    });
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"hold"}"#);
+    assert_eq!(code, 200, "{v}");
+    let held = v["tick"].as_u64().expect("tick");
+    wait_status(&hmi, "the path held", 10, |s| {
+        p1(s)["state"] == "held" && p1(s)["path_speed"] == 0.0
+    });
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"start"}"#);
+    assert_eq!(code, 200, "{v}");
+    let resumed = v["tick"].as_u64().expect("tick");
+    let s = wait_status(&hmi, "the path resumed", 10, |s| {
+        p1(s)["state"] == "running" && p1(s)["path_speed"].as_f64() > Some(0.0)
+    });
+    hmi.wait_tick(s["tick"].as_u64().unwrap_or(0) + 20);
+    hmi.stop();
+    // Each command is in the record of the tick whose latch first saw it: the tick its reply
+    // named.
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let cmds: Vec<(u64, Value)> = text
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r.get("cmd").is_some())
+        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
+        .collect();
+    let start = json!([{"process": 1, "command": "start"}]);
+    let hold = json!([{"process": 1, "command": "hold"}]);
+    assert_eq!(
+        cmds,
+        vec![(started, start.clone()), (held, hold), (resumed, start)]
+    );
+    let (ok, err) = replay(lathe.path(), &trace);
+    assert!(ok, "the recorded session replays:\n{err}");
+    assert!(
+        err.contains("kernel signals and axis positions identical"),
+        "{err}"
+    );
+    // Without the recorded HOLD the replay runs through it: the positions diverge.
+    let without: String = text
+        .lines()
+        .map(|l| l.replace(r#","cmd":[{"process":1,"command":"hold"}]"#, ""))
+        .collect::<Vec<_>>()
+        .join("\n");
+    assert_ne!(without.len(), text.trim_end().len(), "the HOLD was removed");
+    let edited = dir.path().join("without-hold.jsonl");
+    std::fs::write(&edited, without + "\n").expect("write");
+    let (ok, err) = replay(lathe.path(), &edited);
+    assert!(!ok, "a replay without the HOLD diverges:\n{err}");
 }

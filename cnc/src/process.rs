@@ -652,33 +652,58 @@ impl Process {
 
     /// A status snapshot for an HMI.
     pub fn status(&self) -> ProcessStatus {
-        let cmd = self.interp.position();
-        let i = self.in_motion.front().copied().unwrap_or(self.next);
-        ProcessStatus {
+        let mut out = ProcessStatus {
             process: self.cfg.number,
             mode: self.mode,
             interp: self.run,
             on: self.on,
             homed: self.homed,
-            program: self.program_name.clone(),
-            block: i,
-            block_n: self.program.get(i).and_then(|b| b.n),
-            axes: self
-                .cfg
-                .axes
-                .iter()
-                .zip(&self.drives)
-                .enumerate()
-                .map(|(k, (a, d))| AxisStatus {
-                    name: a.name,
-                    command: cmd.get(k).copied().unwrap_or(0.0),
-                    actual: d.actual(),
-                    following_error: d.error(),
-                })
-                .collect(),
-            feed_mm_min: self.tick_out.feed_mm_min,
-            spindle_rpm: self.spindle.as_ref().map_or(0.0, |s| s.actual()),
-            alarms: self.alarms.iter().map(|a| a.message.clone()).collect(),
+            program: String::new(),
+            block: 0,
+            block_n: None,
+            axes: Vec::new(),
+            feed_mm_min: 0.0,
+            spindle_rpm: 0.0,
+            alarms: Vec::new(),
+        };
+        self.status_into(&mut out);
+        out
+    }
+
+    /// Overwrites `out` with this process's status, reusing its strings and vectors: no
+    /// allocation once `out` has held a status of this process (an HMI's copy on the scan thread).
+    pub fn status_into(&self, out: &mut ProcessStatus) {
+        let cmd = self.interp.position();
+        let i = self.in_motion.front().copied().unwrap_or(self.next);
+        out.process = self.cfg.number;
+        out.mode = self.mode;
+        out.interp = self.run;
+        out.on = self.on;
+        out.homed = self.homed;
+        out.program.clone_from(&self.program_name);
+        out.block = i;
+        out.block_n = self.program.get(i).and_then(|b| b.n);
+        out.axes.truncate(self.cfg.axes.len());
+        for (k, (a, d)) in self.cfg.axes.iter().zip(&self.drives).enumerate() {
+            let axis = AxisStatus {
+                name: a.name,
+                command: cmd.get(k).copied().unwrap_or(0.0),
+                actual: d.actual(),
+                following_error: d.error(),
+            };
+            match out.axes.get_mut(k) {
+                Some(slot) => *slot = axis,
+                None => out.axes.push(axis),
+            }
+        }
+        out.feed_mm_min = self.tick_out.feed_mm_min;
+        out.spindle_rpm = self.spindle.as_ref().map_or(0.0, |s| s.actual());
+        out.alarms.truncate(self.alarms.len());
+        for (k, a) in self.alarms.iter().enumerate() {
+            match out.alarms.get_mut(k) {
+                Some(slot) => slot.clone_from(&a.message),
+                None => out.alarms.push(a.message.clone()),
+            }
         }
     }
 

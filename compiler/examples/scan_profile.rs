@@ -1,7 +1,8 @@
 //! Scan-code profile of the scan benchmark's 10,000-statement program (the callgrind target for
 //! the JIT-vs-gcc comparison): `cargo run -p compiler --example scan_profile -- <engine> [ticks]
 //! [statements]` with `engine` one of `interp`, `jit` (default options), `jit-speed`
-//! (`opt_level=speed`), `gcc` (the program emitted as C, `gcc -O2`), `all` (the JIT and gcc timed
+//! (`opt_level=speed`), `jit-flow` (the program instrumented for an HMI's power flow,
+//! `compiler::ir::flow`), `gcc` (the program emitted as C, `gcc -O2`), `all` (the JIT and gcc timed
 //! in alternating rounds of `ticks` ticks, best round each), `text` (the JIT's machine code into
 //! `scan_profile.text`, for `objdump -b binary -m i386:x86-64 -D`), `clif` (print the cranelift
 //! IR), `c` (print the C). Run under `valgrind --tool=callgrind --toggle-collect='*run_ticks*'`
@@ -48,6 +49,13 @@ fn main() {
     match what {
         "interp" => {
             let mut e = Interpreter::new(p.clone());
+            run_ticks(&mut |i| e.tick(i), &mut image, ticks);
+        }
+        "jit-flow" => {
+            let (f, _) = compiler::ir::flow::instrument(&p).expect("instruments");
+            let f = Arc::new(f);
+            image = f.new_image();
+            let mut e = jit::compile(&f).expect("jit");
             run_ticks(&mut |i| e.tick(i), &mut image, ticks);
         }
         "jit" | "jit-speed" => {

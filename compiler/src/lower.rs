@@ -10,7 +10,8 @@ use crate::sema::{Checked, codes};
 
 /// Finishes a checked program; an IR error becomes a located diagnostic at the start of `file`.
 pub fn lower(file: &str, checked: Checked) -> Result<ir::Program, Diagnostic> {
-    checked
+    let lines = checked.lines;
+    let mut program = checked
         .builder
         .finish(checked.fast, checked.slow)
         .map_err(|e| {
@@ -21,5 +22,7 @@ pub fn lower(file: &str, checked: Checked) -> Result<ir::Program, Diagnostic> {
                 format!("internal compiler error while lowering: {e}"),
             )
             .with_hint("please report this program; it passed all checks but the IR rejected it")
-        })
+        })?;
+    program.lines = lines;
+    Ok(program)
 }

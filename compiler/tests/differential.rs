@@ -591,3 +591,39 @@ fn the_c_back_end_runs_the_synthetic_program_like_the_interpreter() {
     // The program did something: some output bytes are set.
     assert!(a[..packets::PACKETS_LEN].iter().any(|&b| b != 0));
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Power flow (`ir::flow`): the instrumented program leaves the original image exactly as
+    /// the plain one does, and the JIT and the interpreter write the same flow area.
+    #[test]
+    fn power_flow_changes_nothing_and_both_engines_write_the_same_flow(p in program(), ticks in inputs()) {
+        let n = compiler::ir::flow::count(&p.fast)
+            + p.slow.iter().map(|s| compiler::ir::flow::count(s)).sum::<usize>();
+        let mut lined = p.clone();
+        lined.lines = (1..=n as u32).collect();
+        let (f, map) = compiler::ir::flow::instrument(&lined).expect("instruments");
+        prop_assert_eq!(map.slots.len(), n);
+        prop_assert!(map.area.0 >= p.image_len && map.area.1 == f.image_len);
+        let (p, f) = (Arc::new(p), Arc::new(f));
+        let mut plain = Interpreter::new(p.clone());
+        let mut interp = Interpreter::new(f.clone());
+        let mut jit = compiler::jit::compile(&f).expect("jit compiles the instrumented program");
+        let mut a = p.new_image();
+        let mut b = f.new_image();
+        let mut c = f.new_image();
+        for (t, pokes) in ticks.iter().enumerate() {
+            for &(at, v) in pokes {
+                a[at] = v;
+                b[at] = v;
+                c[at] = v;
+            }
+            plain.tick(&mut a);
+            interp.tick(&mut b);
+            jit.tick(&mut c);
+            prop_assert!(a[..] == b[..p.image_len], "tick {}: the flow changed the program's image", t);
+            prop_assert!(b == c, "tick {}: the JIT's flow differs from the interpreter's", t);
+        }
+    }
+}

@@ -48,6 +48,12 @@ pub async fn program(State(state): State<AppState>) -> Response {
     .into_response()
 }
 
+/// `GET /api/flow`: the power flow of the last published scan, `[line, value]` per statement.
+pub async fn flow(State(state): State<AppState>) -> Response {
+    let snap = state.snapshots.borrow().clone();
+    Json(json!({ "tick": snap.tick, "flow": snap.flow })).into_response()
+}
+
 /// `GET /api/signal/<ADDR>`: one signal's value and whether it is forced.
 pub async fn signal(
     State(state): State<AppState>,

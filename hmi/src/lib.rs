@@ -16,7 +16,7 @@ pub mod server;
 pub mod ws;
 
 pub use model::{
-    AlarmEntry, AxisStatus, Catalog, Cnc, Command, Envelope, HandshakeCounts, MachineStatus,
+    AlarmEntry, AxisStatus, Catalog, Command, Envelope, HandshakeCounts, MachineStatus,
     NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot, Snapshot,
     SourceLine, Toolpath,
 };

@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use packets::Signal;
-use serde::{Serialize, Serializer};
+use serde::{Deserialize, Serialize, Serializer};
 
 /// One published state of the running controller (the latest value of the live channel).
 #[derive(Debug, Clone, Default, Serialize)]
@@ -32,6 +32,10 @@ pub struct Snapshot {
     pub machine: MachineStatus,
     /// True after the overrun limit tripped the safe state.
     pub tripped: bool,
+    /// Power flow from the scan: `[line, value]` per statement of the PLC program (the assigned
+    /// value, or the condition of IF/SET/RES/one-shot/timer/counter inputs), in source order of
+    /// the statements; empty when the program was not compiled for it.
+    pub flow: Vec<(u32, f64)>,
     /// The tool path of each process with interpolated axes (served by `GET /api/toolpath/<P>`,
     /// not sent on `/ws`).
     #[serde(skip)]
@@ -83,7 +87,7 @@ pub struct PathPiece {
 /// Scan timing figures.
 #[derive(Debug, Clone, Default, Serialize)]
 pub struct ScanStats {
-    /// Median scan time in µs.
+    /// Median scan time in µs (of the scans sampled at each published frame).
     pub scan_p50_us: f64,
     /// Longest scan time in µs.
     pub scan_max_us: f64,
@@ -134,6 +138,9 @@ pub struct ProcessStatus {
     pub path_speed: Option<f64>,
     /// The current block's codes: motion (G00/G01/G02/G03/G04), F, S, T and its M functions.
     pub active_codes: Vec<String>,
+    /// The modal codes in effect at the current block: motion mode, plane, F, S, T, spindle
+    /// and coolant M functions (from the kernel's program; empty without a kernel).
+    pub modal_codes: Vec<String>,
     /// This process's alarms until acknowledged.
     pub alarms: Vec<AlarmEntry>,
     /// The [`Toolpath::id`] of this process's tool path (none: no interpolated axes).
@@ -220,8 +227,9 @@ impl Catalog {
     }
 }
 
-/// An operator command for a CNC process (the same channel the CLI uses).
-#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+/// An operator command for a CNC process (the same channel the CLI uses; traces record it in the
+/// same JSON form).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(tag = "command", rename_all = "lowercase")]
 pub enum Command {
     /// CYCLE START.
@@ -304,25 +312,4 @@ fn signal_values<S: Serializer>(list: &[(Signal, u8)], s: S) -> Result<S::Ok, S:
         seq.serialize_element(&serde_json::json!({"signal": sig.to_string(), "value": v}))?;
     }
     seq.end()
-}
-
-/// The CNC kernel as the HMI sees it: the runtime implements it over whatever drives the
-/// processes (today the image and the simulated handshakes; the kernel once it is wired in).
-pub trait Cnc: Send {
-    /// The per-process state after the scan that left `image`.
-    fn status(&self, image: &[u8]) -> MachineStatus;
-    /// Carries out an operator command for `process` at a tick boundary, or says why not
-    /// ([`Command::Ack`] is the HMI's own and never comes here).
-    fn command(&mut self, process: u8, command: &Command) -> Result<(), String>;
-    /// Called after every tick with the image the scan left (samples the tool path).
-    fn after_tick(&mut self, _image: &[u8]) {}
-    /// The tool path of every process that has one.
-    fn toolpaths(&self) -> Vec<Toolpath> {
-        Vec::new()
-    }
-    /// True for a machine-wide alarm text that a process's own alarm list already shows (the
-    /// kernel's alarms also reach the runtime as I/O alarms of device `cnc`).
-    fn owns_alarm(&self, _text: &str) -> bool {
-        false
-    }
 }

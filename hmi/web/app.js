@@ -163,19 +163,31 @@ function buildProgram() {
     const vals = el("span", { class: "sv" });
     const line = el("span", { class: "line" }, el("span", { class: "ln" }, String(l.line)), l.text, vals);
     pre.append(line, "\n");
-    if (l.writes.length || l.reads.length) sourceRows.push({ l, line, vals });
+    sourceRows.push({ l, line, vals });
   }
 }
 function renderProgram() {
   if (!state.snap) return;
   document.getElementById("online").textContent = state.snap.online;
+  // Power flow from the scan: [line, value] per statement; a line's last one is its rung.
+  const flow = new Map();
+  for (const [line, v] of (state.snap.flow || [])) {
+    if (!flow.has(line)) flow.set(line, []);
+    flow.get(line).push(v);
+  }
+  const note = document.getElementById("flow-note");
+  if (note) note.hidden = (state.snap.flow || []).length > 0;
   for (const r of sourceRows) {
     const parts = [];
+    const fv = flow.get(r.l.line);
+    if (fv) parts.push("⇒ " + fv.join(" "));
     for (const s of r.l.writes) parts.push(s + "=" + readAddr(s));
     if (r.l.reads.length) parts.push("← " + r.l.reads.map(s => s + "=" + readAddr(s)).join(" "));
     const text = parts.join("  ");
     if (r.vals.textContent !== text) r.vals.textContent = text;
-    if (r.l.writes.length) {
+    if (fv) {
+      r.line.className = "line " + (fv[fv.length - 1] !== 0 ? "on" : "off");
+    } else if (r.l.writes.length) {
       const on = r.l.writes.some(s => readAddr(s) > 0);
       r.line.className = "line " + (on ? "on" : "off");
     }
@@ -282,7 +294,7 @@ function buildMachine(ps) {
       el("div", { class: "facts" },
         "mode ", span("mode"), " · program ", span("program"), " · block ", span("block"),
         " ", el("code", { class: "source" }), el("br"),
-        "path speed ", span("speed"), " mm/min · spindle ", span("spindle"), " rev/min · codes ", span("codes")),
+        "path speed ", span("speed"), " mm/min · spindle ", span("spindle"), " rev/min · codes ", span("codes"), " · modal ", span("modal")),
       el("table", { class: "dro" }),
       el("div", { class: "cmds" },
         el("button", { class: "start", onclick: () => command(p.process, { command: "start" }) }, "START"),
@@ -324,6 +336,7 @@ function renderMachine() {
     setText(box, ".speed", p.path_speed === null || p.path_speed === undefined ? "—" : p.path_speed.toFixed(1));
     setText(box, ".spindle", p.spindle_speed === null || p.spindle_speed === undefined ? "—" : p.spindle_speed.toFixed(0));
     setText(box, ".codes", p.active_codes.join(" "));
+    setText(box, ".modal", p.modal_codes.join(" "));
     const dro = box.querySelector(".dro");
     const rows = p.axes.map(a => "<tr data-axis=\"" + a.name + "\"><td>" + a.name + "</td><td class=\"cmd\">" + a.command.toFixed(3) + "</td><td class=\"act\">" +
       a.actual.toFixed(3) + "</td><td class=\"ferr\">" + a.following_error.toFixed(4) + "</td></tr>").join("");

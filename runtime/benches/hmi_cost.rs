@@ -124,6 +124,30 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    // The scan thread's part of one published snapshot alone, on the lathe 1,000 ticks into
+    // PART1 (the kernel moving, a tool path sampled).
+    g.bench_function("publish_one_snapshot_scan_thread_part", |b| {
+        let (mut s, cnc) = part_scheduler(&m, &text);
+        let image = ImageCnc::new(&m.interface, &[1], None);
+        let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.clone())]);
+        let config = hmi::ServerConfig {
+            addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
+            token: None,
+            readonly: false,
+        };
+        let mut link = HmiLink::start(
+            config,
+            catalog::build(&m, &source),
+            Box::new(kernel),
+            m.config.tick_ms,
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        s.run(Some(1_000), |s| {
+            link.service(s);
+            true
+        });
+        b.iter(|| link.publish(&s))
+    });
     g.finish();
 }
 

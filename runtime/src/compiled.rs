@@ -52,6 +52,7 @@ pub struct CompiledMeta {
     pub program: Arc<Program>,
     written: Vec<Signal>,
     layout: u64,
+    flow: Option<Arc<compiler::ir::flow::FlowMap>>,
 }
 
 impl CompiledMeta {
@@ -64,6 +65,7 @@ impl CompiledMeta {
         }
         program.retain_range().hash(&mut h);
         CompiledMeta {
+            flow: None,
             program,
             written,
             layout: h.finish(),
@@ -116,6 +118,9 @@ impl ProgramMeta for CompiledMeta {
     }
     fn idle_facts(&self) -> Option<compiler::ir::IdleFacts> {
         Some(self.program.idle_facts())
+    }
+    fn flow(&self) -> Option<&Arc<compiler::ir::flow::FlowMap>> {
+        self.flow.as_ref()
     }
     fn as_any(&self) -> &dyn Any {
         self
@@ -171,6 +176,17 @@ pub fn load_cached(
     threads: usize,
     cache: Option<&Mutex<CodeCache>>,
 ) -> Result<Loaded, LoadError> {
+    load_flow(program, None, engine, threads, cache)
+}
+
+/// [`load_cached`] of a program instrumented for power flow (`flow`: its slots).
+fn load_flow(
+    program: Program,
+    flow: Option<compiler::ir::flow::FlowMap>,
+    engine: EngineKind,
+    threads: usize,
+    cache: Option<&Mutex<CodeCache>>,
+) -> Result<Loaded, LoadError> {
     let program = Arc::new(program);
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
@@ -211,9 +227,11 @@ pub fn load_cached(
             }
         }
     };
+    let mut meta = CompiledMeta::new(program);
+    meta.flow = flow.map(Arc::new);
     Ok(Loaded {
         logic: Box::new(EngineLogic(logic)),
-        meta: Arc::new(CompiledMeta::new(program)),
+        meta: Arc::new(meta),
     })
 }
 
@@ -249,6 +267,7 @@ pub fn compile_with_threads(
             cfg,
             interface,
             tick_ms,
+            flow: false,
         },
         engine,
         threads,
@@ -266,6 +285,8 @@ pub struct Source<'a> {
     pub interface: &'a InterfaceMap,
     /// The logic tick in ms.
     pub tick_ms: u32,
+    /// Instrument the program for power flow ([`compiler::ir::flow`]; `ncplc run --hmi`).
+    pub flow: bool,
 }
 
 /// [`compile_with_threads`] with the JIT reusing unchanged functions' code through `cache`
@@ -282,6 +303,7 @@ pub fn compile_cached(
         cfg,
         interface,
         tick_ms,
+        flow,
     } = src;
     let ctx = machine_context(cfg, tick_ms, interface.clone());
     // A first load on every core goes through the on-disk front-end cache (beside the code
@@ -302,7 +324,10 @@ pub fn compile_cached(
                     crate::cli::output::render_diagnostics(&c.diagnostics, &sources)
                 );
             }
-            load_cached(p, engine, threads, cache)
+            match flow.then(|| compiler::ir::flow::instrument(&p)).flatten() {
+                Some((f, map)) => load_flow(f, Some(map), engine, threads, cache),
+                None => load_cached(p, engine, threads, cache),
+            }
         }
         _ => Err(LoadError::Diagnostics {
             rendered: crate::cli::output::render_diagnostics(&c.diagnostics, &sources),

@@ -138,7 +138,13 @@ impl Machine {
     /// The compile functions of a run: the first load on every core, online changes on one
     /// thread; both share one JIT code cache, so an online change recompiles only the functions
     /// whose code changed (the rest is reused from the program running before it).
-    pub fn compile_fns(&self, engine: EngineKind, tick_ms: u32) -> (CompileFn, CompileFn) {
+    /// With `flow` every program is instrumented for power flow ([`compiler::ir::flow`]).
+    pub fn compile_fns(
+        &self,
+        engine: EngineKind,
+        tick_ms: u32,
+        flow: bool,
+    ) -> (CompileFn, CompileFn) {
         let cache = std::sync::Arc::new(std::sync::Mutex::new(CodeCache::new()));
         let make = |threads: usize| -> CompileFn {
             let (cfg, name, map) = (
@@ -153,6 +159,7 @@ impl Machine {
                     cfg: &cfg,
                     interface: &map,
                     tick_ms,
+                    flow,
                 };
                 compile_cached(&name, source, engine, threads, Some(&cache))
             })

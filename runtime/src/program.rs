@@ -39,6 +39,10 @@ pub trait ProgramMeta: Send + Sync + Any {
     fn idle_facts(&self) -> Option<compiler::ir::IdleFacts> {
         None
     }
+    /// Where the scan writes its power flow (a program compiled for the HMI), if it does.
+    fn flow(&self) -> Option<&Arc<compiler::ir::flow::FlowMap>> {
+        None
+    }
     /// `self` as `Any`, so implementations can downcast the `old` program in `migrate_from`.
     fn as_any(&self) -> &dyn Any;
 }

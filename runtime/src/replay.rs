@@ -21,7 +21,7 @@ use crate::program::Loaded;
 use crate::trace::compare::{Comparator, report};
 use crate::trace::positions::{PositionComparator, PositionTracker};
 use crate::trace::recorder::InputDiff;
-use crate::trace::{AxisValue, SignalValue, TickRecord, Trace};
+use crate::trace::{AxisValue, OperatorCommand, SignalValue, TickRecord, Trace};
 
 /// The CNC side a replay re-runs: a part run's kernel, plant and operator.
 pub trait ReplayKernel {
@@ -33,6 +33,8 @@ pub trait ReplayKernel {
     fn publish(&mut self, t: u64, packets: &[u8]);
     /// Every axis and its position bits after the latch.
     fn positions(&mut self, out: &mut Vec<AxisValue>);
+    /// Before tick `t`'s latch: an operator command the recorded run's kernel accepted here.
+    fn command(&mut self, t: u64, c: &OperatorCommand) -> Result<(), String>;
 }
 
 /// The result of a replay.
@@ -49,13 +51,16 @@ pub struct Replay {
     pub image: Vec<u8>,
     /// Axis position comparison (empty without a kernel).
     pub positions: PositionComparator,
+    /// Recorded operator commands the replay's kernel refused (`tick N: {…} refused: why`): the
+    /// run diverged before them.
+    pub refused: Vec<String>,
 }
 
 impl Replay {
     /// True when the outputs (and, with a kernel, its signals and the axis positions) are
     /// identical.
     pub fn identical(&self) -> bool {
-        self.comparator.identical() && self.positions.identical()
+        self.comparator.identical() && self.positions.identical() && self.refused.is_empty()
     }
 
     /// The divergence report, with `context` ticks around the first divergence.
@@ -68,6 +73,10 @@ impl Replay {
                 &self.actual.ticks,
                 context,
             );
+        }
+        for r in &self.refused {
+            s.push_str(r);
+            s.push('\n');
         }
         s.push_str(&self.positions.report());
         s
@@ -164,6 +173,7 @@ pub fn replay_driving(
     let mut pcmp = PositionComparator::new(20);
     let mut pos: Vec<AxisValue> = Vec::new();
     let mut outs = Vec::new();
+    let mut refused = Vec::new();
     let mut next = trace.ticks.iter().peekable();
     let total = trace.len_ticks();
     let none: &[(packets::Signal, u8)] = &[];
@@ -171,7 +181,13 @@ pub fn replay_driving(
     while t < total {
         let rec = next.next_if(|r| r.t == t);
         let mut inputs = rec.map_or(none, |r| r.inputs.as_slice());
+        let commands = rec.map_or(&[][..], |r| r.commands.as_slice());
         if let Some(k) = kernel.as_deref_mut() {
+            for c in commands {
+                if let Err(e) = k.command(t, c) {
+                    refused.push(format!("tick {t}: {} refused: {e}", command_json(c)));
+                }
+            }
             input_diff.before_latch(image.bytes());
             apply_masked(image.bytes_mut(), inputs, &mask);
             k.latch(t, image.packets_mut());
@@ -214,6 +230,7 @@ pub fn replay_driving(
             || !inputs.is_empty()
             || !forced.is_empty()
             || !pos.is_empty()
+            || !commands.is_empty()
             || t + 1 == total
         {
             actual.ticks.push(TickRecord {
@@ -222,6 +239,7 @@ pub fn replay_driving(
                 outputs: outs.clone(),
                 forced: forced.to_vec(),
                 positions: pos.clone(),
+                commands: commands.to_vec(),
             });
         }
         let mut step = 1;
@@ -245,5 +263,11 @@ pub fn replay_driving(
         skipped: skipper.map_or(0, |s| s.skipped()),
         image: image.bytes().to_vec(),
         positions: pcmp,
+        refused,
     }
+}
+
+/// A recorded command as the trace writes it.
+fn command_json(c: &OperatorCommand) -> String {
+    serde_json::to_string(c).unwrap_or_else(|e| e.to_string())
 }

@@ -80,6 +80,8 @@ pub struct Scheduler {
     tripped: bool,
     events: Vec<Event>,
     recording: Option<(InputDiff, Box<dyn TraceSink>, TickRecord)>,
+    /// Operator commands applied since the last tick, for the next tick's record.
+    commands: Vec<crate::trace::OperatorCommand>,
     tracker: OutputTracker,
     swaps: Option<Receiver<Swap>>,
     retain: Option<RetainState>,
@@ -117,6 +119,7 @@ impl Scheduler {
             tripped: false,
             events: Vec::new(),
             recording: None,
+            commands: Vec::new(),
             tracker,
             swaps: None,
             retain: None,
@@ -187,6 +190,11 @@ impl Scheduler {
         self.tripped
     }
 
+    /// Where the running program writes its power flow, when it was compiled for it.
+    pub fn flow(&self) -> Option<&std::sync::Arc<compiler::ir::flow::FlowMap>> {
+        self.loaded.meta.flow()
+    }
+
     /// The running engine's name.
     pub fn engine_name(&self) -> &str {
         self.loaded.logic.name()
@@ -200,6 +208,14 @@ impl Scheduler {
     /// The active forces and pending writes.
     pub fn forces(&self) -> &Forces {
         &self.forces
+    }
+
+    /// With a recording: the kernel accepted operator command `c` at this tick boundary; it goes
+    /// into the next tick's record (a replay gives it to its kernel before that tick's latch).
+    pub fn record_command(&mut self, c: crate::trace::OperatorCommand) {
+        if self.recording.is_some() {
+            self.commands.push(c);
+        }
     }
 
     /// Events since the last call.
@@ -226,6 +242,8 @@ impl Scheduler {
             rec.outputs.clear();
             rec.forced.clear();
             rec.positions.clear();
+            rec.commands.clear();
+            rec.commands.append(&mut self.commands);
         }
         self.io.latch_inputs(t, self.image.packets_mut());
         self.forces.apply_before(self.image.bytes_mut());
@@ -251,7 +269,8 @@ impl Scheduler {
             if !(rec.inputs.is_empty()
                 && rec.outputs.is_empty()
                 && rec.forced.is_empty()
-                && rec.positions.is_empty())
+                && rec.positions.is_empty()
+                && rec.commands.is_empty())
                 && let Err(e) = sink.record(rec)
             {
                 self.last_io_error = Some(e);

@@ -11,6 +11,8 @@ pub struct Stats {
     pub wake: Histogram<u64>,
     /// Ticks run.
     pub ticks: u64,
+    /// The last tick's scan time (what an HMI samples).
+    pub last_scan_ns: u64,
     /// Ticks that ended past their deadline.
     pub overruns: u64,
     /// Current run of consecutive overruns.
@@ -38,6 +40,7 @@ impl Stats {
             scan: histogram(),
             wake: histogram(),
             ticks: 0,
+            last_scan_ns: 0,
             overruns: 0,
             consecutive_overruns: 0,
             max_consecutive_overruns: 0,
@@ -47,6 +50,7 @@ impl Stats {
     /// Records one tick; returns the current number of consecutive overruns.
     pub fn tick(&mut self, wake_ns: u64, scan_ns: u64, overrun: bool) -> u32 {
         self.ticks += 1;
+        self.last_scan_ns = scan_ns;
         self.wake.saturating_record(wake_ns.max(1));
         self.scan.saturating_record(scan_ns.max(1));
         if overrun {

@@ -142,6 +142,7 @@ impl ProgramBuilder {
             slow: split_slices(slow, budget),
             retain,
             image_len: at,
+            lines: Vec::new(),
         };
         program.validate()?;
         Ok(program)

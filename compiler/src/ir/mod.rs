@@ -58,6 +58,7 @@
 //!   stores `(i + 1) mod slices`. A program without SLOW part leaves the header untouched.
 
 mod builder;
+pub mod flow;
 mod idle;
 mod program;
 mod validate;

@@ -127,6 +127,11 @@ pub struct Program {
     pub retain: (usize, usize),
     /// Total image length.
     pub image_len: usize,
+    /// The 1-based source line of every statement in pre-order (FAST, then the SLOW slices in
+    /// order; an IF before its branches); empty for a program built without a source. Read by
+    /// [`super::flow::instrument`] only.
+    #[serde(default)]
+    pub lines: Vec<u32>,
 }
 
 impl Program {

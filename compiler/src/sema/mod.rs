@@ -98,6 +98,8 @@ pub struct Checked {
     pub statements: usize,
     /// Symbolic names the program defines (what counts against SPL).
     pub symbolic_names: usize,
+    /// The source line of every IR statement in pre-order ([`ir::Program::lines`]).
+    pub lines: Vec<u32>,
 }
 
 /// The state of one check.
@@ -111,6 +113,8 @@ pub(crate) struct Checker<'a> {
     pub by_name: HashMap<String, usize>,
     /// Inline timer statements produced while checking the current statement's expressions.
     pub pending: Vec<ir::Stmt>,
+    /// The source line of every IR statement produced so far, in pre-order ([`ir::Program::lines`]).
+    pub stmt_lines: Vec<u32>,
     pub driven: HashMap<Driven, Span>,
     pub pulses_read: BTreeMap<u16, Span>,
     pub pulses_set: HashSet<u16>,
@@ -155,6 +159,7 @@ impl<'a> Checker<'a> {
             syms: Vec::new(),
             by_name: HashMap::new(),
             pending: Vec::new(),
+            stmt_lines: Vec::new(),
             driven: HashMap::new(),
             pulses_read: BTreeMap::new(),
             pulses_set: HashSet::new(),
@@ -268,6 +273,7 @@ pub fn check(
         slow,
         statements: c.statements,
         symbolic_names: c.symbolic_names,
+        lines: c.stmt_lines,
     };
     (Some(checked), diags)
 }

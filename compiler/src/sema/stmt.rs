@@ -44,11 +44,18 @@ impl Checker<'_> {
                 self.statements += 1;
                 let cond = self.expr_to(cond, Ty::Bool);
                 let pending = std::mem::take(&mut self.pending);
+                let mark = self.stmt_lines.len();
                 let then_ = self.block(then_body);
                 let else_ = self.block(else_body);
                 if let Some(cond) = cond {
+                    // Pre-order: the inline timers and the IF itself before its branches.
+                    let line = self.line_of(&s.span);
+                    let own = std::iter::repeat_n(line, pending.len() + 1);
+                    self.stmt_lines.splice(mark..mark, own);
                     out.extend(pending);
                     out.push(ir::Stmt::If { cond, then_, else_ });
+                } else {
+                    self.stmt_lines.truncate(mark);
                 }
             }
             StmtKind::Assign {
@@ -58,11 +65,19 @@ impl Checker<'_> {
             } => {
                 self.statements += 1;
                 if let Some(st) = self.assign(*kind, target, value, &s.span) {
+                    let line = self.line_of(&s.span);
+                    let n = self.pending.len() + 1;
+                    self.stmt_lines.extend(std::iter::repeat_n(line, n));
                     out.append(&mut self.pending);
                     out.push(st);
                 }
             }
         }
+    }
+
+    /// The 1-based line a statement starts on.
+    fn line_of(&self, span: &Span) -> u32 {
+        self.lines.line_column(span.start).0
     }
 
     fn assign(

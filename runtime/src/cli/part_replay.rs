@@ -11,7 +11,7 @@ use crate::cli::part_run::{PartRun, PartSpec, kernel_version, start_spec};
 use crate::machine::Machine;
 use crate::program::Loaded;
 use crate::replay::{Replay, ReplayKernel, ReplayOptions, replay_driving};
-use crate::trace::{AxisId, AxisValue, PartHeader, Trace};
+use crate::trace::{AxisId, AxisValue, OperatorCommand, PartHeader, Trace};
 
 /// The kernel, plant and operator of a part run, driven by a replay.
 pub struct KernelReplay {
@@ -140,6 +140,10 @@ impl ReplayKernel for KernelReplay {
     fn positions(&mut self, out: &mut Vec<AxisValue>) {
         axis_positions(&self.lock(), out);
     }
+
+    fn command(&mut self, _t: u64, c: &OperatorCommand) -> Result<(), String> {
+        crate::hmi_link::kernel_cnc::apply_command(&mut self.lock(), c.process, &c.command)
+    }
 }
 
 /// Replays `trace` through `loaded`: with the kernel when its header names partprograms, as a
@@ -168,8 +172,14 @@ pub fn replay_trace(
                 progress,
             ))
         }
-        None => Ok(replay_driving(
-            trace, loaded, t_init, options, None, progress,
-        )),
+        None => match trace.ticks.iter().find(|r| !r.commands.is_empty()) {
+            Some(r) => Err(format!(
+                "error: tick {}: the trace records operator commands but its header names no partprogram (no CNC kernel to give them to)",
+                r.t
+            )),
+            None => Ok(replay_driving(
+                trace, loaded, t_init, options, None, progress,
+            )),
+        },
     }
 }

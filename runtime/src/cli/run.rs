@@ -137,7 +137,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let tick_ms = args.tick_ms.unwrap_or(machine.config.tick_ms).max(1);
     // The first load compiles on every core (the scan is not running yet); online changes
     // compile on one thread beside the scan, reusing the code of unchanged functions.
-    let (first, compile) = machine.compile_fns(args.engine, tick_ms);
+    let (first, compile) = machine.compile_fns(args.engine, tick_ms, args.hmi.hmi_flow);
     let source = machine.read_source().map_err(|e| e.to_string())?;
     let hmi_source = source.clone();
     if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {

@@ -4,9 +4,11 @@
 //! (the scripted sim plays the CNC); with one, [`super::kernel_cnc::KernelCnc`] takes its place.
 
 use compiler::InterfaceMap;
-use hmi::{Cnc, Command, HandshakeCounts, MachineStatus, ProcessStatus};
+use hmi::{Command, HandshakeCounts, MachineStatus, ProcessStatus};
 use packets::Signal;
 
+use super::frame::Frame;
+use super::{Cnc, CncScan, CncView};
 use crate::sim::HandshakeCounts as SimCounts;
 
 /// One process's interface signals.
@@ -47,8 +49,9 @@ impl ImageCnc {
     }
 }
 
-impl Cnc for ImageCnc {
-    fn status(&self, image: &[u8]) -> MachineStatus {
+impl ImageCnc {
+    /// The per-process state the packet image `image` shows.
+    pub fn status(&self, image: &[u8]) -> MachineStatus {
         let read = |s: &Option<Signal>| s.map(|s| u32::from(s.read(image)));
         MachineStatus {
             processes: self
@@ -74,7 +77,21 @@ impl Cnc for ImageCnc {
                 .collect(),
         }
     }
+}
 
+impl Cnc for ImageCnc {
+    fn split(self: Box<Self>) -> (Box<dyn CncScan>, Box<dyn CncView>) {
+        (Box::new((*self).clone()), self)
+    }
+}
+
+impl CncView for ImageCnc {
+    fn status(&mut self, frame: &Frame) -> MachineStatus {
+        ImageCnc::status(self, &frame.image)
+    }
+}
+
+impl CncScan for ImageCnc {
     fn command(&mut self, process: u8, command: &Command) -> Result<(), String> {
         if !self.processes.iter().any(|p| p.process == process) {
             return Err(format!("this machine has no process {process}"));

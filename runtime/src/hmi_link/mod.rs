@@ -1,38 +1,79 @@
 //! The runtime's side of the web HMI (`ncplc run --hmi`): starts the `hmi` server, answers its
 //! requests at tick boundaries (writes and forces go into the scheduler's [`crate::force::Forces`],
-//! commands to the [`hmi::Cnc`]) and publishes a [`Snapshot`] at most every 25 ms (≥ 20 Hz) into a
-//! latest-value channel, so the scan never waits for a browser.
+//! commands to the CNC's scan half) and publishes at most every 25 ms (≥ 20 Hz). Publishing is a
+//! plain copy of the image and a few numbers into a preallocated [`Frame`] of a triple buffer
+//! (no allocation, JSON or names on the scan thread); the render thread ([`render`]) builds the
+//! [`hmi::Snapshot`] from the newest frame and puts it into the server's latest-value channel, so
+//! the scan never waits for a browser.
 
 pub mod alarms;
 pub mod catalog;
+pub mod frame;
 pub mod image_cnc;
 pub mod kernel_cnc;
+pub mod kernel_view;
+pub mod modal;
+pub mod render;
 
 use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
-use hmi::{Cnc, Command, Envelope, Request, ScanStats, ServerConfig, SharedSnapshot, Snapshot};
+use fieldbus::exchange::{TripleWriter, triple};
+use hmi::{Command, Envelope, MachineStatus, Request, ServerConfig, Snapshot, Toolpath};
 use tokio::sync::watch;
 
 use self::alarms::AlarmList;
+use self::frame::{Frame, MAX_PROCESSES};
+use self::render::{RenderThread, Renderer};
 use crate::online::Note;
 use crate::scheduler::{Event, Scheduler};
 
 /// How often a snapshot is published (40 Hz).
 pub const PUBLISH_EVERY: Duration = Duration::from_millis(25);
 
+/// The CNC behind the Machine page, before it is split between the two threads.
+pub trait Cnc: Send {
+    /// The scan thread's half and the render thread's half.
+    fn split(self: Box<Self>) -> (Box<dyn CncScan>, Box<dyn CncView>);
+}
+
+/// The scan thread's half of the CNC: operator commands and the plain copy into a frame.
+pub trait CncScan: Send {
+    /// Carries out an operator command for `process` at a tick boundary, or says why not
+    /// ([`Command::Ack`] is the HMI's own and never comes here).
+    fn command(&mut self, process: u8, command: &Command) -> Result<(), String>;
+    /// Copies what the render half needs into `out` (in place: no allocation in steady state).
+    fn capture(&mut self, _out: &mut Frame) {}
+    /// True for a machine-wide alarm text that a process's own alarm list already shows (the
+    /// kernel's alarms also reach the runtime as I/O alarms of device `cnc`).
+    fn owns_alarm(&self, _text: &str) -> bool {
+        false
+    }
+}
+
+/// The render thread's half of the CNC: the Machine page's status from a frame.
+pub trait CncView: Send {
+    /// The per-process state the frame shows.
+    fn status(&mut self, frame: &Frame) -> MachineStatus;
+    /// The tool path of every process that has one.
+    fn toolpaths(&self) -> Vec<Toolpath> {
+        Vec::new()
+    }
+}
+
 /// A running HMI and what the scan keeps for it.
 pub struct HmiLink {
     /// The server.
     pub running: hmi::Running,
-    snapshots: watch::Sender<SharedSnapshot>,
+    frames: TripleWriter<Frame>,
+    seq: u64,
     requests: mpsc::Receiver<Envelope>,
-    cnc: Box<dyn Cnc>,
+    cnc: Box<dyn CncScan>,
     last_publish: Option<Instant>,
-    tick_ms: u32,
     alarms: AlarmList,
-    process_alarms: Vec<(u8, AlarmList)>,
+    acks: [u64; MAX_PROCESSES],
     online: String,
+    _render: RenderThread,
 }
 
 impl HmiLink {
@@ -46,16 +87,21 @@ impl HmiLink {
         let (snap_tx, snap_rx) = watch::channel(Arc::new(Snapshot::default()));
         let (req_tx, req_rx) = mpsc::channel();
         let running = hmi::start(config, catalog, snap_rx, req_tx)?;
+        let (scan, view) = cnc.split();
+        let (frames, reader) = triple(Frame::with_image(packets::PACKETS_LEN));
+        let render = RenderThread::start(reader, Renderer::new(view, tick_ms), snap_tx)
+            .map_err(hmi::StartError::Runtime)?;
         Ok(HmiLink {
             running,
-            snapshots: snap_tx,
+            frames,
+            seq: 0,
             requests: req_rx,
-            cnc,
+            cnc: scan,
             last_publish: None,
-            tick_ms,
             alarms: AlarmList::default(),
-            process_alarms: Vec::new(),
+            acks: [0; MAX_PROCESSES],
             online: "running".into(),
+            _render: render,
         })
     }
 
@@ -113,13 +159,18 @@ impl HmiLink {
                     Ok(applied_at)
                 }
                 Request::Command { process, command } => {
-                    self.cnc.command(*process, command).map(|()| applied_at)
+                    let r = self.cnc.command(*process, command);
+                    if r.is_ok() {
+                        sched.record_command(crate::trace::OperatorCommand {
+                            process: *process,
+                            command: command.clone(),
+                        });
+                    }
+                    r.map(|()| applied_at)
                 }
             };
             let _ = env.reply.send(reply);
         }
-        self.cnc
-            .after_tick(&sched.image().bytes()[..packets::PACKETS_LEN]);
         let due = self
             .last_publish
             .is_none_or(|t| t.elapsed() >= PUBLISH_EVERY);
@@ -130,57 +181,63 @@ impl HmiLink {
     }
 
     /// Acknowledges the alarms of `process` (0: every process and the machine-wide ones); see
-    /// [`alarms`] for what that means.
+    /// [`alarms`] for what that means. The process lists live on the render thread: the frame
+    /// carries the count of acknowledges per process.
     fn acknowledge(&mut self, process: u8) {
         if process == 0 {
             self.alarms.acknowledge();
         }
-        for (p, list) in &mut self.process_alarms {
-            if process == 0 || *p == process {
-                list.acknowledge();
-            }
-        }
+        self.acks[usize::from(process).min(MAX_PROCESSES - 1)] += 1;
     }
 
-    /// Publishes the current state now.
+    /// Publishes the current state now: copies it into the scan's frame and hands the frame to
+    /// the render thread.
     pub fn publish(&mut self, sched: &Scheduler) {
-        let image = &sched.image().bytes()[..packets::PACKETS_LEN];
-        let tick = sched.tick_count();
-        let mut machine = self.cnc.status(image);
-        for ps in &mut machine.processes {
-            let active: Vec<String> = ps.alarms.drain(..).map(|a| a.text).collect();
-            let list = match self
-                .process_alarms
-                .iter_mut()
-                .position(|(p, _)| *p == ps.process)
-            {
-                Some(i) => &mut self.process_alarms[i].1,
-                None => {
-                    self.process_alarms.push((ps.process, AlarmList::default()));
-                    let last = self.process_alarms.len() - 1;
-                    &mut self.process_alarms[last].1
-                }
-            };
-            list.sync(&active, tick);
-            ps.alarms = list.entries().to_vec();
+        self.seq += 1;
+        let f = self.frames.buf();
+        f.seq = self.seq;
+        f.tick = sched.tick_count();
+        let engine = sched.engine_name();
+        if f.engine != engine {
+            f.engine.clear();
+            f.engine.push_str(engine);
         }
-        let snap = Snapshot {
-            tick: sched.tick_count(),
-            engine: sched.engine_name().to_string(),
-            tick_ms: self.tick_ms,
-            scan: ScanStats {
-                scan_p50_us: sched.stats.scan.value_at_quantile(0.5) as f64 / 1e3,
-                scan_max_us: sched.stats.scan.max() as f64 / 1e3,
-                overruns: sched.stats.overruns,
-            },
-            image: image.to_vec(),
-            forced: sched.forces().forced().to_vec(),
-            alarms: self.alarms.entries().to_vec(),
-            online: self.online.clone(),
-            machine,
-            tripped: sched.tripped(),
-            toolpaths: self.cnc.toolpaths(),
-        };
-        self.snapshots.send_replace(Arc::new(snap));
+        f.scan = (
+            sched.stats.last_scan_ns,
+            sched.stats.scan.max(),
+            sched.stats.overruns,
+        );
+        f.image.clear();
+        f.image
+            .extend_from_slice(&sched.image().bytes()[..packets::PACKETS_LEN]);
+        f.forced.clear();
+        f.forced.extend_from_slice(sched.forces().forced());
+        copy_into(&mut f.alarms, self.alarms.entries());
+        f.online.clone_from(&self.online);
+        f.tripped = sched.tripped();
+        f.acks = self.acks;
+        let (area, map) = &mut f.flow;
+        area.clear();
+        match sched.flow() {
+            Some(m) => {
+                if !map.as_ref().is_some_and(|old| Arc::ptr_eq(old, m)) {
+                    *map = Some(Arc::clone(m));
+                }
+                let image = sched.image().bytes();
+                let (a, b) = (m.area.0.min(image.len()), m.area.1.min(image.len()));
+                area.extend_from_slice(&image[a..b]);
+            }
+            None => *map = None,
+        }
+        self.cnc.capture(f);
+        self.frames.publish();
     }
+}
+
+/// Makes `dst` a copy of `src`, reusing `dst`'s elements (and their allocations).
+fn copy_into<T: Clone>(dst: &mut Vec<T>, src: &[T]) {
+    dst.truncate(src.len());
+    let n = dst.len();
+    dst.clone_from_slice(&src[..n]);
+    dst.extend_from_slice(&src[n..]);
 }

@@ -12,7 +12,10 @@ use serde::{Deserialize, Serialize};
 
 use packets::{Dir, Packet, Signal};
 
-use super::{AxisId, AxisValue, PartHeader, TickRecord, Trace, TraceError, TraceSink, VERSION};
+use super::{
+    AxisId, AxisValue, OperatorCommand, PartHeader, TickRecord, Trace, TraceError, TraceSink,
+    VERSION,
+};
 
 /// The name in the header frame.
 pub const FORMAT: &str = "ncplc-trace";
@@ -38,6 +41,8 @@ pub enum Frame {
     Part(String),
     /// The `positions` of the [`Frame::Tick`] that follows: (process, axis letter, f64 bits).
     Positions(Vec<(u8, char, u64)>),
+    /// The operator `commands` of the [`Frame::Tick`] that follows, as their JSON array.
+    Commands(String),
 }
 
 /// A [`TickRecord`] in compact form.
@@ -101,6 +106,7 @@ impl CompactTick {
             outputs: unpack(&self.outputs, Dir::Out)?,
             forced: Vec::new(),
             positions: Vec::new(),
+            commands: Vec::new(),
         })
     }
 }
@@ -168,6 +174,13 @@ impl<W: Write> TraceSink for BinaryWriter<W> {
                 .collect();
             write_frame(&mut self.out, &Frame::Positions(pos))?;
         }
+        if !rec.commands.is_empty() {
+            let json = serde_json::to_string(&rec.commands).map_err(|e| TraceError::Binary {
+                frame: 0,
+                message: format!("cannot encode: {e}"),
+            })?;
+            write_frame(&mut self.out, &Frame::Commands(json))?;
+        }
         let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
         self.prev_t = rec.t;
         write_frame(&mut self.out, &frame)
@@ -217,13 +230,18 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 format!("not a version-{VERSION} ncplc trace header (version {version})"),
             ));
         }
-        Frame::Tick(_) | Frame::Forced(_) | Frame::Part(_) | Frame::Positions(_) => {
+        Frame::Tick(_)
+        | Frame::Forced(_)
+        | Frame::Part(_)
+        | Frame::Positions(_)
+        | Frame::Commands(_) => {
             return Err(bad(i, "the first frame must be the header".into()));
         }
     };
     let mut ticks: Vec<TickRecord> = Vec::new();
     let mut forced: Option<(usize, Vec<(u32, u8)>)> = None;
     let mut positions: Option<(usize, Vec<AxisValue>)> = None;
+    let mut commands: Option<(usize, Vec<OperatorCommand>)> = None;
     let mut part = None;
     for (i, raw) in frames {
         match decode_one(i, raw)? {
@@ -243,6 +261,14 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                     .map(|(process, axis, bits)| (AxisId { process, axis }, bits))
                     .collect();
                 positions = Some((i, list));
+            }
+            Frame::Commands(json) => {
+                if commands.is_some() {
+                    return Err(bad(i, "two command frames without a tick between".into()));
+                }
+                let list = serde_json::from_str(&json)
+                    .map_err(|e| bad(i, format!("operator commands: {e}")))?;
+                commands = Some((i, list));
             }
             Frame::Forced(list) => {
                 if forced.is_some() {
@@ -265,6 +291,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 if let Some((_, list)) = positions.take() {
                     r.positions = list;
                 }
+                if let Some((_, list)) = commands.take() {
+                    r.commands = list;
+                }
                 if let Some(prev) = ticks.last()
                     && c.dt == 0
                 {
@@ -280,6 +309,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     }
     if let Some((i, _)) = forced {
         return Err(bad(i, "truncated: a forced frame without its tick".into()));
+    }
+    if let Some((i, _)) = commands {
+        return Err(bad(i, "truncated: a command frame without its tick".into()));
     }
     if let Some((i, _)) = positions {
         return Err(bad(
@@ -309,6 +341,7 @@ mod tests {
             tick_ms: 1,
             ticks: vec![
                 TickRecord {
+                    commands: Vec::new(),
                     t: 0,
                     inputs: vec![(sig("W3K0"), 0)],
                     outputs: vec![(sig("U4A0"), 1)],
@@ -316,6 +349,7 @@ mod tests {
                     positions: Vec::new(),
                 },
                 TickRecord {
+                    commands: Vec::new(),
                     t: 300,
                     inputs: vec![(sig("I0A0"), 1)],
                     outputs: vec![],
@@ -373,6 +407,67 @@ mod tests {
              {\"t\":3,\"in\":{\"W4K0\":176},\"pos\":{\"1X\":\"3fb999999999999a\"}}\n"
         );
         assert_eq!(super::super::text::parse(&text).expect("parse"), trace);
+    }
+
+    #[test]
+    fn operator_commands_survive_both_forms() {
+        let cmd = |command| OperatorCommand {
+            process: 1,
+            command,
+        };
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![
+                TickRecord {
+                    t: 4,
+                    commands: vec![cmd(hmi::Command::Hold)],
+                    ..TickRecord::default()
+                },
+                TickRecord {
+                    t: 9,
+                    inputs: vec![(sig("I0A3"), 1)],
+                    commands: vec![
+                        cmd(hmi::Command::Mode { mode: "MDI".into() }),
+                        cmd(hmi::Command::Mdi {
+                            line: "G00 X-30".into(),
+                        }),
+                    ],
+                    ..TickRecord::default()
+                },
+            ],
+            part: Some(PartHeader {
+                kernel: "cnc 0.1.0".into(),
+                process: 1,
+                ..PartHeader::default()
+            }),
+        };
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        let lines: Vec<&str> = std::str::from_utf8(&text).expect("utf8").lines().collect();
+        assert_eq!(
+            &lines[1..],
+            [
+                r#"{"t":4,"cmd":[{"process":1,"command":"hold"}]}"#,
+                r#"{"t":9,"in":{"I0A3":1},"cmd":[{"process":1,"command":"mode","mode":"MDI"},{"process":1,"command":"mdi","line":"G00 X-30"}]}"#
+            ]
+        );
+        assert_eq!(super::super::text::parse(&text).expect("parse"), trace);
+        // An unknown command is an error naming the line.
+        let bad = format!(
+            "{}\n{}\n",
+            lines[0], r#"{"t":4,"cmd":[{"process":1,"command":"jump"}]}"#
+        );
+        let e = super::super::text::parse(bad.as_bytes())
+            .expect_err("unknown command")
+            .to_string();
+        assert!(
+            e.starts_with("line 2: \"cmd\": unknown variant `jump`"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -437,6 +532,7 @@ mod tests {
                 outputs.dedup_by_key(|(s, _)| *s);
                 let forced = if i % 2 == 1 { outputs.clone() } else { Vec::new() };
                 ticks.push(TickRecord {
+                    commands: Vec::new(),
                     t,
                     inputs,
                     outputs,

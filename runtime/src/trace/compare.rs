@@ -193,6 +193,7 @@ mod tests {
     fn report_shows_the_first_divergence_and_context() {
         let mut c = Comparator::new(10);
         let exp = vec![TickRecord {
+            commands: Vec::new(),
             t: 2,
             inputs: vec![(sig("I0A0"), 1)],
             outputs: vec![(sig("U4A0"), 1)],
@@ -200,6 +201,7 @@ mod tests {
             positions: Vec::new(),
         }];
         let act = vec![TickRecord {
+            commands: Vec::new(),
             t: 3,
             inputs: vec![],
             outputs: vec![(sig("U4A0"), 1)],

@@ -44,6 +44,21 @@ pub struct TickRecord {
     /// positions after the kernel's step, as f64 bits so that a comparison is exact).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub positions: Vec<AxisValue>,
+    /// Operator commands (START, HOLD, RESET, mode, MDI from the HMI) the kernel accepted at the
+    /// boundary before this tick; a replay gives them to its kernel before the tick's latch.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub commands: Vec<OperatorCommand>,
+}
+
+/// An operator command as a trace records it: `{"process":1,"command":"hold"}` (the body of
+/// `POST /api/command`).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct OperatorCommand {
+    /// The process, 1..5.
+    pub process: u8,
+    /// What the operator did.
+    #[serde(flatten)]
+    pub command: hmi::Command,
 }
 
 /// An axis of a part-run trace: its process and letter, written `1X` (process 1, axis X).

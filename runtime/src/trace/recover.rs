@@ -115,6 +115,7 @@ mod tests {
             tick_ms: 2,
             ticks: vec![
                 TickRecord {
+                    commands: Vec::new(),
                     forced: Vec::new(),
                     positions: Vec::new(),
                     t: 0,
@@ -122,6 +123,7 @@ mod tests {
                     outputs: vec![(sig("U4A0"), 1)],
                 },
                 TickRecord {
+                    commands: Vec::new(),
                     forced: Vec::new(),
                     positions: Vec::new(),
                     t: 7,

@@ -78,6 +78,12 @@ pub fn format_record(r: &TickRecord, line: &mut String) {
         }
         line.push('}');
     }
+    if !r.commands.is_empty()
+        && let Ok(json) = serde_json::to_string(&r.commands)
+    {
+        line.push_str(",\"cmd\":");
+        line.push_str(&json);
+    }
     if !r.positions.is_empty() {
         line.push_str(",\"pos\":{");
         for (i, (a, bits)) in r.positions.iter().enumerate() {
@@ -175,10 +181,10 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
             return Err(err(n, format!("tick {t} does not follow tick {}", prev.t)));
         }
         for key in obj.keys() {
-            if !matches!(key.as_str(), "t" | "in" | "out" | "forced" | "pos") {
+            if !matches!(key.as_str(), "t" | "in" | "out" | "forced" | "pos" | "cmd") {
                 return Err(err(
                     n,
-                    format!("unknown key \"{key}\" (expected t, in, out, forced, pos)"),
+                    format!("unknown key \"{key}\" (expected t, in, out, forced, pos, cmd)"),
                 ));
             }
         }
@@ -186,12 +192,19 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
         let outputs = parse_map(obj.get("out")).map_err(|m| err(n, m))?;
         let forced = parse_map(obj.get("forced")).map_err(|m| err(n, m))?;
         let positions = parse_positions(obj.get("pos")).map_err(|m| err(n, m))?;
+        let commands = match obj.get("cmd") {
+            None => Vec::new(),
+            Some(v) => {
+                serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"cmd\": {e}")))?
+            }
+        };
         ticks.push(TickRecord {
             t,
             inputs,
             outputs,
             forced,
             positions,
+            commands,
         });
     }
     Ok(Trace {
@@ -256,6 +269,7 @@ mod tests {
             tick_ms: 10,
             ticks: vec![
                 TickRecord {
+                    commands: Vec::new(),
                     t: 0,
                     inputs: vec![(sig("I0A5"), 1), (sig("W3K0"), 145)],
                     outputs: vec![(sig("U4A0"), 1)],
@@ -263,6 +277,7 @@ mod tests {
                     positions: Vec::new(),
                 },
                 TickRecord {
+                    commands: Vec::new(),
                     t: 7,
                     inputs: vec![],
                     outputs: vec![(sig("U4A0"), 0)],

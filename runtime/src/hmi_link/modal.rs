@@ -1,0 +1,150 @@
+//! The active modal codes of a process for the Machine page: the motion mode, the plane, F, S, T,
+//! the spindle and coolant M functions in effect at the kernel's current block, folded from the
+//! loaded program's canonical blocks (on the HMI's render thread, incrementally: each block is
+//! folded once per program run).
+//!
+//! Canonical blocks carry positions already resolved (absolute, offsets and compensation applied),
+//! so G90/G91, G94/G95, G96/G97, work offsets and compensation are not known here.
+
+use partprogram::canon::{Canon, Kind, Plane, num};
+
+/// The modal state after some blocks.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Modal {
+    /// The last motion G code (G00, G01, G02, G03, G33).
+    pub motion: Option<&'static str>,
+    /// The plane of the last motion block.
+    pub plane: Option<Plane>,
+    /// The last programmed feed.
+    pub feed: Option<f64>,
+    /// The last programmed spindle speed.
+    pub s: Option<f64>,
+    /// The last selected tool.
+    pub t: Option<i64>,
+    /// The last spindle function (M03, M04, M05).
+    pub spindle: Option<u16>,
+    /// The last coolant function (M07, M08, M09).
+    pub coolant: Option<u16>,
+}
+
+impl Modal {
+    /// Applies one block.
+    pub fn fold(&mut self, b: &Canon) {
+        let motion = match b.kind {
+            Kind::Rapid => Some("G00"),
+            Kind::Linear if b.thread => Some("G33"),
+            Kind::Linear => Some("G01"),
+            Kind::ArcCw => Some("G02"),
+            Kind::ArcCcw => Some("G03"),
+            Kind::Dwell | Kind::Aux => None,
+        };
+        if motion.is_some() {
+            self.motion = motion;
+            self.plane = Some(b.plane);
+        }
+        self.feed = b.feed.or(self.feed);
+        self.s = b.s.or(self.s);
+        self.t = b.t.or(self.t);
+        for m in &b.m {
+            match m.m {
+                3..=5 => self.spindle = Some(m.m),
+                7..=9 => self.coolant = Some(m.m),
+                _ => {}
+            }
+        }
+    }
+
+    /// The codes as the page shows them, e.g. `["G01", "G18", "F0.2", "S1200", "T1", "M03"]`.
+    pub fn codes(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.motion.iter().map(|g| g.to_string()).collect();
+        v.extend(self.plane.map(|p| format!("G{}", p.g())));
+        v.extend(self.feed.map(|f| format!("F{}", num(f))));
+        v.extend(self.s.map(|s| format!("S{}", num(s))));
+        v.extend(self.t.map(|t| format!("T{t}")));
+        v.extend(self.spindle.map(|m| format!("M{m:02}")));
+        v.extend(self.coolant.map(|m| format!("M{m:02}")));
+        v
+    }
+}
+
+/// The modal state of one process's program, folded up to the current block.
+#[derive(Debug, Clone, Default)]
+pub struct ModalTracker {
+    program: u64,
+    folded: usize,
+    state: Modal,
+}
+
+impl ModalTracker {
+    /// The state with blocks `0..=block` of `program` (load number `id`) applied; every block is
+    /// folded once while the block index only grows.
+    pub fn at(&mut self, id: u64, program: &[Canon], block: usize) -> &Modal {
+        let upto = block.saturating_add(1).min(program.len());
+        if id != self.program || upto < self.folded {
+            *self = ModalTracker {
+                program: id,
+                ..ModalTracker::default()
+            };
+        }
+        for b in &program[self.folded..upto] {
+            self.state.fold(b);
+        }
+        self.folded = upto;
+        &self.state
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use partprogram::canon::MFunc;
+
+    use super::*;
+
+    fn block(kind: Kind, feed: Option<f64>, s: Option<f64>, t: Option<i64>, m: &[u16]) -> Canon {
+        Canon {
+            n: None,
+            unit: None,
+            kind,
+            end: Vec::new(),
+            center: Vec::new(),
+            plane: Plane::ZX,
+            feed,
+            m: m.iter().map(|&m| MFunc { m, before: true }).collect(),
+            s,
+            t,
+            dwell: None,
+            thread: false,
+            exact_stop: false,
+            tolerance: None,
+        }
+    }
+
+    #[test]
+    fn codes_in_effect_are_folded_up_to_the_current_block() {
+        let prog = vec![
+            block(Kind::Aux, None, Some(1200.0), Some(1), &[3]),
+            block(Kind::Rapid, None, None, None, &[8]),
+            block(Kind::Linear, Some(150.0), None, None, &[]),
+            block(Kind::Dwell, None, None, None, &[]),
+            block(Kind::ArcCw, Some(80.5), None, Some(2), &[5, 9]),
+        ];
+        let mut m = ModalTracker::default();
+        assert_eq!(m.at(1, &prog, 0).codes(), ["S1200", "T1", "M03"]);
+        assert_eq!(
+            m.at(1, &prog, 3).codes(),
+            ["G01", "G18", "F150", "S1200", "T1", "M03", "M08"]
+        );
+        // Past the end: every block applied; the dwell left G01 in effect before the arc.
+        assert_eq!(
+            m.at(1, &prog, 9).codes(),
+            ["G02", "G18", "F80.5", "S1200", "T2", "M05", "M09"]
+        );
+        // A block index that went back (a restart) folds again from the first block.
+        assert_eq!(
+            m.at(1, &prog, 1).codes(),
+            ["G00", "G18", "S1200", "T1", "M03", "M08"]
+        );
+        // Another program load starts over.
+        assert_eq!(m.at(2, &prog[2..], 0).codes(), ["G01", "G18", "F150"]);
+    }
+}
