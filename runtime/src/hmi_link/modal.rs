@@ -4,7 +4,8 @@
 //! folded once per program run).
 //!
 //! Canonical blocks carry positions already resolved (absolute, offsets and compensation applied),
-//! so G90/G91, G94/G95, G96/G97, work offsets and compensation are not known here.
+//! so G90/G91, G94/G95, work offsets and compensation are not known here; constant surface speed
+//! is (each block carries it while G96 is in effect).
 
 use partprogram::canon::{Canon, Kind, Plane, num};
 
@@ -25,6 +26,8 @@ pub struct Modal {
     pub spindle: Option<u16>,
     /// The last coolant function (M07, M08, M09).
     pub coolant: Option<u16>,
+    /// Constant surface speed in m/min while G96 is in effect.
+    pub css: Option<f64>,
 }
 
 impl Modal {
@@ -45,6 +48,7 @@ impl Modal {
         self.feed = b.feed.or(self.feed);
         self.s = b.s.or(self.s);
         self.t = b.t.or(self.t);
+        self.css = b.css.as_ref().map(|c| c.m_min);
         for m in &b.m {
             match m.m {
                 3..=5 => self.spindle = Some(m.m),
@@ -58,6 +62,7 @@ impl Modal {
     pub fn codes(&self) -> Vec<String> {
         let mut v: Vec<String> = self.motion.iter().map(|g| g.to_string()).collect();
         v.extend(self.plane.map(|p| format!("G{}", p.g())));
+        v.extend(self.css.map(|_| "G96".to_string()));
         v.extend(self.feed.map(|f| format!("F{}", num(f))));
         v.extend(self.s.map(|s| format!("S{}", num(s))));
         v.extend(self.t.map(|t| format!("T{t}")));
@@ -116,6 +121,8 @@ mod tests {
             thread: false,
             exact_stop: false,
             tolerance: None,
+            css: None,
+            feed_g94: true,
         }
     }
 
@@ -146,5 +153,19 @@ mod tests {
         );
         // Another program load starts over.
         assert_eq!(m.at(2, &prog[2..], 0).codes(), ["G01", "G18", "F150"]);
+        // G96 while a block carries a cutting speed, gone with the first block without one.
+        let mut g96 = block(Kind::Linear, Some(0.2), Some(120.0), None, &[]);
+        g96.css = Some(partprogram::canon::Css {
+            m_min: 120.0,
+            max_rpm: None,
+            origin: Vec::new(),
+            diameter: true,
+        });
+        let css = vec![g96, block(Kind::Linear, None, Some(800.0), None, &[])];
+        assert_eq!(
+            m.at(3, &css, 0).codes(),
+            ["G01", "G18", "G96", "F0.2", "S120"]
+        );
+        assert_eq!(m.at(3, &css, 1).codes(), ["G01", "G18", "F0.2", "S800"]);
     }
 }
