@@ -183,7 +183,9 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     );
     let actual = tp["actual"].as_array().expect("actual");
     assert_eq!(actual.last(), Some(&json!([-20.0, -30.0])));
-    assert!(actual.len() > 10, "{} sampled points", actual.len());
+    // Sampled once per published frame (≥ 20 Hz) along the move (about half a second since X
+    // moves in diameter): more than the two ends.
+    assert!(actual.len() > 4, "{} sampled points", actual.len());
     let (code, v) = json_pair(hmi.http("GET", "/api/toolpath/2", None));
     assert_eq!(
         (code, &v["error"]),

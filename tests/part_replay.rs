@@ -93,7 +93,7 @@ fn an_edited_program_is_an_error_naming_the_file() {
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
         format!(
-            "error: {}: the partprogram changed since the trace was recorded (crc32 222f87ef in the trace, {crc} now)\n",
+            "error: {}: the partprogram changed since the trace was recorded (crc32 6d2bbce4 in the trace, {crc} now)\n",
             m.path().join("nc/PART1").display()
         )
     );
@@ -108,7 +108,7 @@ fn an_edited_program_with_its_hash_diverges_in_position_as_a_live_run_does() {
     let dir = tempfile::tempdir().expect("tempdir");
     let original = std::fs::read_to_string(golden("lathe")).expect("golden");
     let forged = dir.path().join("forged.jsonl");
-    std::fs::write(&forged, original.replacen("222f87ef", &crc, 1)).expect("write");
+    std::fs::write(&forged, original.replacen("6d2bbce4", &crc, 1)).expect("write");
     let live = dir.path().join("live.jsonl");
     let out = ncplc(&[
         "run",
@@ -248,8 +248,9 @@ fn a_changed_macro_correction_table_or_constants_file_is_named_by_the_replay() {
     };
     assert!(
         header.starts_with(&format!(
-            "{{\"format\":\"ncplc-trace\",\"version\":1,\"tick_ms\":10,\"part\":{{\"kernel\":\"cnc 0.1.0\",\"process\":1,\"mdi\":[\"N1 G00 X-10 Z-20\"],\"files\":[{{\"file\":\"MP0/TAB0.KOR\",\"crc32\":\"{}\"}},{{\"file\":\"macros/PEVNECY5.NCP\",\"crc32\":\"{}\"}},{{\"file\":\"nc/CONSTANTS\",\"crc32\":\"{}\"}}]}}}}\n",
+            "{{\"format\":\"ncplc-trace\",\"version\":1,\"tick_ms\":10,\"part\":{{\"kernel\":\"cnc 0.1.0\",\"process\":1,\"mdi\":[\"N1 G00 X-10 Z-20\"],\"files\":[{{\"file\":\"MP0/TAB0.KOR\",\"crc32\":\"{}\"}},{{\"file\":\"MP0/TAB0.POS\",\"crc32\":\"{}\"}},{{\"file\":\"macros/PEVNECY5.NCP\",\"crc32\":\"{}\"}},{{\"file\":\"nc/CONSTANTS\",\"crc32\":\"{}\"}}]}}}}\n",
             crc("MP0/TAB0.KOR"),
+            crc("MP0/TAB0.POS"),
             crc("macros/PEVNECY5.NCP"),
             crc("nc/CONSTANTS")
         )),
@@ -258,6 +259,7 @@ fn a_changed_macro_correction_table_or_constants_file_is_named_by_the_replay() {
     for (file, edit) in [
         ("macros/PEVNECY5.NCP", true),
         ("MP0/TAB0.KOR", true),
+        ("MP0/TAB0.POS", true),
         ("nc/CONSTANTS", false),
     ] {
         let copy = dir.path().join("edited");

@@ -159,7 +159,7 @@ fn a_tool_correction_request_takes_the_changed_offset_for_the_following_block() 
     let prog = dir.path().join("TLEN");
     std::fs::write(
         &prog,
-        "%3\nN10 D2 &0010\nN20 T2 M06\nN30 G54 G00 X-100 Y-100 Z-50\nN40 M30\n",
+        "%3\nN10 D2 &0010\nN20 T2 M06\nN30 G53 G00 X-100 Y-100 Z-50\nN40 M30\n",
     )
     .expect("write");
     let kor = dir.path().join("NEW.KOR");

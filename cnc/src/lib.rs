@@ -10,7 +10,7 @@
 //!
 //! Read in this order: [`state`] (the rule table), [`signals`], [`config`], [`process`],
 //! [`exec`], [`spindle`] (G96 and gear ranges), [`alt_feed`] (QCKFD), [`correction`] (the
-//! tool-correction request), [`zones`] (the active soft limits), [`manual`], [`handwheel`],
+//! tool-correction request), [`zones`] (the active soft limits), [`limit_switch`] (MFC), [`manual`], [`handwheel`],
 //! [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
 
 pub mod alt_feed;
@@ -21,6 +21,7 @@ pub mod handshake;
 pub mod handwheel;
 pub mod homing;
 pub mod interp;
+pub mod limit_switch;
 pub mod manual;
 pub mod motion_link;
 pub mod plant;

@@ -29,6 +29,10 @@ pub struct Drive {
     dt: f64,
     offset: f64,
     home_switch: Option<f64>,
+    /// Edges of the + and − hardware limit switches on the machine's scale (MFC), when simulated.
+    limit_switches: [Option<f64>; 2],
+    /// The set point of the servo tick before the last, for the direction of motion.
+    previous_command: f64,
 }
 
 impl Drive {
@@ -42,6 +46,8 @@ impl Drive {
             dt: 0.001,
             offset: 0.0,
             home_switch: None,
+            limit_switches: [None; 2],
+            previous_command: pos,
         }
     }
 
@@ -62,6 +68,32 @@ impl Drive {
         self.home_switch
     }
 
+    /// Places the + and − hardware limit switches: each is pressed from its edge outwards.
+    pub fn set_limit_switches(&mut self, positive: Option<f64>, negative: Option<f64>) {
+        self.limit_switches = [positive, negative];
+    }
+
+    /// The + and − limit switches: pressed or not, `None` where the machine does not simulate one.
+    pub fn limit_pressed(&self) -> [Option<bool>; 2] {
+        let p = self.machine_position();
+        [
+            self.limit_switches[0].map(|edge| p >= edge),
+            self.limit_switches[1].map(|edge| p <= edge),
+        ]
+    }
+
+    /// The direction of the last servo tick's set point change: 1, −1 or 0.
+    pub fn direction(&self) -> f64 {
+        let d = self.command - self.previous_command;
+        if d > 0.0 {
+            1.0
+        } else if d < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    }
+
     /// The controller's coordinates move by −`shift` (homing sets a new zero).
     pub fn shift(&mut self, shift: f64) {
         self.command -= shift;
@@ -71,6 +103,7 @@ impl Drive {
 
     /// One servo tick of `dt` seconds towards the set point `command`.
     pub fn tick(&mut self, command: f64, dt: f64) {
+        self.previous_command = self.command;
         if command == self.command {
             self.still_ticks = self.still_ticks.saturating_add(1);
         } else {

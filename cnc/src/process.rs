@@ -380,6 +380,7 @@ impl Process {
         self.manual(out);
         self.handwheels(out, image);
         self.run_interpolation(out);
+        self.watch_limit_switches();
         self.homing();
         self.advance();
         self.step_channels(tick, out, true);
@@ -633,6 +634,7 @@ impl Process {
             }
             cs.strobe.write(image, u8::from(strobe));
         }
+        self.write_limit_switches(image);
         for (i, a) in self.cfg.axes.iter().enumerate() {
             if let (Some(input), Some(pressed)) =
                 (a.home.and_then(|h| h.input), self.home_pressed(i))

@@ -23,6 +23,8 @@ fn run(
     plan: impl Fn(f64) -> Vec<partprogram::Canon> + Send + 'static,
 ) -> Vec<f64> {
     let mut b = Bench::new(cnc(false, 0, 0));
+    // N30 ends at X5.5, beyond the fixture's LO1 (−5..3): no soft limits here.
+    b.cnc.process_mut(1).expect("p1").cfg.axes[0].soft = (None, None);
     b.start_program(part(0.0));
     let t = Arc::clone(&table);
     b.cnc
@@ -64,6 +66,8 @@ fn a_changed_offset_moves_the_following_block_by_exactly_the_difference() {
 fn a_plan_with_other_blocks_is_a_stopping_alarm() {
     let table = Arc::new(Mutex::new(0.0));
     let mut b = Bench::new(cnc(false, 0, 0));
+    // N30 ends at X5.5, beyond the fixture's LO1 (−5..3): no soft limits here.
+    b.cnc.process_mut(1).expect("p1").cfg.axes[0].soft = (None, None);
     b.start_program(part(0.0));
     let t = Arc::clone(&table);
     b.cnc

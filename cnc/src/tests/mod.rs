@@ -6,6 +6,7 @@ mod exec;
 pub(crate) mod fixture;
 mod handwheel;
 mod homing;
+mod limit_switch;
 mod manual;
 mod spindle;
 mod zones;

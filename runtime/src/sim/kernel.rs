@@ -97,6 +97,18 @@ pub fn build_cnc(setup: &KernelSetup, script: &Script) -> Result<Cnc, SimError> 
                     )));
                 };
                 p.place_axis(i, a.start, a.home_switch);
+                if a.limit_pos.is_some() || a.limit_neg.is_some() {
+                    let wired = p.limit_inputs(i);
+                    if (a.limit_pos.is_some() && wired.0.is_none())
+                        || (a.limit_neg.is_some() && wired.1.is_none())
+                    {
+                        return Err(SimError::Invalid(format!(
+                            "[[axis]] {}: a limit switch without its AXCFIL MFC input",
+                            a.name
+                        )));
+                    }
+                    p.place_limit_switches(i, a.limit_pos, a.limit_neg);
+                }
             }
         }
         if script.cnc.referenced {

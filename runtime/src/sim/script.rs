@@ -65,6 +65,10 @@ pub struct AxisPlace {
     pub start: f64,
     /// Edge of the home switch (pressed beyond it in the MCZ search direction).
     pub home_switch: Option<f64>,
+    /// Edge of the + hardware limit switch (AXCFIL MFC): pressed at or beyond it.
+    pub limit_pos: Option<f64>,
+    /// Edge of the − hardware limit switch (AXCFIL MFC): pressed at or below it.
+    pub limit_neg: Option<f64>,
 }
 
 /// `[part]`: `[[part.at]]` and `[[part.follow]]` for part runs.
