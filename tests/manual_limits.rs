@@ -175,3 +175,57 @@ fn a_block_beyond_lo1_is_refused_and_zone2_selects_lo2() {
         String::from_utf8_lossy(&out.stdout)
     );
 }
+
+/// The lathe's Z has MFC = I0A12 (+), I0A13 (−); the simulated machine presses the − switch from
+/// Z = −50 mm down (inside LO1, so the soft limit does not refuse the block first). A rapid to
+/// Z−100 runs onto it: the kernel stops every motion with a stopping alarm naming the input,
+/// short of the programmed end, and the recording replays identically.
+#[test]
+fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let sim = dir.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    std::fs::write(
+        &sim,
+        text + "\n[[axis]]\nname = \"Z\"\nlimit_pos = 8.0\nlimit_neg = -50.0\n",
+    )
+    .expect("write");
+    let traj = dir.path().join("mfc.traj");
+    let rec = dir.path().join("mfc.jsonl");
+    let out = ncplc(&[
+        "run",
+        s(dir.path()),
+        "--virtual-time",
+        "--no-watch",
+        "--mdi",
+        "N1 G00 Z-100",
+        "--ticks",
+        "300",
+        "--until-end",
+        "--trajectory",
+        s(&traj),
+        "--record",
+        s(&rec),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains(
+            "alarm: process 1: axis Z ran onto its - hardware limit switch (MFC I0A13)\n"
+        ),
+        "{stdout}"
+    );
+    let p: Vec<f64> = serde_json::from_str(&last_set_points(&traj)).expect("set points");
+    assert!(p[1] < -50.0 && p[1] > -100.0, "Z stopped at {}", p[1]);
+    // The contacts are normally closed: I0A13 opens on the switch, I0A12 stays closed.
+    let trace = std::fs::read_to_string(&rec).expect("trace");
+    assert!(trace.contains("\"I0A13\":0"), "I0A13 never opened");
+    assert!(!trace.contains("\"I0A12\":0"), "I0A12 opened");
+    let out = ncplc(&["replay", s(dir.path()), s(&rec)]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

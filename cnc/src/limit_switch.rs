@@ -42,7 +42,7 @@ impl Process {
     }
 
     /// Stops the process with an alarm when an axis moved further onto a pressed switch in the
-    /// last servo tick (once: the alarm stays until RESET, the stop is not restarted meanwhile).
+    /// last servo tick (the slide's actual motion) (once: the alarm stays until RESET, the stop is not restarted meanwhile).
     pub(crate) fn watch_limit_switches(&mut self) {
         let mut tripped = None;
         for (a, d) in self.cfg.axes.iter().zip(&self.drives) {

@@ -31,8 +31,8 @@ pub struct Drive {
     home_switch: Option<f64>,
     /// Edges of the + and − hardware limit switches on the machine's scale (MFC), when simulated.
     limit_switches: [Option<f64>; 2],
-    /// The set point of the servo tick before the last, for the direction of motion.
-    previous_command: f64,
+    /// The actual position one servo tick before, for the direction of motion.
+    previous_actual: f64,
 }
 
 impl Drive {
@@ -47,7 +47,7 @@ impl Drive {
             offset: 0.0,
             home_switch: None,
             limit_switches: [None; 2],
-            previous_command: pos,
+            previous_actual: pos,
         }
     }
 
@@ -82,9 +82,10 @@ impl Drive {
         ]
     }
 
-    /// The direction of the last servo tick's set point change: 1, −1 or 0.
+    /// The direction the axis actually moved in the last servo tick: 1, −1 or 0 (the switch is
+    /// pressed by the slide, which lags its set point).
     pub fn direction(&self) -> f64 {
-        let d = self.command - self.previous_command;
+        let d = self.actual - self.previous_actual;
         if d > 0.0 {
             1.0
         } else if d < 0.0 {
@@ -103,7 +104,7 @@ impl Drive {
 
     /// One servo tick of `dt` seconds towards the set point `command`.
     pub fn tick(&mut self, command: f64, dt: f64) {
-        self.previous_command = self.command;
+        self.previous_actual = self.actual;
         if command == self.command {
             self.still_ticks = self.still_ticks.saturating_add(1);
         } else {
