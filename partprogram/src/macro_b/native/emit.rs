@@ -172,11 +172,11 @@ impl G<'_, '_> {
         self.b.switch_to_block(cont);
     }
 
-    /// `x` when finite, else the Range error.
+    /// `x` when finite, else the Range error (`x − x` is NaN exactly for an infinity or a NaN: two
+    /// instructions, no constants).
     fn fin(&mut self, x: Value) -> Value {
-        let a = self.b.ins().fabs(x);
-        let inf = self.f(f64::INFINITY);
-        let ok = self.b.ins().fcmp(FloatCC::LessThan, a, inf);
+        let d = self.b.ins().fsub(x, x);
+        let ok = self.b.ins().fcmp(FloatCC::Ordered, d, d);
         self.guard(ok, MacroError::Range.code());
         x
     }
@@ -359,14 +359,19 @@ impl G<'_, '_> {
                 nn(self.fin(r))
             }
             Expr::Bin(op, a, b) => {
+                let lit = match **b {
+                    Expr::Num(v) => Some(v),
+                    _ => None,
+                };
                 let a = self.expr(a);
                 let b = self.expr(b);
-                nn(self.bin(*op, a, b))
+                nn(self.bin(*op, a, b, lit))
             }
         }
     }
 
-    fn bin(&mut self, op: BinOp, a: V, b: V) -> Value {
+    /// `a op b`; `lit`: the right operand when it is a number literal (no zero-divisor check then).
+    fn bin(&mut self, op: BinOp, a: V, b: V, lit: Option<f64>) -> Value {
         if matches!(op, BinOp::Eq | BinOp::Ne) {
             let same = self.b.ins().fcmp(FloatCC::Equal, a.v, b.v);
             let eq = if a.null && b.null {
@@ -410,18 +415,22 @@ impl G<'_, '_> {
                 self.fin(r)
             }
             BinOp::Div => {
-                let zero = self.f(0.0);
-                let ok = self.b.ins().fcmp(FloatCC::NotEqual, b, zero);
-                self.guard(ok, MacroError::DivZero.code());
+                if lit.is_none_or(|v| v == 0.0) {
+                    let zero = self.f(0.0);
+                    let ok = self.b.ins().fcmp(FloatCC::NotEqual, b, zero);
+                    self.guard(ok, MacroError::DivZero.code());
+                }
                 let r = self.b.ins().fdiv(a, b);
                 self.fin(r)
             }
             BinOp::Mod => {
                 let ra = self.round(a);
                 let rb = self.round(b);
-                let zero = self.f(0.0);
-                let ok = self.b.ins().fcmp(FloatCC::NotEqual, rb, zero);
-                self.guard(ok, MacroError::DivZero.code());
+                if lit.is_none_or(|v| v.round() == 0.0) {
+                    let zero = self.f(0.0);
+                    let ok = self.b.ins().fcmp(FloatCC::NotEqual, rb, zero);
+                    self.guard(ok, MacroError::DivZero.code());
+                }
                 let r = self.rem(ra, rb);
                 self.fin(r)
             }
