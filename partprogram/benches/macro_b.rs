@@ -7,34 +7,13 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use partprogram::{Backend, Dialect, MachineSpec, PlanOptions, compile, plan};
 
 /// 10,000 passes of a loop with arithmetic, a function, a comparison and a conditional assignment.
-pub const LOOP: &str = "O1
-#1 = 0
-#2 = 0
-#3 = 0
-WHILE [#1 LT 10000] DO1
-#2 = #2 + [#1 * 0.5 - 3] / 7
-#3 = #3 + ABS[#2] MOD 5
-IF [#2 GT 1000] THEN #2 = #2 - 1000
-#1 = #1 + 1
-END1
-G00 X[#2 / 100]
-M30
-";
+pub const LOOP: &str = include_str!("macro/loop.nc");
 
 /// The same loop with arithmetic and comparisons only (no host functions).
-pub const ARITH: &str = "O1
-#1 = 0
-#2 = 0
-#3 = 0
-WHILE [#1 LT 10000] DO1
-#2 = #2 + [#1 * 0.5 - 3] / 7
-#3 = #3 + #2 * 2
-IF [#2 GT 1000] THEN #2 = #2 - 1000
-#1 = #1 + 1
-END1
-G00 X[#2 / 100]
-M30
-";
+pub const ARITH: &str = include_str!("macro/arith.nc");
+
+/// 10,000 passes writing and reading a table through computed variable numbers (`#[…]`).
+pub const INDEXED: &str = include_str!("macro/indexed.nc");
 
 fn bench_macro_loop(c: &mut Criterion) {
     let m = MachineSpec::new(Dialect::Fanuc, &['X', 'Y', 'Z']);
@@ -45,6 +24,8 @@ fn bench_macro_loop(c: &mut Criterion) {
         ("interpreter_10k_loop", LOOP, Backend::Interpreter),
         ("native_10k_arith", ARITH, Backend::Native),
         ("interpreter_10k_arith", ARITH, Backend::Interpreter),
+        ("native_10k_indexed", INDEXED, Backend::Native),
+        ("interpreter_10k_indexed", INDEXED, Backend::Interpreter),
     ] {
         let (prog, diags) = compile(&m, "loop", src);
         let prog = prog.unwrap_or_else(|| panic!("{diags:?}"));

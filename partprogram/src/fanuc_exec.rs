@@ -70,6 +70,9 @@ struct Ex<'p> {
     /// Offset registers 0..=200 (radius, lengths of axes 1..4): 0..=99 from the machine's correction
     /// table, the others zero until `G10 L12` sets a radius.
     corrections: Vec<[f64; 5]>,
+    /// Wear of each register (length, radius), 0 until `G10 L11`/`L13` or `#2201`+/`#2601`+ set it;
+    /// the active length and radius are geometry + wear.
+    wear: Vec<[f64; 2]>,
     rc: Compensator,
     executed: u64,
     ended: bool,
@@ -145,6 +148,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
             rows.resize(comp::REGISTERS, [0.0; 5]);
             rows
         },
+        wear: vec![[0.0; 2]; comp::REGISTERS],
         // Fanuc keeps the programmed feed at the tool centre on compensated arcs (no F·R'/R).
         rc: Compensator::new(crate::radius::RadiusOptions {
             adapt_arc_feed: false,
@@ -213,19 +217,32 @@ impl Ex<'_> {
                 self.pop_frame();
                 continue;
             }
-            let bi = fr.pc;
+            let mut bi = fr.pc;
             if self.opts.backend == crate::run::Backend::Native
                 && let Some(code) = self.prog.macro_native.as_ref()
                 && let Some(ri) = code.run_at(bi)
             {
                 use crate::macro_b::native::MacroExit;
                 let max = self.opts.max_blocks;
-                match code.run(ri, bi, &mut self.vars.slots, &mut self.executed, max) {
+                // The table leaves `self` for the call, so the executor can serve system variables.
+                let mut slots = std::mem::take(&mut self.vars.slots);
+                let mut executed = self.executed;
+                let exit = code.run(ri, bi, &mut slots, &mut executed, max, Some(self));
+                self.vars.slots = slots;
+                self.executed = executed;
+                match exit {
                     MacroExit::Next(n) => {
                         if let Some(fr) = self.frames.last_mut() {
                             fr.pc = n;
                         }
                         continue;
+                    }
+                    MacroExit::Interpret(at) => {
+                        // The interpreter runs this block (below), then native code resumes.
+                        if let Some(fr) = self.frames.last_mut() {
+                            fr.pc = at;
+                        }
+                        bi = at;
                     }
                     MacroExit::Error(at, e) => {
                         return Err(run_err(

@@ -336,6 +336,92 @@ fn macro_runs_are_compiled_natively() {
     assert_eq!(code.run_count(), 3);
 }
 
+#[test]
+fn computed_and_system_variables_run_natively_in_one_run() {
+    // Squares into #100..#104 through #[…], the G54 X offset counted up by 1.5 per pass, a read of
+    // #9999 (nonexistent) after the loop: one native run; the error is the interpreter's.
+    let src = "O1\n#1 = 0\nWHILE [#1 LT 5] DO1\n#[100 + #1] = #1 * #1\n#5221 = #5221 + 1.5\n\
+               #2 = #[100 + #1] + ROUND[#5221] + [#1 MOD 3]\n#1 = #1 + 1\nEND1\nG00 X#104 Y#2\nM30\n";
+    let (prog, _) = compile(&haas(), "t", src);
+    let code = prog.and_then(|p| p.macro_native).expect("native code");
+    assert_eq!(code.run_count(), 1);
+    let p = both(src);
+    assert_eq!(&p.macro_vars[100..105], &[0.0, 1.0, 4.0, 9.0, 16.0]);
+    // Last pass: #1 = 4, #104 = 16, #5221 = 7.5 → ROUND 8, 4 MOD 3 = 1: #2 = 25.
+    assert_eq!(p.macro_vars[2], 25.0);
+    assert_eq!(p.executed, 1 + 5 * 6 + 1 + 1 + 1);
+    // X16 in G54 (X offset 7.5) is machine X 23.5.
+    assert_eq!(xyz(&p.blocks[0]), (Kind::Rapid, 23.5, 25.0, 0.0));
+    let e = run_error(
+        "O1\n#1 = 9899\n#2 = #[#1 + 100]\nM30\n",
+        PlanOptions::default(),
+    );
+    assert_eq!(e, (2531, "variable #9999 does not exist".to_string(), 3));
+}
+
+#[test]
+fn g10_l11_l13_wear_adds_to_the_geometry_and_the_variables_see_both() {
+    // H1 length 10 (L10) + wear -0.5 (L11, then G91 adds -0.25): G43 H1 Z0 is machine Z 9.25.
+    // D1 radius 2 (L12) + wear 0.5 (#2601): G41 on the line Y10 → centre Y 10 + 2.5 = 12.5.
+    let p = both(
+        "O1\nG10 L10 P1 R10.\nG10 L11 P1 R-0.5\nG91 G10 L11 P1 R-0.25\nG90\nG10 L12 P1 R2.\n#2601 = 0.5\n\
+         #100 = #2001\n#101 = #2201\n#102 = #2401\n#103 = #2601\n\
+         G43 H1 G00 Z0\nG00 X-10. Y0\nG41 D1 G01 X0 Y10. F100.\nX20.\nG40 G49 G00 Z50.\nM30\n",
+    );
+    assert_eq!(&p.macro_vars[100..104], &[10.0, -0.75, 2.0, 0.5]);
+    assert_eq!(xyz(&p.blocks[0]), (Kind::Rapid, 0.0, 0.0, 9.25));
+    let x20 = p
+        .blocks
+        .iter()
+        .find(|c| xyz(c).1 == 20.0)
+        .expect("the X20 line");
+    assert_eq!(xyz(x20), (Kind::Linear, 20.0, 12.5, 9.25));
+}
+
+#[test]
+fn modal_information_variables_read_the_current_g_codes_and_words() {
+    // #4001 motion, #4002 plane, #4003 G90/91, #4006 G20/21, #4007 G40/41/42, #4008 G43/44/49,
+    // #4009 cycle, #4010 G98/99, #4014 work system, #4109 F, #4111 H, #4119 S, #4120 T, #4130 G154 P;
+    // #4201+ the same (a plan buffers nothing).
+    let p = both(
+        "O1\nG18 G91 G01 X0 F250. S1200 T7\nG99 G55\n\
+         #100 = #4001\n#101 = #4002\n#102 = #4003\n#103 = #4006\n#104 = #4007\n#105 = #4008\n\
+         #106 = #4009\n#107 = #4010\n#108 = #4014\n#109 = #4109\n#110 = #4111\n#111 = #4119\n\
+         #112 = #4120\n#113 = #4130\n#114 = #4201\nG154 P12\n#115 = #4014\n#116 = #4130\nM30\n",
+    );
+    assert_eq!(
+        &p.macro_vars[100..117],
+        &[
+            1.0, 18.0, 91.0, 21.0, 40.0, 49.0, 80.0, 99.0, 55.0, 250.0, 0.0, 1200.0, 7.0, 0.0, 1.0,
+            154.0, 12.0
+        ]
+    );
+    // #4004 (G22/G23, not modelled) does not exist; the modal variables are read only.
+    assert_eq!(static_codes("O1\n#1 = #4004\nM30\n"), vec![(2011, 2)]);
+    let e = run_error("O1\n#1 = 4001\n#[#1] = 1\nM30\n", PlanOptions::default());
+    assert_eq!(e, (2531, "variable #4001 cannot be written".to_string(), 3));
+}
+
+#[test]
+fn g65_argument_specification_ii_binds_i_j_k_sets() {
+    // I1 K3 I4 J5 (Fanuc's example): #4 = 1, #6 = 3, #7 = 4, #8 = 5; A #1; the tenth set's K is #33.
+    // D6 then I7 J8 K9 I10: D is #7 (spec I), the second set's I (#7) comes later and wins.
+    let p = both(
+        "O1\nG65 P9000 A2. I1. K3. I4. J5.\nG65 P9001 D6. I7. J8. K9. I10.\n\
+         G65 P9002 I1 I2 I3 I4 I5 I6 I7 I8 I9 I10 K33.\nM30\n\
+         O9000\n#100 = #1\n#101 = #4\n#102 = #5\n#103 = #6\n#104 = #7\n#105 = #8\nM99\n\
+         O9001\n#106 = #7\n#107 = #10\nM99\nO9002\n#108 = #31\n#109 = #33\nM99\n",
+    );
+    let v = &p.macro_vars;
+    // #5 (J of the first set) was not given: null.
+    assert_eq!(
+        (v[100], v[101], v[103], v[104], v[105]),
+        (2.0, 1.0, 3.0, 4.0, 5.0)
+    );
+    assert!(v[102].is_nan() && v[107].is_nan());
+    assert_eq!((v[106], v[108], v[109]), (10.0, 10.0, 33.0));
+}
+
 mod differential {
     //! Random macro programs: the native back end must give the interpreter's plan, variables (bit
     //! for bit, null included), block count and errors.
@@ -343,8 +429,25 @@ mod differential {
     use proptest::prelude::*;
 
     fn var() -> impl Strategy<Value = String> {
-        prop::sample::select(vec!["#1", "#2", "#3", "#4", "#100", "#500", "#0", "#30"])
-            .prop_map(str::to_string)
+        // Computed numbers (plain, #0, system, nonexistent) and system variables run natively too.
+        prop::sample::select(vec![
+            "#1",
+            "#2",
+            "#3",
+            "#4",
+            "#100",
+            "#500",
+            "#0",
+            "#30",
+            "#[#1]",
+            "#[100 + #2]",
+            "#[#3 / 2]",
+            "#5221",
+            "#2001",
+            "#5001",
+            "#5041",
+        ])
+        .prop_map(str::to_string)
     }
 
     fn expr() -> impl Strategy<Value = String> {
@@ -372,7 +475,19 @@ mod differential {
     }
 
     fn stmt() -> impl Strategy<Value = String> {
-        let target = prop::sample::select(vec!["#1", "#2", "#3", "#4", "#100", "#500"]);
+        let target = prop::sample::select(vec![
+            "#1",
+            "#2",
+            "#3",
+            "#4",
+            "#100",
+            "#500",
+            "#[#1 + 100]",
+            "#[#4]",
+            "#5222",
+            "#2001",
+            "#2401",
+        ]);
         prop_oneof![
             4 => (target.clone(), expr()).prop_map(|(t, e)| format!("{t} = {e}\n")),
             1 => (expr(), target.clone(), expr()).prop_map(|(c, t, e)| format!("IF [{c}] THEN {t} = {e}\n")),

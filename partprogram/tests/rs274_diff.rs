@@ -262,6 +262,26 @@ fn the_generator_renders_programs_both_sides_accept() {
             h: 30,
         },
         Call { l: 2 },
+        Param {
+            var: 1,
+            e: generate::MExpr::Func(
+                8,
+                Box::new(generate::MExpr::Var(0)),
+                Box::new(generate::MExpr::Num(3)),
+            ),
+        },
+        ExprMove {
+            rapid: false,
+            e: [
+                generate::MExpr::Var(1),
+                generate::MExpr::Scale(4, Box::new(generate::MExpr::Var(2))),
+                generate::MExpr::Func(
+                    5,
+                    Box::new(generate::MExpr::Num(60)),
+                    Box::new(generate::MExpr::Num(0)),
+                ),
+            ],
+        },
     ];
     let r = generate::render(&stmts, [4, -6]);
     let (prog, diags) = compile(&machine(), "p.ngc", &r.text);
@@ -269,4 +289,11 @@ fn the_generator_renders_programs_both_sides_accept() {
     let p = plan(&prog, PlanOptions::default()).unwrap_or_else(|e| panic!("{}\n{}", e.1, r.text));
     assert!(p.blocks.len() > 30);
     assert_eq!(r.pecks.len(), 1);
+    // #101 = [ROUND[ABS[#100]] MOD k], k = 2 + len("1.500") % 5 = 2; #100 = 12.5: 13 MOD 2 = 1.
+    assert!(
+        r.text.contains("#101=[[ROUND[ABS[#100]] MOD 2]]"),
+        "{}",
+        r.text
+    );
+    assert_eq!(p.macro_vars[101], 1.0);
 }

@@ -1,5 +1,5 @@
 //! The Fanuc/HAAS side of radius compensation: the D register (radius of entry D of the offset table,
-//! D00 is radius 0; `G10 L12` writes it, see [`super::offsets`]), the [`Ctx`] of a block, and the
+//! D00 is radius 0; geometry + wear, `G10 L12`/`L13` write them, see [`super::offsets`]), the [`Ctx`] of a block, and the
 //! implicit compensation of the G12/G13 pockets.
 
 use super::Ex;
@@ -14,7 +14,10 @@ impl Ex<'_> {
     pub(super) fn tool_radius(&self, d: i64) -> f64 {
         match usize::try_from(d) {
             Ok(0) | Err(_) => 0.0,
-            Ok(e) => self.corrections.get(e).map_or(0.0, |c| c[0]),
+            Ok(e) => {
+                self.corrections.get(e).map_or(0.0, |c| c[0])
+                    + self.wear.get(e).map_or(0.0, |w| w[1])
+            }
         }
     }
 

@@ -5,8 +5,10 @@
 //! `M98` keeps the caller's); `#100`–`#199` and `#500`–`#999` common, null at the start of every
 //! plan (a plan keeps no data between runs: the retained `#500`–`#999` of a control are not modelled).
 //! System variables, in the program unit (mm, or inch under G20), axes numbered in the machine's axis
-//! order: `#2001`–`#2099` tool length of H1–H99 (the tool axis Z column, as `G10 L10`), `#2401`–`#2600`
-//! cutter radius of D1–D200 (as `G10 L12`; HAAS keeps diameters there), `#3000` alarm (writing stops
+//! order: `#2001`–`#2099` tool length of H1–H99 (the tool axis Z column, as `G10 L10`), `#2201`–`#2299`
+//! its wear (`G10 L11`), `#2401`–`#2600` cutter radius of D1–D200 (as `G10 L12`; HAAS keeps
+//! diameters there), `#2601`–`#2800` its wear (`G10 L13`), `#4001`–`#4130` and `#4201`–`#4330`
+//! modal information (read only, [`modal_code`]), `#3000` alarm (writing stops
 //! the run with 2531 and the block's comment), `#5001`+ end point of the last block in work
 //! coordinates, `#5021`+ machine coordinates, `#5041`+ current work coordinates (no motion is in
 //! progress in a plan: the same as `#5001`+), `#5201`+ external work offset (added to every work
@@ -14,10 +16,12 @@
 
 use super::{Ex, Frame, run_err};
 use crate::ast::{Val, Word};
+use crate::canon::Plane;
 use crate::codes;
 use crate::exec::RunError;
 use crate::lexer::{Lit, parse_number};
 use crate::macro_b::eval::{MacroError, Vars, eval, is_null, truth, var_number, z};
+use crate::macro_b::native::SysVars;
 use crate::macro_b::{Expr, Macro, SLOTS, Stmt, Target, is_plain};
 use crate::program::CBlock;
 
@@ -26,9 +30,25 @@ pub const MAX_MACRO_LEVELS: usize = 5;
 
 /// True for the system variables the executor reads or writes (see the module doc).
 pub fn is_system(n: u32) -> bool {
-    matches!(n, 2001..=2099 | 2401..=2600 | 3000)
+    matches!(n, 2001..=2099 | 2201..=2299 | 2401..=2600 | 2601..=2800 | 3000)
+        || modal_code(n).is_some()
         || matches!(n, 5001..=5006 | 5021..=5026 | 5041..=5046 | 5201..=5206)
         || (5221..=5326).contains(&n) && (n - 5221) % 20 < 6
+}
+
+/// The modal-information variable `#4001`–`#4130` (`#4201`–`#4330`: the executing block, the same
+/// in a plan, which buffers nothing) that `n` names, as its `#40xx`/`#41xx` number.
+pub fn modal_code(n: u32) -> Option<u32> {
+    let k = match n {
+        4001..=4130 => n,
+        4201..=4330 => n - 200,
+        _ => return None,
+    };
+    matches!(
+        k,
+        4001..=4003 | 4005..=4014 | 4016 | 4107 | 4109 | 4111 | 4119 | 4120 | 4130
+    )
+    .then_some(k)
 }
 
 /// The variable table of a plan.
@@ -82,8 +102,13 @@ impl Vars for Ex<'_> {
                 Err(MacroError::NoVar(n))
             }
         };
+        if let Some(k) = modal_code(u) {
+            return Ok(self.modal(k));
+        }
         let v = match u {
             2001..=2099 => self.tool_length_entry(u as usize - 2000)?,
+            2201..=2299 => self.wear[u as usize - 2200][0],
+            2601..=2800 => self.wear[u as usize - 2600][1],
             2401..=2600 => self
                 .corrections
                 .get(u as usize - 2400)
@@ -104,7 +129,92 @@ impl Vars for Ex<'_> {
     }
 }
 
+impl SysVars for Ex<'_> {
+    fn read_sys(&self, n: u32) -> Option<f64> {
+        (is_system(n) && n != 3000)
+            .then(|| Vars::get(self, i64::from(n)).ok())
+            .flatten()
+    }
+
+    fn write_sys(&mut self, n: u32, v: f64) -> bool {
+        is_system(n) && n != 3000 && self.set_system(n, v).is_ok()
+    }
+}
+
 impl Ex<'_> {
+    /// Modal information `#4001`–`#4130` (`k`, see [`modal_code`]): the G code of a group, or the
+    /// last D, F (program unit per minute), H, S, T, G154 P; null when never given.
+    fn modal(&self, k: u32) -> f64 {
+        let opt = |v: Option<f64>| v.unwrap_or(f64::NAN);
+        match k {
+            4001 => f64::from(self.motion / 10),
+            4002 => match self.plane {
+                Plane::ZX => 18.0,
+                Plane::YZ => 19.0,
+                _ => 17.0,
+            },
+            4003 => {
+                if self.abs {
+                    90.0
+                } else {
+                    91.0
+                }
+            }
+            4005 => 94.0,
+            4006 => {
+                if self.inch {
+                    20.0
+                } else {
+                    21.0
+                }
+            }
+            4007 => f64::from(self.comp),
+            4008 => match self.tlo_sign {
+                Some((s, _)) if s > 0.0 => 43.0,
+                Some(_) => 44.0,
+                None => 49.0,
+            },
+            4009 => self.cycle.map_or(80.0, |g| f64::from(g / 10)),
+            4010 => {
+                if self.g99 {
+                    99.0
+                } else {
+                    98.0
+                }
+            }
+            4011 => 50.0,
+            4012 => {
+                if self.exact_modal {
+                    61.0
+                } else {
+                    64.0
+                }
+            }
+            4013 => 97.0,
+            4014 => {
+                if self.wsel < 6 {
+                    54.0 + self.wsel as f64
+                } else {
+                    154.0
+                }
+            }
+            4016 => 69.0,
+            4107 => self.d as f64,
+            4109 => opt(self.feed.map(|f| if self.inch { f / 25.4 } else { f })),
+            4111 => self.tlo_h as f64,
+            4119 => opt(self.s),
+            4120 => opt(self.t.map(|t| t as f64)),
+            4130 => {
+                if self.wsel < 6 {
+                    0.0
+                } else {
+                    (self.wsel - 5) as f64
+                }
+            }
+            _ => f64::NAN,
+        }
+    }
+
     /// Length of the tool axis (Z) in correction entry `h`.
     fn tool_length_entry(&self, h: usize) -> Result<f64, MacroError> {
         let col = self
@@ -118,47 +228,63 @@ impl Ex<'_> {
 
     /// Writes variable `n` (raw value: null stays null in plain variables, reads as 0 elsewhere).
     fn set(&mut self, b: &CBlock, n: i64, v: f64) -> Result<(), RunError> {
-        let bad = |e| merr(b, e);
-        let u = u32::try_from(n).map_err(|_| bad(MacroError::NoVar(n)))?;
+        let u = u32::try_from(n).map_err(|_| merr(b, MacroError::NoVar(n)))?;
         if is_plain(u) {
             self.vars.slots[u as usize] = v;
             return Ok(());
         }
+        if u == 3000 {
+            let f = &self.prog.files[b.file];
+            let text = f.text.get(b.span.0..b.span.1).unwrap_or("");
+            let msg = text
+                .find('(')
+                .map(|i| text[i + 1..].trim_end_matches(')').trim().to_string())
+                .unwrap_or_default();
+            return Err(run_err(
+                b,
+                codes::RUN_MACRO,
+                format!("macro alarm #3000 = {}: {msg}", z(v)),
+            ));
+        }
+        self.set_system(u, v).map_err(|e| merr(b, e))
+    }
+
+    /// Writes system variable `u` (not `#3000`); nothing changes on an error.
+    fn set_system(&mut self, u: u32, v: f64) -> Result<(), MacroError> {
+        let n = i64::from(u);
         let unit = if self.inch { 25.4 } else { 1.0 };
         let x = z(v) * unit;
         let naxes = self.axes.len();
-        let axis = |base: u32| -> Result<usize, RunError> {
+        let axis = |base: u32| -> Result<usize, MacroError> {
             let k = (u - base) as usize;
             if k < naxes {
                 Ok(k)
             } else {
-                Err(bad(MacroError::NoVar(n)))
+                Err(MacroError::NoVar(n))
+            }
+        };
+        let entry = |t: &mut Vec<[f64; 5]>, i: usize| {
+            if t.len() <= i {
+                t.resize(i + 1, [0.0; 5]);
             }
         };
         match u {
-            3000 => {
-                let f = &self.prog.files[b.file];
-                let text = f.text.get(b.span.0..b.span.1).unwrap_or("");
-                let msg = text
-                    .find('(')
-                    .map(|i| text[i + 1..].trim_end_matches(')').trim().to_string())
-                    .unwrap_or_default();
-                return Err(run_err(
-                    b,
-                    codes::RUN_MACRO,
-                    format!("macro alarm #3000 = {}: {msg}", z(v)),
-                ));
-            }
             2001..=2099 => {
                 let col = self
                     .axes
                     .iter()
                     .position(|a| *a == 'Z')
                     .and_then(crate::length::datum_of_axis)
-                    .ok_or_else(|| bad(MacroError::ReadOnly(n)))?;
+                    .ok_or(MacroError::ReadOnly(n))?;
+                entry(&mut self.corrections, u as usize - 2000);
                 self.corrections[u as usize - 2000][col] = x;
             }
-            2401..=2600 => self.corrections[u as usize - 2400][0] = x,
+            2401..=2600 => {
+                entry(&mut self.corrections, u as usize - 2400);
+                self.corrections[u as usize - 2400][0] = x;
+            }
+            2201..=2299 => self.wear[u as usize - 2200][0] = x,
+            2601..=2800 => self.wear[u as usize - 2600][1] = x,
             5201..=5206 => {
                 let i = axis(5201)?;
                 self.ext[i] = x;
@@ -168,7 +294,7 @@ impl Ex<'_> {
                 let i = axis(5221 + 20 * row as u32)?;
                 self.work[row][i] = x;
             }
-            _ => return Err(bad(MacroError::ReadOnly(n))),
+            _ => return Err(MacroError::ReadOnly(n)),
         }
         Ok(())
     }

@@ -1,6 +1,6 @@
 //! Offsets the Fanuc/HAAS program writes itself: `G10 L2` (work offsets G54–G59), `G10 L20`
 //! (additional work offsets G154 P1–P99, G110–G129 = P1–P20), `G10 L10`/`L12` (tool length and
-//! radius registers), the `G52` local shift, the `G92` setting, and the selection of the additional
+//! radius geometry), `G10 L11`/`L13` (their wear; the active value is geometry + wear), the `G52` local shift, the `G92` setting, and the selection of the additional
 //! work systems by G110–G129 and `G154 P<n>`.
 //!
 //! Under G91 a `G10` value is added to the register (Fanuc); under G90 it replaces it. A `G10` of
@@ -27,7 +27,7 @@ impl Ex<'_> {
     /// Executes `G10 L<l> P<p> …` of block `b`; `vals` are the block's axis values in mm.
     pub(super) fn g10(&mut self, b: &CBlock, vals: &[Option<f64>; 6]) -> Result<(), RunError> {
         let l = Self::count(b, 'L')
-            .ok_or_else(|| run_err(b, codes::RUN_RANGE, "G10 needs L (2, 10, 12 or 20)"))?;
+            .ok_or_else(|| run_err(b, codes::RUN_RANGE, "G10 needs L (2, 10–13 or 20)"))?;
         let p = Self::count(b, 'P')
             .ok_or_else(|| run_err(b, codes::RUN_RANGE, format!("G10 L{l} needs P")))?;
         let pi = p as i64;
@@ -70,7 +70,7 @@ impl Ex<'_> {
                     }
                 }
             }
-            10 | 12 => {
+            10..=13 => {
                 let r = self.dim(b, 'R').ok_or_else(|| {
                     run_err(
                         b,
@@ -78,8 +78,11 @@ impl Ex<'_> {
                         format!("G10 L{l} P{pi} needs R (the value)"),
                     )
                 })?;
-                let slot = if l as i64 == 12 {
+                let wear = matches!(l as i64, 11 | 13);
+                let slot = if matches!(l as i64, 12 | 13) {
                     0
+                } else if wear {
+                    1
                 } else {
                     let zi = self.idx('Z').ok_or_else(|| {
                         run_err(
@@ -96,11 +99,10 @@ impl Ex<'_> {
                         )
                     })?
                 };
-                let limit = if slot == 0 { 200 } else { 99 };
-                let entry = usize::try_from(pi)
+                let limit = if matches!(l as i64, 12 | 13) { 200 } else { 99 };
+                let p = usize::try_from(pi)
                     .ok()
                     .filter(|p| (1..=limit).contains(p))
-                    .and_then(|p| self.corrections.get_mut(p))
                     .ok_or_else(|| {
                         run_err(
                             b,
@@ -108,14 +110,22 @@ impl Ex<'_> {
                             format!("G10 L{l} P{pi}: registers are P1..P{limit}"),
                         )
                     })?;
-                put(&mut entry[slot], r);
+                let reg = if wear {
+                    // Wear: [length, radius] (slot 1 is L11's length, slot 0 L13's radius).
+                    self.wear.get_mut(p).map(|w| &mut w[1 - slot])
+                } else {
+                    self.corrections.get_mut(p).map(|e| &mut e[slot])
+                };
+                if let Some(reg) = reg {
+                    put(reg, r);
+                }
             }
             other => {
                 return Err(run_err(
                     b,
                     codes::RUN_BAD_G,
                     format!(
-                        "G10 L{other} is not supported: L2 (work offsets), L20 (G154 offsets), L10 (tool length), L12 (tool radius)"
+                        "G10 L{other} is not supported: L2 (work offsets), L20 (G154 offsets), L10/L11 (tool length geometry/wear), L12/L13 (tool radius geometry/wear)"
                     ),
                 ));
             }

@@ -88,7 +88,11 @@ impl Ex<'_> {
                 )
             })?;
         let mut new = [0.0; 6];
-        new[i] = sign * entry[datum];
+        let wear = usize::try_from(self.tlo_h)
+            .ok()
+            .and_then(|n| self.wear.get(n))
+            .map_or(0.0, |w| w[0]);
+        new[i] = sign * (entry[datum] + wear);
         if self.tlo_h == 0 {
             // H00 cancels like G49.
             self.tlo_sign = None;

@@ -521,6 +521,10 @@ impl<'a> P<'a> {
         let mut p = None;
         let mut l = 1;
         let mut args: Vec<(u8, Expr)> = Vec::new();
+        // Argument specification II: I, J, K in this order form a set (up to ten: #4–#33); an
+        // address not after the previous one of the set starts the next set.
+        let (mut set, mut last) = (0u8, None::<u8>);
+        let mut letters: Vec<char> = Vec::new();
         for w in std::mem::take(&mut b.words) {
             let bad = |msg: String| {
                 Diagnostic::error(
@@ -529,7 +533,7 @@ impl<'a> P<'a> {
                     w.span.0..w.span.1,
                     msg,
                 )
-                .with_hint("G65 P<program> L<count> and arguments A–Z (argument specification I)")
+                .with_hint("G65 P<program> L<count> and arguments A–Z (specification I) or A B C with up to ten I J K sets (II)")
             };
             let value = match w.val {
                 Val::Lit(x) => Expr::Num(x.value()),
@@ -548,9 +552,27 @@ impl<'a> P<'a> {
                     Val::Lit(x) if !x.point && (0..=9999).contains(&x.int) => l = x.int as u32,
                     _ => return Err(bad("G65 L: a repeat count 0..9999".into())),
                 },
+                a @ ('I' | 'J' | 'K') => {
+                    let pos = a as u8 - b'I';
+                    if last.is_none_or(|l| pos <= l) {
+                        set += 1;
+                    }
+                    last = Some(pos);
+                    if set > 10 {
+                        return Err(bad(format!(
+                            "{a}: more than ten I, J, K sets (argument specification II)"
+                        )));
+                    }
+                    put_arg(&mut args, 4 + 3 * (set - 1) + pos, value);
+                }
                 a => match argument_var(a) {
-                    Some(v) if !args.iter().any(|(u, _)| *u == v) => args.push((v, value)),
-                    Some(_) => return Err(bad(format!("argument {a} given twice"))),
+                    Some(_) if letters.contains(&a) => {
+                        return Err(bad(format!("argument {a} given twice")));
+                    }
+                    Some(v) => {
+                        letters.push(a);
+                        put_arg(&mut args, v, value);
+                    }
                     None => {
                         return Err(bad(format!(
                             "address {a} is not a G65 argument (G, L, N, O, P are not)"
@@ -570,6 +592,15 @@ impl<'a> P<'a> {
         self.mac.exprs.clear();
         self.mac.stmt = Some(Stmt::Call { p, l, args });
         Ok(())
+    }
+}
+
+/// Binds local `v` to `value`; a variable given twice (specification I and II mixed, e.g. `D` and the
+/// second `I`) takes the later value, as Fanuc does.
+fn put_arg(args: &mut Vec<(u8, Expr)>, v: u8, value: Expr) {
+    match args.iter_mut().find(|(u, _)| *u == v) {
+        Some(slot) => slot.1 = value,
+        None => args.push((v, value)),
     }
 }
 

@@ -13,6 +13,18 @@
 //! current Z), G85/G89 under G98 (Fanuc feeds out to R, LinuxCNC to the initial level), the
 //! start-up of G41/G42 at an angle (Fanuc type A ends the entry at the next element's offset point,
 //! LinuxCNC perpendicular to the entry move: entries and exits are collinear here).
+//!
+//! Macros inside the overlap ([`MExpr`]): numbered parameters #100–#103 and #500–#501 (set in the
+//! header, so Fanuc's null never meets LinuxCNC's 0), one `#i=[…]` assignment per block, and words
+//! written as expressions with `+ - * /`, `GT`/`LT`, unary minus, `ABS SQRT ROUND FIX FUP SIN COS`,
+//! `ATAN[a]/[b]` and `MOD`. Kept out by construction (intended differences): `FIX`/`FUP` of a
+//! negative value (LinuxCNC floor/ceil, Fanuc towards/away from zero: the argument is taken ABS),
+//! `MOD` of negative or fractional operands (Fanuc rounds the operands, LinuxCNC keeps them and
+//! returns a non-negative remainder: written `[ROUND[ABS[a]] MOD k]`), `ATAN` of a negative
+//! numerator (Fanuc 0..360, LinuxCNC −180..180: `ATAN[ABS[a]]/[b]`), division by a value that can be
+//! zero (divisors are constants), and several assignments in one block (LinuxCNC sets them after the
+//! block). Word values differ by Fanuc's rounding to 0.001 mm (within the 1e-3 tolerance; expression
+//! words are used in G90 only, so the rounding never accumulates).
 
 use proptest::prelude::*;
 
@@ -61,6 +73,94 @@ pub enum Stmt {
     Comp { left: bool, d: u8, w: i32, h: i32 },
     /// M98 P2000 L<l>.
     Call { l: u8 },
+    /// `#<var>=[e]`.
+    Param { var: u8, e: MExpr },
+    /// `G90 G00/G01` with every coordinate an expression.
+    ExprMove { rapid: bool, e: [MExpr; 3] },
+}
+
+/// Parameters the macro statements use (set in the header).
+const PARAMS: [&str; 6] = ["#100", "#101", "#102", "#103", "#500", "#501"];
+
+/// A macro expression inside the overlap of Fanuc Macro B and LinuxCNC (module doc).
+#[derive(Debug, Clone)]
+pub enum MExpr {
+    /// A number (half millimetres).
+    Num(i32),
+    /// A parameter of [`PARAMS`].
+    Var(u8),
+    /// `[a + b]`, `[a - b]`, `[a GT b]`, `[a LT b]` (op 0..4).
+    Bin(u8, Box<MExpr>, Box<MExpr>),
+    /// `[a * k]` for k 0.25, 0.5, 1.5, 2; `[a / k]` for k 2, 4, 5, 8 (op 0..8).
+    Scale(u8, Box<MExpr>),
+    /// `ABS SQRT ROUND FIX FUP SIN COS` (f 0..7), `ATAN[ABS[a]]/[b]` (7), `[ROUND[ABS[a]] MOD k]`
+    /// (8, k from b's size), `-a` (9).
+    Func(u8, Box<MExpr>, Box<MExpr>),
+}
+
+impl MExpr {
+    /// The text both dialects read.
+    pub fn text(&self) -> String {
+        match self {
+            MExpr::Num(v) => mm(*v),
+            MExpr::Var(i) => PARAMS[usize::from(*i) % PARAMS.len()].to_string(),
+            MExpr::Bin(op, a, b) => {
+                let o = ["+", "-", "GT", "LT"][usize::from(*op) % 4];
+                format!("[{} {o} {}]", a.text(), b.text())
+            }
+            MExpr::Scale(k, a) => {
+                let (o, k) = [
+                    ("*", "0.25"),
+                    ("*", "0.5"),
+                    ("*", "1.5"),
+                    ("*", "2"),
+                    ("/", "2"),
+                    ("/", "4"),
+                    ("/", "5"),
+                    ("/", "8"),
+                ][usize::from(*k) % 8];
+                format!("[{} {o} {k}]", a.text())
+            }
+            MExpr::Func(f, a, b) => {
+                let (a, b) = (a.text(), b.text());
+                match f % 10 {
+                    0 => format!("ABS[{a}]"),
+                    1 => format!("SQRT[ABS[{a}]]"),
+                    2 => format!("ROUND[{a}]"),
+                    3 => format!("FIX[ABS[{a}]]"),
+                    4 => format!("FUP[ABS[{a}]]"),
+                    5 => format!("[SIN[{a}] * 10]"),
+                    6 => format!("[COS[{a}] * 10]"),
+                    7 => format!("[ATAN[ABS[{a}]]/[{b}] / 10]"),
+                    8 => format!("[ROUND[ABS[{a}]] MOD {}]", 2 + b.len() % 5),
+                    _ => format!("-[{a}]"),
+                }
+            }
+        }
+    }
+}
+
+/// Strategy of a macro expression (depth ≤ 3).
+pub fn mexpr() -> impl Strategy<Value = MExpr> {
+    let leaf = prop_oneof![
+        (-40..40i32).prop_map(MExpr::Num),
+        (0..6u8).prop_map(MExpr::Var),
+    ];
+    leaf.prop_recursive(3, 12, 2, |inner| {
+        prop_oneof![
+            (0..4u8, inner.clone(), inner.clone()).prop_map(|(o, a, b)| MExpr::Bin(
+                o,
+                Box::new(a),
+                Box::new(b)
+            )),
+            (0..8u8, inner.clone()).prop_map(|(k, a)| MExpr::Scale(k, Box::new(a))),
+            (0..10u8, inner.clone(), inner).prop_map(|(f, a, b)| MExpr::Func(
+                f,
+                Box::new(a),
+                Box::new(b)
+            )),
+        ]
+    })
 }
 
 fn pt() -> impl Strategy<Value = [i32; 3]> {
@@ -83,6 +183,8 @@ pub fn stmt() -> impl Strategy<Value = Stmt> {
         1 => (0..3u8, 20..60i32).prop_map(|(h, z)| Stmt::Length { h, z }),
         2 => (any::<bool>(), 1..3u8, 20..60i32, 20..60i32).prop_map(|(left, d, w, h)| Stmt::Comp { left, d, w, h }),
         1 => (1..4u8).prop_map(|l| Stmt::Call { l }),
+        2 => (0..6u8, mexpr()).prop_map(|(var, e)| Stmt::Param { var, e }),
+        2 => (any::<bool>(), [mexpr(), mexpr(), mexpr()]).prop_map(|(rapid, e)| Stmt::ExprMove { rapid, e }),
     ]
 }
 
@@ -130,6 +232,12 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
     w.b("G21 G17 G90 G94 G40 G49 G80 G54 G98");
     w.b("F200.");
     w.b("G00 X0 Y0 Z20.");
+    for (p, v) in PARAMS
+        .iter()
+        .zip(["12.5", "-3.25", "7.", "0.5", "-20.", "45."])
+    {
+        w.b(&format!("{p}={v}"));
+    }
     let (mut g92, mut tlo) = (false, false);
     for s in stmts {
         match s {
@@ -325,6 +433,19 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
             }
             Stmt::Call { l } => {
                 w.b(&format!("M98 P2000 L{l}"));
+            }
+            Stmt::Param { var, e } => {
+                let p = PARAMS[usize::from(*var) % PARAMS.len()];
+                w.b(&format!("{p}=[{}]", e.text()));
+            }
+            Stmt::ExprMove { rapid, e } => {
+                let g = if *rapid { "G00" } else { "G01" };
+                w.b(&format!(
+                    "G90 {g} X[{}] Y[{}] Z[{}]",
+                    e[0].text(),
+                    e[1].text(),
+                    e[2].text()
+                ));
             }
         }
     }
