@@ -69,7 +69,10 @@ fn judge(dir: &std::path::Path, r: &generate::Rendered) -> (Verdict, String) {
     let mut f = std::fs::File::create(&path).expect("temp file");
     f.write_all(r.text.as_bytes()).expect("write");
     drop(f);
+    // rs274 keeps its tool table in `$HOME/.tool.mmap`, truncated by every run: two runs at once
+    // (parallel test processes) corrupt each other's output, so each gets this run's directory.
     let out = Command::new("rs274")
+        .env("HOME", dir)
         .arg("-t")
         .arg(dir.join("tool.tbl"))
         .arg("-g")
