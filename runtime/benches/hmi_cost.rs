@@ -15,9 +15,6 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use runtime::hmi_link::image_cnc::ImageCnc;
-use runtime::hmi_link::kernel_cnc::KernelCnc;
-use runtime::hmi_link::{HmiLink, catalog};
 use runtime::machine::Machine;
 use runtime::scheduler::Scheduler;
 
@@ -90,20 +87,7 @@ fn bench(c: &mut Criterion) {
                 let mut total = Duration::ZERO;
                 for _ in 0..iters {
                     let (mut s, cnc) = part_scheduler(&m, &text);
-                    let image = ImageCnc::new(&m.interface, &[1], None);
-                    let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.clone())]);
-                    let config = hmi::ServerConfig {
-                        addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
-                        token: None,
-                        readonly: false,
-                    };
-                    let mut link = HmiLink::start(
-                        config,
-                        catalog::build(&m, &source),
-                        Box::new(kernel),
-                        m.config.tick_ms,
-                    )
-                    .unwrap_or_else(|e| panic!("{e}"));
+                    let mut link = common::hmi_link(&m, &source, &text, cnc);
                     let stop = Arc::new(AtomicBool::new(false));
                     let reader = client(link.running.addr, Arc::clone(&stop));
                     std::thread::sleep(Duration::from_millis(100));
@@ -128,20 +112,7 @@ fn bench(c: &mut Criterion) {
     // PART1 (the kernel moving, a tool path sampled).
     g.bench_function("publish_one_snapshot_scan_thread_part", |b| {
         let (mut s, cnc) = part_scheduler(&m, &text);
-        let image = ImageCnc::new(&m.interface, &[1], None);
-        let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.clone())]);
-        let config = hmi::ServerConfig {
-            addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
-            token: None,
-            readonly: false,
-        };
-        let mut link = HmiLink::start(
-            config,
-            catalog::build(&m, &source),
-            Box::new(kernel),
-            m.config.tick_ms,
-        )
-        .unwrap_or_else(|e| panic!("{e}"));
+        let mut link = common::hmi_link(&m, &source, &text, cnc);
         s.run(Some(1_000), |s| {
             link.service(s);
             true

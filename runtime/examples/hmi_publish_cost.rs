@@ -9,9 +9,7 @@ mod common;
 
 use std::path::PathBuf;
 
-use runtime::hmi_link::image_cnc::ImageCnc;
-use runtime::hmi_link::kernel_cnc::KernelCnc;
-use runtime::hmi_link::{HmiLink, catalog};
+use runtime::hmi_link::HmiLink;
 use runtime::machine::Machine;
 use runtime::scheduler::Scheduler;
 
@@ -50,20 +48,7 @@ fn main() {
     let source = m.read_source().unwrap_or_else(|e| panic!("{e}"));
     let text = std::fs::read_to_string(m.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
     let (mut s, cnc) = common::part_scheduler(&m, "PART1", &text, |io| Box::new(io));
-    let image = ImageCnc::new(&m.interface, &[1], None);
-    let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.clone())]);
-    let config = hmi::ServerConfig {
-        addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
-        token: None,
-        readonly: false,
-    };
-    let mut link = HmiLink::start(
-        config,
-        catalog::build(&m, &source),
-        Box::new(kernel),
-        m.config.tick_ms,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let mut link = common::hmi_link(&m, &source, &text, cnc);
     warm_up(&mut s, &mut link, 1_000);
     ticks(&mut s, n);
     publishes(&s, &mut link, n);

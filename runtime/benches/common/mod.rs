@@ -60,3 +60,30 @@ pub fn part_scheduler(
     );
     (s, cnc)
 }
+
+/// The HMI benches' link: an HMI server on an ephemeral loopback port over the CNC kernel `cnc`
+/// running `text` as PART1 on `m` (PLC source `source`).
+#[allow(dead_code)] // the part-run benches include this module without serving an HMI
+pub fn hmi_link(
+    m: &Machine,
+    source: &[u8],
+    text: &str,
+    cnc: Arc<Mutex<cnc::Cnc>>,
+) -> runtime::hmi_link::HmiLink {
+    use runtime::hmi_link::image_cnc::ImageCnc;
+    use runtime::hmi_link::kernel_cnc::KernelCnc;
+    let image = ImageCnc::new(&m.interface, &[1], None);
+    let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.to_string())]);
+    let config = hmi::ServerConfig {
+        addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
+        token: None,
+        readonly: false,
+    };
+    runtime::hmi_link::HmiLink::start(
+        config,
+        runtime::hmi_link::catalog::build(m, source),
+        Box::new(kernel),
+        m.config.tick_ms,
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
