@@ -18,27 +18,34 @@ fn part(dx: f64) -> Vec<partprogram::Canon> {
     ]
 }
 
-fn run(
-    table: Arc<Mutex<f64>>,
-    plan: impl Fn(f64) -> Vec<partprogram::Canon> + Send + 'static,
-) -> Vec<f64> {
+/// The part planned without correction, re-planned by `replan` at the request, started (START
+/// pressed at tick 1).
+fn started(replan: crate::correction::Replanner) -> Bench {
     let mut b = Bench::new(cnc(false, 0, 0));
     // N30 ends at X5.5, beyond the fixture's LO1 (−5..3): no soft limits here.
     b.cnc.process_mut(1).expect("p1").cfg.axes[0].soft = (None, None);
     b.start_program(part(0.0));
-    let t = Arc::clone(&table);
     b.cnc
         .process_mut(1)
         .expect("process 1")
-        .set_replanner(Box::new(move |name, skip| {
-            assert_eq!((name, skip), ("test", false));
-            Some(Ok(plan(*t.lock().expect("table"))))
-        }));
+        .set_replanner(replan);
     b.run(1, &Plc::default());
     b.step(&Plc {
         start: 1,
         ..Plc::default()
     });
+    b
+}
+
+fn run(
+    table: Arc<Mutex<f64>>,
+    plan: impl Fn(f64) -> Vec<partprogram::Canon> + Send + 'static,
+) -> Vec<f64> {
+    let t = Arc::clone(&table);
+    let mut b = started(Box::new(move |name, skip| {
+        assert_eq!((name, skip), ("test", false));
+        Some(Ok(plan(*t.lock().expect("table"))))
+    }));
     // The operator enters a new offset of +0.5 mm while N10 moves.
     b.run(2, &Plc::default());
     *table.lock().expect("table") = 0.5;
@@ -65,24 +72,12 @@ fn a_changed_offset_moves_the_following_block_by_exactly_the_difference() {
 #[test]
 fn a_plan_with_other_blocks_is_a_stopping_alarm() {
     let table = Arc::new(Mutex::new(0.0));
-    let mut b = Bench::new(cnc(false, 0, 0));
-    // N30 ends at X5.5, beyond the fixture's LO1 (−5..3): no soft limits here.
-    b.cnc.process_mut(1).expect("p1").cfg.axes[0].soft = (None, None);
-    b.start_program(part(0.0));
     let t = Arc::clone(&table);
-    b.cnc
-        .process_mut(1)
-        .expect("process 1")
-        .set_replanner(Box::new(move |_, _| {
-            let mut p = part(*t.lock().expect("table"));
-            p.pop();
-            Some(Ok(p))
-        }));
-    b.run(1, &Plc::default());
-    b.step(&Plc {
-        start: 1,
-        ..Plc::default()
-    });
+    let mut b = started(Box::new(move |_, _| {
+        let mut p = part(*t.lock().expect("table"));
+        p.pop();
+        Some(Ok(p))
+    }));
     b.run(20, &Plc::default());
     let p = &b.cnc.processes()[0];
     assert_eq!(
