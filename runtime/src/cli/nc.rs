@@ -135,6 +135,37 @@ pub enum MachineError {
 ///
 /// The dialect is, in order: `--dialect`; the machine option file `<dir>/nc/DIALECT` (one word, `mefi`
 /// or `fanuc`); else detected from the program text (an `O<number>` program header means Fanuc).
+/// The machine's default partprogram dialect: `<dir>/nc/DIALECT`.
+pub fn dialect_file(dir: &Path) -> PathBuf {
+    dir.join("nc").join("DIALECT")
+}
+
+/// The machine constants: `<dir>/nc/CONSTANTS`.
+pub fn constants_file(dir: &Path) -> PathBuf {
+    dir.join("nc").join("CONSTANTS")
+}
+
+/// The zero-offset table: `<dir>/MP0/TAB0.POS`.
+pub fn pos_file(dir: &Path) -> PathBuf {
+    dir.join("MP0").join("TAB0.POS")
+}
+
+/// Every machine file [`machine_spec`] and [`load_corrections`] may read besides the
+/// characterization (the machine's own correction table, not a `--kor` one), whether it exists or
+/// not: what a part trace's header hashes.
+pub fn machine_view_files(dir: &Path) -> Vec<PathBuf> {
+    let kor = kor_file(dir, None).map(|(p, _)| p);
+    [
+        Some(constants_file(dir)),
+        Some(dialect_file(dir)),
+        Some(pos_file(dir)),
+        kor,
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
 /// Machine constants 8, 329 and 341 come from `<dir>/nc/CONSTANTS` when it exists.
 pub fn machine_spec(
     dir: &Path,
@@ -142,7 +173,7 @@ pub fn machine_spec(
     program_text: &str,
 ) -> Result<MachineSpec, MachineError> {
     let facts = Facts::load(dir)?;
-    let option = std::fs::read_to_string(dir.join("nc").join("DIALECT")).ok();
+    let option = std::fs::read_to_string(dialect_file(dir)).ok();
     let dialect: Dialect = match dialect.or(option.as_deref().map(str::trim)) {
         Some(d) => d.parse().map_err(MachineError::Dialect)?,
         None => detect_dialect(program_text),
@@ -200,7 +231,7 @@ pub fn machine_spec(
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
     spec.check_m_declared = true;
-    match std::fs::read_to_string(dir.join("nc").join("CONSTANTS")) {
+    match std::fs::read_to_string(constants_file(dir)) {
         Ok(text) => {
             for (n, v) in partprogram::machine::parse_constants(&text)? {
                 spec.set_constant(n, v)?;
@@ -248,7 +279,7 @@ pub fn load_corrections(
             Err(e) => unreadable(partprogram::codes::KOR_IO, name, "correction table", &e),
         });
     }
-    let pos = dir.join("MP0").join("TAB0.POS");
+    let pos = pos_file(dir);
     if pos.is_file() {
         let name = crate::cli::output::user_path(&pos).display().to_string();
         files.push(match std::fs::read(&pos) {

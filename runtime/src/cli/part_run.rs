@@ -51,7 +51,7 @@ pub struct PartRun {
 /// MDI text as a program of the machine's dialect (`--dialect`, else `nc/DIALECT`).
 fn mdi_program(dir: &std::path::Path, dialect: Option<&str>, text: &str) -> String {
     let fanuc = dialect.is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
-        || std::fs::read_to_string(dir.join("nc").join("DIALECT"))
+        || std::fs::read_to_string(crate::cli::nc::dialect_file(dir))
             .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
     if fanuc {
         format!("O9999\n{text}\n")

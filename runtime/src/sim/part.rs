@@ -36,28 +36,20 @@ pub fn crc32_hex(bytes: &[u8]) -> String {
     format!("{:08x}", crc32fast::hash(bytes))
 }
 
-/// The machine files every compile reads when they exist: (name, CRC-32).
+/// The machine files every compile reads, those that exist: (name, CRC-32).
 fn machine_files(dir: &Path) -> Vec<FileCrc> {
-    let kor = crate::cli::nc::kor_file(dir, None).map(|(p, _)| p);
-    [
-        Some(dir.join("nc").join("CONSTANTS")),
-        Some(dir.join("nc").join("DIALECT")),
-        // The zero-offset table (`cli::nc::load_corrections` reads it beside the KOR).
-        Some(dir.join("MP0").join("TAB0.POS")),
-        kor,
-    ]
-    .into_iter()
-    .flatten()
-    .filter_map(|p| {
-        let bytes = std::fs::read(&p).ok()?;
-        let name = p
-            .strip_prefix(dir)
-            .unwrap_or(&p)
-            .to_string_lossy()
-            .into_owned();
-        Some((name, crc32_hex(&bytes)))
-    })
-    .collect()
+    crate::cli::nc::machine_view_files(dir)
+        .into_iter()
+        .filter_map(|p| {
+            let bytes = std::fs::read(&p).ok()?;
+            let name = p
+                .strip_prefix(dir)
+                .unwrap_or(&p)
+                .to_string_lossy()
+                .into_owned();
+            Some((name, crc32_hex(&bytes)))
+        })
+        .collect()
 }
 
 /// The files besides `name` that compiling and planning `text` reads (see [`Part::files`]).
