@@ -86,7 +86,7 @@ impl Pass<'_> {
         self.vars.push(VarDecl {
             name: format!("$FLOW{k}"),
             ty,
-            init: zero(ty),
+            init: Value::zero(ty),
             retain: false,
             offset: self.at,
         });
@@ -165,20 +165,6 @@ impl Pass<'_> {
             Place::View { ty, .. } => *ty,
             Place::Var(v) => self.vars.get(v.0 as usize).map_or(Ty::Bool, |d| d.ty),
         }
-    }
-}
-
-/// The zero of a type.
-fn zero(ty: Ty) -> Value {
-    match ty {
-        Ty::Bool => Value::Bool(false),
-        Ty::Byte => Value::Byte(0),
-        Ty::Word => Value::Word(0),
-        Ty::Dword => Value::Dword(0),
-        Ty::Int => Value::Int(0),
-        Ty::Dint => Value::Dint(0),
-        Ty::Real => Value::Real(0.0),
-        Ty::Lreal => Value::Lreal(0.0),
     }
 }
 
