@@ -351,3 +351,60 @@ fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
     let (ok, err) = replay(lathe.path(), &edited);
     assert!(!ok, "a replay without the HOLD diverges:\n{err}");
 }
+
+#[test]
+fn an_mdi_line_from_the_api_is_planned_beside_the_scan_and_replays_exactly() {
+    let lathe = operator_lathe();
+    let dir = tempfile::tempdir().expect("tempdir");
+    let trace = dir.path().join("session.jsonl");
+    let hmi = Hmi::start(
+        lathe.path(),
+        &[
+            "--program",
+            "PART1",
+            "--record",
+            trace.to_str().expect("utf8"),
+        ],
+    );
+    let s = wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
+        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
+    });
+    assert_eq!(s["mdi_compiles"], json!({"requests": 0, "scan": 0}));
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"mode","mode":"mdi"}"#);
+    assert_eq!(code, 200, "{v}");
+    wait_status(&hmi, "mode MDI", 5, |s| p1(s)["mode"] == "MDI");
+    // A line that does not compile is answered by the request thread: the scan never sees it.
+    let (code, v) = post(&hmi, r#"{"process":1,"command":"mdi","line":"N5 G00 X-"}"#);
+    assert_eq!(code, 409, "{v}");
+    let err = v["error"].as_str().unwrap_or_default();
+    assert!(err.starts_with("MDI: "), "{err}");
+    let (code, v) = post(
+        &hmi,
+        r#"{"process":1,"command":"mdi","line":"N5 G00 X-30 Z-20"}"#,
+    );
+    assert_eq!(code, 200, "{v}");
+    let applied = v["tick"].as_u64().expect("tick");
+    let s = wait_status(&hmi, "the MDI block's end point", 30, |s| {
+        axis(s, "X").0 == -30.0 && axis(s, "Z").0 == -20.0 && p1(s)["state"] == "idle"
+    });
+    // Both lines were compiled on the request thread, none on the scan's.
+    assert_eq!(s["mdi_compiles"], json!({"requests": 2, "scan": 0}));
+    hmi.wait_tick(s["tick"].as_u64().unwrap_or(0) + 10);
+    hmi.stop();
+    // The accepted line is in the record of the tick that applied it; the refused one is not.
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let cmds: Vec<(u64, Value)> = text
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r.get("cmd").is_some())
+        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
+        .collect();
+    let mdi = json!([{"process": 1, "command": "mdi", "line": "N5 G00 X-30 Z-20"}]);
+    assert_eq!(cmds.last(), Some(&(applied, mdi)), "{cmds:?}");
+    let (ok, err) = replay(lathe.path(), &trace);
+    assert!(ok, "the recorded session replays:\n{err}");
+    assert!(
+        err.contains("kernel signals and axis positions identical"),
+        "{err}"
+    );
+}

@@ -33,6 +33,8 @@ pub mod status;
 pub mod written;
 pub mod zones;
 
+use std::sync::Arc;
+
 use packets::Signal;
 use partprogram::Canon;
 
@@ -49,8 +51,10 @@ pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 pub type MdiCompiler = Box<dyn Fn(u8, &str) -> Result<Vec<Canon>, String> + Send>;
 
 /// Turns MDI text into canonical blocks planned from the process's current set points (axis
-/// letter and position), so that MDI moves start where the axes stand.
-pub type MdiCompilerAt = Box<dyn Fn(u8, &str, &[(char, f64)]) -> Result<Vec<Canon>, String> + Send>;
+/// letter and position), so that MDI moves start where the axes stand. Shared, so that an HMI's
+/// request thread can compile beside the scan ([`Cnc::mdi_compiler_at`], [`Cnc::mdi_planned`]).
+pub type MdiCompilerAt =
+    Arc<dyn Fn(u8, &str, &[(char, f64)]) -> Result<Vec<Canon>, String> + Send + Sync>;
 
 /// The kernel: every process of the machine.
 pub struct Cnc {
@@ -58,6 +62,7 @@ pub struct Cnc {
     machine: MachineSignals,
     mdi: Option<MdiCompiler>,
     mdi_at: Option<MdiCompilerAt>,
+    mdi_compiles: u64,
 }
 
 /// Why an operator command could not be given.
@@ -82,6 +87,7 @@ impl Cnc {
             machine,
             mdi: None,
             mdi_at: None,
+            mdi_compiles: 0,
         }
     }
 
@@ -156,24 +162,78 @@ impl Cnc {
         Ok(())
     }
 
+    /// The compiler of MDI text planned from a position, shared (None: not set).
+    pub fn mdi_compiler_at(&self) -> Option<MdiCompilerAt> {
+        self.mdi_at.clone()
+    }
+
+    /// Where an MDI program of process `n` starts: each axis letter with its current set point.
+    pub fn mdi_start(&self, n: u8) -> Result<Vec<(char, f64)>, CommandError> {
+        let p = self
+            .processes
+            .iter()
+            .find(|p| p.number() == n)
+            .ok_or(CommandError::NoProcess(n))?;
+        Ok(p.cfg
+            .axes
+            .iter()
+            .map(|a| a.name)
+            .zip(p.set_points().iter().copied())
+            .collect())
+    }
+
+    /// How many times this kernel compiled MDI text itself ([`Cnc::mdi`], and
+    /// [`Cnc::mdi_planned`] when the axes had moved): the compiles that ran on the caller's
+    /// thread, the scan's in a live run.
+    pub fn mdi_compiles(&self) -> u64 {
+        self.mdi_compiles
+    }
+
     /// Operator: runs MDI text in process `n` (MDI mode, interpreter idle).
     pub fn mdi(&mut self, n: u8, text: &str) -> Result<(), CommandError> {
         let blocks = match (&self.mdi_at, &self.mdi) {
-            (Some(_), _) => {
-                let p = self.process_mut(n)?;
-                let at: Vec<(char, f64)> = p
-                    .cfg
-                    .axes
-                    .iter()
-                    .map(|a| a.name)
-                    .zip(p.set_points().iter().copied())
-                    .collect();
-                let f = self.mdi_at.as_ref().ok_or(CommandError::NoProcess(n))?;
+            (Some(f), _) => {
+                let at = self.mdi_start(n)?;
+                self.mdi_compiles += 1;
                 f(n, text, &at).map_err(CommandError::Mdi)?
             }
-            (None, Some(f)) => f(n, text).map_err(CommandError::Mdi)?,
+            (None, Some(f)) => {
+                self.mdi_compiles += 1;
+                f(n, text).map_err(CommandError::Mdi)?
+            }
             (None, None) => return Err(CommandError::Mdi("no MDI compiler".into())),
         };
+        self.run_mdi(n, blocks)
+    }
+
+    /// Operator: runs MDI text `text` of process `n` whose `blocks` were compiled elsewhere
+    /// (with [`Cnc::mdi_compiler_at`]) from the start position `at`. When the set points are still
+    /// bit for bit `at`, the blocks are loaded as they are; else the text is compiled here, as
+    /// [`Cnc::mdi`] does (the axes moved between the compile and this call: rare, MDI needs an
+    /// idle interpreter). Either way the result is the one [`Cnc::mdi`] gives now, so a replay
+    /// that calls [`Cnc::mdi`] at the same tick loads the same blocks.
+    pub fn mdi_planned(
+        &mut self,
+        n: u8,
+        text: &str,
+        at: &[(char, f64)],
+        blocks: Vec<Canon>,
+    ) -> Result<(), CommandError> {
+        let now = self.mdi_start(n)?;
+        let same = self.mdi_at.is_some()
+            && now.len() == at.len()
+            && now
+                .iter()
+                .zip(at)
+                .all(|(a, b)| a.0 == b.0 && a.1.to_bits() == b.1.to_bits());
+        if same {
+            self.run_mdi(n, blocks)
+        } else {
+            self.mdi(n, text)
+        }
+    }
+
+    fn run_mdi(&mut self, n: u8, blocks: Vec<Canon>) -> Result<(), CommandError> {
         let p = self.check(n, Command::Mdi)?;
         p.load("MDI", blocks)
             .map_err(|r| CommandError::Rejected(n, r))?;

@@ -17,7 +17,7 @@ pub mod ws;
 
 pub use model::{
     AlarmEntry, AxisStatus, Catalog, Command, Envelope, HandshakeCounts, MachineStatus,
-    NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot, Snapshot,
-    SourceLine, Toolpath,
+    MdiCompiles, NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot,
+    Snapshot, SourceLine, Toolpath,
 };
 pub use server::{Running, ServerConfig, StartError, start};

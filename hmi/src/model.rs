@@ -36,6 +36,8 @@ pub struct Snapshot {
     /// value, or the condition of IF/SET/RES/one-shot/timer/counter inputs), in source order of
     /// the statements; empty when the program was not compiled for it.
     pub flow: Vec<(u32, f64)>,
+    /// Where MDI lines were compiled so far (None: no CNC kernel runs).
+    pub mdi_compiles: Option<MdiCompiles>,
     /// The tool path of each process with interpolated axes (served by `GET /api/toolpath/<P>`,
     /// not sent on `/ws`).
     #[serde(skip)]
@@ -82,6 +84,17 @@ pub struct PathPiece {
     pub rapid: bool,
     /// Points in the view's (horizontal, vertical) coordinates.
     pub points: Vec<[f64; 2]>,
+}
+
+/// Where the MDI lines of a run were compiled and planned: on the HMI's request thread (beside
+/// the scan) or on the scan thread itself (the axes moved between the compile and the scan's
+/// load, or the CLI's `--mdi`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct MdiCompiles {
+    /// Compiled on the request thread.
+    pub requests: u64,
+    /// Compiled on the scan thread.
+    pub scan: u64,
 }
 
 /// Scan timing figures.

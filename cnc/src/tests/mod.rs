@@ -8,5 +8,6 @@ mod handwheel;
 mod homing;
 mod limit_switch;
 mod manual;
+mod mdi;
 mod spindle;
 mod zones;

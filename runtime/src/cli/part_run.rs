@@ -244,7 +244,7 @@ pub fn start_spec(
         let _ = process;
         let dir = run.machine.clone();
         let dialect = run.dialect.clone();
-        c.set_mdi_compiler_at(Box::new(move |_, text, at| {
+        c.set_mdi_compiler_at(Arc::new(move |_, text, at| {
             let program = mdi_program(&dir, dialect.as_deref(), text);
             plan_text_from(&dir, "MDI", &program, dialect.as_deref(), false, at)
         }));

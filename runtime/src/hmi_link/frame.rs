@@ -44,6 +44,8 @@ pub struct Frame {
     pub kernel: Vec<RawProcess>,
     /// The last MDI line the kernel accepted and how many it accepted so far.
     pub mdi: (u64, String),
+    /// MDI lines compiled on the HMI's request thread and on the scan so far (None: no kernel).
+    pub mdi_compiles: Option<(u64, u64)>,
 }
 
 /// One kernel process as the scan copied it.

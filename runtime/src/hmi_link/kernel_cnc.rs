@@ -7,12 +7,14 @@
 //! draws the tool path.
 
 use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
 use cnc::Mode;
 use hmi::Command;
 use partprogram::canon::{Canon, Kind, num};
 
+use super::forward::{MdiPlanner, PlannedMdi};
 use super::frame::{Frame, RawProcess};
 use super::image_cnc::ImageCnc;
 use super::kernel_view::{KernelView, PathState, Source};
@@ -125,6 +127,8 @@ pub struct KernelScan {
     loaded: Vec<Loaded>,
     next_load: u64,
     mdi: (u64, String),
+    /// MDI compiles on the request thread ([`super::forward`]).
+    planned: Arc<AtomicU64>,
 }
 
 /// A process's loaded program as the scan last saw it: (name, length, address), its load number
@@ -154,6 +158,7 @@ impl KernelCnc {
                 loaded: Vec::new(),
                 next_load: 1,
                 mdi: (0, String::new()),
+                planned: Arc::new(AtomicU64::new(0)),
             },
             view: KernelView {
                 image,
@@ -197,11 +202,35 @@ impl Cnc for KernelCnc {
         let KernelCnc { scan, view } = *self;
         (Box::new(scan), Box::new(view))
     }
+
+    fn mdi_planner(&self) -> Option<MdiPlanner> {
+        Some(MdiPlanner::new(
+            Arc::clone(&self.scan.cnc),
+            Arc::clone(&self.scan.planned),
+        ))
+    }
 }
 
 impl CncScan for KernelScan {
     fn command(&mut self, process: u8, command: &Command) -> Result<(), String> {
-        apply_command(&mut lock(&self.cnc), process, command)?;
+        self.command_planned(process, command, None)
+    }
+
+    fn command_planned(
+        &mut self,
+        process: u8,
+        command: &Command,
+        planned: Option<PlannedMdi>,
+    ) -> Result<(), String> {
+        {
+            let mut c = lock(&self.cnc);
+            match (command, planned) {
+                (Command::Mdi { line }, Some(p)) => c
+                    .mdi_planned(process, line, &p.at, p.blocks)
+                    .map_err(|e| e.to_string())?,
+                _ => apply_command(&mut c, process, command)?,
+            }
+        }
         if let Command::Mdi { line } = command {
             self.mdi.0 += 1;
             self.mdi.1.clone_from(line);
@@ -211,6 +240,7 @@ impl CncScan for KernelScan {
 
     fn capture(&mut self, out: &mut Frame) {
         let c = lock(&self.cnc);
+        out.mdi_compiles = Some((self.planned.load(Ordering::Relaxed), c.mdi_compiles()));
         let procs = c.processes();
         out.kernel.truncate(procs.len());
         for (k, p) in procs.iter().enumerate() {

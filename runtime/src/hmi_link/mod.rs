@@ -8,6 +8,7 @@
 
 pub mod alarms;
 pub mod catalog;
+pub mod forward;
 pub mod frame;
 pub mod image_cnc;
 pub mod kernel_cnc;
@@ -19,10 +20,11 @@ use std::sync::{Arc, mpsc};
 use std::time::{Duration, Instant};
 
 use fieldbus::exchange::{TripleWriter, triple};
-use hmi::{Command, Envelope, MachineStatus, Request, ServerConfig, Snapshot, Toolpath};
+use hmi::{Command, MachineStatus, Request, ServerConfig, Snapshot, Toolpath};
 use tokio::sync::watch;
 
 use self::alarms::AlarmList;
+use self::forward::{Forwarded, MdiPlanner, PlannedMdi};
 use self::frame::{Frame, MAX_PROCESSES};
 use self::render::{RenderThread, Renderer};
 use crate::online::Note;
@@ -35,6 +37,10 @@ pub const PUBLISH_EVERY: Duration = Duration::from_millis(25);
 pub trait Cnc: Send {
     /// The scan thread's half and the render thread's half.
     fn split(self: Box<Self>) -> (Box<dyn CncScan>, Box<dyn CncView>);
+    /// What compiles MDI lines beside the scan (None: nothing to compile, or no kernel).
+    fn mdi_planner(&self) -> Option<MdiPlanner> {
+        None
+    }
 }
 
 /// The scan thread's half of the CNC: operator commands and the plain copy into a frame.
@@ -42,6 +48,17 @@ pub trait CncScan: Send {
     /// Carries out an operator command for `process` at a tick boundary, or says why not
     /// ([`Command::Ack`] is the HMI's own and never comes here).
     fn command(&mut self, process: u8, command: &Command) -> Result<(), String>;
+    /// [`CncScan::command`] with the blocks an MDI command's line was planned to off the scan
+    /// ([`forward`]); without them, or without a kernel, the same as [`CncScan::command`].
+    fn command_planned(
+        &mut self,
+        process: u8,
+        command: &Command,
+        planned: Option<PlannedMdi>,
+    ) -> Result<(), String> {
+        let _ = planned;
+        self.command(process, command)
+    }
     /// Copies what the render half needs into `out` (in place: no allocation in steady state).
     fn capture(&mut self, _out: &mut Frame) {}
     /// True for a machine-wide alarm text that a process's own alarm list already shows (the
@@ -67,7 +84,7 @@ pub struct HmiLink {
     pub running: hmi::Running,
     frames: TripleWriter<Frame>,
     seq: u64,
-    requests: mpsc::Receiver<Envelope>,
+    requests: mpsc::Receiver<Forwarded>,
     cnc: Box<dyn CncScan>,
     last_publish: Option<Instant>,
     alarms: AlarmList,
@@ -87,6 +104,8 @@ impl HmiLink {
         let (snap_tx, snap_rx) = watch::channel(Arc::new(Snapshot::default()));
         let (req_tx, req_rx) = mpsc::channel();
         let running = hmi::start(config, catalog, snap_rx, req_tx)?;
+        let (fwd_tx, fwd_rx) = mpsc::channel();
+        forward::start(req_rx, fwd_tx, cnc.mdi_planner()).map_err(hmi::StartError::Runtime)?;
         let (scan, view) = cnc.split();
         let (frames, reader) = triple(Frame::with_image(packets::PACKETS_LEN));
         let render = RenderThread::start(reader, Renderer::new(view, tick_ms), snap_tx)
@@ -95,7 +114,7 @@ impl HmiLink {
             running,
             frames,
             seq: 0,
-            requests: req_rx,
+            requests: fwd_rx,
             cnc: scan,
             last_publish: None,
             alarms: AlarmList::default(),
@@ -128,8 +147,8 @@ impl HmiLink {
     /// At a tick boundary: applies the pending requests, then publishes when due.
     pub fn service(&mut self, sched: &mut Scheduler) {
         let applied_at = sched.tick_count();
-        let pending: Vec<Envelope> = self.requests.try_iter().collect();
-        for env in pending {
+        let pending: Vec<Forwarded> = self.requests.try_iter().collect();
+        for Forwarded { env, mdi } in pending {
             let forces = sched.forces_mut();
             let reply = match &env.request {
                 Request::Write(s, v) => {
@@ -159,7 +178,7 @@ impl HmiLink {
                     Ok(applied_at)
                 }
                 Request::Command { process, command } => {
-                    let r = self.cnc.command(*process, command);
+                    let r = self.cnc.command_planned(*process, command, mdi);
                     if r.is_ok() {
                         sched.record_command(crate::trace::OperatorCommand {
                             process: *process,

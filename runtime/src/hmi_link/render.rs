@@ -91,6 +91,9 @@ impl Renderer {
             machine,
             tripped: f.tripped,
             flow: flow_values(&f.flow.0, f.flow.1.as_deref()),
+            mdi_compiles: f
+                .mdi_compiles
+                .map(|(requests, scan)| hmi::MdiCompiles { requests, scan }),
             toolpaths: self.view.toolpaths(),
         }
     }
