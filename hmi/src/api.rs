@@ -11,15 +11,30 @@ use serde::Deserialize;
 use serde_json::{Value, json};
 
 use crate::error::ApiError;
-use crate::model::{Command, Envelope, Request};
+use crate::model::{Command, Envelope, Request, SharedSnapshot};
 use crate::server::AppState;
 
 /// How long a handler waits for the scan to apply a request.
 const REPLY_TIMEOUT: Duration = Duration::from_secs(3);
 
+/// How long a read waits for a fresh snapshot when it found the render thread asleep.
+const WAKE_TIMEOUT: Duration = Duration::from_millis(250);
+
+/// The latest snapshot for a read. The render thread sleeps while nobody looks; a read that
+/// finds it asleep wakes it and waits (at most [`WAKE_TIMEOUT`]) for the snapshot it renders.
+pub async fn snapshot(state: &AppState) -> SharedSnapshot {
+    let mut rx = state.snapshots.clone();
+    let _ = rx.borrow_and_update();
+    if state.demand.read() {
+        let _ = tokio::time::timeout(WAKE_TIMEOUT, rx.changed()).await;
+    }
+    let snap = rx.borrow().clone();
+    snap
+}
+
 /// `GET /api/status`: the latest snapshot without the raw image.
 pub async fn status(State(state): State<AppState>) -> Response {
-    let snap = state.snapshots.borrow().clone();
+    let snap = snapshot(&state).await;
     let mut v = serde_json::to_value(&*snap).unwrap_or(Value::Null);
     if let Some(o) = v.as_object_mut() {
         o.remove("image");
@@ -39,7 +54,7 @@ pub async fn signals(State(state): State<AppState>) -> Response {
 
 /// `GET /api/program`: the PLC source with the signals each line reads and writes.
 pub async fn program(State(state): State<AppState>) -> Response {
-    let online = state.snapshots.borrow().online.clone();
+    let online = snapshot(&state).await.online.clone();
     Json(json!({
         "file": state.catalog.source_name,
         "lines": state.catalog.source,
@@ -50,7 +65,7 @@ pub async fn program(State(state): State<AppState>) -> Response {
 
 /// `GET /api/flow`: the power flow of the last published scan, `[line, value]` per statement.
 pub async fn flow(State(state): State<AppState>) -> Response {
-    let snap = state.snapshots.borrow().clone();
+    let snap = snapshot(&state).await;
     Json(json!({ "tick": snap.tick, "flow": snap.flow })).into_response()
 }
 
@@ -60,7 +75,7 @@ pub async fn signal(
     Path(addr): Path<String>,
 ) -> Result<Response, ApiError> {
     let sig = resolve(&state, &addr)?;
-    let snap = state.snapshots.borrow().clone();
+    let snap = snapshot(&state).await;
     let forced = snap.forced.iter().any(|(s, _)| same_storage(s, &sig));
     Ok(Json(json!({
         "signal": sig.to_string(),
@@ -73,7 +88,7 @@ pub async fn signal(
 
 /// `GET /api/force`: the force table.
 pub async fn forces(State(state): State<AppState>) -> Response {
-    let snap = state.snapshots.borrow().clone();
+    let snap = snapshot(&state).await;
     let list: Vec<Value> = snap
         .forced
         .iter()
@@ -214,7 +229,7 @@ pub async fn toolpath(
     State(state): State<AppState>,
     Path(process): Path<String>,
 ) -> Result<Response, ApiError> {
-    let snap = state.snapshots.borrow().clone();
+    let snap = snapshot(&state).await;
     let found = process
         .parse::<u8>()
         .ok()

@@ -10,11 +10,13 @@
 pub mod api;
 pub mod assets;
 pub mod auth;
+pub mod demand;
 pub mod error;
 pub mod model;
 pub mod server;
 pub mod ws;
 
+pub use demand::Demand;
 pub use model::{
     AlarmEntry, AxisStatus, Catalog, Command, Envelope, HandshakeCounts, MachineStatus,
     MdiCompiles, NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot,

@@ -8,6 +8,7 @@ use axum::Router;
 use axum::routing::{delete, get, post};
 use tokio::sync::watch;
 
+use crate::demand::Demand;
 use crate::model::{Catalog, Envelope, SharedSnapshot};
 use crate::{api, assets, auth, ws};
 
@@ -54,6 +55,8 @@ pub struct AppState {
     pub snapshots: watch::Receiver<SharedSnapshot>,
     /// Requests to the scan.
     pub requests: mpsc::Sender<Envelope>,
+    /// Who is looking (wakes the render thread).
+    pub demand: Arc<Demand>,
 }
 
 /// A running HMI server.
@@ -97,6 +100,7 @@ pub fn start(
     catalog: Catalog,
     snapshots: watch::Receiver<SharedSnapshot>,
     requests: mpsc::Sender<Envelope>,
+    demand: Arc<Demand>,
 ) -> Result<Running, StartError> {
     if !auth::is_loopback(&config.addr) && config.token.is_none() {
         return Err(StartError::NeedsToken(config.addr));
@@ -120,6 +124,7 @@ pub fn start(
         catalog: Arc::new(catalog),
         snapshots,
         requests,
+        demand,
     };
     let thread = std::thread::Builder::new()
         .name("hmi".into())

@@ -13,6 +13,8 @@ pub async fn upgrade(ws: WebSocketUpgrade, State(state): State<AppState>) -> Res
 }
 
 async fn stream(mut socket: WebSocket, state: AppState) {
+    // The render thread renders while a client is connected.
+    let _client = state.demand.connect();
     let mut rx = state.snapshots.clone();
     // The current value first, then every change.
     rx.mark_changed();

@@ -103,12 +103,13 @@ impl HmiLink {
     ) -> Result<HmiLink, hmi::StartError> {
         let (snap_tx, snap_rx) = watch::channel(Arc::new(Snapshot::default()));
         let (req_tx, req_rx) = mpsc::channel();
-        let running = hmi::start(config, catalog, snap_rx, req_tx)?;
+        let demand = Arc::new(hmi::Demand::default());
+        let running = hmi::start(config, catalog, snap_rx, req_tx, Arc::clone(&demand))?;
         let (fwd_tx, fwd_rx) = mpsc::channel();
         forward::start(req_rx, fwd_tx, cnc.mdi_planner()).map_err(hmi::StartError::Runtime)?;
         let (scan, view) = cnc.split();
         let (frames, reader) = triple(Frame::with_image(packets::PACKETS_LEN));
-        let render = RenderThread::start(reader, Renderer::new(view, tick_ms), snap_tx)
+        let render = RenderThread::start(reader, Renderer::new(view, tick_ms), snap_tx, demand)
             .map_err(hmi::StartError::Runtime)?;
         Ok(HmiLink {
             running,

@@ -1,17 +1,19 @@
-//! The HMI's render thread: picks up the newest [`Frame`] the scan published (polling the triple
-//! buffer every [`POLL`]), builds the [`Snapshot`] from it (names, strings, the per-process alarm
+//! The HMI's render thread: while somebody looks (a WebSocket client, or an API read in the last
+//! [`hmi::demand::LINGER`]) it picks up the newest [`Frame`] the scan published (polling the
+//! triple buffer every [`POLL`]); while nobody does it sleeps on [`hmi::Demand`] and does not
+//! wake at all. It builds the [`Snapshot`] from it (names, strings, the per-process alarm
 //! lists with acknowledge, the tool path) and puts it into the server's latest-value channel. All
 //! of this runs beside the scan, never on it.
 
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
 use compiler::ir::Ty;
 use compiler::ir::flow::FlowMap;
 use fieldbus::exchange::TripleReader;
-use hmi::{ScanStats, SharedSnapshot, Snapshot};
+use hmi::{Demand, ScanStats, SharedSnapshot, Snapshot};
 use tokio::sync::watch;
 
 use super::CncView;
@@ -127,42 +129,116 @@ pub fn flow_values(area: &[u8], map: Option<&FlowMap>) -> Vec<(u32, f64)> {
 
 /// The running render thread; dropping it stops the thread.
 pub struct RenderThread {
-    stop: Arc<AtomicBool>,
+    demand: Arc<Demand>,
+    wakeups: Arc<AtomicU64>,
     thread: Option<JoinHandle<()>>,
 }
 
 impl RenderThread {
-    /// Starts rendering the frames of `frames` into `out`.
+    /// Starts rendering the frames of `frames` into `out` while `demand` says somebody looks;
+    /// otherwise the thread sleeps until somebody does.
     pub fn start(
         mut frames: TripleReader<Frame>,
         mut renderer: Renderer,
         out: watch::Sender<SharedSnapshot>,
+        demand: Arc<Demand>,
     ) -> std::io::Result<RenderThread> {
-        let stop = Arc::new(AtomicBool::new(false));
-        let flag = Arc::clone(&stop);
+        let wakeups = Arc::new(AtomicU64::new(0));
+        let (d, count) = (Arc::clone(&demand), Arc::clone(&wakeups));
         let thread = std::thread::Builder::new()
             .name("hmi-render".into())
             .spawn(move || {
-                while !flag.load(Ordering::Relaxed) {
-                    let (f, fresh) = frames.read();
-                    if fresh && f.seq > 0 {
+                let mut rendered = 0;
+                while let Some(requested) = d.wait() {
+                    count.fetch_add(1, Ordering::Relaxed);
+                    let (f, _) = frames.read();
+                    if f.seq > 0 && (f.seq != rendered || requested) {
+                        rendered = f.seq;
                         out.send_replace(Arc::new(renderer.render(f)));
                     }
                     std::thread::sleep(POLL);
                 }
             })?;
         Ok(RenderThread {
-            stop,
+            demand,
+            wakeups,
             thread: Some(thread),
         })
+    }
+
+    /// How many times the thread has woken to look for a frame (it does not while nobody looks).
+    pub fn wakeups(&self) -> u64 {
+        self.wakeups.load(Ordering::Relaxed)
     }
 }
 
 impl Drop for RenderThread {
     fn drop(&mut self) {
-        self.stop.store(true, Ordering::Relaxed);
+        self.demand.stop();
         if let Some(t) = self.thread.take() {
             let _ = t.join();
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use fieldbus::exchange::triple;
+    use hmi::MachineStatus;
+
+    struct NoCnc;
+
+    impl CncView for NoCnc {
+        fn status(&mut self, _: &Frame) -> MachineStatus {
+            MachineStatus::default()
+        }
+    }
+
+    /// Waits (bounded) until the channel's snapshot is of tick `tick`.
+    fn wait_for(rx: &watch::Receiver<SharedSnapshot>, tick: u64) {
+        for _ in 0..5000 {
+            if rx.borrow().tick == tick {
+                return;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        panic!("no snapshot of tick {tick}; last {}", rx.borrow().tick);
+    }
+
+    #[test]
+    fn the_render_thread_sleeps_while_nobody_looks_and_renders_when_asked() {
+        let (mut frames, reader) = triple(Frame::with_image(4));
+        let (tx, rx) = watch::channel(Arc::new(Snapshot::default()));
+        let demand = Arc::new(Demand::new(Duration::ZERO));
+        let render = RenderThread::start(
+            reader,
+            Renderer::new(Box::new(NoCnc), 10),
+            tx,
+            Arc::clone(&demand),
+        )
+        .expect("thread");
+        let mut publish = |seq: u64, tick: u64| {
+            let f = frames.buf();
+            (f.seq, f.tick) = (seq, tick);
+            frames.publish();
+        };
+        publish(1, 5);
+        // Nobody looks: 25 polls' worth of time pass without a single wake-up.
+        std::thread::sleep(POLL * 25);
+        assert_eq!((render.wakeups(), rx.borrow().tick), (0, 0));
+        // An API read wakes it once: it renders the newest frame, then sleeps again.
+        assert!(demand.read(), "it was asleep");
+        wait_for(&rx, 5);
+        publish(2, 6);
+        std::thread::sleep(POLL * 25);
+        assert_eq!((render.wakeups(), rx.borrow().tick), (1, 5));
+        // A WebSocket client: every new frame is rendered while it stays.
+        let client = demand.connect();
+        wait_for(&rx, 6);
+        publish(3, 7);
+        wait_for(&rx, 7);
+        drop(client);
+        drop(render);
     }
 }
