@@ -28,8 +28,7 @@ pub async fn snapshot(state: &AppState) -> SharedSnapshot {
     if state.demand.read() {
         let _ = tokio::time::timeout(WAKE_TIMEOUT, rx.changed()).await;
     }
-    let snap = rx.borrow().clone();
-    snap
+    rx.borrow().clone()
 }
 
 /// `GET /api/status`: the latest snapshot without the raw image.
