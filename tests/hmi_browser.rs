@@ -188,6 +188,25 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
         (class == "line on" && vals.starts_with("⇒ 1  ← ")).then_some(())
     })
     .await?;
+    // The page's toggle switches power flow off at run time, and on again.
+    for on in [false, true] {
+        js(
+            c,
+            "document.getElementById('flow-toggle').click(); return null",
+        )
+        .await?;
+        until("the power-flow toggle took effect", 15, || async {
+            let v = js(
+                c,
+                "return [document.getElementById('flow-toggle').checked, (state.snap.flow || []).length, state.snap.flow_enabled]",
+            )
+            .await
+            .ok()?;
+            let n = v[1].as_u64()?;
+            (v[0] == on && v[2] == on && (n > 0) == on).then_some(())
+        })
+        .await?;
+    }
     if let Some(d) = keep {
         shot(c, d, "program").await;
     }

@@ -68,6 +68,21 @@ pub async fn flow(State(state): State<AppState>) -> Response {
     Json(json!({ "tick": snap.tick, "flow": snap.flow })).into_response()
 }
 
+/// The body of `POST /api/flow`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FlowBody {
+    enabled: bool,
+}
+
+/// `POST /api/flow`: switch the scan's power flow on or off (it watches, so `--hmi-readonly`
+/// allows it). The scan switches once the variant is compiled, at a tick boundary.
+pub async fn set_flow(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+    let b: FlowBody = parse_json(&body)?;
+    let tick = ask(&state, Request::Flow(b.enabled)).await?;
+    Ok(Json(json!({"enabled": b.enabled, "tick": tick})).into_response())
+}
+
 /// `GET /api/signal/<ADDR>`: one signal's value and whether it is forced.
 pub async fn signal(
     State(state): State<AppState>,

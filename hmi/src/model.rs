@@ -36,6 +36,9 @@ pub struct Snapshot {
     /// value, or the condition of IF/SET/RES/one-shot/timer/counter inputs), in source order of
     /// the statements; empty when the program was not compiled for it.
     pub flow: Vec<(u32, f64)>,
+    /// Power flow is switched on (`POST /api/flow`, `--hmi-flow`); `flow` fills once the scan
+    /// runs the instrumented program.
+    pub flow_enabled: bool,
     /// Where MDI lines were compiled so far (None: no CNC kernel runs).
     pub mdi_compiles: Option<MdiCompiles>,
     /// The tool path of each process with interpolated axes (served by `GET /api/toolpath/<P>`,
@@ -276,6 +279,8 @@ pub enum Request {
     Unforce(Signal),
     /// Remove every force.
     UnforceAll,
+    /// Switch power flow on (true) or off.
+    Flow(bool),
     /// An operator command for process `process` (0 for `ack`: every process and the machine).
     Command {
         /// 1-based process number; 0 only with [`Command::Ack`].

@@ -84,7 +84,7 @@ pub fn router(state: AppState) -> Router {
         .route("/api/force/{addr}", delete(api::unforce))
         .route("/api/command", post(api::command))
         .route("/api/toolpath/{process}", get(api::toolpath))
-        .route("/api/flow", get(api::flow))
+        .route("/api/flow", get(api::flow).post(api::set_flow))
         .route("/ws", get(ws::upgrade))
         .fallback(api::not_found)
         .layer(axum::middleware::from_fn_with_state(

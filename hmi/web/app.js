@@ -176,7 +176,10 @@ function renderProgram() {
     flow.get(line).push(v);
   }
   const note = document.getElementById("flow-note");
-  if (note) note.hidden = (state.snap.flow || []).length > 0;
+  const on = !!state.snap.flow_enabled, has = (state.snap.flow || []).length > 0;
+  if (note) { note.hidden = on === has; note.textContent = on ? "(compiling…)" : "(switching off…)"; }
+  const toggle = document.getElementById("flow-toggle");
+  if (toggle && document.activeElement !== toggle) toggle.checked = on;
   for (const r of sourceRows) {
     const parts = [];
     const fv = flow.get(r.l.line);
@@ -447,6 +450,11 @@ async function start() {
   });
   document.getElementById("run").addEventListener("click", () => { trace.armed = false; trace.frozen = false; document.getElementById("trace-state").textContent = "running"; });
   document.getElementById("save").addEventListener("click", saveWindow);
+  document.getElementById("flow-toggle").addEventListener("change", async ev => {
+    const enabled = ev.target.checked;
+    try { const r = await api("POST", "/api/flow", { enabled }); message("power flow " + (enabled ? "on" : "off") + " from tick " + r.tick, true); } catch (e) { message(e.message); }
+    ev.target.blur();
+  });
   const [st, sg, pg] = await Promise.all([api("GET", "/api/status"), api("GET", "/api/signals"), api("GET", "/api/program")]);
   state.readonly = st.readonly;
   document.getElementById("readonly").hidden = !st.readonly;

@@ -53,6 +53,8 @@ pub struct CompiledMeta {
     written: Vec<Signal>,
     layout: u64,
     flow: Option<Arc<compiler::ir::flow::FlowMap>>,
+    /// The program without power flow (`program` itself when it was not instrumented).
+    base: Arc<Program>,
 }
 
 impl CompiledMeta {
@@ -66,6 +68,7 @@ impl CompiledMeta {
         program.retain_range().hash(&mut h);
         CompiledMeta {
             flow: None,
+            base: Arc::clone(&program),
             program,
             written,
             layout: h.finish(),
@@ -176,18 +179,49 @@ pub fn load_cached(
     threads: usize,
     cache: Option<&Mutex<CodeCache>>,
 ) -> Result<Loaded, LoadError> {
-    load_flow(program, None, engine, threads, cache)
+    load_flow(Arc::new(program), None, engine, threads, cache)
 }
 
-/// [`load_cached`] of a program instrumented for power flow (`flow`: its slots).
-fn load_flow(
-    program: Program,
-    flow: Option<compiler::ir::flow::FlowMap>,
+/// Compiles a program's two power-flow variants at run time: (the program without power flow,
+/// instrument it) → the loaded variant (see [`variant`]).
+pub type VariantFn = Arc<dyn Fn(Arc<Program>, bool) -> Result<Loaded, LoadError> + Send + Sync>;
+
+/// `base` (a program without power flow) instrumented for power flow when `flow` (and it can
+/// be: a program built without source lines cannot), else as it is. Both variants lay out the
+/// image alike up to the flow area the instrumented one appends, so the scan can switch between
+/// them at a tick boundary keeping its image ([`crate::scheduler::Scheduler::switch_variant`]).
+pub fn variant(
+    base: Arc<Program>,
+    flow: bool,
     engine: EngineKind,
     threads: usize,
     cache: Option<&Mutex<CodeCache>>,
 ) -> Result<Loaded, LoadError> {
-    let program = Arc::new(program);
+    match flow
+        .then(|| compiler::ir::flow::instrument(&base))
+        .flatten()
+    {
+        Some((f, map)) => load_flow(Arc::new(f), Some((map, base)), engine, threads, cache),
+        None => load_flow(base, None, engine, threads, cache),
+    }
+}
+
+/// The running program without power flow (None: not a compiled program).
+pub fn base_program(meta: &dyn ProgramMeta) -> Option<&Arc<Program>> {
+    meta.as_any()
+        .downcast_ref::<CompiledMeta>()
+        .map(|m| &m.base)
+}
+
+/// [`load_cached`] of a program instrumented for power flow (`flow`: its slots and the program
+/// without them).
+fn load_flow(
+    program: Arc<Program>,
+    flow: Option<(compiler::ir::flow::FlowMap, Arc<Program>)>,
+    engine: EngineKind,
+    threads: usize,
+    cache: Option<&Mutex<CodeCache>>,
+) -> Result<Loaded, LoadError> {
     let logic: Box<dyn Engine> = match engine {
         EngineKind::Interp => Box::new(Interpreter::new(program.clone())),
         EngineKind::Jit => {
@@ -228,7 +262,10 @@ fn load_flow(
         }
     };
     let mut meta = CompiledMeta::new(program);
-    meta.flow = flow.map(Arc::new);
+    if let Some((map, base)) = flow {
+        meta.flow = Some(Arc::new(map));
+        meta.base = base;
+    }
     Ok(Loaded {
         logic: Box::new(EngineLogic(logic)),
         meta: Arc::new(meta),
@@ -324,10 +361,7 @@ pub fn compile_cached(
                     crate::cli::output::render_diagnostics(&c.diagnostics, &sources)
                 );
             }
-            match flow.then(|| compiler::ir::flow::instrument(&p)).flatten() {
-                Some((f, map)) => load_flow(f, Some(map), engine, threads, cache),
-                None => load_cached(p, engine, threads, cache),
-            }
+            variant(Arc::new(p), flow, engine, threads, cache)
         }
         _ => Err(LoadError::Diagnostics {
             rendered: crate::cli::output::render_diagnostics(&c.diagnostics, &sources),

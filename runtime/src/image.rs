@@ -55,6 +55,13 @@ impl Image {
         Image { bytes }
     }
 
+    /// Grows the image to `len` bytes (new bytes 0), keeping every byte it has.
+    pub fn grow_to(&mut self, len: usize) {
+        if self.bytes.len() < len {
+            self.bytes.resize(len, 0);
+        }
+    }
+
     /// Puts the physical outputs in their safe state: every packet-A output connector to 0.
     pub fn clear_physical_outputs(&mut self) {
         for c in 0..Packet::A.connectors() {

@@ -4,11 +4,13 @@
 //! refused); [`RunConfig::from_facts`] takes what the runtime needs from it.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use compiler::InterfaceMap;
 use compiler::interface_map::InterfaceMapError;
 
-use crate::compiled::{EngineKind, Source, compile_cached, compile_with_threads};
+use crate::compiled::{EngineKind, Source, VariantFn, compile_cached, compile_with_threads};
 use crate::config::RunConfig;
 use crate::machine_facts::{Facts, MachineError};
 use crate::online::CompileFn;
@@ -136,34 +138,39 @@ impl Machine {
     }
 
     /// The compile functions of a run: the first load on every core, online changes on one
-    /// thread; both share one JIT code cache, so an online change recompiles only the functions
-    /// whose code changed (the rest is reused from the program running before it).
-    /// With `flow` every program is instrumented for power flow ([`compiler::ir::flow`]).
+    /// thread, and the run-time switch of power flow ([`crate::compiled::variant`], one thread);
+    /// all share one JIT code cache, so an online change recompiles only the functions whose code
+    /// changed (the rest is reused from the program running before it). Every program is
+    /// instrumented for power flow ([`compiler::ir::flow`]) while `flow` is set when it compiles.
     pub fn compile_fns(
         &self,
         engine: EngineKind,
         tick_ms: u32,
-        flow: bool,
-    ) -> (CompileFn, CompileFn) {
-        let cache = std::sync::Arc::new(std::sync::Mutex::new(CodeCache::new()));
+        flow: Arc<AtomicBool>,
+    ) -> (CompileFn, CompileFn, VariantFn) {
+        let cache = Arc::new(std::sync::Mutex::new(CodeCache::new()));
         let make = |threads: usize| -> CompileFn {
             let (cfg, name, map) = (
                 self.config.clone(),
                 self.source_name(),
                 self.interface.clone(),
             );
-            let cache = cache.clone();
-            std::sync::Arc::new(move |src: &[u8]| {
+            let (cache, flow) = (cache.clone(), flow.clone());
+            Arc::new(move |src: &[u8]| {
                 let source = Source {
                     bytes: src,
                     cfg: &cfg,
                     interface: &map,
                     tick_ms,
-                    flow,
+                    flow: flow.load(Ordering::Relaxed),
                 };
                 compile_cached(&name, source, engine, threads, Some(&cache))
             })
         };
-        (make(0), make(1))
+        let variant_cache = cache.clone();
+        let variant: VariantFn = Arc::new(move |base, flow| {
+            crate::compiled::variant(base, flow, engine, 1, Some(&variant_cache))
+        });
+        (make(0), make(1), variant)
     }
 }

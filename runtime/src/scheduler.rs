@@ -195,6 +195,26 @@ impl Scheduler {
         self.loaded.meta.flow()
     }
 
+    /// The running program's facts.
+    pub fn meta(&self) -> &std::sync::Arc<dyn crate::program::ProgramMeta> {
+        &self.loaded.meta
+    }
+
+    /// From the next tick on, runs `loaded` in place of the running program and keeps the image
+    /// as it is (no migration): `loaded` must be the running program with or without power flow
+    /// ([`crate::compiled::variant`]), which lay out the image alike up to the flow area. The
+    /// image grows to hold a flow area, which starts at 0. The scan's results do not change
+    /// (power flow only writes its own area).
+    pub fn switch_variant(&mut self, loaded: Loaded) {
+        self.image.grow_to(loaded.meta.image_len());
+        if let Some(f) = loaded.meta.flow()
+            && let Some(area) = self.image.bytes_mut().get_mut(f.area.0..f.area.1)
+        {
+            area.fill(0);
+        }
+        self.loaded = loaded;
+    }
+
     /// The running engine's name.
     pub fn engine_name(&self) -> &str {
         self.loaded.logic.name()

@@ -84,6 +84,7 @@ pub fn hmi_link(
         runtime::hmi_link::catalog::build(m, source),
         Box::new(kernel),
         m.config.tick_ms,
+        None,
     )
     .unwrap_or_else(|e| panic!("{e}"))
 }

@@ -25,9 +25,9 @@ pub struct HmiArgs {
     /// non-loopback address).
     #[arg(long, value_name = "FILE", requires = "hmi")]
     pub hmi_token_file: Option<PathBuf>,
-    /// Compile the PLC program (and online changes) for power flow on the Program page: every
-    /// statement also writes its result into a flow area (costs scan time: +27 % instructions per
-    /// tick on the 10,000-statement scan benchmark).
+    /// Start with power flow on the Program page (switchable at run time: `POST /api/flow`, the
+    /// page's toggle): every statement also writes its result into a flow area (costs scan time:
+    /// +27 % instructions per tick on the 10,000-statement scan benchmark).
     #[arg(long, requires = "hmi")]
     pub hmi_flow: bool,
 }
@@ -42,6 +42,7 @@ impl HmiArgs {
         tick_ms: u32,
         counts: Option<HandshakeCounts>,
         kernel: Option<PartKernel>,
+        flow: crate::hmi_link::flow_switch::FlowSwitch,
     ) -> Result<Option<HmiLink>, String> {
         let Some(addr) = self.hmi else {
             return Ok(None);
@@ -84,8 +85,14 @@ impl HmiArgs {
             token: token.clone(),
             readonly: self.hmi_readonly,
         };
-        let link = HmiLink::start(config, catalog::build(machine, source), cnc, tick_ms)
-            .map_err(|e| format!("error: {e}"))?;
+        let link = HmiLink::start(
+            config,
+            catalog::build(machine, source),
+            cnc,
+            tick_ms,
+            Some(flow),
+        )
+        .map_err(|e| format!("error: {e}"))?;
         let bound = link.running.addr;
         match &token {
             Some(t) if self.hmi_token_file.is_none() => {

@@ -137,7 +137,9 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let tick_ms = args.tick_ms.unwrap_or(machine.config.tick_ms).max(1);
     // The first load compiles on every core (the scan is not running yet); online changes
     // compile on one thread beside the scan, reusing the code of unchanged functions.
-    let (first, compile) = machine.compile_fns(args.engine, tick_ms, args.hmi.hmi_flow);
+    let flow_wanted = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(args.hmi.hmi_flow));
+    let (first, compile, variant) =
+        machine.compile_fns(args.engine, tick_ms, std::sync::Arc::clone(&flow_wanted));
     let source = machine.read_source().map_err(|e| e.to_string())?;
     let hmi_source = source.clone();
     if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
@@ -242,9 +244,14 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             crate::hmi_link::kernel_cnc::sources(&args, &machine),
         )
     });
-    let mut hmi = args
-        .hmi
-        .start(&machine, &hmi_source, tick_ms, handshakes.clone(), kernel)?;
+    let mut hmi = args.hmi.start(
+        &machine,
+        &hmi_source,
+        tick_ms,
+        handshakes.clone(),
+        kernel,
+        crate::hmi_link::flow_switch::FlowSwitch::new(flow_wanted, variant),
+    )?;
     let mut sched = Scheduler::new(image, loaded, io, clock, settings);
     if let Some(path) = &args.record {
         let options = crate::trace::DurableOptions {

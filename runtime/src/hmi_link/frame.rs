@@ -35,6 +35,8 @@ pub struct Frame {
     pub online: String,
     /// The overrun limit tripped the safe state.
     pub tripped: bool,
+    /// Power flow is switched on.
+    pub flow_enabled: bool,
     /// Acknowledge commands so far, per process (index 0: `ack` for every process).
     pub acks: [u64; MAX_PROCESSES],
     /// The power-flow area of the image and where each statement's slot is in it (none: the

@@ -8,6 +8,7 @@
 
 pub mod alarms;
 pub mod catalog;
+pub mod flow_switch;
 pub mod forward;
 pub mod frame;
 pub mod image_cnc;
@@ -24,6 +25,7 @@ use hmi::{Command, MachineStatus, Request, ServerConfig, Snapshot, Toolpath};
 use tokio::sync::watch;
 
 use self::alarms::AlarmList;
+use self::flow_switch::FlowSwitch;
 use self::forward::{Forwarded, MdiPlanner, PlannedMdi};
 use self::frame::{Frame, MAX_PROCESSES};
 use self::render::{RenderThread, Renderer};
@@ -90,16 +92,19 @@ pub struct HmiLink {
     alarms: AlarmList,
     acks: [u64; MAX_PROCESSES],
     online: String,
+    flow: Option<FlowSwitch>,
     _render: RenderThread,
 }
 
 impl HmiLink {
-    /// Starts the server for `catalog`, with `cnc` behind the Machine page.
+    /// Starts the server for `catalog`, with `cnc` behind the Machine page and `flow` switching
+    /// power flow at run time (None: `POST /api/flow` is refused).
     pub fn start(
         config: ServerConfig,
         catalog: hmi::Catalog,
         cnc: Box<dyn Cnc>,
         tick_ms: u32,
+        flow: Option<FlowSwitch>,
     ) -> Result<HmiLink, hmi::StartError> {
         let (snap_tx, snap_rx) = watch::channel(Arc::new(Snapshot::default()));
         let (req_tx, req_rx) = mpsc::channel();
@@ -121,6 +126,7 @@ impl HmiLink {
             alarms: AlarmList::default(),
             acks: [0; MAX_PROCESSES],
             online: "running".into(),
+            flow,
             _render: render,
         })
     }
@@ -171,6 +177,13 @@ impl HmiLink {
                     forces.unforce_all();
                     Ok(applied_at)
                 }
+                Request::Flow(on) => match &mut self.flow {
+                    Some(f) => {
+                        f.set(*on);
+                        Ok(applied_at)
+                    }
+                    None => Err("power flow cannot be switched in this run".to_string()),
+                },
                 Request::Command {
                     process,
                     command: Command::Ack,
@@ -190,6 +203,9 @@ impl HmiLink {
                 }
             };
             let _ = env.reply.send(reply);
+        }
+        if let Some(f) = &mut self.flow {
+            f.update(sched);
         }
         let due = self
             .last_publish
@@ -235,6 +251,7 @@ impl HmiLink {
         copy_into(&mut f.alarms, self.alarms.entries());
         f.online.clone_from(&self.online);
         f.tripped = sched.tripped();
+        f.flow_enabled = self.flow.as_ref().is_some_and(FlowSwitch::wanted);
         f.acks = self.acks;
         let (area, map) = &mut f.flow;
         area.clear();

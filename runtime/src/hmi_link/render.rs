@@ -92,6 +92,7 @@ impl Renderer {
             online: f.online.clone(),
             machine,
             tripped: f.tripped,
+            flow_enabled: f.flow_enabled,
             flow: flow_values(&f.flow.0, f.flow.1.as_deref()),
             mdi_compiles: f
                 .mdi_compiles
