@@ -307,13 +307,14 @@ fn plan_text_shows_every_field_of_the_json_form() {
         "text",
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    // The arc from (10, 0) to (20, 0) with I5 J0 has its centre at (15, 0).
+    // The arc from (10, 0) to (20, 0) with I5 J0 has its centre at (15, 0). The modal record:
+    // MEFI starts in G90 G94 with zero offset G53 (row 0) and G40.
     assert_eq!(
         String::from_utf8_lossy(&out.stdout),
-        "N10 rapid X0 Y0 Z0 plane XY F- M3:before S1000 T-\n\
-         N20 linear X10 Y0 Z0 plane XY F200 M- S1000 T-\n\
-         N30 arc_cw X20 Y0 Z0 center X15 Y0 plane XY F200 M- S1000 T-\n\
-         N40 aux X20 Y0 Z0 plane XY F- M30:after S1000 T-\n"
+        "N10 rapid X0 Y0 Z0 plane XY F- M3:before S1000 T- modal G90,G94,G53,G40\n\
+         N20 linear X10 Y0 Z0 plane XY F200 M- S1000 T- modal G90,G94,G53,G40\n\
+         N30 arc_cw X20 Y0 Z0 center X15 Y0 plane XY F200 M- S1000 T- modal G90,G94,G53,G40\n\
+         N40 aux X20 Y0 Z0 plane XY F- M30:after S1000 T- modal G90,G94,G53,G40\n"
     );
 }
 

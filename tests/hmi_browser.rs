@@ -396,6 +396,12 @@ async fn machine_steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(),
         (state == "idle" && block == "N10 (1)").then_some(())
     })
     .await?;
+    // The modal codes of N10 G53 S1200 M03 with MEFI's G90, G94 and G40 from the start.
+    until("the modal codes of N10", 10, || async {
+        let modal = text(c, "#proc-1 .modal").await?;
+        (modal == "G90 G94 G53 G40 S1200 M03").then_some(())
+    })
+    .await?;
     let errors = js(c, "return window.__errors").await?;
     if errors != serde_json::json!([]) {
         return Err(format!("errors on the page: {errors}"));

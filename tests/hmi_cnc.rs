@@ -34,8 +34,9 @@ fn axis(s: &Value, name: &str) -> (f64, f64) {
 }
 
 /// The modal codes in effect at block `n` of the lathe's PART1 (N30 onwards, up to N140), by hand
-/// from its text: N10 S1200 M03, N20 M08, then G00/G01 and F300 until N120 sets F150 (F stays in
-/// effect across rapids); the lathe interpolates in the ZX plane (G18).
+/// from its text: N10 G53 S1200 M03, N20 M08, then G00/G01 and F300 until N120 sets F150 (F stays
+/// in effect across rapids); the lathe interpolates in the ZX plane (G18); MEFI's G90, G94 and
+/// G40 hold from the start, no D is programmed.
 fn part1_modal(n: u64) -> Vec<&'static str> {
     let (g, f) = match n {
         30 => ("G00", None),
@@ -45,7 +46,7 @@ fn part1_modal(n: u64) -> Vec<&'static str> {
         140 => ("G00", Some("F150")),
         _ => panic!("PART1 has no motion block N{n}"),
     };
-    let mut v = vec![g, "G18"];
+    let mut v = vec![g, "G18", "G90", "G94", "G53", "G40"];
     v.extend(f);
     v.extend(["S1200", "M03", "M08"]);
     v
@@ -88,7 +89,10 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     );
     assert_eq!(axis(&s, "X").0, 0.0);
     assert_eq!(p["active_codes"], json!(["S1200", "M03"]));
-    assert_eq!(p["modal_codes"], json!(["S1200", "M03"]));
+    assert_eq!(
+        p["modal_codes"],
+        json!(["G90", "G94", "G53", "G40", "S1200", "M03"])
+    );
     // MDI in AUTO: the kernel's reason.
     let (code, v) = post(
         &hmi,
@@ -153,7 +157,10 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
         p1(s)["state"] == "idle" && p1(s)["block_index"] == 1 && p1(s)["path_speed"] == 0.0
     });
     // Back at the first block: the modal codes are folded again from the start.
-    assert_eq!(p1(&s)["modal_codes"], json!(["S1200", "M03"]));
+    assert_eq!(
+        p1(&s)["modal_codes"],
+        json!(["G90", "G94", "G53", "G40", "S1200", "M03"])
+    );
     let (x, z) = (axis(&s, "X").0, axis(&s, "Z").0);
     assert!(
         x < 0.0 && z < 0.0,

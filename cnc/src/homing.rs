@@ -73,6 +73,7 @@ impl Process {
             tolerance: None,
             css: None,
             feed_g94: false,
+            modal: partprogram::canon::BlockModal::default(),
         };
         if let Err(e) = self.interp.push(0, &block) {
             let name = self.cfg.axes[i].name;

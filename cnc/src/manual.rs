@@ -114,6 +114,7 @@ impl Process {
             tolerance: None,
             css: None,
             feed_g94: false,
+            modal: partprogram::canon::BlockModal::default(),
         };
         let name = a.name;
         if let Err(e) = self.interp.push(0, &block) {

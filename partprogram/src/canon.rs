@@ -130,6 +130,76 @@ pub struct Canon {
     /// F was programmed under G94 (feed per minute without KŘR; always for Fanuc): the PLC's
     /// QCKFD may replace it with the alternative feed PGCFIL QFD.
     pub feed_g94: bool,
+    /// The modal state the block ran under that its resolved positions no longer show.
+    pub modal: BlockModal,
+}
+
+/// The modal state a block runs under that its resolved (absolute, offset, compensated)
+/// positions no longer show: distance and feed mode, work offset, cutter compensation and tool
+/// length. For displays (the HMI's modal codes, `nc plan`'s `modal`); nothing plans with it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BlockModal {
+    /// G90 (absolute) or G91 (incremental).
+    pub distance: u8,
+    /// G94 (mm/min) or G95 (mm/rev); MEFI also G96 and G97 (KŘR with feed per minute or per
+    /// revolution).
+    pub feed_mode: u8,
+    /// The work offset's G code (MEFI G53–G57, Fanuc G54–G59 or 154 with `work_p`); 0: none.
+    pub work: u8,
+    /// Fanuc `G154 P<n>` (also G110–G129 and `G54.1 P`): n; 0 otherwise.
+    pub work_p: u8,
+    /// Cutter compensation: G40, G41 or G42.
+    pub cutter: u8,
+    /// The D register in effect (0: none).
+    pub d: i64,
+    /// Tool length compensation (Fanuc): G43, G44 or G49; 0 in MEFI (lengths come with D).
+    pub length: u8,
+    /// The H register of G43/G44 (0: none).
+    pub h: i64,
+}
+
+impl Default for BlockModal {
+    /// G90, G94, no work offset, G40, no D, no tool length (blocks the kernel makes itself).
+    fn default() -> Self {
+        BlockModal {
+            distance: 90,
+            feed_mode: 94,
+            work: 0,
+            work_p: 0,
+            cutter: 40,
+            d: 0,
+            length: 0,
+            h: 0,
+        }
+    }
+}
+
+impl BlockModal {
+    /// The codes as displays show them: `["G90", "G94", "G54", "G41", "D1", "G43", "H2"]` (D
+    /// when not 0 — MEFI's D also selects the lengths —, H only under G43/G44, the work offset
+    /// and the tool length only when there are any).
+    pub fn codes(&self) -> Vec<String> {
+        let mut v = vec![
+            format!("G{}", self.distance),
+            format!("G{}", self.feed_mode),
+        ];
+        match (self.work, self.work_p) {
+            (0, _) => {}
+            (g, 0) => v.push(format!("G{g}")),
+            (g, p) => v.push(format!("G{g} P{p}")),
+        }
+        v.push(format!("G{}", self.cutter));
+        if self.d != 0 {
+            v.push(format!("D{}", self.d));
+        }
+        if self.length != 0 {
+            v.push(format!("G{}", self.length));
+        }
+        if self.h != 0 && matches!(self.length, 43 | 44) {
+            v.push(format!("H{}", self.h));
+        }
+        v
+    }
 }
 
 /// Constant surface speed: the kernel computes the spindle speed from the radius every tick.
@@ -252,7 +322,11 @@ impl Canon {
             }
             s.push('}');
         }
-        s.push('}');
+        s.push_str(",\"modal\":[");
+        for (i, c) in self.modal.codes().iter().enumerate() {
+            let _ = write!(s, "{}\"{c}\"", if i > 0 { "," } else { "" });
+        }
+        s.push_str("]}");
         s
     }
 
@@ -303,6 +377,7 @@ impl Canon {
                 let _ = write!(s, " max {}", num(m));
             }
         }
+        let _ = write!(s, " modal {}", self.modal.codes().join(","));
         s
     }
 

@@ -363,9 +363,24 @@ impl<'p> Exec<'p> {
             tolerance: None,
             css: self.css(),
             feed_g94: self.modal.feed_mode == 94,
+            modal: self.block_modal(),
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+    }
+
+    /// The block's modal record: G90/G91, G94–G97, the zero offset G53–G57, G40–G42 with D.
+    fn block_modal(&self) -> crate::canon::BlockModal {
+        crate::canon::BlockModal {
+            distance: if self.modal.abs { 90 } else { 91 },
+            feed_mode: u8::try_from(self.modal.feed_mode).unwrap_or(94),
+            work: u8::try_from(53 + self.modal.offset).unwrap_or(0),
+            work_p: 0,
+            cutter: u8::try_from(self.modal.comp).unwrap_or(40),
+            d: self.modal.d,
+            length: 0,
+            h: 0,
+        }
     }
 
     /// KŘR of the block: S is the cutting speed in tenths of m/min (000:1239).
@@ -400,6 +415,7 @@ impl<'p> Exec<'p> {
             tolerance: None,
             css: self.css(),
             feed_g94: self.modal.feed_mode == 94,
+            modal: self.block_modal(),
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);

@@ -330,9 +330,33 @@ impl Ex<'_> {
             tolerance: self.tolerance,
             css: self.css(),
             feed_g94: true,
+            modal: self.block_modal(),
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+    }
+
+    /// The block's modal record: G90/G91, G94 (the only feed mode), the work offset, G40–G42
+    /// with D, G43/G44/G49 with H.
+    fn block_modal(&self) -> crate::canon::BlockModal {
+        let (work, work_p) = match self.wsel {
+            k @ 0..=5 => (54 + k, 0),
+            k => (154, k - 5),
+        };
+        crate::canon::BlockModal {
+            distance: if self.abs { 90 } else { 91 },
+            feed_mode: 94,
+            work: u8::try_from(work).unwrap_or(0),
+            work_p: u8::try_from(work_p).unwrap_or(0),
+            cutter: u8::try_from(self.comp).unwrap_or(40),
+            d: self.d,
+            length: match self.tlo_sign {
+                Some((s, _)) if s > 0.0 => 43,
+                Some(_) => 44,
+                None => 49,
+            },
+            h: self.tlo_h,
+        }
     }
 
     /// G96 of the block: the surface speed in m/min, radius from the work origin.

@@ -36,7 +36,7 @@ pub mod radius;
 pub mod run;
 pub mod thread;
 
-pub use canon::{Canon, Css, Kind, Plane};
+pub use canon::{BlockModal, Canon, Css, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};
 pub use kor::{CorrectionTable, KorEntry, parse_kor};
 pub use machine::{Dialect, DoublePrecision, LengthMethod, MTiming, MachineSpec, ProcessSpec};

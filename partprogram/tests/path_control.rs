@@ -47,8 +47,18 @@ fn the_json_line_carries_exact_stop_and_tolerance_only_when_set() {
     );
     let lines: Vec<String> = p.blocks.iter().map(|c| c.to_json_line()).collect();
     assert!(!lines[0].contains("exact_stop") && !lines[0].contains("tolerance"));
-    assert!(lines[1].ends_with(",\"exact_stop\":true}"), "{}", lines[1]);
-    assert!(lines[2].ends_with(",\"tolerance\":0.01}"), "{}", lines[2]);
+    // The modal record is always the last field.
+    let modal = r#","modal":["G90","G94","G54","G40","G49"]}"#;
+    assert!(
+        lines[1].ends_with(&format!(",\"exact_stop\":true{modal}")),
+        "{}",
+        lines[1]
+    );
+    assert!(
+        lines[2].ends_with(&format!(",\"tolerance\":0.01{modal}")),
+        "{}",
+        lines[2]
+    );
 }
 
 #[test]

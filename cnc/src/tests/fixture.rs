@@ -193,6 +193,7 @@ pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Opti
         tolerance: None,
         css: None,
         feed_g94: true,
+        modal: partprogram::canon::BlockModal::default(),
         n: Some(n),
         unit: None,
         kind,

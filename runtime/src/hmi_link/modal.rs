@@ -1,13 +1,12 @@
-//! The active modal codes of a process for the Machine page: the motion mode, the plane, F, S, T,
-//! the spindle and coolant M functions in effect at the kernel's current block, folded from the
-//! loaded program's canonical blocks (on the HMI's render thread, incrementally: each block is
-//! folded once per program run).
-//!
-//! Canonical blocks carry positions already resolved (absolute, offsets and compensation applied),
-//! so G90/G91, G94/G95, work offsets and compensation are not known here; constant surface speed
-//! is (each block carries it while G96 is in effect).
+//! The active modal codes of a process for the Machine page: the motion mode, the plane, the
+//! distance and feed mode, the work offset, cutter compensation with D, tool length with H, F, S,
+//! T, the spindle and coolant M functions in effect at the kernel's current block, folded from
+//! the loaded program's canonical blocks (on the HMI's render thread, incrementally: each block
+//! is folded once per program run). Canonical blocks carry resolved positions, so the modes that
+//! no position shows come from each block's modal record ([`partprogram::BlockModal`]); constant
+//! surface speed from its `css` (each block carries it while G96 is in effect).
 
-use partprogram::canon::{Canon, Kind, Plane, num};
+use partprogram::canon::{BlockModal, Canon, Kind, Plane, num};
 
 /// The modal state after some blocks.
 #[derive(Debug, Clone, Default, PartialEq)]
@@ -28,6 +27,8 @@ pub struct Modal {
     pub coolant: Option<u16>,
     /// Constant surface speed in m/min while G96 is in effect.
     pub css: Option<f64>,
+    /// The last block's modal record (G90/G91, G94–G97, work offset, G40–G42 D, G43/G44/G49 H).
+    pub block: Option<BlockModal>,
 }
 
 impl Modal {
@@ -49,6 +50,7 @@ impl Modal {
         self.s = b.s.or(self.s);
         self.t = b.t.or(self.t);
         self.css = b.css.as_ref().map(|c| c.m_min);
+        self.block = Some(b.modal);
         for m in &b.m {
             match m.m {
                 3..=5 => self.spindle = Some(m.m),
@@ -58,11 +60,15 @@ impl Modal {
         }
     }
 
-    /// The codes as the page shows them, e.g. `["G01", "G18", "F0.2", "S1200", "T1", "M03"]`.
+    /// The codes as the page shows them, e.g. `["G01", "G18", "G90", "G94", "G54", "G40",
+    /// "F0.2", "S1200", "T1", "M03"]`.
     pub fn codes(&self) -> Vec<String> {
         let mut v: Vec<String> = self.motion.iter().map(|g| g.to_string()).collect();
         v.extend(self.plane.map(|p| format!("G{}", p.g())));
-        v.extend(self.css.map(|_| "G96".to_string()));
+        v.extend(self.block.iter().flat_map(BlockModal::codes));
+        // MEFI's feed modes G96/G97 are KŘR themselves; elsewhere G96 shows constant surface speed.
+        let kr = self.block.is_some_and(|b| b.feed_mode >= 96);
+        v.extend(self.css.filter(|_| !kr).map(|_| "G96".to_string()));
         v.extend(self.feed.map(|f| format!("F{}", num(f))));
         v.extend(self.s.map(|s| format!("S{}", num(s))));
         v.extend(self.t.map(|t| format!("T{t}")));
@@ -123,6 +129,7 @@ mod tests {
             tolerance: None,
             css: None,
             feed_g94: true,
+            modal: partprogram::canon::BlockModal::default(),
         }
     }
 
@@ -136,23 +143,35 @@ mod tests {
             block(Kind::ArcCw, Some(80.5), None, Some(2), &[5, 9]),
         ];
         let mut m = ModalTracker::default();
-        assert_eq!(m.at(1, &prog, 0).codes(), ["S1200", "T1", "M03"]);
+        assert_eq!(
+            m.at(1, &prog, 0).codes(),
+            ["G90", "G94", "G40", "S1200", "T1", "M03"]
+        );
         assert_eq!(
             m.at(1, &prog, 3).codes(),
-            ["G01", "G18", "F150", "S1200", "T1", "M03", "M08"]
+            [
+                "G01", "G18", "G90", "G94", "G40", "F150", "S1200", "T1", "M03", "M08"
+            ]
         );
         // Past the end: every block applied; the dwell left G01 in effect before the arc.
         assert_eq!(
             m.at(1, &prog, 9).codes(),
-            ["G02", "G18", "F80.5", "S1200", "T2", "M05", "M09"]
+            [
+                "G02", "G18", "G90", "G94", "G40", "F80.5", "S1200", "T2", "M05", "M09"
+            ]
         );
         // A block index that went back (a restart) folds again from the first block.
         assert_eq!(
             m.at(1, &prog, 1).codes(),
-            ["G00", "G18", "S1200", "T1", "M03", "M08"]
+            [
+                "G00", "G18", "G90", "G94", "G40", "S1200", "T1", "M03", "M08"
+            ]
         );
         // Another program load starts over.
-        assert_eq!(m.at(2, &prog[2..], 0).codes(), ["G01", "G18", "F150"]);
+        assert_eq!(
+            m.at(2, &prog[2..], 0).codes(),
+            ["G01", "G18", "G90", "G94", "G40", "F150"]
+        );
         // G96 while a block carries a cutting speed, gone with the first block without one.
         let mut g96 = block(Kind::Linear, Some(0.2), Some(120.0), None, &[]);
         g96.css = Some(partprogram::canon::Css {
@@ -164,8 +183,54 @@ mod tests {
         let css = vec![g96, block(Kind::Linear, None, Some(800.0), None, &[])];
         assert_eq!(
             m.at(3, &css, 0).codes(),
-            ["G01", "G18", "G96", "F0.2", "S120"]
+            ["G01", "G18", "G90", "G94", "G40", "G96", "F0.2", "S120"]
         );
-        assert_eq!(m.at(3, &css, 1).codes(), ["G01", "G18", "F0.2", "S800"]);
+        assert_eq!(
+            m.at(3, &css, 1).codes(),
+            ["G01", "G18", "G90", "G94", "G40", "F0.2", "S800"]
+        );
+    }
+
+    #[test]
+    fn the_blocks_modal_record_shows_distance_feed_offset_compensation_and_length() {
+        // Fanuc: G91, work offset G154 P3, G42 D7, G43 H2.
+        let mut b = block(Kind::Linear, Some(100.0), None, None, &[]);
+        b.modal = BlockModal {
+            distance: 91,
+            feed_mode: 94,
+            work: 154,
+            work_p: 3,
+            cutter: 42,
+            d: 7,
+            length: 43,
+            h: 2,
+        };
+        let mut m = ModalTracker::default();
+        assert_eq!(
+            m.at(1, &[b], 0).codes(),
+            [
+                "G01", "G18", "G91", "G94", "G154 P3", "G42", "D7", "G43", "H2", "F100"
+            ]
+        );
+        // MEFI KŘR with feed per revolution (G97): the feed mode says it, no separate G96.
+        let mut k = block(Kind::Linear, Some(0.2), Some(1200.0), None, &[]);
+        k.modal = BlockModal {
+            feed_mode: 97,
+            work: 54,
+            d: 1,
+            ..BlockModal::default()
+        };
+        k.css = Some(partprogram::canon::Css {
+            m_min: 120.0,
+            max_rpm: None,
+            origin: Vec::new(),
+            diameter: true,
+        });
+        assert_eq!(
+            m.at(2, &[k], 0).codes(),
+            [
+                "G01", "G18", "G90", "G97", "G54", "G40", "D1", "F0.2", "S1200"
+            ]
+        );
     }
 }
