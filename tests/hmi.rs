@@ -6,7 +6,7 @@ mod hmi_common;
 
 use std::process::Command;
 
-use hmi_common::{Hmi, http, root};
+use hmi_common::{Hmi, http, replay, root};
 
 fn json(body: &str) -> serde_json::Value {
     serde_json::from_str(body).unwrap_or_else(|e| panic!("not JSON ({e}): {body}"))
@@ -164,16 +164,8 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
         text.lines().any(|l| l.contains(r#""I0A3":1"#)),
         "the write is in the trace"
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
-        .output()
-        .expect("replay");
-    assert!(
-        out.status.success(),
-        "replay diverges:\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (ok, text) = replay(&machine, &trace, &[]);
+    assert!(ok, "replay diverges:\n{text}");
 }
 
 #[test]

@@ -6,7 +6,7 @@
 
 mod hmi_common;
 
-use hmi_common::{Hmi, operator_lathe, status, wait_status};
+use hmi_common::{Hmi, operator_lathe, replay, status, wait_status};
 use serde_json::{Value, json};
 
 fn json_of(body: &str) -> Value {
@@ -57,19 +57,8 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     let lathe = operator_lathe();
     let dir = tempfile::tempdir().expect("tempdir");
     let trace = dir.path().join("session.jsonl");
-    let hmi = Hmi::start(
-        lathe.path(),
-        &[
-            "--program",
-            "PART1",
-            "--record",
-            trace.to_str().expect("utf8"),
-        ],
-    );
     // Selected in AUTO by the part run; nothing starts it.
-    let s = wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
-        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
-    });
+    let (hmi, s) = part1_session(lathe.path(), &trace);
     let p = p1(&s);
     assert_eq!(
         (
@@ -218,6 +207,26 @@ fn start_hold_reset_mode_and_mdi_go_to_the_kernel_and_refusals_carry_its_reason(
     );
 }
 
+/// `ncplc run` of the operator lathe `lathe` with PART1 under the HMI, recording to `trace`,
+/// once the part run has selected PART1 in AUTO (nothing starts it): the HMI and that status.
+fn part1_session(lathe: &std::path::Path, trace: &std::path::Path) -> (Hmi, Value) {
+    let trace = trace.to_str().expect("utf8");
+    let hmi = Hmi::start(lathe, &["--program", "PART1", "--record", trace]);
+    let s = wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
+        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
+    });
+    (hmi, s)
+}
+
+/// The operator commands of a recorded trace's text with the ticks they are recorded at.
+fn recorded_commands(text: &str) -> Vec<(u64, Value)> {
+    text.lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r.get("cmd").is_some())
+        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
+        .collect()
+}
+
 fn json_pair((code, body): (u16, String)) -> (u16, Value) {
     (code, json_of(&body))
 }
@@ -276,35 +285,12 @@ fn acknowledge_clears_gone_alarms_and_a_persisting_one_comes_back() {
     hmi.stop();
 }
 
-/// `ncplc replay MACHINE TRACE`: (success, stderr).
-fn replay(machine: &std::path::Path, trace: &std::path::Path) -> (bool, String) {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
-        .output()
-        .expect("replay");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
 #[test]
 fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
     let lathe = operator_lathe();
     let dir = tempfile::tempdir().expect("tempdir");
     let trace = dir.path().join("session.jsonl");
-    let hmi = Hmi::start(
-        lathe.path(),
-        &[
-            "--program",
-            "PART1",
-            "--record",
-            trace.to_str().expect("utf8"),
-        ],
-    );
-    wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
-        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
-    });
+    let (hmi, _) = part1_session(lathe.path(), &trace);
     let (code, v) = post(&hmi, r#"{"process":1,"command":"start"}"#);
     assert_eq!(code, 200, "{v}");
     let started = v["tick"].as_u64().expect("tick");
@@ -328,19 +314,14 @@ fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
     // Each command is in the record of the tick whose latch first saw it: the tick its reply
     // named.
     let text = std::fs::read_to_string(&trace).expect("trace");
-    let cmds: Vec<(u64, Value)> = text
-        .lines()
-        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
-        .filter(|r| r.get("cmd").is_some())
-        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
-        .collect();
+    let cmds = recorded_commands(&text);
     let start = json!([{"process": 1, "command": "start"}]);
     let hold = json!([{"process": 1, "command": "hold"}]);
     assert_eq!(
         cmds,
         vec![(started, start.clone()), (held, hold), (resumed, start)]
     );
-    let (ok, err) = replay(lathe.path(), &trace);
+    let (ok, err) = replay(lathe.path(), &trace, &[]);
     assert!(ok, "the recorded session replays:\n{err}");
     assert!(
         err.contains("kernel signals and axis positions identical"),
@@ -355,7 +336,7 @@ fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
     assert_ne!(without.len(), text.trim_end().len(), "the HOLD was removed");
     let edited = dir.path().join("without-hold.jsonl");
     std::fs::write(&edited, without + "\n").expect("write");
-    let (ok, err) = replay(lathe.path(), &edited);
+    let (ok, err) = replay(lathe.path(), &edited, &[]);
     assert!(!ok, "a replay without the HOLD diverges:\n{err}");
 }
 
@@ -364,18 +345,7 @@ fn an_mdi_line_from_the_api_is_planned_beside_the_scan_and_replays_exactly() {
     let lathe = operator_lathe();
     let dir = tempfile::tempdir().expect("tempdir");
     let trace = dir.path().join("session.jsonl");
-    let hmi = Hmi::start(
-        lathe.path(),
-        &[
-            "--program",
-            "PART1",
-            "--record",
-            trace.to_str().expect("utf8"),
-        ],
-    );
-    let s = wait_status(&hmi, "PART1 selected in AUTO", 30, |s| {
-        p1(s)["mode"] == "AUTO" && p1(s)["program"] == "PART1"
-    });
+    let (hmi, s) = part1_session(lathe.path(), &trace);
     assert_eq!(s["mdi_compiles"], json!({"requests": 0, "scan": 0}));
     let (code, v) = post(&hmi, r#"{"process":1,"command":"mode","mode":"mdi"}"#);
     assert_eq!(code, 200, "{v}");
@@ -400,15 +370,10 @@ fn an_mdi_line_from_the_api_is_planned_beside_the_scan_and_replays_exactly() {
     hmi.stop();
     // The accepted line is in the record of the tick that applied it; the refused one is not.
     let text = std::fs::read_to_string(&trace).expect("trace");
-    let cmds: Vec<(u64, Value)> = text
-        .lines()
-        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
-        .filter(|r| r.get("cmd").is_some())
-        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
-        .collect();
+    let cmds = recorded_commands(&text);
     let mdi = json!([{"process": 1, "command": "mdi", "line": "N5 G00 X-30 Z-20"}]);
     assert_eq!(cmds.last(), Some(&(applied, mdi)), "{cmds:?}");
-    let (ok, err) = replay(lathe.path(), &trace);
+    let (ok, err) = replay(lathe.path(), &trace, &[]);
     assert!(ok, "the recorded session replays:\n{err}");
     assert!(
         err.contains("kernel signals and axis positions identical"),

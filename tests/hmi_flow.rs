@@ -4,9 +4,7 @@
 
 mod hmi_common;
 
-use std::process::Command;
-
-use hmi_common::{Hmi, root, status};
+use hmi_common::{Hmi, replay, root, status};
 use serde_json::{Value, json};
 
 fn json_of(body: &str) -> Value {
@@ -68,17 +66,8 @@ fn switch_flow_twice_and_replay(engine: &str) {
     assert_eq!(status(&hmi)["flow_enabled"], json!(false));
     hmi.wait_tick(off + 30);
     hmi.stop();
-    let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
-        .args(["--engine", engine])
-        .output()
-        .expect("replay");
-    assert!(
-        out.status.success(),
-        "replay diverges:\n{}{}",
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (ok, text) = replay(&machine, &trace, &["--engine", engine]);
+    assert!(ok, "replay diverges:\n{text}");
 }
 
 #[test]

@@ -195,3 +195,18 @@ pub fn wait_status(
         std::thread::sleep(Duration::from_millis(20));
     }
 }
+
+/// `ncplc replay MACHINE TRACE EXTRA…`: (success, its stdout and stderr).
+pub fn replay(machine: &Path, trace: &Path, extra: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .args(["replay".as_ref(), machine.as_os_str(), trace.as_os_str()])
+        .args(extra)
+        .output()
+        .expect("replay");
+    let text = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (out.status.success(), text)
+}
