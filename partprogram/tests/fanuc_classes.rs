@@ -239,3 +239,22 @@ fn an_arc_with_both_r_and_centre_words_is_refused_at_the_centre_word() {
         assert_eq!(centre(&p[1]), vec![('X', 5.0), ('Y', 0.0)], "{arc}");
     }
 }
+
+#[test]
+fn contradictory_m_codes_in_one_block_are_refused_at_the_second() {
+    // M03 and M04 (spindle), M08 and M09 (coolant): 2007 at the second of the group.
+    for (block, at) in [
+        ("M03 M04", "M04"),
+        ("M08 S100 M09", "M09"),
+        ("M03 M08 M05", "M05"),
+    ] {
+        let src = format!("O1\nG90 G00 X0 Y0\n{block}\nM30\n");
+        let (_, diags) = compile(&haas(), "test", &src);
+        assert_eq!(diags.len(), 1, "{block}: {diags:#?}");
+        assert_eq!(diags[0].code, 2007, "{block}");
+        assert_eq!(&src[diags[0].span.clone()], at, "{block}");
+    }
+    // Codes of different groups stay one block: spindle, coolant and a stop.
+    let p = plan("O1\nG90 G00 X0 Y0 M03 M08\nM05 M09 M30\n");
+    assert_eq!(p[0].m.iter().map(|m| m.m).collect::<Vec<_>>(), vec![3, 8]);
+}
