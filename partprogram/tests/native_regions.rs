@@ -108,9 +108,24 @@ fn motion_inside_a_parameter_loop() {
 
 #[test]
 fn computed_g_other_than_73_78_leaves_the_region() {
-    // R10=1: `GR10 L4` is G01, no jump; N4 then moves at feed.
+    // R10=1: `GR10 L4` is G01, which has no use for L: the native region hands N2 to the
+    // interpreter, which refuses the L it would ignore (2530) for both back ends.
     let p = prog("%1\nN1 R10=1 R20=0\nN2 GR10 L4\nN3 G26 R5=-41200020\nN4 X5 F100\nN5 M30\n");
     assert!(regions(&p, 0..3).iter().all(Option::is_some));
+    for backend in [Backend::Native, Backend::Interpreter] {
+        let Err((_, d)) = plan(
+            &p,
+            PlanOptions {
+                backend,
+                ..PlanOptions::default()
+            },
+        ) else {
+            panic!("{backend:?}: L of a computed G01 was ignored");
+        };
+        assert_eq!((d.code, d.line), (2530, 3), "{backend:?}");
+    }
+    // Without L, the computed G01 is a G01: N4 then moves at feed.
+    let p = prog("%1\nN1 R10=1 R20=0\nN2 GR10\nN3 G26 R5=-41200020\nN4 X5 F100\nN5 M30\n");
     for plan in both(&p, PlanOptions::default()) {
         assert_eq!(plan.blocks[0].kind, Kind::Linear);
         assert_eq!(end(&plan.blocks[0], 'X'), 5.0);
