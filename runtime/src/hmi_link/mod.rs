@@ -204,15 +204,16 @@ impl HmiLink {
             };
             let _ = env.reply.send(reply);
         }
-        if let Some(f) = &mut self.flow {
-            f.update(sched);
-        }
         let due = self
             .last_publish
             .is_none_or(|t| t.elapsed() >= PUBLISH_EVERY);
         if due {
             self.last_publish = Some(Instant::now());
             self.publish(sched);
+        }
+        // After the publish: a frame shows the flow only once a scan has filled it.
+        if let Some(f) = &mut self.flow {
+            f.update(sched);
         }
     }
 
