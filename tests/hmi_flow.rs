@@ -41,7 +41,7 @@ fn switch_flow_twice_and_replay(engine: &str) {
     hmi.wait_tick(20);
     assert_eq!(status(&hmi)["flow_enabled"], json!(false));
     wait_flow(&hmi, "no flow at start", <[Value]>::is_empty);
-    // Bad bodies: 400 with the reason.
+    // Bad bodies: 400.
     for body in [r#"{"enabled":1}"#, r#"{"enabled":true,"x":1}"#, "{}"] {
         let (code, _) = hmi.http("POST", "/api/flow", Some(body));
         assert_eq!(code, 400, "{body}");
