@@ -16,6 +16,7 @@ the README row).
 import argparse
 import os
 import re
+import signal
 import statistics
 import subprocess
 import sys
@@ -27,8 +28,11 @@ TICKS = re.compile(r"ticks (\d+)\s+overruns (\d+)")
 
 
 def one(args, variant, port):
-    cmd = [args.ncplc, "run", args.machine, "--program", args.program, "--stats", "--no-watch"]
-    cmd += ["--ticks", str(args.ticks)] if args.ticks else ["--until-end"]
+    # No trip on overruns (a loaded machine overruns now and then: the run must go on), and a
+    # cap on the ticks in case the part does not end.
+    cmd = [args.ncplc, "run", args.machine, "--program", args.program, "--stats", "--no-watch",
+           "--overrun-limit", "0"]
+    cmd += ["--ticks", str(args.ticks)] if args.ticks else ["--until-end", "--ticks", "8000"]
     if variant != "off":
         cmd += ["--hmi", f"127.0.0.1:{port}"]
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
@@ -41,6 +45,8 @@ def one(args, variant, port):
     _, status, ru = os.wait4(p.pid, 0)
     frames = ""
     if client:
+        # The socket may still hold frames the client has not read: stop it now.
+        client.send_signal(signal.SIGTERM)
         frames = client.communicate(timeout=30)[0].strip()
     m, t = SCAN.search(out), TICKS.search(out)
     if not m or not t:

@@ -6,13 +6,14 @@ Usage: ws_client.py HOST:PORT [--hz 20] [--seconds N]
 
 Standard library only: the HTTP upgrade, then one frame read every 1/hz s (the server sends at
 most 40 Hz into a latest-value channel, so a client reading slower skips frames). Prints the frames
-read, the bytes and the last tick seen. Exits 0 when the server closes the connection.
+read, the bytes and the last tick seen. Exits 0 when the server closes the connection or on SIGTERM.
 """
 
 import argparse
 import base64
 import json
 import os
+import signal
 import socket
 import sys
 import time
@@ -70,6 +71,11 @@ def main():
     if b" 101 " not in head.split(b"\r\n")[0]:
         sys.exit("no upgrade: " + head.decode(errors="replace"))
     frames, size, tick = 0, 0, None
+
+    def stop(*_):
+        raise EOFError
+
+    signal.signal(signal.SIGTERM, stop)
     period = 1.0 / a.hz
     next_read = time.monotonic()
     try:
