@@ -246,6 +246,11 @@ impl Process {
         Ok(())
     }
 
+    /// True when the last START from the program's start took the block-skip plan.
+    pub fn skip_selected(&self) -> bool {
+        self.skip_selected
+    }
+
     /// Sets the alternative feed PGCFIL QFD (mm/min) that QCKFD selects.
     pub fn set_alternative_feed(&mut self, qfd: Option<f64>) {
         self.cfg.qfd = qfd;

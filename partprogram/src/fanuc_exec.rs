@@ -162,6 +162,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         vars: macros::VarTable::default(),
         ext: [0.0; 6],
     };
+    prog.machine.retained.load_into(&mut ex.vars.slots);
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
     match done {
         Ok(()) => Ok(Plan {

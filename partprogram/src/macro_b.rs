@@ -5,13 +5,14 @@
 //! [`Macro`]: one statement or NC words whose values may be expressions ([`crate::ast::Val::Expr`]).
 //! [`eval`] is the reference interpreter of expressions (values are `f64`, the null value `#0` is a
 //! NaN); [`flow`] pairs `WHILE … DO m` with `END m` and resolves literal `GOTO` targets at compile
-//! time; [`native`] compiles runs of macro-only blocks with cranelift (through [`crate::jit`]) into
+//! time; [`retained`] is the file of the retained `#500`–`#999`; [`native`] compiles runs of macro-only blocks with cranelift (through [`crate::jit`]) into
 //! functions that give the same variables, block counts and errors bit for bit. The executor side
 //! (system variables, calls) is `fanuc_exec::macros`.
 
 pub mod eval;
 pub mod flow;
 pub mod native;
+pub mod retained;
 pub mod syntax;
 
 /// A binary operator of a macro expression.

@@ -2,8 +2,10 @@
 //! words whose values are expressions.
 //!
 //! Variables: `#0` null; `#1`–`#33` local (a new set per `G65` level, bound from the arguments;
-//! `M98` keeps the caller's); `#100`–`#199` and `#500`–`#999` common, null at the start of every
-//! plan (a plan keeps no data between runs: the retained `#500`–`#999` of a control are not modelled).
+//! `M98` keeps the caller's); `#100`–`#199` common, null at the start of every plan; `#500`–`#999`
+//! retained: at the start of a plan they hold [`crate::MachineSpec::retained`] (the machine's
+//! `nc/MACROVARS`, [`crate::macro_b::retained`]), and the plan's final values are what a part run
+//! writes back.
 //! System variables, in the program unit (mm, or inch under G20), axes numbered in the machine's axis
 //! order: `#2001`–`#2099` tool length of H1–H99 (the tool axis Z column, as `G10 L10`), `#2201`–`#2299`
 //! its wear (`G10 L11`), `#2401`–`#2600` cutter radius of D1–D200 (as `G10 L12`; HAAS keeps
