@@ -86,6 +86,8 @@ struct Ex<'p> {
     vars: macros::VarTable,
     /// External work offset (`#5201`+), added to every work system.
     ext: [f64; 6],
+    /// The last M code executed (not M97/M98/M99), for `#4113`.
+    last_m: Option<u16>,
 }
 
 fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
@@ -161,6 +163,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         tolerance: None,
         vars: macros::VarTable::default(),
         ext: [0.0; 6],
+        last_m: None,
     };
     prog.machine.retained.load_into(&mut ex.vars.slots);
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
@@ -361,6 +364,9 @@ impl Ex<'_> {
     fn block(&mut self, bi: usize) -> Result<(), RunError> {
         let prog = self.prog;
         let b = &prog.blocks[bi];
+        if let Some(n) = b.n.filter(|_| !(b.skip && self.opts.block_skip)) {
+            self.vars.slots[crate::macro_b::SEQ_SLOT] = f64::from(n);
+        }
         if let Some(m) = &b.mac {
             if b.skip && self.opts.block_skip {
                 return Ok(());
@@ -410,6 +416,9 @@ impl Ex<'_> {
                 }
             })
             .collect();
+        if let Some(&m) = ms.iter().rev().find(|m| !matches!(m, 97..=99)) {
+            self.last_m = Some(m);
+        }
         let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
             (false, false, false, false, false, None, false);
         let mut new_cycle = false;

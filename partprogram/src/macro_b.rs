@@ -184,3 +184,8 @@ pub fn is_plain(n: u32) -> bool {
 
 /// Size of the flat variable table (slot n is variable #n for [`is_plain`] numbers).
 pub const SLOTS: usize = 1000;
+
+/// The hidden slot of the flat table (not a plain variable: `#99` cannot be named) holding the
+/// sequence number of the latest executed block that had one, null before the first: what
+/// `#4114`/`#4314` read. Both back ends store it at the head of every block with an `N`.
+pub const SEQ_SLOT: usize = 99;

@@ -22,7 +22,7 @@ use cranelift_codegen::ir::{
 use cranelift_frontend::{FunctionBuilder, Variable};
 
 use super::super::eval::host_atan2;
-use super::super::{Expr, Func, Stmt, Target, is_plain};
+use super::super::{Expr, Func, SEQ_SLOT, Stmt, Target, is_plain};
 use super::{INTERPRET_CODE, LIMIT_CODE, MacroCtx, sys_read, sys_write};
 use crate::program::Program;
 
@@ -205,6 +205,14 @@ impl G<'_, '_> {
             let v = self.b.ins().load(types::F64, FL, self.vars, (n as i32) * 8);
             return V { v, null: true };
         }
+        if n == 4114 || n == 4314 {
+            // The sequence number lives in the table, not in the host.
+            let v = self
+                .b
+                .ins()
+                .load(types::F64, FL, self.vars, (SEQ_SLOT as i32) * 8);
+            return V { v, null: true };
+        }
         // A system variable: the host's value, NaN when the interpreter must run the block.
         let nv = self.b.ins().iconst(types::I64, i64::from(n));
         let fp = self.b.ins().iconst(
@@ -343,6 +351,10 @@ impl G<'_, '_> {
             .ins()
             .icmp(IntCC::UnsignedLessThanOrEqual, e, self.max);
         self.guard(ok, LIMIT_CODE);
+        if let Some(n) = blk.n {
+            let v = self.f(f64::from(n));
+            self.b.ins().store(FL, v, self.vars, (SEQ_SLOT as i32) * 8);
+        }
         let Some(stmt) = blk.mac.as_ref().and_then(|m| m.stmt.as_ref()) else {
             return self.goto(bi + 1);
         };
