@@ -342,6 +342,19 @@ fn macro_runs_are_compiled_natively() {
 }
 
 #[test]
+fn computed_numbers_reach_the_variables_native_code_keeps_in_registers() {
+    // One native run with computed numbers and five plain variables (held in registers): a
+    // computed write to #2 is seen by a plain read, a plain write by a computed read.
+    let src = "O1\n#1 = 2\n#2 = 5\n#[#1] = 7\n#3 = #2 + 1\n#2 = 9\n#4 = #[#1]\n\
+               #[#1 - 1] = #4 * 2\n#5 = #1\nM30\n";
+    let (prog, _) = compile(&haas(), "t", src);
+    let code = prog.and_then(|p| p.macro_native).expect("native code");
+    assert_eq!(code.run_count(), 1);
+    let p = both(src);
+    assert_eq!(&p.macro_vars[1..6], &[18.0, 9.0, 8.0, 9.0, 18.0]);
+}
+
+#[test]
 fn computed_and_system_variables_run_natively_in_one_run() {
     // Squares into #100..#104 through #[…], the G54 X offset counted up by 1.5 per pass, a read of
     // #9999 (nonexistent) after the loop: one native run; the error is the interpreter's.

@@ -2,8 +2,9 @@
 //! as [`crate::macro_b::eval`] computes them.
 //!
 //! Plain variables with literal numbers live in cranelift variables (registers) for the whole run
-//! when the run has no computed variable number (`#[…]`): loaded before the entry dispatch, stored
-//! back on every exit. Null (`#0`, NaN) is tracked statically: only a variable read can be null, so
+//! (in a run with computed variable numbers `#[…]`, only when it names at most
+//! [`MAX_INDEXED_REGS`]: a computed read or write compares its number with each of them and takes
+//! or updates the register): loaded before the entry dispatch, stored back on every exit. Null (`#0`, NaN) is tracked statically: only a variable read can be null, so
 //! the "null reads as 0" select is emitted for those only. `ROUND`, `FUP`, `FIX`, `ABS`, `SQRT` and
 //! `MOD` are inline (`MOD` as an integer remainder when both rounded operands are below 2^53, where
 //! it equals the interpreter's `fmod` bit for bit, the sign of a zero included). A computed variable
@@ -34,6 +35,9 @@ const OFF_FAIL: i32 = std::mem::offset_of!(MacroCtx, fail) as i32;
 
 /// Most variables of one run kept in registers (the others stay in memory).
 const MAX_REGS: usize = 32;
+/// Most variables kept in registers by a run that computes variable numbers: every `#[…]` access
+/// compares its number with each of them.
+const MAX_INDEXED_REGS: usize = 8;
 
 /// The signatures a run calls.
 pub(super) struct Sigs {
@@ -120,11 +124,11 @@ fn register_vars(prog: &Program, first: usize, end: usize) -> Vec<u32> {
             _ => {}
         }
     }
-    if indexed {
-        return Vec::new();
-    }
     vars.sort_unstable();
     vars.dedup();
+    if indexed && vars.len() > MAX_INDEXED_REGS {
+        return Vec::new();
+    }
     vars.truncate(MAX_REGS);
     vars
 }
@@ -241,7 +245,13 @@ impl G<'_, '_> {
                 self.bail_unless(ok);
                 // Slot 0 is #0, always null: the table never stores into it.
                 let a = self.slot_addr(n);
-                let v = self.b.ins().load(types::F64, FL, a, 0);
+                let mut v = self.b.ins().load(types::F64, FL, a, 0);
+                // A variable held in a register: its slot is stale until the run exits.
+                for (rn, r) in self.reg_list() {
+                    let eq = self.b.ins().icmp_imm_s(IntCC::Equal, n, i64::from(rn));
+                    let rv = self.b.use_var(r);
+                    v = self.b.ins().select(eq, rv, v);
+                }
                 V { v, null: true }
             }
             Expr::Neg(x) => {
@@ -335,8 +345,20 @@ impl G<'_, '_> {
                 self.bail_unless(ok);
                 let a = self.slot_addr(n);
                 self.b.ins().store(FL, v, a, 0);
+                // The register of that variable takes the value (the run's exit stores it back).
+                for (rn, r) in self.reg_list() {
+                    let eq = self.b.ins().icmp_imm_s(IntCC::Equal, n, i64::from(rn));
+                    let old = self.b.use_var(r);
+                    let new = self.b.ins().select(eq, v, old);
+                    self.b.def_var(r, new);
+                }
             }
         }
+    }
+
+    /// The register-held variables (empty in a run with many variables and computed numbers).
+    fn reg_list(&self) -> Vec<(u32, Variable)> {
+        self.regs.iter().map(|(n, r)| (*n, *r)).collect()
     }
 
     /// Emits block `bi` at its head.
@@ -401,8 +423,7 @@ impl G<'_, '_> {
 
     /// Stores the register-held variables back into the table.
     fn write_back(&mut self) {
-        let regs: Vec<(u32, Variable)> = self.regs.iter().map(|(n, r)| (*n, *r)).collect();
-        for (n, r) in regs {
+        for (n, r) in self.reg_list() {
             let v = self.b.use_var(r);
             self.b.ins().store(FL, v, self.vars, (n as i32) * 8);
         }
