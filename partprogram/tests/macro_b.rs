@@ -342,6 +342,31 @@ fn macro_runs_are_compiled_natively() {
 }
 
 #[test]
+fn round_is_half_away_from_zero_at_the_edges_in_both_back_ends() {
+    // The largest double below 0.5, halves, −0.3 (→ −0), odd integers above 2^52 and the halves
+    // of 2^51..2^52 (the two places where `trunc(x + 0.5)` would be wrong).
+    let p = both(
+        "O1\n#100 = 0.49999999999999994\n#101 = -0.5\n#102 = 2.5\n#103 = -0.3\n\
+         #104 = 4503599627370497\n#105 = 2251799813685248.5\n#106 = -2251799813685248.5\n\
+         #1 = 100\nWHILE [#1 LE 106] DO1\n#[#1 + 400] = ROUND[#[#1]]\n#1 = #1 + 1\nEND1\nM30\n",
+    );
+    let got: Vec<u64> = p.macro_vars[500..507].iter().map(|v| v.to_bits()).collect();
+    let want: Vec<u64> = [
+        0.0,
+        -1.0,
+        3.0,
+        -0.0,
+        4_503_599_627_370_497.0,
+        2_251_799_813_685_249.0,
+        -2_251_799_813_685_249.0,
+    ]
+    .iter()
+    .map(|v: &f64| v.to_bits())
+    .collect();
+    assert_eq!(got, want);
+}
+
+#[test]
 fn computed_numbers_reach_the_variables_native_code_keeps_in_registers() {
     // One native run with computed numbers and five plain variables (held in registers): a
     // computed write to #2 is seen by a plain read, a plain write by a computed read.

@@ -2,9 +2,10 @@
 //! as [`crate::macro_b::eval`] computes them.
 //!
 //! Plain variables with literal numbers live in cranelift variables (registers) for the whole run
-//! (in a run with computed variable numbers `#[…]`, only when it names at most
-//! [`MAX_INDEXED_REGS`]: a computed read or write compares its number with each of them and takes
-//! or updates the register): loaded before the entry dispatch, stored back on every exit. Null (`#0`, NaN) is tracked statically: only a variable read can be null, so
+//! when the run has no computed variable number (`#[…]`): loaded before the entry dispatch, stored
+//! back on every exit. Expressions whose every value is an integer ([`integral`]) are not rounded
+//! again where `MOD` or a computed number rounds, and a literal `MOD` divisor is rounded at compile
+//! time. Null (`#0`, NaN) is tracked statically: only a variable read can be null, so
 //! the "null reads as 0" select is emitted for those only. `ROUND`, `FUP`, `FIX`, `ABS`, `SQRT` and
 //! `MOD` are inline (`MOD` as an integer remainder when both rounded operands are below 2^53, where
 //! it equals the interpreter's `fmod` bit for bit, the sign of a zero included). A computed variable
@@ -35,9 +36,6 @@ const OFF_FAIL: i32 = std::mem::offset_of!(MacroCtx, fail) as i32;
 
 /// Most variables of one run kept in registers (the others stay in memory).
 const MAX_REGS: usize = 32;
-/// Most variables kept in registers by a run that computes variable numbers: every `#[…]` access
-/// compares its number with each of them.
-const MAX_INDEXED_REGS: usize = 8;
 
 /// The signatures a run calls.
 pub(super) struct Sigs {
@@ -95,6 +93,27 @@ fn expr_vars(e: &Expr, out: &mut Vec<u32>, indexed: &mut bool) {
     }
 }
 
+/// True when every value `e` can have (null read as 0, an operation that is not finite fails) is
+/// an integer: rounding it changes no bit (`ROUND` of an integer, `-0` included, is itself).
+fn integral(e: &Expr) -> bool {
+    use super::super::BinOp;
+    match e {
+        Expr::Num(v) => v.fract() == 0.0,
+        Expr::Var(_) | Expr::VarAt(_) | Expr::Atan2(..) => false,
+        Expr::Neg(x) => integral(x),
+        Expr::Call(f, x) => match f {
+            Func::Round | Func::Fix | Func::Fup => true,
+            Func::Abs => integral(x),
+            _ => false,
+        },
+        // A sum, difference or product of integers is one (beyond 2^53 every f64 is an integer).
+        Expr::Bin(BinOp::Add | BinOp::Sub | BinOp::Mul, a, b) => integral(a) && integral(b),
+        Expr::Bin(BinOp::Div, ..) => false,
+        // The remainder of rounded operands, the bitwise operators and the comparisons.
+        Expr::Bin(..) => true,
+    }
+}
+
 /// The variables of run `first..end` kept in registers (none when it computes a variable number).
 fn register_vars(prog: &Program, first: usize, end: usize) -> Vec<u32> {
     let (mut vars, mut indexed) = (Vec::new(), false);
@@ -124,11 +143,13 @@ fn register_vars(prog: &Program, first: usize, end: usize) -> Vec<u32> {
             _ => {}
         }
     }
-    vars.sort_unstable();
-    vars.dedup();
-    if indexed && vars.len() > MAX_INDEXED_REGS {
+    // A computed number may name any variable: registers would need a comparison with each of
+    // them at every `#[…]` (measured: slower than the loads they save).
+    if indexed {
         return Vec::new();
     }
+    vars.sort_unstable();
+    vars.dedup();
     vars.truncate(MAX_REGS);
     vars
 }
@@ -163,10 +184,11 @@ impl G<'_, '_> {
         self.b.switch_to_block(cont);
     }
 
-    /// The variable number of `#[x]` as [`super::super::eval::var_number`] (saturated beyond).
-    fn var_number(&mut self, x: V) -> Value {
+    /// The variable number of `#[x]` as [`super::super::eval::var_number`] (saturated beyond);
+    /// `int`: `x` is an integer already (no rounding).
+    fn var_number(&mut self, x: V, int: bool) -> Value {
         let v = self.z(x);
-        let r = self.round(v);
+        let r = if int { v } else { self.round(v) };
         self.b.ins().fcvt_to_sint_sat(types::I64, r)
     }
 
@@ -237,21 +259,16 @@ impl G<'_, '_> {
             Expr::Num(v) => nn(self.f(*v)),
             Expr::Var(n) => self.read(*n),
             Expr::VarAt(x) => {
+                let int = integral(x);
                 let x = self.expr(x);
-                let n = self.var_number(x);
+                let n = self.var_number(x, int);
                 let zero = self.b.ins().icmp_imm_s(IntCC::Equal, n, 0);
                 let plain = self.is_plain_n(n);
                 let ok = self.b.ins().bor(zero, plain);
                 self.bail_unless(ok);
                 // Slot 0 is #0, always null: the table never stores into it.
                 let a = self.slot_addr(n);
-                let mut v = self.b.ins().load(types::F64, FL, a, 0);
-                // A variable held in a register: its slot is stale until the run exits.
-                for (rn, r) in self.reg_list() {
-                    let eq = self.b.ins().icmp_imm_s(IntCC::Equal, n, i64::from(rn));
-                    let rv = self.b.use_var(r);
-                    v = self.b.ins().select(eq, rv, v);
-                }
+                let v = self.b.ins().load(types::F64, FL, a, 0);
                 V { v, null: true }
             }
             Expr::Neg(x) => {
@@ -287,9 +304,10 @@ impl G<'_, '_> {
                     Expr::Num(v) => Some(v),
                     _ => None,
                 };
+                let int_a = integral(a);
                 let a = self.expr(a);
                 let b = self.expr(b);
-                nn(self.bin(*op, a, b, lit))
+                nn(self.bin(*op, a, b, lit, int_a))
             }
         }
     }
@@ -340,23 +358,16 @@ impl G<'_, '_> {
             }
             Target::At(e) => {
                 let x = self.expr(e);
-                let n = self.var_number(x);
+                let n = self.var_number(x, integral(e));
                 let ok = self.is_plain_n(n);
                 self.bail_unless(ok);
                 let a = self.slot_addr(n);
                 self.b.ins().store(FL, v, a, 0);
-                // The register of that variable takes the value (the run's exit stores it back).
-                for (rn, r) in self.reg_list() {
-                    let eq = self.b.ins().icmp_imm_s(IntCC::Equal, n, i64::from(rn));
-                    let old = self.b.use_var(r);
-                    let new = self.b.ins().select(eq, v, old);
-                    self.b.def_var(r, new);
-                }
             }
         }
     }
 
-    /// The register-held variables (empty in a run with many variables and computed numbers).
+    /// The register-held variables (empty in a run with computed numbers).
     fn reg_list(&self) -> Vec<(u32, Variable)> {
         self.regs.iter().map(|(n, r)| (*n, *r)).collect()
     }
