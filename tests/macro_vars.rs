@@ -35,6 +35,11 @@ fn mill() -> tempfile::TempDir {
 }
 
 fn run(m: &Path, extra: &[&str]) -> Output {
+    run_ticks(m, "20000", extra)
+}
+
+/// A part run of COUNT for at most `ticks` ticks.
+fn run_ticks(m: &Path, ticks: &str, extra: &[&str]) -> Output {
     let mut args = vec![
         "run",
         s(m),
@@ -43,7 +48,7 @@ fn run(m: &Path, extra: &[&str]) -> Output {
         "--program",
         "COUNT",
         "--ticks",
-        "20000",
+        ticks,
     ];
     args.extend_from_slice(extra);
     ncplc(&args)
@@ -137,29 +142,11 @@ fn a_run_stopped_after_the_cycle_start_persists_its_values_one_stopped_before_do
     let dir = mill();
     let m = dir.path();
     // The part script presses CYCLE START at tick 10: 5 ticks end the run before it.
-    let out = ncplc(&[
-        "run",
-        s(m),
-        "--virtual-time",
-        "--no-watch",
-        "--program",
-        "COUNT",
-        "--ticks",
-        "5",
-    ]);
+    let out = run_ticks(m, "5", &[]);
     assert_eq!(out.status.code(), Some(0), "{out:?}");
     assert_eq!(vars(m), None);
     // 100 ticks stop the run in the middle of the first rapid: the values are the plan's.
-    let out = ncplc(&[
-        "run",
-        s(m),
-        "--virtual-time",
-        "--no-watch",
-        "--program",
-        "COUNT",
-        "--ticks",
-        "100",
-    ]);
+    let out = run_ticks(m, "100", &[]);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     assert!(stdout.contains("did not end"), "{stdout}");
