@@ -367,9 +367,10 @@ fn round_is_half_away_from_zero_at_the_edges_in_both_back_ends() {
 }
 
 #[test]
-fn computed_numbers_reach_the_variables_native_code_keeps_in_registers() {
-    // One native run with computed numbers and five plain variables (held in registers): a
-    // computed write to #2 is seen by a plain read, a plain write by a computed read.
+fn computed_numbers_and_plain_variables_meet_in_one_native_run() {
+    // One native run with computed numbers and five plain variables: a computed write to #2 is
+    // seen by a plain read, a plain write by a computed read (the run keeps no variable in a
+    // register that a computed number could miss).
     let src = "O1\n#1 = 2\n#2 = 5\n#[#1] = 7\n#3 = #2 + 1\n#2 = 9\n#4 = #[#1]\n\
                #[#1 - 1] = #4 * 2\n#5 = #1\nM30\n";
     let (prog, _) = compile(&haas(), "t", src);
