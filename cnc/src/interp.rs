@@ -31,8 +31,9 @@ pub trait Interpolator: Send {
     fn set_rapid_override(&mut self, percent: u16);
     /// Feed hold on or off.
     fn set_hold(&mut self, on: bool);
-    /// The actual spindle speed (rev/s) for per-revolution feeds and threads.
-    fn set_spindle_rev_s(&mut self, rev_s: f64);
+    /// The spindle's position (revolutions, signed; an index pulse at every whole revolution) at
+    /// the end of the coming tick: G33 threads are locked to it.
+    fn set_spindle_position(&mut self, rev: f64);
     /// Stops as fast as the limits allow and forgets the queue.
     fn abort(&mut self);
     /// One interpolation tick; the set points are then [`Interpolator::position`].
@@ -72,7 +73,7 @@ impl Interpolator for NoMotion {
     fn set_feed_override(&mut self, _: u16) {}
     fn set_rapid_override(&mut self, _: u16) {}
     fn set_hold(&mut self, _: bool) {}
-    fn set_spindle_rev_s(&mut self, _: f64) {}
+    fn set_spindle_position(&mut self, _: f64) {}
     fn abort(&mut self) {}
     fn tick(&mut self, _: &mut TickOut) {}
     fn position(&self) -> &[f64] {

@@ -60,8 +60,8 @@ impl Interpolator for MotionKernel {
     fn set_hold(&mut self, on: bool) {
         self.kernel.set_hold(on);
     }
-    fn set_spindle_rev_s(&mut self, rev_s: f64) {
-        self.kernel.set_spindle_rev_s(rev_s);
+    fn set_spindle_position(&mut self, rev: f64) {
+        self.kernel.set_spindle_position(rev);
     }
     fn abort(&mut self) {
         self.kernel.abort();

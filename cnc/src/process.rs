@@ -537,7 +537,7 @@ impl Process {
                 sp.tick(dt);
                 let top = &mut self.counters.spindle_top;
                 *top = top.max(sp.actual().abs());
-                self.interp.set_spindle_rev_s(sp.actual().abs() / 60.0);
+                self.interp.set_spindle_position(sp.position());
             }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);

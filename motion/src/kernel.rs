@@ -8,6 +8,7 @@ use crate::geom::{Seg, Shape, Vector, turn_angle, vector};
 use crate::moves::{MotionError, Move, Path};
 use crate::plan::{self, Motion, Piece};
 use crate::profile::Profile;
+use crate::thread::{self, ThreadRun};
 
 /// The output of one interpolation tick.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -49,7 +50,13 @@ pub struct Kernel {
     abort: bool,
     stop_after: Option<u64>,
     replan: bool,
-    spindle_rev_s: f64,
+    /// Spindle position, rev (signed), at the end of this tick and of the last one.
+    spindle: (f64, f64),
+    /// The thread block at the front of the queue, when one is being run.
+    thread: Option<ThreadRun>,
+    /// A thread just ended here (spindle position, direction): a thread right after it goes on
+    /// locked without waiting for the index.
+    thread_chain: Option<(f64, f64)>,
     out: Tick,
     /// The lowest queue index whose geometry changed since the last backward pass (None: the
     /// end speeds are those of the current queue).
@@ -104,7 +111,9 @@ impl Kernel {
             abort: false,
             stop_after: None,
             replan: false,
-            spindle_rev_s: 0.0,
+            spindle: (0.0, 0.0),
+            thread: None,
+            thread_chain: None,
             dirty_from: None,
             final_to: 0,
             soft: cfg_soft,
@@ -139,15 +148,28 @@ impl Kernel {
         }
         let end = vector(&m.end);
         let seg = plan::segment(&m, &self.end, &end)?;
+        let share = seg.as_ref().map_or(0.0, |s| {
+            s.max_share().iter().fold(0.0, |m: f64, x| m.max(x.abs()))
+        });
         let motion = match (&m.path, m.thread_pitch) {
             (Path::Dwell { seconds }, _) => Motion::Dwell(seconds.max(0.0)),
-            (_, Some(_)) => Motion::Thread,
+            (_, Some(lead)) if share > 0.0 && lead > 0.0 && lead.is_finite() => Motion::Thread {
+                per_rev: lead / share,
+                angle: thread::angle_fraction(m.thread_angle),
+            },
+            (_, Some(_)) => {
+                return Err(MotionError::Invalid {
+                    tag: m.tag,
+                    what: "G33 thread without a positive lead".into(),
+                });
+            }
             (Path::Rapid, None) => Motion::Rapid,
             _ => Motion::Feed,
         };
         let feed = match motion {
             Motion::Rapid | Motion::Dwell(_) => f64::INFINITY,
-            Motion::Thread => m.thread_pitch.unwrap_or(0.0) * self.spindle_rev_s,
+            // The path speed at the programmed spindle speed (F is lead × S along the lead axis).
+            Motion::Thread { .. } => m.feed_mm_min.unwrap_or(0.0) / 60.0 / share,
             Motion::Feed => match m.feed_mm_min {
                 Some(f) if f > 0.0 && f.is_finite() => f / 60.0,
                 _ => {
@@ -197,13 +219,20 @@ impl Kernel {
             v_end: 0.0,
             len_orig: len,
             tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
-            exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
+            exact: m.exact_stop || matches!(motion, Motion::Thread { .. } | Motion::Rapid),
             corner: None,
             reserve: true,
             kink_start: false,
         };
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
+        }
+        if matches!(motion, Motion::Thread { .. }) && feed > v_hard * (1.0 + 1e-9) {
+            return Err(MotionError::ThreadTooFast {
+                tag: m.tag,
+                need: feed * 60.0,
+                limit: v_hard * 60.0,
+            });
         }
         plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
         let keep_to = self.join(&mut piece);
@@ -412,9 +441,12 @@ impl Kernel {
         self.law
     }
 
-    /// Spindle speed, rev/s: sets the speed of G33 thread blocks pushed from now on.
-    pub fn set_spindle_rev_s(&mut self, v: f64) {
-        self.spindle_rev_s = if v.is_finite() { v.abs() } else { 0.0 };
+    /// The spindle's position (revolutions, signed, integrated from its actual speed; an index
+    /// pulse at every whole revolution) at the end of the coming tick: G33 threads follow it.
+    pub fn set_spindle_position(&mut self, rev: f64) {
+        if rev.is_finite() {
+            self.spindle.1 = rev;
+        }
     }
 
     /// Stop at the end of the block being executed and hold there (release with `set_hold(false)`).
@@ -504,6 +536,88 @@ impl Kernel {
         self.v = 0.0;
         self.dirty_from = None;
         self.final_to = 0;
+        self.thread = None;
+        self.thread_chain = None;
+    }
+
+    /// Removes the finished front piece: the position is its end; a block's last piece reports
+    /// its DEN (and a stop at its end holds).
+    fn pop_front(&mut self) {
+        let Some(front) = self.q.pop_front() else {
+            return;
+        };
+        self.pos = front.seg.end;
+        self.final_to = self.final_to.saturating_sub(1);
+        self.dirty_from = self.dirty_from.map(|d| d.saturating_sub(1));
+        if front.den {
+            self.moves -= 1;
+            self.out.finished.push(front.tag);
+            if self.stop_after == Some(front.tag) {
+                self.hold = true;
+                self.stop_after = None;
+            }
+        }
+    }
+
+    /// Runs the thread block at the front for what is `left` of this tick ([`crate::thread`]):
+    /// waits for the spindle to pass the start angle, then follows the spindle position. True
+    /// when the thread ended within the tick (`left` is then what remains after its end). A feed
+    /// hold does not stop a thread: it takes effect at the thread's end (the block after it
+    /// does not start); an abort stops it along the path within the limits.
+    fn thread_step(&mut self, per_rev: f64, angle: f64, left: &mut f64) -> bool {
+        let dt = self.cfg.tick_s;
+        let (prev, cur) = self.spindle;
+        let from = prev + (1.0 - *left / dt) * (cur - prev);
+        let Some(len) = self.q.front().map(|p| p.seg.len) else {
+            return false;
+        };
+        let run = match (self.thread.take(), self.thread_chain.take()) {
+            (Some(r), _) => r,
+            (None, Some((origin, dir))) => ThreadRun::Cutting {
+                origin,
+                dir,
+                s: 0.0,
+            },
+            (None, None) => ThreadRun::Waiting,
+        };
+        let (origin, dir) = match run {
+            ThreadRun::Cutting { origin, dir, .. } => (origin, dir),
+            ThreadRun::Waiting => match thread::crossing(from, cur, angle) {
+                Some(c) => c,
+                None => {
+                    self.thread = Some(ThreadRun::Waiting);
+                    self.v = 0.0;
+                    return false;
+                }
+            },
+        };
+        let s = per_rev * dir * (cur - origin);
+        if s < len - 1e-9 * (1.0 + len) {
+            let s = s.max(0.0);
+            self.v = per_rev * (cur - prev).abs() / dt;
+            if self.abort {
+                // From here on an ordinary stop along the path (the abort clears the queue).
+                self.exec = Some(Exec {
+                    prof: self.profile(s, self.v),
+                    t: 0.0,
+                    s0: s,
+                });
+            } else {
+                self.thread = Some(ThreadRun::Cutting { origin, dir, s });
+            }
+            return false;
+        }
+        // The thread ends within this tick, where the spindle stands at `end`.
+        let end = origin + dir * len / per_rev;
+        let f = thread::tick_fraction(prev, cur, end);
+        *left = (dt * (1.0 - f)).min(*left);
+        self.pop_front();
+        if let Some(Motion::Thread { .. }) = self.q.front().map(|p| p.motion) {
+            self.thread_chain = Some((end, dir));
+        } else {
+            self.v = 0.0;
+        }
+        true
     }
 
     /// Advances one interpolation tick and returns its set points.
@@ -517,6 +631,12 @@ impl Kernel {
                     break;
                 }
                 if self.q.is_empty() || (self.halting() && self.v == 0.0) {
+                    break;
+                }
+                if let Some(Motion::Thread { per_rev, angle }) = self.q.front().map(|p| p.motion) {
+                    if self.thread_step(per_rev, angle, &mut left) {
+                        continue;
+                    }
                     break;
                 }
                 self.replan = false;
@@ -567,30 +687,22 @@ impl Kernel {
                 }
                 break;
             }
-            let (tag, den) = (front.tag, front.den);
-            self.pos = front.seg.end;
             self.exec = None;
-            self.q.pop_front();
-            self.final_to = self.final_to.saturating_sub(1);
-            self.dirty_from = self.dirty_from.map(|d| d.saturating_sub(1));
+            self.pop_front();
             if self.q.is_empty() {
                 // The queue ends at rest (its last end speed is 0); drop rounding residue.
                 self.v = 0.0;
             }
-            if den {
-                self.moves -= 1;
-                self.out.finished.push(tag);
-                if self.stop_after == Some(tag) {
-                    self.hold = true;
-                    self.stop_after = None;
-                }
-            }
         }
-        let (pos, tag, v) = match (&self.exec, self.q.front()) {
-            (Some(ex), Some(p)) => {
+        let (pos, tag, v) = match (&self.exec, self.q.front(), self.thread) {
+            (Some(ex), Some(p), _) => {
                 let (x, v, _) = ex.prof.eval(ex.t);
                 (p.seg.at(ex.s0 + x), Some(p.tag), v)
             }
+            (None, Some(p), Some(ThreadRun::Cutting { s, .. })) => {
+                (p.seg.at(s), Some(p.tag), self.v)
+            }
+            (None, Some(p), Some(ThreadRun::Waiting)) => (p.seg.start, Some(p.tag), 0.0),
             _ => (self.pos, None, 0.0),
         };
         self.pos = pos;
@@ -606,6 +718,7 @@ impl Kernel {
         self.out.tag = tag;
         self.out.feed_mm_min = v * 60.0;
         self.out.held = self.hold && v == 0.0;
+        self.spindle.0 = self.spindle.1;
         &self.out
     }
 }

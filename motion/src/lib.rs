@@ -47,6 +47,7 @@ pub mod plan;
 pub mod profile;
 pub mod ptp;
 pub mod samples;
+mod thread;
 
 pub use config::{AccParams, AxisLimits, Config, ConfigError, Law, config_from_axcfil};
 pub use kernel::{Kernel, Tick};

@@ -307,6 +307,7 @@ fn a_dwell_ends_while_the_override_is_set_every_tick() {
         exact_stop: true,
         tolerance: None,
         thread_pitch: None,
+        thread_angle: 0.0,
     };
     let cmds: Vec<(usize, Cmd)> = (0..150).map(|n| (n, Cmd::Override(100))).collect();
     let r = run(&cfg, &[0.0; 3], &[dwell(1)], &cmds);

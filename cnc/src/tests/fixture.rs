@@ -32,7 +32,7 @@ impl Interpolator for Stepper {
     fn set_hold(&mut self, on: bool) {
         self.hold = on;
     }
-    fn set_spindle_rev_s(&mut self, _: f64) {}
+    fn set_spindle_position(&mut self, _: f64) {}
     fn abort(&mut self) {
         self.queue.clear();
     }
