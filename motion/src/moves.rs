@@ -201,7 +201,7 @@ impl Move {
             exact_stop: c.exact_stop,
             tolerance: c.tolerance,
             thread_pitch,
-            thread_angle: 0.0,
+            thread_angle: c.thread_angle,
         })
     }
 }

@@ -210,6 +210,7 @@ pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Opti
         t,
         dwell: None,
         thread: false,
+        thread_angle: 0.0,
     }
 }
 
