@@ -141,10 +141,10 @@ fn two_passes(rev0: f64, step: f64, deg: f64) -> Vec<(f64, Vec<(f64, f64)>)> {
                 passes.push((before, Vec::new()));
             }
             let z = t.position[1];
-            if z != 5.0 {
-                if let Some(p) = passes.last_mut() {
-                    p.1.push((spin, z));
-                }
+            if z != 5.0
+                && let Some(p) = passes.last_mut()
+            {
+                p.1.push((spin, z));
             }
         }
         last_tag = t.tag;
