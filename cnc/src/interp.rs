@@ -36,6 +36,11 @@ pub trait Interpolator: Send {
     fn set_spindle_position(&mut self, rev: f64);
     /// Stops as fast as the limits allow and forgets the queue.
     fn abort(&mut self);
+    /// The stop on a hardware limit switch: an abort with the axes' emergency deceleration
+    /// (AXCFIL `AFC`) where they have one.
+    fn emergency_stop(&mut self) {
+        self.abort();
+    }
     /// One interpolation tick; the set points are then [`Interpolator::position`].
     fn tick(&mut self, out: &mut TickOut);
     /// The set point of every axis (process axis order).

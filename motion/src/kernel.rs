@@ -57,6 +57,8 @@ pub struct Kernel {
     /// A thread just ended here (spindle position, direction): a thread right after it goes on
     /// locked without waiting for the index.
     thread_chain: Option<(f64, f64)>,
+    /// An emergency stop's per-axis deceleration (AFC, mm/s²; None: the axis's own limit).
+    emergency: Option<Vec<Option<f64>>>,
     out: Tick,
     /// The lowest queue index whose geometry changed since the last backward pass (None: the
     /// end speeds are those of the current queue).
@@ -114,6 +116,7 @@ impl Kernel {
             spindle: (0.0, 0.0),
             thread: None,
             thread_chain: None,
+            emergency: None,
             dirty_from: None,
             final_to: 0,
             soft: cfg_soft,
@@ -483,6 +486,49 @@ impl Kernel {
         self.replan = self.exec.is_some();
     }
 
+    /// The emergency stop on a hardware limit switch (AXCFIL `AFC`): an abort whose stop
+    /// decelerates each axis at `decel` (mm/s² of the slide, Config order; None: the axis's
+    /// acceleration limit, MAN or RAP) under the linear law, at once (no wait for zero
+    /// acceleration).
+    pub fn emergency_stop(&mut self, decel: &[Option<f64>]) {
+        self.emergency = Some(decel.to_vec());
+        self.abort();
+    }
+
+    /// The path dynamics of a stop of piece `p`: under an emergency stop the AFC decelerations
+    /// over the axes' shares of the direction, else the piece's own.
+    fn stop_dyn(&self, p: &Piece) -> crate::profile::Dyn {
+        let Some(decel) = self.emergency.as_ref().filter(|_| self.abort) else {
+            return p.dynm;
+        };
+        let mut a = f64::INFINITY;
+        for (i, share) in p.axis[0].iter().enumerate() {
+            if *share > 0.0 {
+                let Some(ax) = self.cfg.axes.get(i) else {
+                    continue;
+                };
+                let own = if p.motion == Motion::Rapid {
+                    ax.a_rapid
+                } else {
+                    ax.a_max
+                };
+                let ai = decel.get(i).copied().flatten().unwrap_or(own);
+                a = a.min(ai / share);
+            }
+        }
+        crate::profile::Dyn {
+            law: Law::Linear,
+            a: if a.is_finite() && a > 0.0 {
+                a
+            } else {
+                p.dynm.a
+            },
+            j: f64::INFINITY,
+            exp_start: 1.0,
+            exp_end: 1.0,
+        }
+    }
+
     /// Debug view of the first queued pieces and the executing profile (diagnostics).
     pub fn debug_front(&self) -> String {
         format!(
@@ -517,7 +563,7 @@ impl Kernel {
         let rem = (p.seg.len - s0).max(0.0);
         match p.motion {
             Motion::Dwell(t) => Profile::rest(if s0 > 0.0 { 0.0 } else { t }),
-            _ if self.halting() => Profile::stop(&p.dynm, rem, v0),
+            _ if self.halting() => Profile::stop(&self.stop_dyn(p), rem, v0),
             _ => {
                 let cap = plan::cap(p, self.feed_pct, self.rapid_pct);
                 Profile::build(&p.dynm, rem, v0, p.v_end, cap)
@@ -538,6 +584,7 @@ impl Kernel {
         self.final_to = 0;
         self.thread = None;
         self.thread_chain = None;
+        self.emergency = None;
     }
 
     /// Removes the finished front piece: the position is its end; a block's last piece reports
@@ -654,7 +701,12 @@ impl Kernel {
             // profile would start it over (an override knob turned during a dwell would hold
             // the program there for as long as it moves).
             if self.replan && !matches!(front.motion, Motion::Dwell(_)) {
-                let tr = ex.prof.replan_time(ex.t, front.dynm.law);
+                let law = if self.emergency.is_some() {
+                    Law::Linear
+                } else {
+                    front.dynm.law
+                };
+                let tr = ex.prof.replan_time(ex.t, law);
                 if tr - ex.t <= left {
                     left -= tr - ex.t;
                     ex.t = tr;

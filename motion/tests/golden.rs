@@ -335,3 +335,44 @@ fn a_dwell_ends_while_the_override_is_set_every_tick() {
     }
     assert_eq!(ended, Some(100));
 }
+
+#[test]
+fn emergency_stop_decelerates_at_the_afc_rate() {
+    // As above, but the stop is the limit-switch emergency stop with AFC X = 5000 mm/s² (Y, Z
+    // keep their 1000): cruising at 100 mm/s along X it takes 10⁴/(2·5000) = 1 mm instead of the
+    // normal abort's 5 mm; along a 45° XY line both axes share the path, so the path deceleration
+    // is min(5000, 1000)·√2 and the stop takes 10⁴/(2·1000·√2) mm.
+    let mut k = Kernel::new(mill(Law::Linear), &[0.0; 3]).expect("config");
+    k.push(line(1, [100.0, 0.0, 0.0], 6000.0)).expect("push");
+    k.push(line(2, [100.0, 50.0, 0.0], 6000.0)).expect("push");
+    for _ in 0..500 {
+        k.tick();
+    }
+    let at = k.position()[0];
+    k.emergency_stop(&[Some(5000.0), None, None]);
+    while !k.is_idle() {
+        assert!(k.tick().finished.is_empty());
+    }
+    assert!(
+        (k.position()[0] - at - 1.0).abs() < 1e-9,
+        "{:?}",
+        k.position()
+    );
+
+    // The S law does not delay an emergency stop to its next instant of zero acceleration.
+    let mut k = Kernel::new(mill(Law::SCurve), &[0.0; 3]).expect("config");
+    k.push(line(1, [200.0, 200.0, 0.0], 6000.0)).expect("push");
+    for _ in 0..1500 {
+        k.tick();
+    }
+    let t = k.tick().clone();
+    let v = t.feed_mm_min / 60.0;
+    let at = t.position.clone();
+    k.emergency_stop(&[Some(5000.0), None, None]);
+    while !k.is_idle() {
+        k.tick();
+    }
+    let a = 1000.0 * std::f64::consts::SQRT_2;
+    let d = ((k.position()[0] - at[0]).powi(2) + (k.position()[1] - at[1]).powi(2)).sqrt();
+    assert!((d - v * v / (2.0 * a)).abs() < 1e-9, "{d} at {v} mm/s");
+}
