@@ -325,3 +325,49 @@ fn mdi_starts_where_the_axes_stand() {
         Some(r#"{"t":6669,"p":[-12,-0.2],"block":null,"feed":0}"#)
     );
 }
+
+/// The bundled Fanuc lathe program O1000 runs end to end on the bundled lathe: G54 of TAB0.POS
+/// puts the part zero at machine X−150 (diameter) Z−300, so the first pass N50 (block 3) feeds
+/// along Z at X44 → machine X−106 at F150 (0.005 mm per 2 ms tick), and N170 ends at X100 Z50 →
+/// machine X−50 Z−250.
+#[test]
+fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("traj.jsonl");
+    let out = ncplc(&[
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--program".as_ref(),
+        "O1000.nc".as_ref(),
+        "--until-end".as_ref(),
+        "--trajectory".as_ref(),
+        path.as_os_str(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
+    assert!(stdout.contains("part O1000.nc (crc32 "), "{stdout}");
+    assert!(stdout.contains("): 19 canonical blocks\n"), "{stdout}");
+    assert!(stdout.contains(", ended\n"), "{stdout}");
+    assert!(
+        stdout.contains("process 1: 19 blocks; handshakes M 5 S 1 T 0;"),
+        "{stdout}"
+    );
+    let text = std::fs::read_to_string(&path).expect("trajectory");
+    let last = text.lines().last().expect("lines");
+    assert!(last.contains(r#""p":[-50,-250],"block":null"#), "{last}");
+    let pass: Vec<serde_json::Value> = text
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .filter(|v: &serde_json::Value| v["block"] == 3)
+        .collect();
+    // 42 mm at 150 mm/min: 16.8 s, more than 8000 ticks at F150 on the X−106 line.
+    let cruise: Vec<&serde_json::Value> = pass.iter().filter(|v| v["feed"] == 150).collect();
+    assert!(cruise.len() > 8000, "{}", cruise.len());
+    // (Its end blends into N60 within the 0.01 mm tolerance: the cruise stays on the line.)
+    assert!(cruise.iter().all(|v| v["p"][0] == -106));
+}
