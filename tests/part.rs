@@ -371,3 +371,38 @@ fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
     // (Its end blends into N60 within the 0.01 mm tolerance: the cruise stays on the line.)
     assert!(cruise.iter().all(|v| v["p"][0] == -106));
 }
+
+/// The lathe's sim.toml presses FEED HOLD at logic tick 400 and CYCLE START at 500 (for PART1's
+/// second pass). In THREAD that falls inside the G33 pass (N30, block 2): the hold is deferred
+/// to the thread's end, so Z keeps following the spindle, lead 6 mm × 50/60 rev/s × 2 ms =
+/// 0.01 mm per interpolation tick, through interpolation ticks 2000–2500 and beyond.
+#[test]
+fn a_feed_hold_does_not_stop_a_thread_in_a_part_run() {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("traj.jsonl");
+    let out = ncplc(&[
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--program".as_ref(),
+        "THREAD".as_ref(),
+        "--until-end".as_ref(),
+        "--trajectory".as_ref(),
+        path.as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&path)
+        .expect("trajectory")
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .collect();
+    for t in 1950..2700 {
+        assert_eq!(lines[t]["block"], 2, "tick {t}");
+        let dz =
+            lines[t + 1]["p"][1].as_f64().unwrap_or(0.0) - lines[t]["p"][1].as_f64().unwrap_or(0.0);
+        assert!((dz + 0.01).abs() < 1e-6, "tick {t}: Z moved {dz}");
+    }
+}
