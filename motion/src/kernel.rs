@@ -718,6 +718,21 @@ impl Kernel {
                     self.replan = false;
                     continue;
                 }
+                // Under the S law, while accelerating: the acceleration falls at the jerk limit
+                // from now on, and the new profile starts where it reaches 0. (The state at that
+                // point is behind and slower than the old profile's next zero-acceleration
+                // instant, so every speed it had to meet stays within reach. A deceleration is
+                // left to run to its end, as before.)
+                let (x, v, a) = ex.prof.eval(ex.t);
+                if let Some(mut prof) = Profile::bridge(&front.dynm, v, a) {
+                    let s0 = ex.s0 + x;
+                    self.plan_front();
+                    let rest = self.profile(s0 + prof.dist, prof.v_end);
+                    prof.append(&rest);
+                    self.exec = Some(Exec { prof, t: 0.0, s0 });
+                    self.replan = false;
+                    continue;
+                }
             }
             let t_end = ex.t + left;
             if t_end < ex.prof.duration {

@@ -376,3 +376,29 @@ fn emergency_stop_decelerates_at_the_afc_rate() {
     let d = ((k.position()[0] - at[0]).powi(2) + (k.position()[1] - at[1]).powi(2)).sqrt();
     assert!((d - v * v / (2.0 * a)).abs() < 1e-9, "{d} at {v} mm/s");
 }
+
+#[test]
+fn s_law_hold_while_accelerating_ramps_the_acceleration_down_at_once() {
+    // S law along X from rest: path jerk j = 0.68 (JERK_TANGENT_LINE) × 22 500 = 15 300 mm/s³,
+    // acceleration 1.5 × 1000 × 0.98 = 1470 mm/s². FEED HOLD before tick 40 (t0 = 0.04 s),
+    // inside the first jerk phase: a0 = j·t0, v0 = j·t0²/2, x0 = j·t0³/6. The acceleration falls
+    // at once at the jerk limit (t0 s, to v = j·t0², +5/6·j·t0³), then the stop from j·t0² is
+    // triangular (j·t0² < a²/j): 2·t0 s, j·t0³. At rest after 4·t0 = 160 ticks, at X = 2·j·t0³
+    // = 1.9584 mm. (Before, the replan waited for the end of the acceleration to 100 mm/s:
+    // at rest after 323 ticks at X 16.169 mm.)
+    let cfg = mill(Law::SCurve);
+    let moves = [line(1, [200.0, 0.0, 0.0], 6000.0)];
+    let r = run(
+        &cfg,
+        &[0.0; 3],
+        &moves,
+        &[(40, Cmd::Hold(true)), (2000, Cmd::Hold(false))],
+    );
+    let x: Vec<f64> = r.points.iter().map(|p| p[0]).collect();
+    let (j, t0) = (0.68 * 22_500.0, 0.04);
+    assert!((x[159] - 2.0 * j * t0 * t0 * t0).abs() < 1e-9, "{}", x[159]);
+    assert!(x[158] < x[159]);
+    assert_eq!(x[1999], x[159]);
+    assert_within(&r.report, 0.01);
+    assert_eq!(r.points.last(), Some(&vec![200.0, 0.0, 0.0]));
+}
