@@ -701,7 +701,13 @@ impl Kernel {
             // profile would start it over (an override knob turned during a dwell would hold
             // the program there for as long as it moves).
             if self.replan && !matches!(front.motion, Motion::Dwell(_)) {
-                let law = if self.emergency.is_some() {
+                // An emergency stop replans at once; so does the exponential law while it
+                // accelerates (its acceleration drops to 0 as at the end of a change, and the
+                // state is behind and slower than at the end of that acceleration).
+                let accelerating = ex.prof.eval(ex.t).2 > 0.0;
+                let law = if self.emergency.is_some()
+                    || (front.dynm.law == Law::Exponential && accelerating)
+                {
                     Law::Linear
                 } else {
                     front.dynm.law

@@ -402,3 +402,40 @@ fn s_law_hold_while_accelerating_ramps_the_acceleration_down_at_once() {
     assert_within(&r.report, 0.01);
     assert_eq!(r.points.last(), Some(&vec![200.0, 0.0, 0.0]));
 }
+
+#[test]
+fn exponential_law_hold_while_accelerating_replans_at_once() {
+    // Exponential law (ACC 1,4) along X from rest at a = 980 mm/s²: a change of dv takes
+    // T = 4·dv·ln 4/(3a), its acceleration a/4·e^{kt}, k = ln 4/T. FEED HOLD before tick 40
+    // (t0 = 0.04 s) of the change to 100 mm/s: the acceleration drops to 0 (as at the end of a
+    // change) and the stop is one change from v(t0) to 0 (acceleration −a·e^{−kt}). At rest
+    // after 40 + 21.49 ticks at X = 0.311697 mm (before, the replan waited for the end of the
+    // acceleration: at rest after 377 ticks at X 14.637 mm).
+    let cfg = mill(Law::Exponential);
+    let moves = [line(1, [200.0, 0.0, 0.0], 6000.0)];
+    let r = run(
+        &cfg,
+        &[0.0; 3],
+        &moves,
+        &[(40, Cmd::Hold(true)), (2000, Cmd::Hold(false))],
+    );
+    let x: Vec<f64> = r.points.iter().map(|p| p[0]).collect();
+    let (a, ln4, t0) = (980.0f64, 4.0f64.ln(), 0.04);
+    let k1 = ln4 / (4.0 * 100.0 * ln4 / (3.0 * a));
+    let x0 = a / 4.0 * ((k1 * t0).exp_m1() - k1 * t0) / (k1 * k1);
+    let v0 = a / 4.0 * (k1 * t0).exp_m1() / k1;
+    let t2 = 4.0 * v0 * ln4 / (3.0 * a);
+    let k2 = ln4 / t2;
+    let stop = v0 * t2 - a * ((-k2 * t2).exp_m1() + k2 * t2) / (k2 * k2);
+    assert!((t2 / cfg.tick_s - 21.488).abs() < 1e-3);
+    assert!(
+        (x[61] - x0 - stop).abs() < 1e-9,
+        "{} vs {}",
+        x[61],
+        x0 + stop
+    );
+    assert!(x[60] < x[61]);
+    assert_eq!(x[1999], x[61]);
+    assert_within(&r.report, 0.01);
+    assert_eq!(r.points.last(), Some(&vec![200.0, 0.0, 0.0]));
+}
