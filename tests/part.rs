@@ -406,3 +406,40 @@ fn a_feed_hold_does_not_stop_a_thread_in_a_part_run() {
         assert!((dz + 0.01).abs() < 1e-6, "tick {t}: Z moved {dz}");
     }
 }
+
+/// A G33 thread waits for the spindle's index pulse: with the spindle never started (S without
+/// M03) it would wait for ever, so the kernel stops with an alarm naming the block (exit 1);
+/// after M03 the same thread runs to its end.
+#[test]
+fn a_thread_with_the_spindle_stopped_is_a_located_alarm() {
+    let machine = root().join("plc-programs/lathe");
+    let run = |mdi: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "run".as_ref(),
+            machine.as_os_str(),
+            "--virtual-time".as_ref(),
+            "--no-watch".as_ref(),
+            "--ticks".as_ref(),
+            "3000".as_ref(),
+            "--until-end".as_ref(),
+        ];
+        for m in mdi {
+            args.push("--mdi".as_ref());
+            args.push(m.as_ref());
+        }
+        ncplc(&args)
+    };
+    let out = run(&["N1 S100 G33 Z-10 F1.5"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains(
+            "alarm: process 1: G33 thread waits for the spindle's index pulse with the spindle stopped (block 1 (N1))\n"
+        ),
+        "{stdout}"
+    );
+    let out = run(&["N1 S100 M03", "N2 G33 Z-10 F1.5"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains(", ended\n"), "{stdout}");
+}

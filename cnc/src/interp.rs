@@ -36,6 +36,10 @@ pub trait Interpolator: Send {
     fn set_spindle_position(&mut self, rev: f64);
     /// Stops as fast as the limits allow and forgets the queue.
     fn abort(&mut self);
+    /// A G33 thread waits at its start for the spindle's index pulse.
+    fn waiting_for_spindle(&self) -> bool {
+        false
+    }
     /// The stop on a hardware limit switch: an abort with the axes' emergency deceleration
     /// (AXCFIL `AFC`) where they have one.
     fn emergency_stop(&mut self) {

@@ -76,6 +76,9 @@ impl Interpolator for MotionKernel {
     fn abort(&mut self) {
         self.kernel.abort();
     }
+    fn waiting_for_spindle(&self) -> bool {
+        self.kernel.waiting_for_index()
+    }
     fn emergency_stop(&mut self) {
         self.kernel.emergency_stop(&self.afc);
     }

@@ -398,6 +398,7 @@ impl Process {
         self.handwheels(out, image);
         self.run_interpolation(out);
         self.watch_limit_switches();
+        self.watch_thread_wait();
         self.homing();
         self.advance();
         self.step_channels(tick, out, true);

@@ -541,6 +541,11 @@ impl Kernel {
         )
     }
 
+    /// A G33 thread at the front waits for the spindle to pass its start angle.
+    pub fn waiting_for_index(&self) -> bool {
+        matches!(self.thread, Some(ThreadRun::Waiting))
+    }
+
     /// Current set point.
     pub fn position(&self) -> &[f64] {
         &self.out.position
