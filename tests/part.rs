@@ -206,7 +206,7 @@ fn trajectory_of_the_lathe_part() {
 
 /// `--mdi` blocks run in MDI mode (one program, shared modal state) and `--until-end` stops after
 /// them: rapid to X-10 Z-20, then X-12: 2 mm of diameter, 1 mm of the X slide (a diameter
-/// axis) at F100 (0.6 s).
+/// axis) at F100 (0.6 s). The operator types blocks: the second has no block number.
 #[test]
 fn mdi_blocks_run_and_end() {
     let machine = root().join("plc-programs/lathe");
@@ -220,7 +220,7 @@ fn mdi_blocks_run_and_end() {
         "--mdi".as_ref(),
         "N1 G00 X-10 Z-20".as_ref(),
         "--mdi".as_ref(),
-        "N2 G01 X-12 F100".as_ref(),
+        "G01 X-12 F100".as_ref(),
         "--until-end".as_ref(),
         "--stats".as_ref(),
         "--trajectory".as_ref(),

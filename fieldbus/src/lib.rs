@@ -222,8 +222,22 @@ pub fn start_hmi_at(
     inner: Box<dyn PacketIo>,
     bind: Option<std::net::SocketAddr>,
 ) -> Result<Box<dyn PacketIo>, Vec<Diagnostic>> {
+    start_hmi_listening(machine_dir, declared, inner, bind).map(|(io, _)| io)
+}
+
+/// The I/O with the HMI server in front, and the address the server took (`None`: no server).
+pub type Listening = (Box<dyn PacketIo>, Option<std::net::SocketAddr>);
+
+/// [`start_hmi_at`], also returning the address the server took (`None`: no server), so that a
+/// caller who bound port 0 can tell its users.
+pub fn start_hmi_listening(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+    inner: Box<dyn PacketIo>,
+    bind: Option<std::net::SocketAddr>,
+) -> Result<Listening, Vec<Diagnostic>> {
     let no_hmi = |bind: Option<std::net::SocketAddr>, inner| match bind {
-        None => Ok(inner),
+        None => Ok((inner, None)),
         Some(b) => Err(whole_file(
             codes::START,
             format!("--modbus-hmi {b}: io.toml has no [hmi] table to serve"),
@@ -242,7 +256,10 @@ pub fn start_hmi_at(
         cfg.bind = b;
     }
     match modbus::server::HmiIo::start(inner, &cfg) {
-        Ok(h) => Ok(Box::new(h)),
+        Ok(h) => {
+            let addr = h.local_addr();
+            Ok((Box::new(h), Some(addr)))
+        }
         Err(e) => Err(whole_file(
             codes::START,
             format!("the HMI server cannot listen on {}: {e}", cfg.bind),

@@ -16,7 +16,7 @@ use diag::Diagnostic;
 
 use crate::ast::{Block, ParsedFile, Val};
 use crate::codes;
-use crate::groups::fanuc_g_group;
+use crate::groups::{fanuc_g_group, fanuc_m_group};
 use crate::machine::Dialect;
 use crate::parse::parse;
 use crate::program::{CBlock, Program, SourceFile, Unit, UnitKind};
@@ -279,6 +279,17 @@ pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
                                     "M{m:02} is not declared for process 1 in IOCFIL section 2"
                                 ),
                                 "declare it in IOCFIL section 2",
+                            ));
+                        }
+                        if let Some(g) = fanuc_m_group(m)
+                            && m_calls.iter().any(|&o| fanuc_m_group(o) == Some(g))
+                        {
+                            diags.push(err(
+                                codes::GROUP_CONFLICT,
+                                f,
+                                w.span,
+                                format!("M{m:02} contradicts an M code of its group in the block"),
+                                "one of M03 M04 M05 M19, of M07 M08 M09, of M00 M01 M02 M30, of M97 M98 M99 per block",
                             ));
                         }
                         m_calls.push(m);

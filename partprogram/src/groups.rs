@@ -35,6 +35,18 @@ pub fn mefi_m_group(m: u16) -> u8 {
     }
 }
 
+/// The group of a Fanuc/HAAS M code whose members contradict each other in one block (spindle,
+/// coolant, program stop, call/return), or None.
+pub fn fanuc_m_group(m: i64) -> Option<u8> {
+    match m {
+        3 | 4 | 5 | 19 => Some(1),
+        7..=9 => Some(2),
+        0..=2 | 30 => Some(3),
+        97..=99 => Some(4),
+        _ => None,
+    }
+}
+
 /// The G group of a Fanuc/HAAS G code (code × 10 + sub-code, so G7.1 is 71 and G1 is 10), or None.
 pub fn fanuc_g_group(g10: u16) -> Option<u8> {
     // Sub-codes exist only for G7.1: every other code is a whole number.

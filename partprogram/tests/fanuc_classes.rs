@@ -220,3 +220,41 @@ fn g04_x_is_a_dwell_in_seconds_not_a_move() {
     assert_eq!((end(&p[1], 'X'), p[1].dwell), (5.0, Some(1.5)));
     assert_eq!(p[2].dwell, Some(0.25));
 }
+
+#[test]
+fn an_arc_with_both_r_and_centre_words_is_refused_at_the_centre_word() {
+    // Fanuc would cut the R arc and drop I; a dropped word is refused (2530) at the word itself.
+    let src = "O1\nG90 G00 X0 Y0\nG02 X10. Y0 R5. I5. F100.\nM30\n";
+    let (prog, diags) = compile(&haas(), "test", src);
+    assert!(diags.is_empty(), "{diags:#?}");
+    let Err((_, d)) = partprogram::plan(&prog.expect("compiled"), PlanOptions::default()) else {
+        panic!("planned an arc with R and I")
+    };
+    assert_eq!(d.code, 2530);
+    assert_eq!(&src[d.span.clone()], "I5.");
+    assert!(d.message.contains("given by its radius R"), "{}", d.message);
+    // Either alone is an arc: R5 and I5 give the same half circle.
+    for arc in ["G02 X10. Y0 R5. F100.", "G02 X10. Y0 I5. F100."] {
+        let p = plan(&format!("O1\nG90 G00 X0 Y0\n{arc}\nM30\n"));
+        assert_eq!(centre(&p[1]), vec![('X', 5.0), ('Y', 0.0)], "{arc}");
+    }
+}
+
+#[test]
+fn contradictory_m_codes_in_one_block_are_refused_at_the_second() {
+    // M03 and M04 (spindle), M08 and M09 (coolant): 2007 at the second of the group.
+    for (block, at) in [
+        ("M03 M04", "M04"),
+        ("M08 S100 M09", "M09"),
+        ("M03 M08 M05", "M05"),
+    ] {
+        let src = format!("O1\nG90 G00 X0 Y0\n{block}\nM30\n");
+        let (_, diags) = compile(&haas(), "test", &src);
+        assert_eq!(diags.len(), 1, "{block}: {diags:#?}");
+        assert_eq!(diags[0].code, 2007, "{block}");
+        assert_eq!(&src[diags[0].span.clone()], at, "{block}");
+    }
+    // Codes of different groups stay one block: spindle, coolant and a stop.
+    let p = plan("O1\nG90 G00 X0 Y0 M03 M08\nM05 M09 M30\n");
+    assert_eq!(p[0].m.iter().map(|m| m.m).collect::<Vec<_>>(), vec![3, 8]);
+}

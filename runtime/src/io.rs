@@ -3,8 +3,9 @@
 //! [`open_io`] is the one dispatch point. `sim` is the built-in simulated CNC and machine
 //! (`<machine>/sim.toml`); `modbus` and `canopen` are the fieldbus crate's drivers, configured by
 //! `<machine>/io.toml` and checked against the connectors IOCFIL declares. With real I/O, the map's
-//! `[hmi]` table also starts the Modbus TCP server for HMI and SCADA. The simulation never opens a
-//! socket, so simulated runs stay deterministic and can run side by side.
+//! `[hmi]` table also starts the Modbus TCP server for HMI and SCADA. The simulation opens no
+//! socket unless asked (`--modbus-hmi ADDR:PORT` puts the same server in front of it,
+//! [`with_modbus_hmi`]), so simulated runs stay deterministic and can run side by side.
 
 use std::path::Path;
 
@@ -69,7 +70,7 @@ pub fn open_io_counted(
 }
 
 /// [`open_io_counted`] with the HMI server on `hmi_bind` instead of io.toml's `[hmi] bind`
-/// (`ncplc run --modbus-hmi`; only with a fieldbus).
+/// (`ncplc run --modbus-hmi`); with `sim` the server starts only when `hmi_bind` is given.
 pub fn open_io_with(
     kind: IoKind,
     machine_dir: &Path,
@@ -83,27 +84,58 @@ pub fn open_io_with(
         IoKind::Sim => {
             let sim = Sim::new(script, signals, tick_ms)?;
             let counts = sim.counts();
-            return Ok((Box::new(sim), Some(counts)));
+            let io: Box<dyn PacketIo> = Box::new(sim);
+            let io = match hmi_bind {
+                Some(bind) => with_modbus_hmi(machine_dir, declared, io, bind)?,
+                None => io,
+            };
+            return Ok((io, Some(counts)));
         }
         IoKind::Modbus => fieldbus::IoKind::Modbus,
         IoKind::Canopen => fieldbus::IoKind::Canopen,
     };
-    let render = |diagnostics: Vec<diag::Diagnostic>| {
-        let map = machine_dir.join("io.toml");
-        let mut sources = diag::Sources::new();
-        if let Ok(text) = std::fs::read_to_string(&map) {
-            for d in &diagnostics {
-                sources.add(d.file.clone(), text.clone());
-            }
+    let io = fieldbus::open(bus, machine_dir, declared).map_err(|d| map_error(machine_dir, d))?;
+    Ok((modbus_hmi(machine_dir, declared, io, hmi_bind)?, None))
+}
+
+/// Puts the Modbus TCP HMI/SCADA server of io.toml's `[hmi]` table, listening on `bind`, in front
+/// of `io` (the simulated machine, with or without the CNC kernel: `ncplc run --modbus-hmi`).
+pub fn with_modbus_hmi(
+    machine_dir: &Path,
+    declared: &fieldbus::DeclaredConnectors,
+    io: Box<dyn PacketIo>,
+    bind: std::net::SocketAddr,
+) -> Result<Box<dyn PacketIo>, IoOpenError> {
+    modbus_hmi(machine_dir, declared, io, Some(bind))
+}
+
+/// Starts the Modbus HMI server of io.toml in front of `io` (if io.toml has one, or `bind` asks
+/// for it) and says on stderr where it listens.
+fn modbus_hmi(
+    machine_dir: &Path,
+    declared: &fieldbus::DeclaredConnectors,
+    io: Box<dyn PacketIo>,
+    bind: Option<std::net::SocketAddr>,
+) -> Result<Box<dyn PacketIo>, IoOpenError> {
+    let (io, addr) = fieldbus::start_hmi_listening(machine_dir, declared, io, bind)
+        .map_err(|d| map_error(machine_dir, d))?;
+    if let Some(addr) = addr {
+        eprintln!("modbus-hmi: listening on {addr}");
+    }
+    Ok(io)
+}
+
+/// The located diagnostics of io.toml, rendered with its lines.
+fn map_error(machine_dir: &Path, diagnostics: Vec<diag::Diagnostic>) -> IoOpenError {
+    let map = machine_dir.join("io.toml");
+    let mut sources = diag::Sources::new();
+    if let Ok(text) = std::fs::read_to_string(&map) {
+        for d in &diagnostics {
+            sources.add(d.file.clone(), text.clone());
         }
-        IoOpenError::Fieldbus {
-            rendered: crate::cli::output::render_diagnostics(&diagnostics, &sources),
-            diagnostics,
-        }
-    };
-    let io = fieldbus::open(bus, machine_dir, declared).map_err(render)?;
-    Ok((
-        fieldbus::start_hmi_at(machine_dir, declared, io, hmi_bind).map_err(render)?,
-        None,
-    ))
+    }
+    IoOpenError::Fieldbus {
+        rendered: crate::cli::output::render_diagnostics(&diagnostics, &sources),
+        diagnostics,
+    }
 }

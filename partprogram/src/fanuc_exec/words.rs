@@ -51,6 +51,9 @@ impl Ex<'_> {
             (None, _) => ('J', 'K'),
         };
         let lathe = !self.axes.contains(&'Y');
+        // Fanuc lets R win over I, J, K in one arc block and ignores the centre words; we refuse
+        // them instead (as LinuxCNC does): a centre the control drops is a wrong part.
+        let by_radius = arc && b.words.iter().any(|w| w.addr == 'R');
         for w in &b.words {
             let a = w.addr;
             if self.axes.contains(&a)
@@ -61,7 +64,7 @@ impl Ex<'_> {
             }
             let ok = match a {
                 'I' | 'J' | 'K' if u.pocket => a != 'J',
-                'I' | 'J' | 'K' => arc && (a == c1 || a == c2),
+                'I' | 'J' | 'K' => arc && (a == c1 || a == c2) && !by_radius,
                 // G10 with an L other than 2/20 takes R (L10/L12) or is refused as a whole.
                 'R' => arc || u.cycle.is_some() || matches!(u.g10, Some(l) if l != 2 && l != 20),
                 'P' => {
@@ -79,6 +82,9 @@ impl Ex<'_> {
             if !ok {
                 let why = match a {
                     'E' => "E sets the G187 corner accuracy, and G187 is not supported".to_string(),
+                    'I' | 'J' | 'K' if by_radius && (a == c1 || a == c2) => format!(
+                        "the arc is given by its radius R; {a} would be ignored (as Fanuc does), give the centre or R, not both"
+                    ),
                     'I' | 'J' | 'K' if arc => format!(
                         "{a} is not a centre word of the G{} plane ({c1}{c2})",
                         self.plane.g()

@@ -48,16 +48,26 @@ pub struct PartRun {
     trajectory: Option<std::io::BufWriter<std::fs::File>>,
 }
 
-/// MDI text as a program of the machine's dialect (`--dialect`, else `nc/DIALECT`).
+/// MDI text as a program of the machine's dialect (`--dialect`, else `nc/DIALECT`). An operator
+/// types blocks, not programs: a MEFI line without its block number gets `N<line>` (MEFI blocks
+/// start with N; Fanuc's N is optional), and no M02/M30 is asked for.
 fn mdi_program(dir: &std::path::Path, dialect: Option<&str>, text: &str) -> String {
     let fanuc = dialect.is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
         || std::fs::read_to_string(crate::cli::nc::dialect_file(dir))
             .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
     if fanuc {
-        format!("O9999\n{text}\n")
-    } else {
-        format!("%999999\n{text}\n")
+        return format!("O9999\n{text}\n");
     }
+    let mut program = String::from("%999999\n");
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim_start();
+        if !t.is_empty() && !t.starts_with(['N', 'n', '"', '/']) {
+            program.push_str(&format!("N{} ", i + 1));
+        }
+        program.push_str(line);
+        program.push('\n');
+    }
+    program
 }
 
 /// The interpolator of a process: the `motion` crate's kernel (none for a process without

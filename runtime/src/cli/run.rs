@@ -64,8 +64,8 @@ pub struct Args {
     /// Keep retained data in this file (default: `<machine>/retain.bin`).
     #[arg(long)]
     pub retain_file: Option<PathBuf>,
-    /// Serve the Modbus HMI on ADDR:PORT instead of io.toml's `[hmi] bind` (with --io modbus or
-    /// canopen).
+    /// Serve the Modbus HMI on ADDR:PORT instead of io.toml's `[hmi] bind`; with the simulated
+    /// I/O (and part runs) the Modbus HMI starts only when this is given.
     #[arg(long, value_name = "ADDR:PORT")]
     pub modbus_hmi: Option<std::net::SocketAddr>,
     /// Pin the scan thread to this CPU (0-based); the fieldbus I/O threads take io.toml
@@ -140,11 +140,6 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     let (first, compile) = machine.compile_fns(args.engine, tick_ms, args.hmi.hmi_flow);
     let source = machine.read_source().map_err(|e| e.to_string())?;
     let hmi_source = source.clone();
-    if let (Some(bind), IoKind::Sim) = (args.modbus_hmi, args.io) {
-        return Err(format!(
-            "error: --modbus-hmi {bind}: the HMI server runs with a fieldbus (--io modbus or canopen), not the simulated I/O"
-        ));
-    }
     // The I/O starts (connects, configures its nodes) on its own thread while the program
     // compiles: the first tick waits for the slower of the two, not for their sum.
     // A part run (`--program`/`--mdi`) puts the CNC kernel in front of the simulated I/O; its
@@ -185,6 +180,11 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             let (io, run) = started_part
                 .ok_or("error: the part run did not start")?
                 .map_err(|_| "error: the part-run start-up thread panicked".to_string())??;
+            let io = match args.modbus_hmi {
+                Some(bind) => crate::io::with_modbus_hmi(&machine.dir, &declared, io, bind)
+                    .map_err(|e| e.to_string())?,
+                None => io,
+            };
             (io, None, Some(run))
         }
         Some(opened) => {

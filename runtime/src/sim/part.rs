@@ -142,7 +142,11 @@ pub fn compile_text(
             return Err(diag::render_human(&kdiags, &sources));
         }
     }
-    let (prog, diags) = partprogram::compile(&spec, name, text);
+    let (prog, mut diags) = partprogram::compile(&spec, name, text);
+    if name == "MDI" {
+        // MDI blocks are not a main program: they need no M02/M30.
+        diags.retain(|d| d.code != partprogram::codes::NO_END);
+    }
     if let Some(p) = &prog {
         for f in &p.files {
             sources.add(f.name.clone(), f.text.clone());

@@ -218,7 +218,17 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
             .map_err(|e| bad(i, format!("undecodable frame: {e}")))
     };
     let (i, first) = frames.next().ok_or_else(|| bad(0, "empty file".into()))?;
-    let tick_ms = match decode_one(i, first)? {
+    // A first frame that does not decode: most likely not a trace at all (a wrong file name).
+    let first = decode_one(i, first).map_err(|e| match e {
+        TraceError::Binary { message, .. } => bad(
+            i,
+            format!(
+                "not an ncplc trace: neither a text trace (a JSON header line first) nor a binary one ({message})"
+            ),
+        ),
+        other => other,
+    })?;
+    let tick_ms = match first {
         Frame::Header {
             format,
             version,
@@ -487,6 +497,19 @@ mod tests {
         assert_eq!(
             e.as_deref(),
             Some("frame 1: truncated: the last frame has no 0x00 terminator")
+        );
+    }
+
+    #[test]
+    fn a_file_that_is_no_trace_is_named_so() {
+        let e = decode(b"root:x:0:0:root:/root:/bin/bash\n")
+            .map_err(|e| e.to_string())
+            .err();
+        assert_eq!(
+            e.as_deref(),
+            Some(
+                "frame 0: not an ncplc trace: neither a text trace (a JSON header line first) nor a binary one (truncated: the last frame has no 0x00 terminator)"
+            )
         );
     }
 
