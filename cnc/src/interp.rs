@@ -36,6 +36,10 @@ pub trait Interpolator: Send {
     fn set_spindle_position(&mut self, rev: f64);
     /// Stops as fast as the limits allow and forgets the queue.
     fn abort(&mut self);
+    /// A fault that stops the process (a thread the spindle's actual speed makes too fast), once.
+    fn take_fault(&mut self) -> Option<String> {
+        None
+    }
     /// A G33 thread waits at its start for the spindle's index pulse.
     fn waiting_for_spindle(&self) -> bool {
         false

@@ -76,6 +76,9 @@ impl Interpolator for MotionKernel {
     fn abort(&mut self) {
         self.kernel.abort();
     }
+    fn take_fault(&mut self) -> Option<String> {
+        self.kernel.take_fault().map(|e| e.to_string())
+    }
     fn waiting_for_spindle(&self) -> bool {
         self.kernel.waiting_for_index()
     }

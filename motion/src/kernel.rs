@@ -59,6 +59,8 @@ pub struct Kernel {
     thread_chain: Option<(f64, f64)>,
     /// An emergency stop's per-axis deceleration (AFC, mm/s²; None: the axis's own limit).
     emergency: Option<Vec<Option<f64>>>,
+    /// A fault for the caller ([`Kernel::take_fault`]).
+    fault: Option<MotionError>,
     out: Tick,
     /// The lowest queue index whose geometry changed since the last backward pass (None: the
     /// end speeds are those of the current queue).
@@ -117,6 +119,7 @@ impl Kernel {
             thread: None,
             thread_chain: None,
             emergency: None,
+            fault: None,
             dirty_from: None,
             final_to: 0,
             soft: cfg_soft,
@@ -635,8 +638,8 @@ impl Kernel {
         let (origin, dir) = match run {
             ThreadRun::Cutting { origin, dir, .. } => (origin, dir),
             ThreadRun::Waiting => match thread::crossing(from, cur, angle) {
-                Some(c) => c,
-                None => {
+                Some(c) if !self.thread_too_fast(per_rev, (cur - prev).abs() / dt) => c,
+                _ => {
                     self.thread = Some(ThreadRun::Waiting);
                     self.v = 0.0;
                     return false;
@@ -670,6 +673,33 @@ impl Kernel {
             self.v = 0.0;
         }
         true
+    }
+
+    /// At the start of a thread: true (and the fault recorded) when the spindle's actual speed
+    /// (rev/s; raised by its override, say, since the block was queued) would take the path
+    /// faster than the axes allow; the thread then does not start.
+    fn thread_too_fast(&mut self, per_rev: f64, rev_s: f64) -> bool {
+        let Some(p) = self.q.front() else {
+            return false;
+        };
+        let need = per_rev * rev_s;
+        if need <= p.v_hard * (1.0 + 1e-6) {
+            return false;
+        }
+        if self.fault.is_none() {
+            self.fault = Some(MotionError::ThreadTooFast {
+                tag: p.tag,
+                need: need * 60.0,
+                limit: p.v_hard * 60.0,
+            });
+        }
+        true
+    }
+
+    /// The fault that keeps the kernel from going on (a thread the spindle's actual speed makes
+    /// too fast), once; the caller aborts.
+    pub fn take_fault(&mut self) -> Option<MotionError> {
+        self.fault.take()
     }
 
     /// Advances one interpolation tick and returns its set points.

@@ -83,9 +83,10 @@ pub enum MotionError {
         /// What is wrong.
         what: String,
     },
-    /// A G33 thread whose speed at the programmed spindle speed exceeds the axes' feed limits.
+    /// A G33 thread whose speed at the spindle speed (programmed when queued, actual when it
+    /// starts) exceeds the axes' feed limits.
     #[error(
-        "block {tag}: the thread needs {need:.1} mm/min along its path at the programmed spindle speed, the axes allow {limit:.1} mm/min"
+        "block {tag}: the thread needs {need:.1} mm/min along its path at the spindle speed, the axes allow {limit:.1} mm/min"
     )]
     ThreadTooFast {
         /// Block tag.

@@ -157,10 +157,11 @@ fn two_passes(rev0: f64, step: f64, deg: f64) -> Vec<(f64, Vec<(f64, f64)>)> {
 
 #[test]
 fn every_pass_starts_at_the_same_spindle_angle() {
-    // 3/8 rev per tick: the index falls inside ticks, and the rapids between the passes take a
-    // number of ticks that brings the spindle to the second pass at another angle.
+    // 3/32 rev per tick (46.875 rev/s, 70.3 mm/s): the index falls inside ticks, and the rapids
+    // between the passes take a number of ticks that brings the spindle to the second pass at
+    // another angle.
     for deg in [0.0, 180.0] {
-        let passes = two_passes(0.3, 0.375, deg);
+        let passes = two_passes(0.3, 0.09375, deg);
         assert_eq!(passes.len(), 2);
         let angle = |r: f64| r.rem_euclid(1.0);
         assert_ne!(angle(passes[0].0), angle(passes[1].0), "arrival angles");
@@ -268,4 +269,33 @@ fn a_thread_after_a_thread_goes_on_without_waiting() {
     assert!((t105.position[0] - 10.75).abs() < 1e-12 && (t105.position[1] + 4.75).abs() < 1e-12);
     assert_eq!(out[112].1.finished, vec![2]);
     assert!(k.is_idle());
+}
+
+#[test]
+fn a_thread_the_spindle_makes_too_fast_does_not_start() {
+    // Queued at S600 (15 mm/s), but the spindle turns 1/8 rev per 2 ms tick (62.5 rev/s: 93.75
+    // mm/s, fine) and then 1/4 rev per tick (125 rev/s: 187.5 mm/s > 100): the thread does not
+    // start at the index and the kernel reports the fault once.
+    let mut k = kernel_at(0.875);
+    k.push(thread(3, 10.0, -9.0, 0.0)).expect("thread");
+    k.set_spindle_position(1.125);
+    k.tick();
+    assert_eq!(k.position(), &[10.0, 5.0]);
+    assert_eq!(
+        k.take_fault(),
+        Some(MotionError::ThreadTooFast {
+            tag: 3,
+            need: 187.5 * 60.0,
+            limit: 6000.0
+        })
+    );
+    assert_eq!(k.take_fault(), None);
+    assert!(k.waiting_for_index());
+    // Slower again, it starts at the next index (2.0, passed at 1/8 rev per tick) and follows.
+    for (rev, z) in [(1.875, 5.0), (2.0, 5.0), (2.125, 4.8125)] {
+        k.set_spindle_position(rev);
+        k.tick();
+        assert_eq!(k.position(), &[10.0, z]);
+    }
+    assert_eq!(k.take_fault(), None);
 }

@@ -134,6 +134,10 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
         }
         spindle_rev += spindle_rpm / 60.0 * cfg.tick_s;
         kernel.set_spindle_position(spindle_rev);
+        if let Some(e) = kernel.take_fault() {
+            eprintln!("error: {}: {e}", compiled.name);
+            return Ok(ExitCode::from(1));
+        }
         let t = kernel.tick();
         ticks += 1;
         if let Some(s) = t.tag.and_then(|b| blocks.get(b as usize)).and_then(|c| c.s) {
