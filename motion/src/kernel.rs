@@ -50,8 +50,9 @@ pub struct Kernel {
     abort: bool,
     stop_after: Option<u64>,
     replan: bool,
-    /// Spindle position, rev (signed), at the end of this tick and of the last one.
-    spindle: (f64, f64),
+    /// Spindle position, rev (signed), at the end of the last tick and of this one (None until
+    /// the caller gives one: a kernel made anew mid-run does not see a jump from 0).
+    spindle: Option<(f64, f64)>,
     /// The thread block at the front of the queue, when one is being run.
     thread: Option<ThreadRun>,
     /// A thread just ended here (spindle position, direction): a thread right after it goes on
@@ -115,7 +116,7 @@ impl Kernel {
             abort: false,
             stop_after: None,
             replan: false,
-            spindle: (0.0, 0.0),
+            spindle: None,
             thread: None,
             thread_chain: None,
             emergency: None,
@@ -451,7 +452,8 @@ impl Kernel {
     /// pulse at every whole revolution) at the end of the coming tick: G33 threads follow it.
     pub fn set_spindle_position(&mut self, rev: f64) {
         if rev.is_finite() {
-            self.spindle.1 = rev;
+            let prev = self.spindle.map_or(rev, |s| s.0);
+            self.spindle = Some((prev, rev));
         }
     }
 
@@ -621,7 +623,12 @@ impl Kernel {
     /// does not start); an abort stops it along the path within the limits.
     fn thread_step(&mut self, per_rev: f64, angle: f64, left: &mut f64) -> bool {
         let dt = self.cfg.tick_s;
-        let (prev, cur) = self.spindle;
+        let Some((prev, cur)) = self.spindle else {
+            // No spindle position yet: the thread waits.
+            self.thread = Some(ThreadRun::Waiting);
+            self.v = 0.0;
+            return false;
+        };
         let from = prev + (1.0 - *left / dt) * (cur - prev);
         let Some(len) = self.q.front().map(|p| p.seg.len) else {
             return false;
@@ -826,7 +833,9 @@ impl Kernel {
         self.out.tag = tag;
         self.out.feed_mm_min = v * 60.0;
         self.out.held = self.hold && v == 0.0;
-        self.spindle.0 = self.spindle.1;
+        if let Some(s) = self.spindle.as_mut() {
+            s.0 = s.1;
+        }
         &self.out
     }
 }

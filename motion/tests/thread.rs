@@ -299,3 +299,24 @@ fn a_thread_the_spindle_makes_too_fast_does_not_start() {
     }
     assert_eq!(k.take_fault(), None);
 }
+
+#[test]
+fn a_kernel_made_mid_run_takes_the_first_spindle_position_as_it_stands() {
+    // The cnc makes a kernel anew at homing or a handwheel move; the spindle has turned 500.25
+    // rev by then: the thread waits for 501, it does not take the 500 revolutions as turned.
+    let mut k = Kernel::new(lathe(), &[10.0, 5.0]).expect("config");
+    k.push(thread(1, 10.0, -9.0, 0.0)).expect("thread");
+    let mut spin = 500.25;
+    for _ in 0..12 {
+        k.set_spindle_position(spin);
+        k.tick();
+        assert_eq!(k.position(), &[10.0, 5.0]);
+        spin += 0.0625;
+    }
+    // Tick 13 ends at 501.0 (the index), tick 14 at 501.0625.
+    k.set_spindle_position(501.0);
+    k.tick();
+    k.set_spindle_position(501.0625);
+    k.tick();
+    assert_eq!(k.position(), &[10.0, 5.0 - 1.5 * 0.0625]);
+}
