@@ -27,56 +27,56 @@ pub struct Tick {
 
 /// The piece being executed: its profile from `s0` on.
 #[derive(Debug, Clone)]
-struct Exec {
-    prof: Profile,
-    t: f64,
-    s0: f64,
+pub(crate) struct Exec {
+    pub(crate) prof: Profile,
+    pub(crate) t: f64,
+    pub(crate) s0: f64,
 }
 
 /// The motion kernel of one process.
 #[derive(Debug, Clone)]
 pub struct Kernel {
-    cfg: Config,
-    law: Law,
-    q: VecDeque<Piece>,
-    moves: usize,
-    end: Vector,
-    exec: Option<Exec>,
-    v: f64,
-    pos: Vector,
-    feed_pct: u16,
-    rapid_pct: u16,
-    hold: bool,
-    abort: bool,
-    stop_after: Option<u64>,
-    replan: bool,
+    pub(crate) cfg: Config,
+    pub(crate) law: Law,
+    pub(crate) q: VecDeque<Piece>,
+    pub(crate) moves: usize,
+    pub(crate) end: Vector,
+    pub(crate) exec: Option<Exec>,
+    pub(crate) v: f64,
+    pub(crate) pos: Vector,
+    pub(crate) feed_pct: u16,
+    pub(crate) rapid_pct: u16,
+    pub(crate) hold: bool,
+    pub(crate) abort: bool,
+    pub(crate) stop_after: Option<u64>,
+    pub(crate) replan: bool,
     /// Spindle position, rev (signed), at the end of the last tick and of this one (None until
     /// the caller gives one: a kernel made anew mid-run does not see a jump from 0).
-    spindle: Option<(f64, f64)>,
+    pub(crate) spindle: Option<(f64, f64)>,
     /// The thread block at the front of the queue, when one is being run.
-    thread: Option<ThreadRun>,
+    pub(crate) thread: Option<ThreadRun>,
     /// A thread just ended here (spindle position, direction): a thread right after it goes on
     /// locked without waiting for the index.
-    thread_chain: Option<(f64, f64)>,
+    pub(crate) thread_chain: Option<(f64, f64)>,
     /// An emergency stop's per-axis deceleration (AFC, mm/s²; None: the axis's own limit).
-    emergency: Option<Vec<Option<f64>>>,
+    pub(crate) emergency: Option<Vec<Option<f64>>>,
     /// A fault for the caller ([`Kernel::take_fault`]).
-    fault: Option<MotionError>,
-    out: Tick,
+    pub(crate) fault: Option<MotionError>,
+    pub(crate) out: Tick,
     /// The lowest queue index whose geometry changed since the last backward pass (None: the
     /// end speeds are those of the current queue).
-    dirty_from: Option<usize>,
+    pub(crate) dirty_from: Option<usize>,
     /// Leading pieces whose end speeds no append can change (see [`plan::settled`]).
-    final_to: usize,
+    pub(crate) final_to: usize,
     /// Some axis has a soft limit (else the path's bounds are not computed).
-    soft: bool,
+    pub(crate) soft: bool,
     /// Arc ceilings raised by an override change: (queue index, old cap, old acceleration).
-    undo: Vec<(usize, f64, f64)>,
+    pub(crate) undo: Vec<(usize, f64, f64)>,
     /// Programmed units → slide mm per axis (0.5 for a diameter axis); the kernel plans and
     /// interpolates in slide mm, and takes and reports positions in programmed units.
-    scale: Vec<f64>,
+    pub(crate) scale: Vec<f64>,
     /// Some axis has a factor other than 1.
-    scaled: bool,
+    pub(crate) scaled: bool,
 }
 
 impl Kernel {
@@ -448,15 +448,6 @@ impl Kernel {
         self.law
     }
 
-    /// The spindle's position (revolutions, signed, integrated from its actual speed; an index
-    /// pulse at every whole revolution) at the end of the coming tick: G33 threads follow it.
-    pub fn set_spindle_position(&mut self, rev: f64) {
-        if rev.is_finite() {
-            let prev = self.spindle.map_or(rev, |s| s.0);
-            self.spindle = Some((prev, rev));
-        }
-    }
-
     /// Stop at the end of the block being executed and hold there (release with `set_hold(false)`).
     pub fn stop_at_block_end(&mut self) {
         let Some(tag) = self.q.front().map(|p| p.tag) else {
@@ -491,49 +482,6 @@ impl Kernel {
         self.replan = self.exec.is_some();
     }
 
-    /// The emergency stop on a hardware limit switch (AXCFIL `AFC`): an abort whose stop
-    /// decelerates each axis at `decel` (mm/s² of the slide, Config order; None: the axis's
-    /// acceleration limit, MAN or RAP) under the linear law, at once (no wait for zero
-    /// acceleration).
-    pub fn emergency_stop(&mut self, decel: &[Option<f64>]) {
-        self.emergency = Some(decel.to_vec());
-        self.abort();
-    }
-
-    /// The path dynamics of a stop of piece `p`: under an emergency stop the AFC decelerations
-    /// over the axes' shares of the direction, else the piece's own.
-    fn stop_dyn(&self, p: &Piece) -> crate::profile::Dyn {
-        let Some(decel) = self.emergency.as_ref().filter(|_| self.abort) else {
-            return p.dynm;
-        };
-        let mut a = f64::INFINITY;
-        for (i, share) in p.axis[0].iter().enumerate() {
-            if *share > 0.0 {
-                let Some(ax) = self.cfg.axes.get(i) else {
-                    continue;
-                };
-                let own = if p.motion == Motion::Rapid {
-                    ax.a_rapid
-                } else {
-                    ax.a_max
-                };
-                let ai = decel.get(i).copied().flatten().unwrap_or(own);
-                a = a.min(ai / share);
-            }
-        }
-        crate::profile::Dyn {
-            law: Law::Linear,
-            a: if a.is_finite() && a > 0.0 {
-                a
-            } else {
-                p.dynm.a
-            },
-            j: f64::INFINITY,
-            exp_start: 1.0,
-            exp_end: 1.0,
-        }
-    }
-
     /// Debug view of the first queued pieces and the executing profile (diagnostics).
     pub fn debug_front(&self) -> String {
         format!(
@@ -544,11 +492,6 @@ impl Kernel {
                 .map(|e| (e.t, e.s0, e.prof.duration, e.prof.dist, e.prof.v_end)),
             self.q.iter().take(3).collect::<Vec<_>>()
         )
-    }
-
-    /// A G33 thread at the front waits for the spindle to pass its start angle.
-    pub fn waiting_for_index(&self) -> bool {
-        matches!(self.thread, Some(ThreadRun::Waiting))
     }
 
     /// Current set point.
@@ -566,7 +509,7 @@ impl Kernel {
     }
 
     /// Builds the profile of the front piece from `s0` at speed `v0`.
-    fn profile(&self, s0: f64, v0: f64) -> Profile {
+    pub(crate) fn profile(&self, s0: f64, v0: f64) -> Profile {
         let Some(p) = self.q.front() else {
             return Profile::default();
         };
@@ -599,7 +542,7 @@ impl Kernel {
 
     /// Removes the finished front piece: the position is its end; a block's last piece reports
     /// its DEN (and a stop at its end holds).
-    fn pop_front(&mut self) {
+    pub(crate) fn pop_front(&mut self) {
         let Some(front) = self.q.pop_front() else {
             return;
         };
@@ -614,99 +557,6 @@ impl Kernel {
                 self.stop_after = None;
             }
         }
-    }
-
-    /// Runs the thread block at the front for what is `left` of this tick ([`crate::thread`]):
-    /// waits for the spindle to pass the start angle, then follows the spindle position. True
-    /// when the thread ended within the tick (`left` is then what remains after its end). A feed
-    /// hold does not stop a thread: it takes effect at the thread's end (the block after it
-    /// does not start); an abort stops it along the path within the limits.
-    fn thread_step(&mut self, per_rev: f64, angle: f64, left: &mut f64) -> bool {
-        let dt = self.cfg.tick_s;
-        let Some((prev, cur)) = self.spindle else {
-            // No spindle position yet: the thread waits.
-            self.thread = Some(ThreadRun::Waiting);
-            self.v = 0.0;
-            return false;
-        };
-        let from = prev + (1.0 - *left / dt) * (cur - prev);
-        let Some(len) = self.q.front().map(|p| p.seg.len) else {
-            return false;
-        };
-        let run = match (self.thread.take(), self.thread_chain.take()) {
-            (Some(r), _) => r,
-            (None, Some((origin, dir))) => ThreadRun::Cutting {
-                origin,
-                dir,
-                s: 0.0,
-            },
-            (None, None) => ThreadRun::Waiting,
-        };
-        let (origin, dir) = match run {
-            ThreadRun::Cutting { origin, dir, .. } => (origin, dir),
-            ThreadRun::Waiting => match thread::crossing(from, cur, angle) {
-                Some(c) if !self.thread_too_fast(per_rev, (cur - prev).abs() / dt) => c,
-                _ => {
-                    self.thread = Some(ThreadRun::Waiting);
-                    self.v = 0.0;
-                    return false;
-                }
-            },
-        };
-        let s = per_rev * dir * (cur - origin);
-        if s < len - 1e-9 * (1.0 + len) {
-            let s = s.max(0.0);
-            self.v = per_rev * (cur - prev).abs() / dt;
-            if self.abort {
-                // From here on an ordinary stop along the path (the abort clears the queue).
-                self.exec = Some(Exec {
-                    prof: self.profile(s, self.v),
-                    t: 0.0,
-                    s0: s,
-                });
-            } else {
-                self.thread = Some(ThreadRun::Cutting { origin, dir, s });
-            }
-            return false;
-        }
-        // The thread ends within this tick, where the spindle stands at `end`.
-        let end = origin + dir * len / per_rev;
-        let f = thread::tick_fraction(prev, cur, end);
-        *left = (dt * (1.0 - f)).min(*left);
-        self.pop_front();
-        if let Some(Motion::Thread { .. }) = self.q.front().map(|p| p.motion) {
-            self.thread_chain = Some((end, dir));
-        } else {
-            self.v = 0.0;
-        }
-        true
-    }
-
-    /// At the start of a thread: true (and the fault recorded) when the spindle's actual speed
-    /// (rev/s; raised by its override, say, since the block was queued) would take the path
-    /// faster than the axes allow; the thread then does not start.
-    fn thread_too_fast(&mut self, per_rev: f64, rev_s: f64) -> bool {
-        let Some(p) = self.q.front() else {
-            return false;
-        };
-        let need = per_rev * rev_s;
-        if need <= p.v_hard * (1.0 + 1e-6) {
-            return false;
-        }
-        if self.fault.is_none() {
-            self.fault = Some(MotionError::ThreadTooFast {
-                tag: p.tag,
-                need: need * 60.0,
-                limit: p.v_hard * 60.0,
-            });
-        }
-        true
-    }
-
-    /// The fault that keeps the kernel from going on (a thread the spindle's actual speed makes
-    /// too fast), once; the caller aborts.
-    pub fn take_fault(&mut self) -> Option<MotionError> {
-        self.fault.take()
     }
 
     /// Advances one interpolation tick and returns its set points.

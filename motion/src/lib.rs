@@ -43,6 +43,7 @@
 
 pub mod bound;
 pub mod config;
+mod emergency;
 pub mod geom;
 pub mod kernel;
 pub mod monitor;
