@@ -176,12 +176,8 @@ fn a_block_beyond_lo1_is_refused_and_zone2_selects_lo2() {
     );
 }
 
-/// The lathe's Z has MFC = I0A12 (+), I0A13 (−); the simulated machine presses the − switch from
-/// Z = −50 mm down (inside LO1, so the soft limit does not refuse the block first). A rapid to
-/// Z−100 runs onto it: the kernel stops every motion with a stopping alarm naming the input,
-/// short of the programmed end, and the recording replays identically.
-#[test]
-fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
+/// A copy of the lathe whose simulated Z has its + switch at 8 mm and its − switch at −50 mm.
+fn lathe_with_z_switches() -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("tempdir");
     copy_dir(&root().join("plc-programs/lathe"), dir.path());
     let sim = dir.path().join("sim.toml");
@@ -191,6 +187,16 @@ fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
         text + "\n[[axis]]\nname = \"Z\"\nlimit_pos = 8.0\nlimit_neg = -50.0\n",
     )
     .expect("write");
+    dir
+}
+
+/// The lathe's Z has MFC = I0A12 (+), I0A13 (−); the simulated machine presses the − switch from
+/// Z = −50 mm down (inside LO1, so the soft limit does not refuse the block first). A rapid to
+/// Z−100 runs onto it: the kernel stops every motion with a stopping alarm naming the input,
+/// short of the programmed end, and the recording replays identically.
+#[test]
+fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
+    let dir = lathe_with_z_switches();
     let traj = dir.path().join("mfc.traj");
     let rec = dir.path().join("mfc.jsonl");
     let out = ncplc(&[
@@ -236,15 +242,7 @@ fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
 /// would take 200²/(2·784) = 25.5 mm at 98 % of RAP).
 #[test]
 fn the_limit_switch_stop_uses_the_afc_emergency_deceleration() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    copy_dir(&root().join("plc-programs/lathe"), dir.path());
-    let sim = dir.path().join("sim.toml");
-    let text = std::fs::read_to_string(&sim).expect("sim.toml");
-    std::fs::write(
-        &sim,
-        text + "\n[[axis]]\nname = \"Z\"\nlimit_pos = 8.0\nlimit_neg = -50.0\n",
-    )
-    .expect("write");
+    let dir = lathe_with_z_switches();
     let traj = dir.path().join("afc.traj");
     let out = ncplc(&[
         "run",

@@ -326,12 +326,9 @@ fn mdi_starts_where_the_axes_stand() {
     );
 }
 
-/// The bundled Fanuc lathe program O1000 runs end to end on the bundled lathe: G54 of TAB0.POS
-/// puts the part zero at machine X−150 (diameter) Z−300, so the first pass N50 (block 3) feeds
-/// along Z at X44 → machine X−106 at F150 (0.005 mm per 2 ms tick), and N170 ends at X100 Z50 →
-/// machine X−50 Z−250.
-#[test]
-fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
+/// `program` of the bundled lathe to its end in virtual time: the run's output and its
+/// trajectory (`--trajectory`, JSON Lines).
+fn bundled_lathe_run(program: &str) -> (Output, String) {
     let machine = root().join("plc-programs/lathe");
     let dir = tempfile::tempdir().expect("tempdir");
     let path = dir.path().join("traj.jsonl");
@@ -341,11 +338,22 @@ fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
         "--virtual-time".as_ref(),
         "--no-watch".as_ref(),
         "--program".as_ref(),
-        "O1000.nc".as_ref(),
+        program.as_ref(),
         "--until-end".as_ref(),
         "--trajectory".as_ref(),
         path.as_os_str(),
     ]);
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    (out, text)
+}
+
+/// The bundled Fanuc lathe program O1000 runs end to end on the bundled lathe: G54 of TAB0.POS
+/// puts the part zero at machine X−150 (diameter) Z−300, so the first pass N50 (block 3) feeds
+/// along Z at X44 → machine X−106 at F150 (0.005 mm per 2 ms tick), and N170 ends at X100 Z50 →
+/// machine X−50 Z−250.
+#[test]
+fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
+    let (out, text) = bundled_lathe_run("O1000.nc");
     let stdout = String::from_utf8_lossy(&out.stdout);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
@@ -356,7 +364,6 @@ fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
         stdout.contains("process 1: 19 blocks; handshakes M 5 S 1 T 0;"),
         "{stdout}"
     );
-    let text = std::fs::read_to_string(&path).expect("trajectory");
     let last = text.lines().last().expect("lines");
     assert!(last.contains(r#""p":[-50,-250],"block":null"#), "{last}");
     let pass: Vec<serde_json::Value> = text
@@ -378,23 +385,9 @@ fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
 /// 0.01 mm per interpolation tick, through interpolation ticks 2000–2500 and beyond.
 #[test]
 fn a_feed_hold_does_not_stop_a_thread_in_a_part_run() {
-    let machine = root().join("plc-programs/lathe");
-    let dir = tempfile::tempdir().expect("tempdir");
-    let path = dir.path().join("traj.jsonl");
-    let out = ncplc(&[
-        "run".as_ref(),
-        machine.as_os_str(),
-        "--virtual-time".as_ref(),
-        "--no-watch".as_ref(),
-        "--program".as_ref(),
-        "THREAD".as_ref(),
-        "--until-end".as_ref(),
-        "--trajectory".as_ref(),
-        path.as_os_str(),
-    ]);
+    let (out, text) = bundled_lathe_run("THREAD");
     assert_eq!(out.status.code(), Some(0));
-    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&path)
-        .expect("trajectory")
+    let lines: Vec<serde_json::Value> = text
         .lines()
         .skip(1)
         .map(|l| serde_json::from_str(l).expect("json"))

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{Cmd, arc, assert_within, line, mill, run};
+use common::{Cmd, Run, arc, assert_within, line, mill, run};
 use motion::{Kernel, Law, MotionError, Move, Path, PtpAxis};
 
 const DT: f64 = 0.001;
@@ -377,6 +377,16 @@ fn emergency_stop_decelerates_at_the_afc_rate() {
     assert!((d - v * v / (2.0 * a)).abs() < 1e-9, "{d} at {v} mm/s");
 }
 
+/// A 200 mm line along X at 100 mm/s under `law`, FEED HOLD before tick 40, released at 2000:
+/// the run and the X set point of every tick.
+fn hold_at_tick_40(law: Law) -> (Run, Vec<f64>) {
+    let moves = [line(1, [200.0, 0.0, 0.0], 6000.0)];
+    let cmds = [(40, Cmd::Hold(true)), (2000, Cmd::Hold(false))];
+    let r = run(&mill(law), &[0.0; 3], &moves, &cmds);
+    let x = r.points.iter().map(|p| p[0]).collect();
+    (r, x)
+}
+
 #[test]
 fn s_law_hold_while_accelerating_ramps_the_acceleration_down_at_once() {
     // S law along X from rest: path jerk j = 0.68 (JERK_TANGENT_LINE) × 22 500 = 15 300 mm/s³,
@@ -386,15 +396,7 @@ fn s_law_hold_while_accelerating_ramps_the_acceleration_down_at_once() {
     // triangular (j·t0² < a²/j): 2·t0 s, j·t0³. At rest after 4·t0 = 160 ticks, at X = 2·j·t0³
     // = 1.9584 mm. (Before, the replan waited for the end of the acceleration to 100 mm/s:
     // at rest after 323 ticks at X 16.169 mm.)
-    let cfg = mill(Law::SCurve);
-    let moves = [line(1, [200.0, 0.0, 0.0], 6000.0)];
-    let r = run(
-        &cfg,
-        &[0.0; 3],
-        &moves,
-        &[(40, Cmd::Hold(true)), (2000, Cmd::Hold(false))],
-    );
-    let x: Vec<f64> = r.points.iter().map(|p| p[0]).collect();
+    let (r, x) = hold_at_tick_40(Law::SCurve);
     let (j, t0) = (0.68 * 22_500.0, 0.04);
     assert!((x[159] - 2.0 * j * t0 * t0 * t0).abs() < 1e-9, "{}", x[159]);
     assert!(x[158] < x[159]);
@@ -411,15 +413,8 @@ fn exponential_law_hold_while_accelerating_replans_at_once() {
     // change) and the stop is one change from v(t0) to 0 (acceleration −a·e^{−kt}). At rest
     // after 40 + 21.49 ticks at X = 0.311697 mm (before, the replan waited for the end of the
     // acceleration: at rest after 377 ticks at X 14.637 mm).
+    let (r, x) = hold_at_tick_40(Law::Exponential);
     let cfg = mill(Law::Exponential);
-    let moves = [line(1, [200.0, 0.0, 0.0], 6000.0)];
-    let r = run(
-        &cfg,
-        &[0.0; 3],
-        &moves,
-        &[(40, Cmd::Hold(true)), (2000, Cmd::Hold(false))],
-    );
-    let x: Vec<f64> = r.points.iter().map(|p| p[0]).collect();
     let (a, ln4, t0) = (980.0f64, 4.0f64.ln(), 0.04);
     let k1 = ln4 / (4.0 * 100.0 * ln4 / (3.0 * a));
     let x0 = a / 4.0 * ((k1 * t0).exp_m1() - k1 * t0) / (k1 * k1);

@@ -4,33 +4,17 @@
 //! The spindle positions fed in are multiples of 1/16 revolution, so every expected coordinate
 //! below (lead 1.5 mm × revolutions) is exact in binary.
 
-use motion::{AccParams, AxisLimits, Config, Kernel, Law, MotionError, Move, Path};
+use motion::{Config, Kernel, MotionError, Move, Path};
 
-fn axis(name: char) -> AxisLimits {
-    AxisLimits {
-        name,
-        v_max: 100.0,
-        a_max: 1000.0,
-        j_max: None,
-        v_rapid: 100.0,
-        a_rapid: 1000.0,
-        j_rapid: None,
-        soft_min: None,
-        soft_max: None,
-        diameter: false,
-    }
-}
-
-/// A two-axis lathe (X, Z; radius programming), 2 ms tick.
+/// A two-axis lathe (X, Z; radius programming) with the benchmark mill's axes (100 mm/s, 1000
+/// mm/s²), 2 ms tick.
 fn lathe() -> Config {
-    Config {
-        axes: vec![axis('X'), axis('Z')],
-        tick_s: 0.002,
-        tolerance_mm: 0.01,
-        law: Law::Linear,
-        window: 16,
-        acc: AccParams::default(),
-    }
+    let mut c = motion::samples::mill();
+    c.axes.truncate(2);
+    c.axes[1].name = 'Z';
+    c.tick_s = 0.002;
+    c.window = 16;
+    c
 }
 
 /// A G33 move to (x, z) with lead 1.5 mm at S 600 (F = 900 mm/min), start angle `deg`.
