@@ -163,17 +163,23 @@ fn benchmark_programs_never_slower_than_linuxcnc() {
     }
 }
 
-#[test]
-fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
-    // Cruising at 100 mm/s along X (line 1 of 2), abort at tick 500: line 1 starts at rest and
-    // ends in a corner blend, so it keeps no kink reserve: the stop takes 10⁴/2000 mm at the full
-    // 1000 mm/s²; the queue is dropped (no DEN), and a new move starts from where the axes stopped.
+/// A kernel 500 ticks into line 1 of two (X 0→100, then Y to 50, blended), cruising at 100 mm/s.
+fn cruising_along_x() -> Kernel {
     let mut k = Kernel::new(mill(Law::Linear), &[0.0; 3]).expect("config");
     k.push(line(1, [100.0, 0.0, 0.0], 6000.0)).expect("push");
     k.push(line(2, [100.0, 50.0, 0.0], 6000.0)).expect("push");
     for _ in 0..500 {
         k.tick();
     }
+    k
+}
+
+#[test]
+fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
+    // Cruising at 100 mm/s along X (line 1 of 2), abort at tick 500: line 1 starts at rest and
+    // ends in a corner blend, so it keeps no kink reserve: the stop takes 10⁴/2000 mm at the full
+    // 1000 mm/s²; the queue is dropped (no DEN), and a new move starts from where the axes stopped.
+    let mut k = cruising_along_x();
     let at = k.position()[0];
     k.abort();
     let mut n = 0;
@@ -342,12 +348,7 @@ fn emergency_stop_decelerates_at_the_afc_rate() {
     // keep their 1000): cruising at 100 mm/s along X it takes 10⁴/(2·5000) = 1 mm instead of the
     // normal abort's 5 mm; along a 45° XY line both axes share the path, so the path deceleration
     // is min(5000, 1000)·√2 and the stop takes 10⁴/(2·1000·√2) mm.
-    let mut k = Kernel::new(mill(Law::Linear), &[0.0; 3]).expect("config");
-    k.push(line(1, [100.0, 0.0, 0.0], 6000.0)).expect("push");
-    k.push(line(2, [100.0, 50.0, 0.0], 6000.0)).expect("push");
-    for _ in 0..500 {
-        k.tick();
-    }
+    let mut k = cruising_along_x();
     let at = k.position()[0];
     k.emergency_stop(&[Some(5000.0), None, None]);
     while !k.is_idle() {
