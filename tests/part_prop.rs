@@ -77,7 +77,7 @@ fn program(ops: &[Op], fanuc: bool) -> String {
                 lines.push(if fanuc {
                     format!("{g} X{nx} Z{nz} R{r} F200")
                 } else {
-                    format!("{g} X{nx} Z{nz} I-{r} K0 F200")
+                    format!("{g} X{nx} Z{nz} I-{r} J0 F200")
                 });
                 (x, z) = (nx, nz);
             }

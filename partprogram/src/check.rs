@@ -66,6 +66,23 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
                 "each address may be written once per block (G and M once per group)",
             ));
         }
+        if matches!(a, 'H' | 'P' | 'K') {
+            let (msg, hint) = if a == 'K' {
+                (
+                    "K has no meaning in MEFI blocks".to_string(),
+                    "circle centres are I (first axis of the plane) and J (second axis)",
+                )
+            } else {
+                (
+                    format!(
+                        "{a}: the auxiliary functions H and P are not output by this controller"
+                    ),
+                    "the interface map has no signal that carries H or P to the PLC; use an M function",
+                )
+            };
+            diags.push(err(codes::NO_MEANING, file, src, w.span, msg, hint));
+            continue;
+        }
         let lit = match w.val {
             Val::Lit(l) => l,
             Val::Expr(_) => continue,
@@ -187,9 +204,7 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
             'D' => {
                 count_range(0, 99, "D", diags);
             }
-            'H' | 'P' => {
-                count_range(1, 99, a.to_string().as_str(), diags);
-            }
+
             '&' => {
                 let c = m.length_method == crate::machine::LengthMethod::C;
                 if let Some(v) = count_range(

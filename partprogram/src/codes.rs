@@ -128,9 +128,12 @@ pub const RUN_COMP_RULE: u32 = 2511;
 pub const RUN_GOUGE: u32 = 2512;
 /// Run time: G14/G15/G16 (also computed through `GR<n>`) name an axis the process does not have.
 pub const RUN_PLANE_AXIS: u32 = 2513;
-/// Run time (Fanuc/HAAS): a word the block does not execute in the current modal state (no silent
-/// word), located at the word.
+/// Run time (both dialects): a word the block does not execute in the current modal state (no
+/// silent word), located at the word.
 pub const RUN_BAD_WORD: u32 = 2530;
+/// MEFI: an address that means nothing in any block of this controller (K, and the H/P auxiliary
+/// functions, which no interface signal carries to the PLC).
+pub const NO_MEANING: u32 = 2038;
 /// Fanuc Macro B: `WHILE … DO m` / `END m` that do not pair (missing, overlapping, reused number,
 /// nested deeper than 3).
 pub const MACRO_NESTING: u32 = 2037;

@@ -8,6 +8,7 @@
 mod block;
 mod comp;
 mod flow;
+mod words;
 
 use crate::arith::{ArithError, ArithState, NPARAM};
 use crate::canon::{Canon, Kind, MFunc, Plane};

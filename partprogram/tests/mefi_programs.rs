@@ -610,3 +610,50 @@ fn lathe_g82_facing_roughing_first_cuts() {
         &[(Kind::Linear, 100.0, -4.0), (Kind::Linear, 60.0, -4.0)]
     );
 }
+
+/// The error of planning `src` on the MEFI mill: (code, the text of the located word).
+fn refused(src: &str) -> (u32, String) {
+    let (p, diags) = partprogram::compile(&mill(), "t", src);
+    if let Some(d) = diags.iter().find(|d| d.code == 2038) {
+        return (d.code, src[d.span.clone()].to_string());
+    }
+    assert!(diags.is_empty(), "{diags:#?}");
+    let Err((_, d)) = partprogram::plan(&p.expect("compiled"), PlanOptions::default()) else {
+        panic!("planned: {src}")
+    };
+    (d.code, src[d.span.clone()].to_string())
+}
+
+#[test]
+fn no_word_is_silently_ignored() {
+    // Words a linear move would drop: refused at the word (2530 at run time, K H P at check time).
+    for (word, code) in [
+        ("I5", 2530),
+        ("J5", 2530),
+        ("L5", 2530),
+        ("Q5", 2530),
+        ("E5.0", 2530),
+        ("K5", 2038),
+        ("H5", 2038),
+        ("P5", 2038),
+        ("HR3", 2038),
+    ] {
+        let src = format!("%1\nN1 G01 X10 Y0 F100 {word}\nN2 M30\n");
+        assert_eq!(refused(&src), (code, word.to_string()), "{word}");
+    }
+    // The same I/J mean the centre of an arc, and a modal G02 keeps them meaningful...
+    let p = run(
+        &mill(),
+        "%1\nN1 G02 X10 Y0 I5 J0 F100\nN2 X0 Y0 I-5 J0\nN3 M30\n",
+        PlanOptions::default(),
+    );
+    assert_eq!(p.blocks[1].kind, partprogram::Kind::ArcCw);
+    assert_eq!(end(&p.blocks[1], 'X'), 0.0);
+    // (a lone centre word under a modal G02 is a full circle), but not under a modal G01, nor in
+    // a G04 dwell, whose time is Q.
+    assert_eq!(
+        refused("%1\nN1 G01 X10 Y0 F100\nN2 I1\nN3 M30\n"),
+        (2530, "I1".into())
+    );
+    assert_eq!(refused("%1\nN1 G04 Q50 L2\nN2 M30\n"), (2530, "L2".into()));
+}

@@ -255,6 +255,20 @@ impl Exec<'_> {
         mfuncs.sort_by_key(|m| !m.before);
         // 6. Tables, transformations, motion.
         let any_axis = axes.iter().any(Option::is_some);
+        // The branch below that interpolates a path, decided here so that a word the block
+        // would ignore stops the plan before the block is emitted.
+        let interpolated = !(g92 || g93 || lift || g30 || transform.is_some())
+            && (any_axis
+                || (matches!(self.modal.motion, 2 | 3) && ijk.iter().any(Option::is_some)));
+        super::words::check(
+            b,
+            &super::words::Done {
+                motion: self.modal.motion,
+                interpolated,
+                dwell,
+                flow,
+            },
+        )?;
         if self.modal.feed_mode == 97 && any_axis && matches!(self.modal.motion, 1..=3) {
             // The feed in mm/min would follow the spindle speed every tick; the planner's feed is
             // fixed per block.

@@ -152,6 +152,10 @@ fn classify(prog: &Program, bi: usize) -> Option<PBlock> {
             _ => return None,
         }
     }
+    // L or Q without a jump means nothing: the interpreter refuses the block (2530).
+    if g7.is_none() && (l.is_some() || q.is_some()) {
+        return None;
+    }
     let arith = match arith {
         Some(g) if i64::from(b.arith_ops) == g - 25 => Some((g, super::static_words(prog, bi)?)),
         Some(_) => return None,
