@@ -36,8 +36,13 @@ pub enum Motion {
     Rapid,
     /// Feed move at the programmed feed × feed override.
     Feed,
-    /// G33: speed locked to the spindle (pitch × rev/s), no override, no blending.
-    Thread,
+    /// G33: position locked to the spindle ([`crate::thread`]), no override, no blending.
+    Thread {
+        /// Path advance per spindle revolution, mm.
+        per_rev: f64,
+        /// Start angle after the index pulse, fraction of a revolution in [0, 1).
+        angle: f64,
+    },
     /// Dwell at rest, s.
     Dwell(f64),
 }
@@ -363,7 +368,7 @@ fn cap_at(p: &Piece, v_hard: f64, feed_pct: u16, rapid_pct: u16) -> f64 {
     match p.motion {
         Motion::Rapid => v_hard * f64::from(rapid_pct) / 100.0,
         Motion::Feed => v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
-        Motion::Thread => v_hard.min(p.feed),
+        Motion::Thread { .. } => v_hard.min(p.feed),
         Motion::Dwell(_) => 0.0,
     }
 }

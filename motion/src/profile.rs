@@ -362,6 +362,26 @@ impl Profile {
         p
     }
 
+    /// The S law's bridge out of an acceleration `a0` > 0 at speed `v0`: the acceleration falls
+    /// to 0 at the jerk limit (a0/j s, +a0²/2j mm/s); a profile built from its end state is
+    /// then [`Profile::append`]ed. None when the law has no jerk limit or `a0` ≤ 0.
+    pub fn bridge(d: &Dyn, v0: f64, a0: f64) -> Option<Profile> {
+        if !(matches!(d.law, Law::SCurve) && d.j.is_finite() && d.j > 0.0 && a0 > 0.0) {
+            return None;
+        }
+        let mut p = Profile::start(v0);
+        p.push(a0 / d.j, Kind::Poly { a0, j: -d.j });
+        Some(p)
+    }
+
+    /// Appends `next` (which starts at this profile's end speed and zero acceleration).
+    pub fn append(&mut self, next: &Profile) {
+        for ph in &next.phases[..next.n] {
+            self.push(ph.dur, ph.kind);
+        }
+        self.v_end = next.v_end;
+    }
+
     /// A stop as early as the law allows: slow from `v0` to 0, or to the lowest speed reachable
     /// within `len`.
     pub fn stop(d: &Dyn, len: f64, v0: f64) -> Profile {

@@ -57,6 +57,7 @@ fn mv(tag: u64, path: Path, end: [f64; 3], f: f64) -> Move {
         exact_stop: false,
         tolerance: None,
         thread_pitch: None,
+        thread_angle: 0.0,
     }
 }
 

@@ -330,6 +330,7 @@ impl Ex<'_> {
             t: self.t,
             dwell,
             thread: false,
+            thread_angle: 0.0,
             exact_stop: self.exact_modal || self.exact_once,
             tolerance: self.tolerance,
             css: self.css(),
