@@ -6,6 +6,7 @@
 //! A drive's following error in steady motion is v / KV (10 000 mm/min at KV 20: 8.3 mm), which
 //! is what SRV's "without feed-forward" limit is set against.
 
+use detmath::Det as _;
 use packets::Signal;
 
 /// The plant's wiring to packet A (from `sim.toml`): the spindle drive's at-speed and zero-speed
@@ -113,7 +114,7 @@ impl Drive {
         }
         self.command = command;
         self.dt = dt;
-        let k = 1.0 - (-self.kv * dt).exp();
+        let k = 1.0 - (-self.kv * dt).dexp();
         self.actual += (command - self.actual) * k;
     }
 
@@ -202,7 +203,7 @@ mod tests {
         for _ in 0..25 {
             d.tick(10.0, 0.002);
         }
-        assert!((d.error() - 10.0 * (-1.0f64).exp()).abs() < 1e-9);
+        assert!((d.error() - 10.0 * (-1.0f64).dexp()).abs() < 1e-9);
     }
 
     #[test]

@@ -7,6 +7,7 @@
 //! reachability function as the forward one.
 
 use crate::config::Law;
+use detmath::Det as _;
 
 /// The path dynamics of one segment under one law.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,7 +45,7 @@ impl Dyn {
             }
             Law::Exponential if !self.exp_flat() => {
                 let (a0, a1) = (self.a * self.exp_start, self.a * self.exp_end);
-                dv * (a1 / a0).ln() / (a1 - a0)
+                dv * (a1 / a0).dln() / (a1 - a0)
             }
             _ => dv / self.a,
         }
@@ -55,7 +56,7 @@ impl Dyn {
         match self.law {
             Law::Exponential if !self.exp_flat() => {
                 let rho = self.exp_end / self.exp_start;
-                1.0 / rho.ln() - 1.0 / (rho - 1.0)
+                1.0 / rho.dln() - 1.0 / (rho - 1.0)
             }
             _ => 0.5,
         }
@@ -141,7 +142,7 @@ impl Phase {
                 a0 + j * t,
             ),
             Kind::Exp { a0, k } => {
-                let e = (k * t).exp_m1();
+                let e = (k * t).dexp_m1();
                 (
                     self.x0 + self.v0 * t + a0 * (e / k - t) / k,
                     self.v0 + a0 * e / k,
@@ -288,7 +289,7 @@ impl Profile {
             Law::Exponential if !d.exp_flat() => {
                 let t = d.change_time(dv);
                 let (a0, a1) = (d.a * d.exp_start, d.a * d.exp_end);
-                let k = (a1 / a0).ln() / t;
+                let k = (a1 / a0).dln() / t;
                 if sg > 0.0 {
                     self.push(t, Kind::Exp { a0, k });
                 } else {

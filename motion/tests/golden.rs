@@ -1,6 +1,7 @@
 //! Closed-form profiles: a lone line under the three laws, a full circle at the centripetal
 //! limit, the feed-hold stop distance, arc soft limits and a point-to-point move.
 
+use detmath::Det as _;
 mod common;
 
 use common::{Cmd, Run, arc, assert_within, line, mill, run};
@@ -58,8 +59,8 @@ fn lone_line_exponential_time() {
         &[line(1, [100.0, 0.0, 0.0], 3000.0)],
         &[],
     );
-    let tc = 50.0 * 4.0f64.ln() / 735.0;
-    let c = 1.0 / 4.0f64.ln() - 1.0 / 3.0;
+    let tc = 50.0 * 4.0f64.dln() / 735.0;
+    let c = 1.0 / 4.0f64.dln() - 1.0 / 3.0;
     assert_eq!(r.points.len(), ticks(2.0 + 2.0 * tc * (1.0 - c))); // 2115
     assert_eq!(r.points.last(), Some(&vec![100.0, 0.0, 0.0]));
     assert_within(&r.report, 0.01);
@@ -271,12 +272,12 @@ fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
     // is the same as without it (tick for tick; the replan from mid-arc rounds differently).
     let scale = 0.3990946132440193f64;
     let c = [5.949679714521503 * scale, 5.751928022042237 * scale];
-    let r0 = c[0].hypot(c[1]);
-    let a0 = (-c[1]).atan2(-c[0]);
+    let r0 = c[0].dhypot(c[1]);
+    let a0 = (-c[1]).datan2(-c[0]);
     let a1 = a0 + 0.3 + 5.0 * scale;
     let m = arc(
         1,
-        [c[0] + r0 * a1.cos(), c[1] + r0 * a1.sin(), 0.0],
+        [c[0] + r0 * a1.dcos(), c[1] + r0 * a1.dsin(), 0.0],
         c,
         false,
         2669.015,
@@ -416,13 +417,13 @@ fn exponential_law_hold_while_accelerating_replans_at_once() {
     // acceleration: at rest after 377 ticks at X 14.637 mm).
     let (r, x) = hold_at_tick_40(Law::Exponential);
     let cfg = mill(Law::Exponential);
-    let (a, ln4, t0) = (980.0f64, 4.0f64.ln(), 0.04);
+    let (a, ln4, t0) = (980.0f64, 4.0f64.dln(), 0.04);
     let k1 = ln4 / (4.0 * 100.0 * ln4 / (3.0 * a));
-    let x0 = a / 4.0 * ((k1 * t0).exp_m1() - k1 * t0) / (k1 * k1);
-    let v0 = a / 4.0 * (k1 * t0).exp_m1() / k1;
+    let x0 = a / 4.0 * ((k1 * t0).dexp_m1() - k1 * t0) / (k1 * k1);
+    let v0 = a / 4.0 * (k1 * t0).dexp_m1() / k1;
     let t2 = 4.0 * v0 * ln4 / (3.0 * a);
     let k2 = ln4 / t2;
-    let stop = v0 * t2 - a * ((-k2 * t2).exp_m1() + k2 * t2) / (k2 * k2);
+    let stop = v0 * t2 - a * ((-k2 * t2).dexp_m1() + k2 * t2) / (k2 * k2);
     assert!((t2 / cfg.tick_s - 21.488).abs() < 1e-3);
     assert!(
         (x[61] - x0 - stop).abs() < 1e-9,

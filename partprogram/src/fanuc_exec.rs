@@ -1,6 +1,7 @@
 //! Executor of the Fanuc/HAAS dialect: modal state, work offsets, canned cycles, circular pockets,
 //! cylinder interpolation G7.1 and M97/M98/M99 calls, emitting the same canonical blocks as MEFI.
 
+use detmath::Det as _;
 mod comp;
 mod cycles;
 pub mod macros;
@@ -842,7 +843,7 @@ impl Ex<'_> {
         let cw = self.motion == 20;
         let c = if let Some(r) = self.dim(b, 'R') {
             let (dx, dy) = (e.0 - s.0, e.1 - s.1);
-            let d = dx.hypot(dy);
+            let d = dx.dhypot(dy);
             if d == 0.0 || d > 2.0 * r.abs() + 1e-6 {
                 return Err(run_err(
                     b,
@@ -863,8 +864,8 @@ impl Ex<'_> {
                 s.0 + self.dim(b, w1).unwrap_or(0.0),
                 s.1 + self.dim(b, w2).unwrap_or(0.0),
             );
-            let r0 = (s.0 - c.0).hypot(s.1 - c.1);
-            let r1 = (e.0 - c.0).hypot(e.1 - c.1);
+            let r0 = (s.0 - c.0).dhypot(s.1 - c.1);
+            let r1 = (e.0 - c.0).dhypot(e.1 - c.1);
             if (r0 - r1).abs() > self.prog.machine.circle_tolerance.max(0.002) {
                 return Err(run_err(
                     b,
