@@ -176,12 +176,8 @@ fn a_block_beyond_lo1_is_refused_and_zone2_selects_lo2() {
     );
 }
 
-/// The lathe's Z has MFC = I0A12 (+), I0A13 (−); the simulated machine presses the − switch from
-/// Z = −50 mm down (inside LO1, so the soft limit does not refuse the block first). A rapid to
-/// Z−100 runs onto it: the kernel stops every motion with a stopping alarm naming the input,
-/// short of the programmed end, and the recording replays identically.
-#[test]
-fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
+/// A copy of the lathe whose simulated Z has its + switch at 8 mm and its − switch at −50 mm.
+fn lathe_with_z_switches() -> tempfile::TempDir {
     let dir = tempfile::tempdir().expect("tempdir");
     copy_dir(&root().join("plc-programs/lathe"), dir.path());
     let sim = dir.path().join("sim.toml");
@@ -191,6 +187,16 @@ fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
         text + "\n[[axis]]\nname = \"Z\"\nlimit_pos = 8.0\nlimit_neg = -50.0\n",
     )
     .expect("write");
+    dir
+}
+
+/// The lathe's Z has MFC = I0A12 (+), I0A13 (−); the simulated machine presses the − switch from
+/// Z = −50 mm down (inside LO1, so the soft limit does not refuse the block first). A rapid to
+/// Z−100 runs onto it: the kernel stops every motion with a stopping alarm naming the input,
+/// short of the programmed end, and the recording replays identically.
+#[test]
+fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
+    let dir = lathe_with_z_switches();
     let traj = dir.path().join("mfc.traj");
     let rec = dir.path().join("mfc.jsonl");
     let out = ncplc(&[
@@ -228,4 +234,53 @@ fn a_move_onto_a_hardware_limit_switch_stops_the_run_with_an_alarm() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+}
+
+/// The stop on the limit switch decelerates Z at its AFC (1500 mm/s² in the lathe's AXCFIL, the
+/// rapid's RAP acceleration is 800): from the rapid's 200 mm/s (RAP 12000 mm/min) the set point
+/// comes to rest 200²/(2·1500) = 13.333 mm after its last tick at full speed (the normal abort
+/// would take 200²/(2·784) = 25.5 mm at 98 % of RAP).
+#[test]
+fn the_limit_switch_stop_uses_the_afc_emergency_deceleration() {
+    let dir = lathe_with_z_switches();
+    let traj = dir.path().join("afc.traj");
+    let out = ncplc(&[
+        "run",
+        s(dir.path()),
+        "--virtual-time",
+        "--no-watch",
+        "--mdi",
+        "N1 G00 Z-100",
+        "--ticks",
+        "100",
+        "--trajectory",
+        s(&traj),
+    ]);
+    assert!(out.status.code().is_some(), "{out:?}");
+    let z: Vec<f64> = std::fs::read_to_string(&traj)
+        .expect("trajectory")
+        .lines()
+        .skip(1)
+        .map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).expect("json");
+            v["p"][1].as_f64().expect("z")
+        })
+        .collect();
+    let dt = 0.002;
+    let v: Vec<f64> = z.windows(2).map(|w| (w[1] - w[0]) / dt).collect();
+    let full = v
+        .iter()
+        .rposition(|x| (x + 200.0).abs() < 1e-3)
+        .expect("full rapid speed");
+    let end = *z.last().expect("set points");
+    assert!(
+        (end - z[full + 1] + 200.0 * 200.0 / 3000.0).abs() < 1e-5,
+        "stopped at {end}, full speed until {}",
+        z[full + 1]
+    );
+    let peak = v
+        .windows(2)
+        .map(|w| (w[1] - w[0]) / dt)
+        .fold(0.0f64, f64::max);
+    assert!((peak - 1500.0).abs() < 1e-3, "deceleration {peak}");
 }

@@ -172,12 +172,14 @@ fn plan_reports_run_time_errors_with_exit_code_1() {
 
 #[test]
 fn fanuc_programs_are_detected_and_planned() {
-    // The NC-110 lathe's IOCFIL does not declare M21 (C axis on), so O1000 fails the check there...
+    // The NC-110 lathe's IOCFIL does not declare M21 (C axis on), so the spec's cylinder
+    // interpolation program (FX20, a partprogram test fixture) fails the check there...
+    let cylinder = "partprogram/tests/fixtures/O1000-cylinder.nc";
     let out = ncplc(&[
         "nc",
         "check",
         "plc-programs/lathe",
-        "O1000.nc",
+        cylinder,
         "--format",
         "json",
     ]);
@@ -196,7 +198,7 @@ fn fanuc_programs_are_detected_and_planned() {
     let iocfil = iocfil.replacen("M30=", "M21=45,00,44\nM30=", 1);
     assert!(iocfil.contains("M21="), "the lathe's IOCFIL declares M30");
     std::fs::write(m.join("MP0/IOCFIL"), iocfil).expect("IOCFIL");
-    let out = ncplc(&["nc", "plan", m.to_str().unwrap_or_default(), "O1000.nc"]);
+    let out = ncplc(&["nc", "plan", m.to_str().unwrap_or_default(), cylinder]);
     assert!(
         out.status.success(),
         "{}",

@@ -236,3 +236,60 @@ fn a_linear_move_without_feed_is_refused_with_its_block() {
         "{err}"
     );
 }
+
+#[test]
+fn thread_waits_for_the_spindle_index_and_advances_one_lead_per_revolution() {
+    // THREAD: N10 M03 S50, N20 rapid to Z−295 (machine frame), N30 G33 Z−388 F6 J12 (a run-out
+    // segment to Z−400 after it). The virtual spindle turns at S50 from tick 2 on: 50/60 rev/s ×
+    // 2 ms = 1/600 rev per tick, at (t − 1)/600 rev after tick t. The rapid ends between the
+    // index pulses of ticks 601 (1 rev) and 1201 (2 rev), so the thread waits for tick 1201 and
+    // then Z advances 6 mm/rev = 0.01 mm per tick, through the run-out too (the lead is along Z).
+    let dir = tempfile::tempdir().expect("tempdir");
+    let traj = dir.path().join("thread.jsonl");
+    let t = traj.to_str().expect("utf-8");
+    let out = ncplc(&[
+        "nc",
+        "run",
+        "plc-programs/lathe",
+        "THREAD",
+        "--trajectory",
+        t,
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let lines: Vec<serde_json::Value> = std::fs::read_to_string(&traj)
+        .expect("trajectory")
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .collect();
+    let tick = |l: &serde_json::Value| l["t"].as_u64().expect("t");
+    let z = |l: &serde_json::Value| l["p"][1].as_f64().expect("z");
+    let reached = lines
+        .iter()
+        .find(|l| l["block"] == 2)
+        .map(tick)
+        .expect("thread");
+    assert!((602..1201).contains(&reached), "reached at {reached}");
+    let cut: Vec<&serde_json::Value> = lines
+        .iter()
+        .filter(|l| (l["block"] == 2 || l["block"] == 3) && z(l) < -295.0)
+        .collect();
+    assert_eq!(tick(cut[0]), 1202);
+    for l in &cut {
+        let want = (-295.0 - 0.01 * (tick(l) - 1201) as f64).max(-400.0);
+        assert!(
+            (z(l) - want).abs() < 1e-6,
+            "tick {}: Z {} want {want}",
+            tick(l),
+            z(l)
+        );
+    }
+    // 105 mm at 0.01 mm per tick: the run-out ends within tick 1201 + 10 500, where the rapid
+    // N50 takes over; the last set point on the thread is Z −399.99 at tick 11 700.
+    assert_eq!(cut.last().map(|l| tick(l)), Some(11_700));
+    let end = lines
+        .iter()
+        .find(|l| tick(l) == 11_701)
+        .expect("tick 11701");
+    assert_eq!(end["block"], 4);
+}

@@ -325,3 +325,114 @@ fn mdi_starts_where_the_axes_stand() {
         Some(r#"{"t":6669,"p":[-12,-0.2],"block":null,"feed":0}"#)
     );
 }
+
+/// `program` of the bundled lathe to its end in virtual time: the run's output and its
+/// trajectory (`--trajectory`, JSON Lines).
+fn bundled_lathe_run(program: &str) -> (Output, String) {
+    let machine = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("traj.jsonl");
+    let out = ncplc(&[
+        "run".as_ref(),
+        machine.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--program".as_ref(),
+        program.as_ref(),
+        "--until-end".as_ref(),
+        "--trajectory".as_ref(),
+        path.as_os_str(),
+    ]);
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    (out, text)
+}
+
+/// The bundled Fanuc lathe program O1000 runs end to end on the bundled lathe: G54 of TAB0.POS
+/// puts the part zero at machine X−150 (diameter) Z−300, so the first pass N50 (block 3) feeds
+/// along Z at X44 → machine X−106 at F150 (0.005 mm per 2 ms tick), and N170 ends at X100 Z50 →
+/// machine X−50 Z−250.
+#[test]
+fn the_lathe_runs_the_fanuc_program_o1000_to_m30() {
+    let (out, text) = bundled_lathe_run("O1000.nc");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{stdout}{stderr}");
+    assert!(stdout.contains("part O1000.nc (crc32 "), "{stdout}");
+    assert!(stdout.contains("): 19 canonical blocks\n"), "{stdout}");
+    assert!(stdout.contains(", ended\n"), "{stdout}");
+    assert!(
+        stdout.contains("process 1: 19 blocks; handshakes M 5 S 1 T 0;"),
+        "{stdout}"
+    );
+    let last = text.lines().last().expect("lines");
+    assert!(last.contains(r#""p":[-50,-250],"block":null"#), "{last}");
+    let pass: Vec<serde_json::Value> = text
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .filter(|v: &serde_json::Value| v["block"] == 3)
+        .collect();
+    // 42 mm at 150 mm/min: 16.8 s, more than 8000 ticks at F150 on the X−106 line.
+    let cruise: Vec<&serde_json::Value> = pass.iter().filter(|v| v["feed"] == 150).collect();
+    assert!(cruise.len() > 8000, "{}", cruise.len());
+    // (Its end blends into N60 within the 0.01 mm tolerance: the cruise stays on the line.)
+    assert!(cruise.iter().all(|v| v["p"][0] == -106));
+}
+
+/// The lathe's sim.toml presses FEED HOLD at logic tick 400 and CYCLE START at 500 (for PART1's
+/// second pass). In THREAD that falls inside the G33 pass (N30, block 2): the hold is deferred
+/// to the thread's end, so Z keeps following the spindle, lead 6 mm × 50/60 rev/s × 2 ms =
+/// 0.01 mm per interpolation tick, through interpolation ticks 2000–2500 and beyond.
+#[test]
+fn a_feed_hold_does_not_stop_a_thread_in_a_part_run() {
+    let (out, text) = bundled_lathe_run("THREAD");
+    assert_eq!(out.status.code(), Some(0));
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .skip(1)
+        .map(|l| serde_json::from_str(l).expect("json"))
+        .collect();
+    for t in 1950..2700 {
+        assert_eq!(lines[t]["block"], 2, "tick {t}");
+        let dz =
+            lines[t + 1]["p"][1].as_f64().unwrap_or(0.0) - lines[t]["p"][1].as_f64().unwrap_or(0.0);
+        assert!((dz + 0.01).abs() < 1e-6, "tick {t}: Z moved {dz}");
+    }
+}
+
+/// A G33 thread waits for the spindle's index pulse: with the spindle never started (S without
+/// M03) it would wait for ever, so the kernel stops with an alarm naming the block (exit 1);
+/// after M03 the same thread runs to its end.
+#[test]
+fn a_thread_with_the_spindle_stopped_is_a_located_alarm() {
+    let machine = root().join("plc-programs/lathe");
+    let run = |mdi: &[&str]| {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            "run".as_ref(),
+            machine.as_os_str(),
+            "--virtual-time".as_ref(),
+            "--no-watch".as_ref(),
+            "--ticks".as_ref(),
+            "3000".as_ref(),
+            "--until-end".as_ref(),
+        ];
+        for m in mdi {
+            args.push("--mdi".as_ref());
+            args.push(m.as_ref());
+        }
+        ncplc(&args)
+    };
+    let out = run(&["N1 S100 G33 Z-10 F1.5"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains(
+            "alarm: process 1: G33 thread waits for the spindle's index pulse with the spindle stopped (block 1 (N1))\n"
+        ),
+        "{stdout}"
+    );
+    let out = run(&["N1 S100 M03", "N2 G33 Z-10 F1.5"]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains(", ended\n"), "{stdout}");
+}

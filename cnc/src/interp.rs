@@ -31,10 +31,24 @@ pub trait Interpolator: Send {
     fn set_rapid_override(&mut self, percent: u16);
     /// Feed hold on or off.
     fn set_hold(&mut self, on: bool);
-    /// The actual spindle speed (rev/s) for per-revolution feeds and threads.
-    fn set_spindle_rev_s(&mut self, rev_s: f64);
+    /// The spindle's position (revolutions, signed; an index pulse at every whole revolution) at
+    /// the end of the coming tick: G33 threads are locked to it.
+    fn set_spindle_position(&mut self, rev: f64);
     /// Stops as fast as the limits allow and forgets the queue.
     fn abort(&mut self);
+    /// A fault that stops the process (a thread the spindle's actual speed makes too fast), once.
+    fn take_fault(&mut self) -> Option<String> {
+        None
+    }
+    /// A G33 thread waits at its start for the spindle's index pulse.
+    fn waiting_for_spindle(&self) -> bool {
+        false
+    }
+    /// The stop on a hardware limit switch: an abort with the axes' emergency deceleration
+    /// (AXCFIL `AFC`) where they have one.
+    fn emergency_stop(&mut self) {
+        self.abort();
+    }
     /// One interpolation tick; the set points are then [`Interpolator::position`].
     fn tick(&mut self, out: &mut TickOut);
     /// The set point of every axis (process axis order).
@@ -72,7 +86,7 @@ impl Interpolator for NoMotion {
     fn set_feed_override(&mut self, _: u16) {}
     fn set_rapid_override(&mut self, _: u16) {}
     fn set_hold(&mut self, _: bool) {}
-    fn set_spindle_rev_s(&mut self, _: f64) {}
+    fn set_spindle_position(&mut self, _: f64) {}
     fn abort(&mut self) {}
     fn tick(&mut self, _: &mut TickOut) {}
     fn position(&self) -> &[f64] {

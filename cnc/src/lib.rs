@@ -30,6 +30,7 @@ pub mod signals;
 pub mod spindle;
 pub mod state;
 pub mod status;
+pub mod thread_wait;
 pub mod written;
 pub mod zones;
 

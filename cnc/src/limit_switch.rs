@@ -6,9 +6,9 @@
 //! axis, the direction and the input (every motion aborted, as for an e-stop).
 //!
 //! After RESET the axis may be jogged off the switch (away from it); moving onto it again raises
-//! the alarm again. The stop uses the interpolator's fastest in-limit stop: the AFC emergency
-//! deceleration is not used (documented in docs/sim-toml.md), so the switch must be long enough
-//! for that stop, as 003:2540 asks of a real machine.
+//! the alarm again. The stop decelerates every axis at its AFC emergency deceleration
+//! (characterization-system-axes.md §10.22, 003:2548-2568; an axis without AFC at its own limit),
+//! so the switch must be long enough for that stop, as 003:2540 asks of a real machine.
 
 use crate::process::Process;
 
@@ -67,6 +67,7 @@ impl Process {
         };
         let active = self.alarms().iter().any(|x| x.message.ends_with(&message));
         if !active {
+            self.interp.emergency_stop();
             self.raise(message, true);
         }
     }

@@ -109,6 +109,7 @@ impl Process {
             t: None,
             dwell: None,
             thread: false,
+            thread_angle: 0.0,
             // A point-to-point move of the kernel's own ends at rest.
             exact_stop: true,
             tolerance: None,

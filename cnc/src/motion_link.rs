@@ -10,6 +10,8 @@ use crate::interp::{Interpolator, TickOut};
 pub struct MotionKernel {
     kernel: motion::Kernel,
     axes: Vec<char>,
+    /// AFC of every axis (emergency deceleration on a limit switch, mm/s²), Config order.
+    afc: Vec<Option<f64>>,
 }
 
 impl MotionKernel {
@@ -37,7 +39,15 @@ impl MotionKernel {
             (a.soft_min, a.soft_max) = (None, None);
         }
         let kernel = motion::Kernel::new(mc, start).map_err(|e| format!("motion: {e}"))?;
-        Ok(MotionKernel { kernel, axes })
+        let afc = axcfil
+            .process(u32::from(cfg.number))
+            .map(|p| {
+                axes.iter()
+                    .map(|&a| p.axis(a).and_then(|x| x.afc))
+                    .collect()
+            })
+            .unwrap_or_default();
+        Ok(MotionKernel { kernel, axes, afc })
     }
 }
 
@@ -60,11 +70,20 @@ impl Interpolator for MotionKernel {
     fn set_hold(&mut self, on: bool) {
         self.kernel.set_hold(on);
     }
-    fn set_spindle_rev_s(&mut self, rev_s: f64) {
-        self.kernel.set_spindle_rev_s(rev_s);
+    fn set_spindle_position(&mut self, rev: f64) {
+        self.kernel.set_spindle_position(rev);
     }
     fn abort(&mut self) {
         self.kernel.abort();
+    }
+    fn take_fault(&mut self) -> Option<String> {
+        self.kernel.take_fault().map(|e| e.to_string())
+    }
+    fn waiting_for_spindle(&self) -> bool {
+        self.kernel.waiting_for_index()
+    }
+    fn emergency_stop(&mut self) {
+        self.kernel.emergency_stop(&self.afc);
     }
     fn tick(&mut self, out: &mut TickOut) {
         let t = self.kernel.tick();

@@ -1,10 +1,12 @@
 //! The simulated machine around the controller (the plant): axis drives that follow their set
 //! points as a first-order lag with the position-loop gain KV of GMxx, and a spindle that ramps to
-//! its reference with the acceleration TSM allows.
+//! its reference with the acceleration TSM allows; its encoder's position (revolutions, an index
+//! pulse at every whole one) is integrated from the actual speed every tick, for G33.
 //!
 //! A drive's following error in steady motion is v / KV (10 000 mm/min at KV 20: 8.3 mm), which
 //! is what SRV's "without feed-forward" limit is set against.
 
+use detmath::Det as _;
 use packets::Signal;
 
 /// The plant's wiring to packet A (from `sim.toml`): the spindle drive's at-speed and zero-speed
@@ -112,7 +114,7 @@ impl Drive {
         }
         self.command = command;
         self.dt = dt;
-        let k = 1.0 - (-self.kv * dt).exp();
+        let k = 1.0 - (-self.kv * dt).dexp();
         self.actual += (command - self.actual) * k;
     }
 
@@ -132,12 +134,15 @@ impl Drive {
     }
 }
 
-/// The spindle: speed (rev/min, negative = CCW) ramping to the reference.
+/// The spindle: speed (rev/min, negative = CCW) ramping to the reference, and its position.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spindle {
     accel: f64,
     target: f64,
     actual: f64,
+    /// Encoder position, revolutions (signed) since power-on: the index pulse is at every whole
+    /// revolution.
+    position: f64,
 }
 
 impl Spindle {
@@ -147,6 +152,7 @@ impl Spindle {
             accel,
             target: 0.0,
             actual: 0.0,
+            position: 0.0,
         }
     }
 
@@ -155,11 +161,18 @@ impl Spindle {
         self.target = rpm;
     }
 
-    /// One tick of `dt` seconds.
+    /// One tick of `dt` seconds: the speed ramps, the position advances at the mean speed.
     pub fn tick(&mut self, dt: f64) {
         let step = self.accel * dt;
         let d = self.target - self.actual;
+        let before = self.actual;
         self.actual += d.clamp(-step, step);
+        self.position += (before + self.actual) * 0.5 / 60.0 * dt;
+    }
+
+    /// The encoder position, revolutions (signed; the index pulse at every whole revolution).
+    pub fn position(&self) -> f64 {
+        self.position
     }
 
     /// The actual speed (rev/min, signed).
@@ -190,7 +203,7 @@ mod tests {
         for _ in 0..25 {
             d.tick(10.0, 0.002);
         }
-        assert!((d.error() - 10.0 * (-1.0f64).exp()).abs() < 1e-9);
+        assert!((d.error() - 10.0 * (-1.0f64).dexp()).abs() < 1e-9);
     }
 
     #[test]
@@ -207,5 +220,24 @@ mod tests {
         assert_eq!(s.actual(), 1200.0);
         s.set_target(0.0);
         assert!(!s.at_speed(0.1));
+    }
+
+    #[test]
+    fn spindle_position_integrates_the_speed() {
+        // 1500 rev/min per s from rest to 1200 rev/min: 0.8 s of ramp cover 0.8 × 10 rev/s =
+        // 8 rev; then 0.2 s at 20 rev/s, 4 rev; index pulses at every whole revolution.
+        let mut s = Spindle::new(1500.0);
+        s.set_target(1200.0);
+        for _ in 0..500 {
+            s.tick(0.002);
+        }
+        assert!((s.position() - 12.0).abs() < 1e-9, "{}", s.position());
+        // Backwards (M04) the position decreases.
+        s.set_target(-1200.0);
+        for _ in 0..800 {
+            s.tick(0.002);
+        }
+        // 1.6 s (800 ticks) from +20 to −20 rev/s: a symmetric ramp turns 0 rev net.
+        assert!((s.position() - 12.0).abs() < 1e-9, "{}", s.position());
     }
 }

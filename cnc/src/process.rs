@@ -73,6 +73,8 @@ pub struct Process {
     pub(crate) run: Interp,
     pub(crate) on: bool,
     pub(crate) fault: bool,
+    /// The e-stop chain opened while the machine was on and has not closed since.
+    pub(crate) estop_open: bool,
     pub(crate) reset_pulse: bool,
     pub(crate) homed: bool,
     pub(crate) program: Vec<Canon>,
@@ -169,6 +171,7 @@ impl Process {
             run: Interp::Idle,
             on: false,
             fault: false,
+            estop_open: false,
             reset_pulse: false,
             homed,
             program: Vec::new(),
@@ -244,6 +247,11 @@ impl Process {
         self.load(name, plain.clone())?;
         self.programs = Some((plain, skipped));
         Ok(())
+    }
+
+    /// True when the last START from the program's start took the block-skip plan.
+    pub fn skip_selected(&self) -> bool {
+        self.skip_selected
     }
 
     /// Sets the alternative feed PGCFIL QFD (mm/min) that QCKFD selects.
@@ -356,13 +364,27 @@ impl Process {
         self.reset_pulse = true;
         self.last_s = None;
         self.last_t = None;
+        if self.estop_open {
+            // The cause is still there: the alarm stays (raised again, as new).
+            self.raise("emergency stop".into(), true);
+        }
     }
 
-    /// The machine's e-stop chain opened (`on` = false) or closed again.
+    /// The machine's e-stop chain opened (`on` = false) or closed again. While it stays open
+    /// after it opened on a running machine, its stopping alarm is raised again after a RESET.
     pub(crate) fn set_power(&mut self, estop_ok: bool) {
         let on = estop_ok && !self.fault;
-        if self.on && !estop_ok {
-            self.raise("emergency stop".into(), true);
+        if estop_ok {
+            self.estop_open = false;
+        } else if self.on || self.estop_open {
+            self.estop_open = true;
+            if !self
+                .alarms
+                .iter()
+                .any(|a| a.message.ends_with(": emergency stop"))
+            {
+                self.raise("emergency stop".into(), true);
+            }
         }
         self.on = on;
     }
@@ -381,6 +403,7 @@ impl Process {
         self.handwheels(out, image);
         self.run_interpolation(out);
         self.watch_limit_switches();
+        self.watch_thread_wait();
         self.homing();
         self.advance();
         self.step_channels(tick, out, true);
@@ -537,7 +560,7 @@ impl Process {
                 sp.tick(dt);
                 let top = &mut self.counters.spindle_top;
                 *top = top.max(sp.actual().abs());
-                self.interp.set_spindle_rev_s(sp.actual().abs() / 60.0);
+                self.interp.set_spindle_position(sp.position());
             }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);

@@ -94,7 +94,8 @@ mod tests {
     /// mpmath at 200 bits): a platform library may be off by an ulp, this code may not change.
     #[test]
     fn known_bits() {
-        let cases: [(f64, fn(f64) -> f64); 6] = [
+        type Unary = fn(f64) -> f64;
+        let cases: [(f64, Unary); 6] = [
             (0.5, |x| x.dsin()),
             (0.5, |x| x.dcos()),
             (1e22, |x| x.dsin()),

@@ -6,6 +6,7 @@ use crate::config::Config;
 use crate::geom::{Shape, turn_angle, vector};
 use crate::moves::{Move, Path};
 use crate::plan;
+use detmath::Det as _;
 
 /// The lower bound, s, for feed moves from `start` under `cfg` (linear law limits).
 pub fn lower_bound(cfg: &Config, start: &[f64], moves: &[Move]) -> f64 {
@@ -45,11 +46,11 @@ pub fn lower_bound(cfg: &Config, start: &[f64], moves: &[Move]) -> f64 {
         let mut slack = 0.0;
         if k > 0 {
             let th = turn_angle(&segs[k - 1].0.tangent(true), &s.tangent(false));
-            slack += tol * (th / 2.0).sin();
+            slack += tol * (th / 2.0).dsin();
         }
         if let Some(nx) = segs.get(k + 1) {
             let th = turn_angle(&s.tangent(true), &nx.0.tangent(false));
-            slack += tol * (th / 2.0).sin();
+            slack += tol * (th / 2.0).dsin();
         }
         a += ((s.len - slack).max(0.0)) / allowed;
     }

@@ -1,6 +1,7 @@
 //! Path segments parameterised by arc length: straight lines and circular arcs/helices (programmed
 //! arcs and the corner-blend arcs), in up to [`MAX_AXES`] dimensions (unused axes stay zero).
 
+use detmath::Det as _;
 use nalgebra::SVector;
 
 use crate::config::MAX_AXES;
@@ -137,7 +138,7 @@ impl Seg {
                 let u = s / self.len;
                 let phi = sweep * u;
                 let r = r0 + (r1 - r0) * u;
-                center + (e1 * phi.cos() + e2 * phi.sin()) * r + lift * u
+                center + (e1 * phi.dcos() + e2 * phi.dsin()) * r + lift * u
             }
         }
     }
@@ -156,7 +157,7 @@ impl Seg {
                 ..
             } => {
                 let (phi, r) = if at_end { (*sweep, *r1) } else { (0.0, *r0) };
-                let t = (e2 * phi.cos() - e1 * phi.sin()) * (r * sweep) + lift;
+                let t = (e2 * phi.dcos() - e1 * phi.dsin()) * (r * sweep) + lift;
                 let n = t.norm();
                 if n > 0.0 { t / n } else { t }
             }
@@ -235,7 +236,7 @@ impl Seg {
         }
         let mut t = Vector::zeros();
         let mut n = Vector::zeros();
-        let cs = (sweep.cos(), sweep.sin());
+        let cs = (sweep.dcos(), sweep.dsin());
         for i in 0..MAX_AXES {
             let (p, q) = (e1[i], e2[i]);
             if p != 0.0 || q != 0.0 {
@@ -262,7 +263,7 @@ impl Seg {
                 if e1[i] == 0.0 && e2[i] == 0.0 {
                     continue;
                 }
-                let base = e2[i].atan2(e1[i]);
+                let base = e2[i].datan2(e1[i]);
                 for k in -1..=((sweep / std::f64::consts::PI).ceil() as i64 + 1) {
                     let phi = base + k as f64 * std::f64::consts::PI;
                     if phi > 0.0 && phi < *sweep {
@@ -299,7 +300,7 @@ impl Seg {
                 ..
             } => {
                 let d = p - center;
-                let mut psi = d.dot(e2).atan2(d.dot(e1));
+                let mut psi = d.dot(e2).datan2(d.dot(e1));
                 if psi < 0.0 {
                     psi += std::f64::consts::TAU;
                 }
@@ -320,18 +321,18 @@ impl Seg {
 pub fn turn_angle(a: &Vector, b: &Vector) -> f64 {
     let c = a.dot(b).clamp(-1.0, 1.0);
     let s = (a - b * c).norm();
-    s.atan2(c)
+    s.datan2(c)
 }
 
 /// The largest |a cos φ + b sin φ| for φ in [0, s], given cos s and sin s.
 pub fn max_abs_wave(a: f64, b: f64, s: f64, (cs, ss): (f64, f64)) -> f64 {
     if s >= std::f64::consts::PI {
-        return a.hypot(b);
+        return a.dhypot(b);
     }
     // The derivative b cos φ − a sin φ has its zeros π apart: on [0, s], s < π, it changes sign
     // exactly when an extreme ±amplitude lies inside.
     if b * (b * cs - a * ss) <= 0.0 {
-        return a.hypot(b);
+        return a.dhypot(b);
     }
     a.abs().max((a * cs + b * ss).abs())
 }
@@ -339,16 +340,17 @@ pub fn max_abs_wave(a: f64, b: f64, s: f64, (cs, ss): (f64, f64)) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::max_abs_wave;
+    use detmath::Det as _;
 
     fn wave(a: f64, b: f64, s: f64) -> f64 {
-        max_abs_wave(a, b, s, (s.cos(), s.sin()))
+        max_abs_wave(a, b, s, (s.dcos(), s.dsin()))
     }
 
     #[test]
     fn max_abs_wave_finds_inner_and_end_extremes() {
         // cos on [0, 0.5]: 1 at 0; sin on [0, 1]: sin 1 at the end; sin on [0, 2]: 1 at π/2.
         assert_eq!(wave(1.0, 0.0, 0.5), 1.0);
-        assert_eq!(wave(0.0, 1.0, 1.0), 1.0f64.sin());
+        assert_eq!(wave(0.0, 1.0, 1.0), 1.0f64.dsin());
         assert_eq!(wave(0.0, 1.0, 2.0), 1.0);
         // sin − cos: −1 at 0, 1 at π/2, its extreme √2 at 3π/4 only on the longer interval.
         assert_eq!(wave(-1.0, 1.0, std::f64::consts::FRAC_PI_2), 1.0);

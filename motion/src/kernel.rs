@@ -8,6 +8,7 @@ use crate::geom::{Seg, Shape, Vector, turn_angle, vector};
 use crate::moves::{MotionError, Move, Path};
 use crate::plan::{self, Motion, Piece};
 use crate::profile::Profile;
+use crate::thread::{self, ThreadRun};
 
 /// The output of one interpolation tick.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -26,45 +27,56 @@ pub struct Tick {
 
 /// The piece being executed: its profile from `s0` on.
 #[derive(Debug, Clone)]
-struct Exec {
-    prof: Profile,
-    t: f64,
-    s0: f64,
+pub(crate) struct Exec {
+    pub(crate) prof: Profile,
+    pub(crate) t: f64,
+    pub(crate) s0: f64,
 }
 
 /// The motion kernel of one process.
 #[derive(Debug, Clone)]
 pub struct Kernel {
-    cfg: Config,
-    law: Law,
-    q: VecDeque<Piece>,
-    moves: usize,
-    end: Vector,
-    exec: Option<Exec>,
-    v: f64,
-    pos: Vector,
-    feed_pct: u16,
-    rapid_pct: u16,
-    hold: bool,
-    abort: bool,
-    stop_after: Option<u64>,
-    replan: bool,
-    spindle_rev_s: f64,
-    out: Tick,
+    pub(crate) cfg: Config,
+    pub(crate) law: Law,
+    pub(crate) q: VecDeque<Piece>,
+    pub(crate) moves: usize,
+    pub(crate) end: Vector,
+    pub(crate) exec: Option<Exec>,
+    pub(crate) v: f64,
+    pub(crate) pos: Vector,
+    pub(crate) feed_pct: u16,
+    pub(crate) rapid_pct: u16,
+    pub(crate) hold: bool,
+    pub(crate) abort: bool,
+    pub(crate) stop_after: Option<u64>,
+    pub(crate) replan: bool,
+    /// Spindle position, rev (signed), at the end of the last tick and of this one (None until
+    /// the caller gives one: a kernel made anew mid-run does not see a jump from 0).
+    pub(crate) spindle: Option<(f64, f64)>,
+    /// The thread block at the front of the queue, when one is being run.
+    pub(crate) thread: Option<ThreadRun>,
+    /// A thread just ended here (spindle position, direction): a thread right after it goes on
+    /// locked without waiting for the index.
+    pub(crate) thread_chain: Option<(f64, f64)>,
+    /// An emergency stop's per-axis deceleration (AFC, mm/s²; None: the axis's own limit).
+    pub(crate) emergency: Option<Vec<Option<f64>>>,
+    /// A fault for the caller ([`Kernel::take_fault`]).
+    pub(crate) fault: Option<MotionError>,
+    pub(crate) out: Tick,
     /// The lowest queue index whose geometry changed since the last backward pass (None: the
     /// end speeds are those of the current queue).
-    dirty_from: Option<usize>,
+    pub(crate) dirty_from: Option<usize>,
     /// Leading pieces whose end speeds no append can change (see [`plan::settled`]).
-    final_to: usize,
+    pub(crate) final_to: usize,
     /// Some axis has a soft limit (else the path's bounds are not computed).
-    soft: bool,
+    pub(crate) soft: bool,
     /// Arc ceilings raised by an override change: (queue index, old cap, old acceleration).
-    undo: Vec<(usize, f64, f64)>,
+    pub(crate) undo: Vec<(usize, f64, f64)>,
     /// Programmed units → slide mm per axis (0.5 for a diameter axis); the kernel plans and
     /// interpolates in slide mm, and takes and reports positions in programmed units.
-    scale: Vec<f64>,
+    pub(crate) scale: Vec<f64>,
     /// Some axis has a factor other than 1.
-    scaled: bool,
+    pub(crate) scaled: bool,
 }
 
 impl Kernel {
@@ -104,7 +116,11 @@ impl Kernel {
             abort: false,
             stop_after: None,
             replan: false,
-            spindle_rev_s: 0.0,
+            spindle: None,
+            thread: None,
+            thread_chain: None,
+            emergency: None,
+            fault: None,
             dirty_from: None,
             final_to: 0,
             soft: cfg_soft,
@@ -139,15 +155,28 @@ impl Kernel {
         }
         let end = vector(&m.end);
         let seg = plan::segment(&m, &self.end, &end)?;
+        let share = seg.as_ref().map_or(0.0, |s| {
+            s.max_share().iter().fold(0.0, |m: f64, x| m.max(x.abs()))
+        });
         let motion = match (&m.path, m.thread_pitch) {
             (Path::Dwell { seconds }, _) => Motion::Dwell(seconds.max(0.0)),
-            (_, Some(_)) => Motion::Thread,
+            (_, Some(lead)) if share > 0.0 && lead > 0.0 && lead.is_finite() => Motion::Thread {
+                per_rev: lead / share,
+                angle: thread::angle_fraction(m.thread_angle),
+            },
+            (_, Some(_)) => {
+                return Err(MotionError::Invalid {
+                    tag: m.tag,
+                    what: "G33 thread without a positive lead".into(),
+                });
+            }
             (Path::Rapid, None) => Motion::Rapid,
             _ => Motion::Feed,
         };
         let feed = match motion {
             Motion::Rapid | Motion::Dwell(_) => f64::INFINITY,
-            Motion::Thread => m.thread_pitch.unwrap_or(0.0) * self.spindle_rev_s,
+            // The path speed at the programmed spindle speed (F is lead × S along the lead axis).
+            Motion::Thread { .. } => m.feed_mm_min.unwrap_or(0.0) / 60.0 / share,
             Motion::Feed => match m.feed_mm_min {
                 Some(f) if f > 0.0 && f.is_finite() => f / 60.0,
                 _ => {
@@ -197,13 +226,20 @@ impl Kernel {
             v_end: 0.0,
             len_orig: len,
             tol: m.tolerance.unwrap_or(self.cfg.tolerance_mm).max(0.0),
-            exact: m.exact_stop || matches!(motion, Motion::Thread | Motion::Rapid),
+            exact: m.exact_stop || matches!(motion, Motion::Thread { .. } | Motion::Rapid),
             corner: None,
             reserve: true,
             kink_start: false,
         };
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
+        }
+        if matches!(motion, Motion::Thread { .. }) && feed > v_hard * (1.0 + 1e-9) {
+            return Err(MotionError::ThreadTooFast {
+                tag: m.tag,
+                need: feed * 60.0,
+                limit: v_hard * 60.0,
+            });
         }
         plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
         let keep_to = self.join(&mut piece);
@@ -412,11 +448,6 @@ impl Kernel {
         self.law
     }
 
-    /// Spindle speed, rev/s: sets the speed of G33 thread blocks pushed from now on.
-    pub fn set_spindle_rev_s(&mut self, v: f64) {
-        self.spindle_rev_s = if v.is_finite() { v.abs() } else { 0.0 };
-    }
-
     /// Stop at the end of the block being executed and hold there (release with `set_hold(false)`).
     pub fn stop_at_block_end(&mut self) {
         let Some(tag) = self.q.front().map(|p| p.tag) else {
@@ -478,14 +509,14 @@ impl Kernel {
     }
 
     /// Builds the profile of the front piece from `s0` at speed `v0`.
-    fn profile(&self, s0: f64, v0: f64) -> Profile {
+    pub(crate) fn profile(&self, s0: f64, v0: f64) -> Profile {
         let Some(p) = self.q.front() else {
             return Profile::default();
         };
         let rem = (p.seg.len - s0).max(0.0);
         match p.motion {
             Motion::Dwell(t) => Profile::rest(if s0 > 0.0 { 0.0 } else { t }),
-            _ if self.halting() => Profile::stop(&p.dynm, rem, v0),
+            _ if self.halting() => Profile::stop(&self.stop_dyn(p), rem, v0),
             _ => {
                 let cap = plan::cap(p, self.feed_pct, self.rapid_pct);
                 Profile::build(&p.dynm, rem, v0, p.v_end, cap)
@@ -504,6 +535,28 @@ impl Kernel {
         self.v = 0.0;
         self.dirty_from = None;
         self.final_to = 0;
+        self.thread = None;
+        self.thread_chain = None;
+        self.emergency = None;
+    }
+
+    /// Removes the finished front piece: the position is its end; a block's last piece reports
+    /// its DEN (and a stop at its end holds).
+    pub(crate) fn pop_front(&mut self) {
+        let Some(front) = self.q.pop_front() else {
+            return;
+        };
+        self.pos = front.seg.end;
+        self.final_to = self.final_to.saturating_sub(1);
+        self.dirty_from = self.dirty_from.map(|d| d.saturating_sub(1));
+        if front.den {
+            self.moves -= 1;
+            self.out.finished.push(front.tag);
+            if self.stop_after == Some(front.tag) {
+                self.hold = true;
+                self.stop_after = None;
+            }
+        }
     }
 
     /// Advances one interpolation tick and returns its set points.
@@ -517,6 +570,12 @@ impl Kernel {
                     break;
                 }
                 if self.q.is_empty() || (self.halting() && self.v == 0.0) {
+                    break;
+                }
+                if let Some(Motion::Thread { per_rev, angle }) = self.q.front().map(|p| p.motion) {
+                    if self.thread_step(per_rev, angle, &mut left) {
+                        continue;
+                    }
                     break;
                 }
                 self.replan = false;
@@ -534,7 +593,18 @@ impl Kernel {
             // profile would start it over (an override knob turned during a dwell would hold
             // the program there for as long as it moves).
             if self.replan && !matches!(front.motion, Motion::Dwell(_)) {
-                let tr = ex.prof.replan_time(ex.t, front.dynm.law);
+                // An emergency stop replans at once; so does the exponential law while it
+                // accelerates (its acceleration drops to 0 as at the end of a change, and the
+                // state is behind and slower than at the end of that acceleration).
+                let accelerating = ex.prof.eval(ex.t).2 > 0.0;
+                let law = if self.emergency.is_some()
+                    || (front.dynm.law == Law::Exponential && accelerating)
+                {
+                    Law::Linear
+                } else {
+                    front.dynm.law
+                };
+                let tr = ex.prof.replan_time(ex.t, law);
                 if tr - ex.t <= left {
                     left -= tr - ex.t;
                     ex.t = tr;
@@ -542,6 +612,21 @@ impl Kernel {
                     let s0 = ex.s0 + x;
                     self.plan_front();
                     let prof = self.profile(s0, v);
+                    self.exec = Some(Exec { prof, t: 0.0, s0 });
+                    self.replan = false;
+                    continue;
+                }
+                // Under the S law, while accelerating: the acceleration falls at the jerk limit
+                // from now on, and the new profile starts where it reaches 0. (The state at that
+                // point is behind and slower than the old profile's next zero-acceleration
+                // instant, so every speed it had to meet stays within reach. A deceleration is
+                // left to run to its end, as before.)
+                let (x, v, a) = ex.prof.eval(ex.t);
+                if let Some(mut prof) = Profile::bridge(&front.dynm, v, a) {
+                    let s0 = ex.s0 + x;
+                    self.plan_front();
+                    let rest = self.profile(s0 + prof.dist, prof.v_end);
+                    prof.append(&rest);
                     self.exec = Some(Exec { prof, t: 0.0, s0 });
                     self.replan = false;
                     continue;
@@ -567,30 +652,22 @@ impl Kernel {
                 }
                 break;
             }
-            let (tag, den) = (front.tag, front.den);
-            self.pos = front.seg.end;
             self.exec = None;
-            self.q.pop_front();
-            self.final_to = self.final_to.saturating_sub(1);
-            self.dirty_from = self.dirty_from.map(|d| d.saturating_sub(1));
+            self.pop_front();
             if self.q.is_empty() {
                 // The queue ends at rest (its last end speed is 0); drop rounding residue.
                 self.v = 0.0;
             }
-            if den {
-                self.moves -= 1;
-                self.out.finished.push(tag);
-                if self.stop_after == Some(tag) {
-                    self.hold = true;
-                    self.stop_after = None;
-                }
-            }
         }
-        let (pos, tag, v) = match (&self.exec, self.q.front()) {
-            (Some(ex), Some(p)) => {
+        let (pos, tag, v) = match (&self.exec, self.q.front(), self.thread) {
+            (Some(ex), Some(p), _) => {
                 let (x, v, _) = ex.prof.eval(ex.t);
                 (p.seg.at(ex.s0 + x), Some(p.tag), v)
             }
+            (None, Some(p), Some(ThreadRun::Cutting { s, .. })) => {
+                (p.seg.at(s), Some(p.tag), self.v)
+            }
+            (None, Some(p), Some(ThreadRun::Waiting)) => (p.seg.start, Some(p.tag), 0.0),
             _ => (self.pos, None, 0.0),
         };
         self.pos = pos;
@@ -606,6 +683,9 @@ impl Kernel {
         self.out.tag = tag;
         self.out.feed_mm_min = v * 60.0;
         self.out.held = self.hold && v == 0.0;
+        if let Some(s) = self.spindle.as_mut() {
+            s.0 = s.1;
+        }
         &self.out
     }
 }

@@ -34,11 +34,16 @@
 //!   so its peak is the axis limit: `a(t) = a₀ e^{kt}`, `k = ln(max_exp/min_exp) / T`.
 //!
 //! Run-time changes (override, hold, abort) replan the executed piece from its current state at
-//! once under the linear law; under the S and exponential laws at the next instant of zero
-//! acceleration (inside a cruise or at the boundary of a change), so no acceleration step occurs.
+//! once under the linear law. Under the S law while accelerating, the acceleration first falls to
+//! 0 at the jerk limit (a bridge phase) and the new profile starts there; under the exponential law
+//! while accelerating, the acceleration drops to 0 at once (as at the end of a change). Either
+//! state is behind and slower than the old profile's end of acceleration, so every speed the
+//! queue has to meet stays within reach. During a deceleration the replan waits for the next
+//! instant of zero acceleration (inside a cruise or at the boundary of a change).
 
 pub mod bound;
 pub mod config;
+mod emergency;
 pub mod geom;
 pub mod kernel;
 pub mod monitor;
@@ -47,6 +52,7 @@ pub mod plan;
 pub mod profile;
 pub mod ptp;
 pub mod samples;
+mod thread;
 
 pub use config::{AccParams, AxisLimits, Config, ConfigError, Law, config_from_axcfil};
 pub use kernel::{Kernel, Tick};

@@ -1,6 +1,7 @@
 //! An independent check of a kernel's output: per-axis speed, acceleration and jerk from finite
 //! differences of the set points, against the limits of the block being run, and the distance of
-//! every set point from the programmed (unblended) path.
+//! every set point from the programmed (unblended) path. A G33 thread has no ramps (it follows
+//! the spindle, manual 000:618): its speed is checked, its start and end steps are not.
 
 use std::collections::BTreeMap;
 
@@ -35,9 +36,11 @@ pub struct Monitor {
     cfg: Config,
     law: Law,
     end: Vector,
-    segs: Vec<(Option<Seg>, bool)>,
+    /// Per move: its programmed geometry, rapid, thread.
+    segs: Vec<(Option<Seg>, bool, bool)>,
     index: BTreeMap<u64, usize>,
-    hist: Vec<(Vector, bool)>,
+    /// The last set points: position, on a rapid, on a thread.
+    hist: Vec<(Vector, bool, bool)>,
     report: Report,
     /// Programmed units → slide mm (see [`Config::slide_scale`]): the checks are on the slide.
     scale: Vec<f64>,
@@ -57,7 +60,7 @@ impl Monitor {
             end: vector(start),
             segs: Vec::new(),
             index: BTreeMap::new(),
-            hist: vec![(vector(start), false)],
+            hist: vec![(vector(start), false, false)],
             report: Report {
                 v: vec![0.0; n],
                 a: vec![0.0; n],
@@ -74,7 +77,8 @@ impl Monitor {
         let end = vector(&m.end);
         let seg = plan::segment(m, &self.end, &end).ok().flatten();
         self.index.insert(m.tag, self.segs.len());
-        self.segs.push((seg, matches!(m.path, Path::Rapid)));
+        self.segs
+            .push((seg, matches!(m.path, Path::Rapid), m.thread_pitch.is_some()));
         self.end = end;
     }
 
@@ -89,10 +93,11 @@ impl Monitor {
         let p = vector(&slide);
         let idx = t.tag.and_then(|g| self.index.get(&g).copied());
         let rapid = idx.is_some_and(|i| self.segs[i].1);
+        let thread = idx.is_some_and(|i| self.segs[i].2);
         if let Some(i) = idx {
             let mut best = f64::INFINITY;
             for k in i.saturating_sub(1)..(i + 2).min(self.segs.len()) {
-                if let (Some(s), _) = &self.segs[k] {
+                if let (Some(s), _, _) = &self.segs[k] {
                     best = best.min(s.distance(&p));
                 }
             }
@@ -101,7 +106,7 @@ impl Monitor {
                 self.report.deviation_tag = t.tag;
             }
         }
-        self.hist.push((p, rapid));
+        self.hist.push((p, rapid, thread));
         if self.hist.len() > 4 {
             self.hist.remove(0);
         }
@@ -109,13 +114,14 @@ impl Monitor {
         let dt = self.cfg.tick_s;
         let h = &self.hist;
         let any_rapid = h.iter().any(|x| x.1);
+        let any_thread = h.iter().any(|x| x.2);
         let m = h.len();
         for (i, ax) in self.cfg.axes.iter().enumerate() {
             let (v_lim, a_lim, j_lim) = axis_vaj(ax, any_rapid, self.law, &self.cfg.acc);
             let d = |k: usize| (h[k].0[i] - h[k - 1].0[i]) / dt;
             let v = d(m - 1);
             self.report.v[i] = self.report.v[i].max(v.abs() / v_lim);
-            if m >= 3 {
+            if m >= 3 && !any_thread {
                 let a = (v - d(m - 2)) / dt;
                 self.report.a[i] = self.report.a[i].max(a.abs() / a_lim);
                 if m >= 4 {

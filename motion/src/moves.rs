@@ -46,6 +46,8 @@ pub struct Move {
     pub tolerance: Option<f64>,
     /// G33: the thread pitch, mm per spindle revolution (the move is locked to the spindle).
     pub thread_pitch: Option<f64>,
+    /// G33: the start angle after the spindle's index pulse, degrees (MEFI `I`; 0: at the index).
+    pub thread_angle: f64,
 }
 
 /// A block the kernel refuses, with the block's tag.
@@ -80,6 +82,19 @@ pub enum MotionError {
         tag: u64,
         /// What is wrong.
         what: String,
+    },
+    /// A G33 thread whose speed at the spindle speed (programmed when queued, actual when it
+    /// starts) exceeds the axes' feed limits.
+    #[error(
+        "block {tag}: the thread needs {need:.1} mm/min along its path at the spindle speed, the axes allow {limit:.1} mm/min"
+    )]
+    ThreadTooFast {
+        /// Block tag.
+        tag: u64,
+        /// Path speed the thread needs, mm/min.
+        need: f64,
+        /// The axes' limit along the path, mm/min.
+        limit: f64,
     },
     /// The look-ahead queue is full.
     #[error("block {tag}: the look-ahead queue is full")]
@@ -187,6 +202,7 @@ impl Move {
             exact_stop: c.exact_stop,
             tolerance: c.tolerance,
             thread_pitch,
+            thread_angle: c.thread_angle,
         })
     }
 }

@@ -2,6 +2,7 @@
 //! caps and path dynamics; junctions get a speed cap; the backward pass limits every piece's end
 //! speed so that everything after it can still be met.
 
+use detmath::Det as _;
 use std::collections::VecDeque;
 use std::f64::consts::{PI, TAU};
 
@@ -36,8 +37,13 @@ pub enum Motion {
     Rapid,
     /// Feed move at the programmed feed × feed override.
     Feed,
-    /// G33: speed locked to the spindle (pitch × rev/s), no override, no blending.
-    Thread,
+    /// G33: position locked to the spindle ([`crate::thread`]), no override, no blending.
+    Thread {
+        /// Path advance per spindle revolution, mm.
+        per_rev: f64,
+        /// Start angle after the index pulse, fraction of a revolution in [0, 1).
+        angle: f64,
+    },
     /// Dwell at rest, s.
     Dwell(f64),
 }
@@ -164,7 +170,7 @@ pub fn dynamics(
             v_hard = v_hard.min((CENTRIPETAL_SHARE * a / curv[i]).sqrt());
             if j.is_finite() {
                 v_hard = v_hard.min((JERK_STEP * j * dt / curv[i]).sqrt());
-                v_hard = v_hard.min((JERK_ROTATION * j / (curv[i] * kappa)).cbrt());
+                v_hard = v_hard.min((JERK_ROTATION * j / (curv[i] * kappa)).dcbrt());
             }
         }
     }
@@ -235,7 +241,7 @@ pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
         if share[i] > 0.0 {
             let mut best = (avail[i] - c * c * curv[i]) / share[i];
             if let Some((e1, e2, r)) = plane {
-                let o = e1[i].hypot(e2[i]);
+                let o = e1[i].dhypot(e2[i]);
                 let an = c * c * o / r;
                 best = best.max((avail[i] * avail[i] - an * an).max(0.0).sqrt() / o);
             }
@@ -253,7 +259,7 @@ pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
 
 /// The speed cap of a direction change of `theta` rad within one tick `dt` (no blend).
 pub fn kink_cap(axes: &[AxisLimits], theta: f64, dt: f64, law: Law, acc: &AccParams) -> f64 {
-    let k = 2.0 * (theta / 2.0).sin();
+    let k = 2.0 * (theta / 2.0).dsin();
     if k <= 0.0 {
         return f64::INFINITY;
     }
@@ -288,13 +294,13 @@ pub fn segment(m: &Move, start: &Vector, end: &Vector) -> Result<Option<Seg>, Mo
             }
             let rel0 = (start[*a] - center[0], start[*b] - center[1]);
             let rel1 = (end[*a] - center[0], end[*b] - center[1]);
-            let r0 = rel0.0.hypot(rel0.1);
-            let r1 = rel1.0.hypot(rel1.1);
+            let r0 = rel0.0.dhypot(rel0.1);
+            let r1 = rel1.0.dhypot(rel1.1);
             if r0 <= 0.0 || r1 <= 0.0 || !(r0.is_finite() && r1.is_finite()) {
                 return Err(bad("arc with zero radius"));
             }
-            let p0 = rel0.1.atan2(rel0.0);
-            let p1 = rel1.1.atan2(rel1.0);
+            let p0 = rel0.1.datan2(rel0.0);
+            let p1 = rel1.1.datan2(rel1.0);
             let mut sweep = if *cw { p0 - p1 } else { p1 - p0 }.rem_euclid(TAU);
             if sweep < 1e-12 {
                 sweep = TAU;
@@ -304,8 +310,8 @@ pub fn segment(m: &Move, start: &Vector, end: &Vector) -> Result<Option<Seg>, Mo
             ea[*a] = 1.0;
             let mut eb = Vector::zeros();
             eb[*b] = 1.0;
-            let e1 = ea * p0.cos() + eb * p0.sin();
-            let mut e2 = eb * p0.cos() - ea * p0.sin();
+            let e1 = ea * p0.dcos() + eb * p0.dsin();
+            let mut e2 = eb * p0.dcos() - ea * p0.dsin();
             if *cw {
                 e2 = -e2;
             }
@@ -328,9 +334,9 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<(Seg, Vec
         return None;
     }
     let h = theta / 2.0;
-    let q = (theta / 4.0).sin();
+    let q = (theta / 4.0).dsin();
     // Corner-to-arc distance R(1/cos h − 1) = tol, with R = d / tan h.
-    let d_tol = tol * h.sin() / (2.0 * q * q);
+    let d_tol = tol * h.dsin() / (2.0 * q * q);
     let d = d_tol
         .min(prev.len_orig / 2.0)
         .min(next.len_orig / 2.0)
@@ -341,9 +347,9 @@ pub fn blend(prev: &mut Piece, next: &mut Piece, theta: f64) -> Option<(Seg, Vec
     let corner = prev.seg.end;
     let u1 = prev.seg.tangent(true);
     let u2 = next.seg.tangent(false);
-    let r = d / h.tan();
+    let r = d / h.dtan();
     let bis = (u2 - u1).normalize();
-    let center = corner + bis * (r / h.cos());
+    let center = corner + bis * (r / h.dcos());
     let a = corner - u1 * d;
     let b = corner + u2 * d;
     let e1 = (a - center) / r;
@@ -363,7 +369,7 @@ fn cap_at(p: &Piece, v_hard: f64, feed_pct: u16, rapid_pct: u16) -> f64 {
     match p.motion {
         Motion::Rapid => v_hard * f64::from(rapid_pct) / 100.0,
         Motion::Feed => v_hard.min(p.feed * f64::from(feed_pct) / 100.0),
-        Motion::Thread => v_hard.min(p.feed),
+        Motion::Thread { .. } => v_hard.min(p.feed),
         Motion::Dwell(_) => 0.0,
     }
 }

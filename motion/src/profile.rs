@@ -7,6 +7,7 @@
 //! reachability function as the forward one.
 
 use crate::config::Law;
+use detmath::Det as _;
 
 /// The path dynamics of one segment under one law.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,7 +45,7 @@ impl Dyn {
             }
             Law::Exponential if !self.exp_flat() => {
                 let (a0, a1) = (self.a * self.exp_start, self.a * self.exp_end);
-                dv * (a1 / a0).ln() / (a1 - a0)
+                dv * (a1 / a0).dln() / (a1 - a0)
             }
             _ => dv / self.a,
         }
@@ -55,7 +56,7 @@ impl Dyn {
         match self.law {
             Law::Exponential if !self.exp_flat() => {
                 let rho = self.exp_end / self.exp_start;
-                1.0 / rho.ln() - 1.0 / (rho - 1.0)
+                1.0 / rho.dln() - 1.0 / (rho - 1.0)
             }
             _ => 0.5,
         }
@@ -141,7 +142,7 @@ impl Phase {
                 a0 + j * t,
             ),
             Kind::Exp { a0, k } => {
-                let e = (k * t).exp_m1();
+                let e = (k * t).dexp_m1();
                 (
                     self.x0 + self.v0 * t + a0 * (e / k - t) / k,
                     self.v0 + a0 * e / k,
@@ -288,7 +289,7 @@ impl Profile {
             Law::Exponential if !d.exp_flat() => {
                 let t = d.change_time(dv);
                 let (a0, a1) = (d.a * d.exp_start, d.a * d.exp_end);
-                let k = (a1 / a0).ln() / t;
+                let k = (a1 / a0).dln() / t;
                 if sg > 0.0 {
                     self.push(t, Kind::Exp { a0, k });
                 } else {
@@ -360,6 +361,26 @@ impl Profile {
         p.cruise(len - f(peak));
         p.change(d, v1);
         p
+    }
+
+    /// The S law's bridge out of an acceleration `a0` > 0 at speed `v0`: the acceleration falls
+    /// to 0 at the jerk limit (a0/j s, +a0²/2j mm/s); a profile built from its end state is
+    /// then [`Profile::append`]ed. None when the law has no jerk limit or `a0` ≤ 0.
+    pub fn bridge(d: &Dyn, v0: f64, a0: f64) -> Option<Profile> {
+        if !(matches!(d.law, Law::SCurve) && d.j.is_finite() && d.j > 0.0 && a0 > 0.0) {
+            return None;
+        }
+        let mut p = Profile::start(v0);
+        p.push(a0 / d.j, Kind::Poly { a0, j: -d.j });
+        Some(p)
+    }
+
+    /// Appends `next` (which starts at this profile's end speed and zero acceleration).
+    pub fn append(&mut self, next: &Profile) {
+        for ph in &next.phases[..next.n] {
+            self.push(ph.dur, ph.kind);
+        }
+        self.v_end = next.v_end;
     }
 
     /// A stop as early as the law allows: slow from `v0` to 0, or to the lowest speed reachable

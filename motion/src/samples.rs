@@ -4,6 +4,7 @@
 use crate::config::{AccParams, AxisLimits, Config, Law};
 use crate::kernel::Kernel;
 use crate::moves::{Move, Path};
+use detmath::Det as _;
 
 /// The benchmark mill the samples are measured on: each axis 100 mm/s and 1000 mm/s²
 /// (rapids alike, no jerk limit), a 1 ms tick, tolerance 0.01 mm, linear law, a 256-block window.
@@ -57,6 +58,7 @@ fn mv(tag: u64, path: Path, end: [f64; 3], f: f64) -> Move {
         exact_stop: false,
         tolerance: None,
         thread_pitch: None,
+        thread_angle: 0.0,
     }
 }
 
@@ -108,7 +110,7 @@ pub fn chord_circle() -> Vec<Move> {
     let pts: Vec<[f64; 3]> = (1..=n)
         .map(|k| {
             let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
-            [20.0 * a.cos(), 20.0 * a.sin(), 0.0]
+            [20.0 * a.dcos(), 20.0 * a.dsin(), 0.0]
         })
         .collect();
     lines(&pts, 6000.0)
@@ -126,7 +128,7 @@ pub fn spiral() -> Vec<Move> {
         }
         a += 0.5 / r;
         let r = 4.0 + 2.0 * a / (2.0 * std::f64::consts::PI);
-        pts.push([r * a.cos(), r * a.sin(), 0.0]);
+        pts.push([r * a.dcos(), r * a.dsin(), 0.0]);
     }
     lines(&pts, 3000.0)
 }
@@ -134,7 +136,7 @@ pub fn spiral() -> Vec<Move> {
 /// A 3-D CAM-like raster over z = 2·sin(x/5)·cos(y/7): rows of 0.1 mm segments along X,
 /// 1 mm apart, at F6000, `rows` rows of 40 mm, from (0, 0, 2).
 pub fn cam(rows: usize) -> Vec<Move> {
-    let z = |x: f64, y: f64| 2.0 * (x / 5.0).sin() * (y / 7.0).cos();
+    let z = |x: f64, y: f64| 2.0 * (x / 5.0).dsin() * (y / 7.0).dcos();
     let mut pts = Vec::new();
     for r in 0..rows {
         let y = r as f64;

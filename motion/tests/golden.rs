@@ -1,9 +1,10 @@
 //! Closed-form profiles: a lone line under the three laws, a full circle at the centripetal
 //! limit, the feed-hold stop distance, arc soft limits and a point-to-point move.
 
+use detmath::Det as _;
 mod common;
 
-use common::{Cmd, arc, assert_within, line, mill, run};
+use common::{Cmd, Run, arc, assert_within, line, mill, run};
 use motion::{Kernel, Law, MotionError, Move, Path, PtpAxis};
 
 const DT: f64 = 0.001;
@@ -58,8 +59,8 @@ fn lone_line_exponential_time() {
         &[line(1, [100.0, 0.0, 0.0], 3000.0)],
         &[],
     );
-    let tc = 50.0 * 4.0f64.ln() / 735.0;
-    let c = 1.0 / 4.0f64.ln() - 1.0 / 3.0;
+    let tc = 50.0 * 4.0f64.dln() / 735.0;
+    let c = 1.0 / 4.0f64.dln() - 1.0 / 3.0;
     assert_eq!(r.points.len(), ticks(2.0 + 2.0 * tc * (1.0 - c))); // 2115
     assert_eq!(r.points.last(), Some(&vec![100.0, 0.0, 0.0]));
     assert_within(&r.report, 0.01);
@@ -163,17 +164,23 @@ fn benchmark_programs_never_slower_than_linuxcnc() {
     }
 }
 
-#[test]
-fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
-    // Cruising at 100 mm/s along X (line 1 of 2), abort at tick 500: line 1 starts at rest and
-    // ends in a corner blend, so it keeps no kink reserve: the stop takes 10⁴/2000 mm at the full
-    // 1000 mm/s²; the queue is dropped (no DEN), and a new move starts from where the axes stopped.
+/// A kernel 500 ticks into line 1 of two (X 0→100, then Y to 50, blended), cruising at 100 mm/s.
+fn cruising_along_x() -> Kernel {
     let mut k = Kernel::new(mill(Law::Linear), &[0.0; 3]).expect("config");
     k.push(line(1, [100.0, 0.0, 0.0], 6000.0)).expect("push");
     k.push(line(2, [100.0, 50.0, 0.0], 6000.0)).expect("push");
     for _ in 0..500 {
         k.tick();
     }
+    k
+}
+
+#[test]
+fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
+    // Cruising at 100 mm/s along X (line 1 of 2), abort at tick 500: line 1 starts at rest and
+    // ends in a corner blend, so it keeps no kink reserve: the stop takes 10⁴/2000 mm at the full
+    // 1000 mm/s²; the queue is dropped (no DEN), and a new move starts from where the axes stopped.
+    let mut k = cruising_along_x();
     let at = k.position()[0];
     k.abort();
     let mut n = 0;
@@ -265,12 +272,12 @@ fn a_raise_the_executed_arc_cannot_absorb_keeps_the_old_ceiling() {
     // is the same as without it (tick for tick; the replan from mid-arc rounds differently).
     let scale = 0.3990946132440193f64;
     let c = [5.949679714521503 * scale, 5.751928022042237 * scale];
-    let r0 = c[0].hypot(c[1]);
-    let a0 = (-c[1]).atan2(-c[0]);
+    let r0 = c[0].dhypot(c[1]);
+    let a0 = (-c[1]).datan2(-c[0]);
     let a1 = a0 + 0.3 + 5.0 * scale;
     let m = arc(
         1,
-        [c[0] + r0 * a1.cos(), c[1] + r0 * a1.sin(), 0.0],
+        [c[0] + r0 * a1.dcos(), c[1] + r0 * a1.dsin(), 0.0],
         c,
         false,
         2669.015,
@@ -307,6 +314,7 @@ fn a_dwell_ends_while_the_override_is_set_every_tick() {
         exact_stop: true,
         tolerance: None,
         thread_pitch: None,
+        thread_angle: 0.0,
     };
     let cmds: Vec<(usize, Cmd)> = (0..150).map(|n| (n, Cmd::Override(100))).collect();
     let r = run(&cfg, &[0.0; 3], &[dwell(1)], &cmds);
@@ -333,4 +341,98 @@ fn a_dwell_ends_while_the_override_is_set_every_tick() {
         }
     }
     assert_eq!(ended, Some(100));
+}
+
+#[test]
+fn emergency_stop_decelerates_at_the_afc_rate() {
+    // As above, but the stop is the limit-switch emergency stop with AFC X = 5000 mm/s² (Y, Z
+    // keep their 1000): cruising at 100 mm/s along X it takes 10⁴/(2·5000) = 1 mm instead of the
+    // normal abort's 5 mm; along a 45° XY line both axes share the path, so the path deceleration
+    // is min(5000, 1000)·√2 and the stop takes 10⁴/(2·1000·√2) mm.
+    let mut k = cruising_along_x();
+    let at = k.position()[0];
+    k.emergency_stop(&[Some(5000.0), None, None]);
+    while !k.is_idle() {
+        assert!(k.tick().finished.is_empty());
+    }
+    assert!(
+        (k.position()[0] - at - 1.0).abs() < 1e-9,
+        "{:?}",
+        k.position()
+    );
+
+    // The S law does not delay an emergency stop to its next instant of zero acceleration.
+    let mut k = Kernel::new(mill(Law::SCurve), &[0.0; 3]).expect("config");
+    k.push(line(1, [200.0, 200.0, 0.0], 6000.0)).expect("push");
+    for _ in 0..1500 {
+        k.tick();
+    }
+    let t = k.tick().clone();
+    let v = t.feed_mm_min / 60.0;
+    let at = t.position.clone();
+    k.emergency_stop(&[Some(5000.0), None, None]);
+    while !k.is_idle() {
+        k.tick();
+    }
+    let a = 1000.0 * std::f64::consts::SQRT_2;
+    let d = ((k.position()[0] - at[0]).powi(2) + (k.position()[1] - at[1]).powi(2)).sqrt();
+    assert!((d - v * v / (2.0 * a)).abs() < 1e-9, "{d} at {v} mm/s");
+}
+
+/// A 200 mm line along X at 100 mm/s under `law`, FEED HOLD before tick 40, released at 2000:
+/// the run and the X set point of every tick.
+fn hold_at_tick_40(law: Law) -> (Run, Vec<f64>) {
+    let moves = [line(1, [200.0, 0.0, 0.0], 6000.0)];
+    let cmds = [(40, Cmd::Hold(true)), (2000, Cmd::Hold(false))];
+    let r = run(&mill(law), &[0.0; 3], &moves, &cmds);
+    let x = r.points.iter().map(|p| p[0]).collect();
+    (r, x)
+}
+
+#[test]
+fn s_law_hold_while_accelerating_ramps_the_acceleration_down_at_once() {
+    // S law along X from rest: path jerk j = 0.68 (JERK_TANGENT_LINE) × 22 500 = 15 300 mm/s³,
+    // acceleration 1.5 × 1000 × 0.98 = 1470 mm/s². FEED HOLD before tick 40 (t0 = 0.04 s),
+    // inside the first jerk phase: a0 = j·t0, v0 = j·t0²/2, x0 = j·t0³/6. The acceleration falls
+    // at once at the jerk limit (t0 s, to v = j·t0², +5/6·j·t0³), then the stop from j·t0² is
+    // triangular (j·t0² < a²/j): 2·t0 s, j·t0³. At rest after 4·t0 = 160 ticks, at X = 2·j·t0³
+    // = 1.9584 mm. (Before, the replan waited for the end of the acceleration to 100 mm/s:
+    // at rest after 323 ticks at X 16.169 mm.)
+    let (r, x) = hold_at_tick_40(Law::SCurve);
+    let (j, t0) = (0.68 * 22_500.0, 0.04);
+    assert!((x[159] - 2.0 * j * t0 * t0 * t0).abs() < 1e-9, "{}", x[159]);
+    assert!(x[158] < x[159]);
+    assert_eq!(x[1999], x[159]);
+    assert_within(&r.report, 0.01);
+    assert_eq!(r.points.last(), Some(&vec![200.0, 0.0, 0.0]));
+}
+
+#[test]
+fn exponential_law_hold_while_accelerating_replans_at_once() {
+    // Exponential law (ACC 1,4) along X from rest at a = 980 mm/s²: a change of dv takes
+    // T = 4·dv·ln 4/(3a), its acceleration a/4·e^{kt}, k = ln 4/T. FEED HOLD before tick 40
+    // (t0 = 0.04 s) of the change to 100 mm/s: the acceleration drops to 0 (as at the end of a
+    // change) and the stop is one change from v(t0) to 0 (acceleration −a·e^{−kt}). At rest
+    // after 40 + 21.49 ticks at X = 0.311697 mm (before, the replan waited for the end of the
+    // acceleration: at rest after 377 ticks at X 14.637 mm).
+    let (r, x) = hold_at_tick_40(Law::Exponential);
+    let cfg = mill(Law::Exponential);
+    let (a, ln4, t0) = (980.0f64, 4.0f64.dln(), 0.04);
+    let k1 = ln4 / (4.0 * 100.0 * ln4 / (3.0 * a));
+    let x0 = a / 4.0 * ((k1 * t0).dexp_m1() - k1 * t0) / (k1 * k1);
+    let v0 = a / 4.0 * (k1 * t0).dexp_m1() / k1;
+    let t2 = 4.0 * v0 * ln4 / (3.0 * a);
+    let k2 = ln4 / t2;
+    let stop = v0 * t2 - a * ((-k2 * t2).dexp_m1() + k2 * t2) / (k2 * k2);
+    assert!((t2 / cfg.tick_s - 21.488).abs() < 1e-3);
+    assert!(
+        (x[61] - x0 - stop).abs() < 1e-9,
+        "{} vs {}",
+        x[61],
+        x0 + stop
+    );
+    assert!(x[60] < x[61]);
+    assert_eq!(x[1999], x[61]);
+    assert_within(&r.report, 0.01);
+    assert_eq!(r.points.last(), Some(&vec![200.0, 0.0, 0.0]));
 }

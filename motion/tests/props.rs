@@ -2,6 +2,7 @@
 //! override and hold sequences stay within every limit and the tolerance, end exactly at the
 //! last programmed point, and run bit-identically twice.
 
+use detmath::Det as _;
 mod common;
 
 use common::{Cmd, arc, assert_within, line, mill, run};
@@ -34,20 +35,20 @@ fn moves(steps: &[(u8, [f64; 3], f64, bool)], feed: f64) -> Vec<Move> {
             }
             1 => {
                 // Short segment (0.005–0.1 mm).
-                let s = scale * 0.1 / (d[0].hypot(d[1]).hypot(d[2]) + 1e-9);
+                let s = scale * 0.1 / (d[0].dhypot(d[1]).dhypot(d[2]) + 1e-9);
                 p = [p[0] + d[0] * s, p[1] + d[1] * s, p[2] + d[2] * s];
                 out.push(line(tag, p, feed));
             }
             _ => {
                 // Arc of a random sweep around a centre at (d0, d1)·scale from p; Z lift = helix.
                 let c = [p[0] + d[0] * scale, p[1] + d[1] * scale];
-                let r = (p[0] - c[0]).hypot(p[1] - c[1]);
+                let r = (p[0] - c[0]).dhypot(p[1] - c[1]);
                 if r < 1e-3 {
                     continue;
                 }
-                let a0 = (p[1] - c[1]).atan2(p[0] - c[0]);
+                let a0 = (p[1] - c[1]).datan2(p[0] - c[0]);
                 let a1 = a0 + (if *cw { -1.0 } else { 1.0 }) * (0.3 + 5.0 * scale);
-                let e = [c[0] + r * a1.cos(), c[1] + r * a1.sin(), p[2] + d[2]];
+                let e = [c[0] + r * a1.dcos(), c[1] + r * a1.dsin(), p[2] + d[2]];
                 out.push(arc(tag, e, c, *cw, feed));
                 p = e;
             }

@@ -5,6 +5,7 @@
 //! (`arith/*_plan_16k_ops`, native regions), and a loop-heavy parameter program with a conditional
 //! jump (`param_loop`).
 
+use detmath::Det as _;
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -26,8 +27,8 @@ fn cam_program(blocks: usize) -> String {
             s.push_str(&format!("N{n} G02 X{px:.3} Y{py:.3} I1 J0\n"));
         } else {
             let t = n as f64 * 0.01;
-            px = r3(t.cos() * 50.0);
-            py = r3(t.sin() * 50.0);
+            px = r3(t.dcos() * 50.0);
+            py = r3(t.dsin() * 50.0);
             let z = -1.0 - (n % 7) as f64 * 0.1;
             s.push_str(&format!("N{n} G01 X{px:.3} Y{py:.3} Z{z:.3}\n"));
         }
@@ -50,7 +51,7 @@ fn cam_contour(blocks: usize) -> String {
     let mut n = 4;
     while n < blocks {
         let t = n as f64 * 0.01;
-        let (x, y) = (r3(t.cos() * 50.0), r3(t.sin() * 50.0));
+        let (x, y) = (r3(t.dcos() * 50.0), r3(t.dsin() * 50.0));
         if n % 10 == 0 {
             s.push_str(&format!(
                 "N{n} G03 X{x:.3} Y{y:.3} I{:.3} J{:.3}\n",

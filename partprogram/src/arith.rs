@@ -11,6 +11,7 @@
 //! invalid argument, overflow of a 32-bit parameter, codes 36, 40, 43 and >51 are run-time errors.
 //! The native code in [`crate::jit`] reproduces this module bit for bit.
 
+use detmath::Det as _;
 mod tables;
 
 use crate::machine::DoublePrecision;
@@ -384,15 +385,15 @@ impl ArithState {
                 if x <= 0.0 {
                     return Err(ArithError::Domain);
                 }
-                self.float_out(w.c, raw, x.log2())?;
+                self.float_out(w.c, raw, x.dlog2())?;
             }
             13 => {
                 let (x, y) = (self.float_in(w.a, raw)?, self.float_in(w.b, raw)?);
-                self.float_out(w.c, raw, x.powf(y))?;
+                self.float_out(w.c, raw, x.dpowf(y))?;
             }
             14 => {
                 let (x, y) = (self.float_in(w.a, raw)?, self.float_in(w.b, raw)?);
-                self.float_out(w.c, raw, x.hypot(y))?;
+                self.float_out(w.c, raw, x.dhypot(y))?;
             }
             15 => return self.compare(w, |x, y| x > y),
             16 => return self.compare(w, |x, y| x >= y),
@@ -432,14 +433,14 @@ impl ArithState {
             }
             27 => {
                 let x = self.float_in(w.a, raw)?;
-                self.float_out(w.c, raw, x.to_radians().tan())?;
+                self.float_out(w.c, raw, x.to_radians().dtan())?;
             }
             28 => {
                 let (k, n) = (self.float_in(w.a, raw)?, self.float_in(w.b, raw)?);
                 let v = if k == 1.0 {
                     n
                 } else {
-                    (k.powf(n) - 1.0) / (k - 1.0)
+                    (k.dpowf(n) - 1.0) / (k - 1.0)
                 };
                 self.float_out(w.c, raw, v)?;
             }
@@ -486,7 +487,7 @@ impl ArithState {
             }
             37 | 38 => {
                 let x = self.float_in(w.a, raw)?.to_radians();
-                let v = if w.op == 37 { x.sin() } else { x.cos() };
+                let v = if w.op == 37 { x.dsin() } else { x.dcos() };
                 self.write(w.c, round(v * 10_000_000.0)?)?;
             }
             39 => {
@@ -498,7 +499,7 @@ impl ArithState {
                 if !(-1.0..=1.0).contains(&q) {
                     return Err(ArithError::Domain);
                 }
-                self.float_out(w.c, raw, q.asin().to_degrees())?;
+                self.float_out(w.c, raw, q.dasin().to_degrees())?;
             }
             41 | 42 => {
                 let step = i64::from(if w.b == 0 { 1 } else { w.b });

@@ -119,6 +119,8 @@ pub struct Canon {
     pub dwell: Option<f64>,
     /// True for a G33 thread block.
     pub thread: bool,
+    /// G33: the start angle after the spindle's zero pulse, degrees (MEFI `I`; 0: at the pulse).
+    pub thread_angle: f64,
     /// True when the motion stops exactly at the block's end point before the next block starts:
     /// Fanuc G09 (this block) or G61 (modal); MEFI G98 (standard block connection) or G24 (firm
     /// connection), false under MEFI G23 (smooth connection) and Fanuc G64.
@@ -308,6 +310,9 @@ impl Canon {
         }
         if self.thread {
             s.push_str(",\"thread\":true");
+            if self.thread_angle != 0.0 {
+                let _ = write!(s, ",\"thread_angle\":{}", num(self.thread_angle));
+            }
         }
         if self.exact_stop {
             s.push_str(",\"exact_stop\":true");
@@ -370,6 +375,9 @@ impl Canon {
         }
         if self.thread {
             s.push_str(" thread");
+            if self.thread_angle != 0.0 {
+                let _ = write!(s, " I{}", num(self.thread_angle));
+            }
         }
         if let Some(c) = &self.css {
             let _ = write!(s, " G96 {}m/min", num(c.m_min));

@@ -110,6 +110,16 @@ pub const POS_VALUE: u32 = 2073;
 pub const POS_DUPLICATE: u32 = 2074;
 /// `TAB0.POS`: the file cannot be read (reported by the runtime).
 pub const POS_IO: u32 = 2075;
+/// `nc/MACROVARS` (retained `#500`–`#999`): a line that is not `#<n> = <value>`.
+pub const VARS_LINE: u32 = 2076;
+/// `nc/MACROVARS`: a variable outside `#500`–`#999`.
+pub const VARS_NUMBER: u32 = 2077;
+/// `nc/MACROVARS`: a value that is not a finite number.
+pub const VARS_VALUE: u32 = 2078;
+/// `nc/MACROVARS`: a variable written twice.
+pub const VARS_DUPLICATE: u32 = 2079;
+/// `nc/MACROVARS`: the file cannot be read or written (reported by the runtime).
+pub const VARS_IO: u32 = 2080;
 /// Fanuc `G43`/`G44` without `H` in the block.
 pub const G43_WITHOUT_H: u32 = 2034;
 /// G41/G42/G40 written in a G02/G03 block: compensation is switched only in linear blocks (S15).

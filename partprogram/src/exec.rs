@@ -342,7 +342,7 @@ impl<'p> Exec<'p> {
         center: Vec<(char, f64)>,
         feed: Option<f64>,
         m: &[MFunc],
-        thread: bool,
+        thread: Option<f64>,
     ) {
         if !self.opts.record {
             return;
@@ -359,7 +359,8 @@ impl<'p> Exec<'p> {
             s: self.modal.s,
             t: self.modal.t,
             dwell: None,
-            thread,
+            thread: thread.is_some(),
+            thread_angle: thread.unwrap_or(0.0),
             exact_stop: !self.modal.smooth,
             tolerance: None,
             css: self.css(),
@@ -412,6 +413,7 @@ impl<'p> Exec<'p> {
             t: self.modal.t,
             dwell: Some(secs),
             thread: false,
+            thread_angle: 0.0,
             exact_stop: !self.modal.smooth,
             tolerance: None,
             css: self.css(),

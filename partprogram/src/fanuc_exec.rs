@@ -1,6 +1,7 @@
 //! Executor of the Fanuc/HAAS dialect: modal state, work offsets, canned cycles, circular pockets,
 //! cylinder interpolation G7.1 and M97/M98/M99 calls, emitting the same canonical blocks as MEFI.
 
+use detmath::Det as _;
 mod comp;
 mod cycles;
 pub mod macros;
@@ -86,6 +87,8 @@ struct Ex<'p> {
     vars: macros::VarTable,
     /// External work offset (`#5201`+), added to every work system.
     ext: [f64; 6],
+    /// The last M code executed (not M97/M98/M99), for `#4113`.
+    last_m: Option<u16>,
 }
 
 fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
@@ -161,7 +164,9 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         tolerance: None,
         vars: macros::VarTable::default(),
         ext: [0.0; 6],
+        last_m: None,
     };
+    prog.machine.retained.load_into(&mut ex.vars.slots);
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
     match done {
         Ok(()) => Ok(Plan {
@@ -326,6 +331,7 @@ impl Ex<'_> {
             t: self.t,
             dwell,
             thread: false,
+            thread_angle: 0.0,
             exact_stop: self.exact_modal || self.exact_once,
             tolerance: self.tolerance,
             css: self.css(),
@@ -384,6 +390,9 @@ impl Ex<'_> {
     fn block(&mut self, bi: usize) -> Result<(), RunError> {
         let prog = self.prog;
         let b = &prog.blocks[bi];
+        if let Some(n) = b.n.filter(|_| !(b.skip && self.opts.block_skip)) {
+            self.vars.slots[crate::macro_b::SEQ_SLOT] = f64::from(n);
+        }
         if let Some(m) = &b.mac {
             if b.skip && self.opts.block_skip {
                 return Ok(());
@@ -433,6 +442,9 @@ impl Ex<'_> {
                 }
             })
             .collect();
+        if let Some(&m) = ms.iter().rev().find(|m| !matches!(m, 97..=99)) {
+            self.last_m = Some(m);
+        }
         let (mut dwell, mut g28, mut g53, mut g92, mut g52, mut pocket, mut cyl_cmd) =
             (false, false, false, false, false, None, false);
         let mut new_cycle = false;
@@ -855,7 +867,7 @@ impl Ex<'_> {
         let cw = self.motion == 20;
         let c = if let Some(r) = self.dim(b, 'R') {
             let (dx, dy) = (e.0 - s.0, e.1 - s.1);
-            let d = dx.hypot(dy);
+            let d = dx.dhypot(dy);
             if d == 0.0 || d > 2.0 * r.abs() + 1e-6 {
                 return Err(run_err(
                     b,
@@ -876,8 +888,8 @@ impl Ex<'_> {
                 s.0 + self.dim(b, w1).unwrap_or(0.0),
                 s.1 + self.dim(b, w2).unwrap_or(0.0),
             );
-            let r0 = (s.0 - c.0).hypot(s.1 - c.1);
-            let r1 = (e.0 - c.0).hypot(e.1 - c.1);
+            let r0 = (s.0 - c.0).dhypot(s.1 - c.1);
+            let r1 = (e.0 - c.0).dhypot(e.1 - c.1);
             if (r0 - r1).abs() > self.prog.machine.circle_tolerance.max(0.002) {
                 return Err(run_err(
                     b,

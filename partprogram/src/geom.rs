@@ -8,6 +8,7 @@
 
 use crate::arith::ArithState;
 use crate::canon::Plane;
+use detmath::Det as _;
 
 /// A programmed target of one block.
 #[derive(Debug, Clone, Copy)]
@@ -197,8 +198,8 @@ impl Geometry {
         // Centre in the program frame (X as diameter when diameter programming is on).
         let c1 = start[i1] + di / half(i1);
         let c2 = start[i2] + dj / half(i2);
-        let r0 = ((start[i1] - c1) * half(i1)).hypot((start[i2] - c2) * half(i2));
-        let r1 = ((end[i1] - c1) * half(i1)).hypot((end[i2] - c2) * half(i2));
+        let r0 = ((start[i1] - c1) * half(i1)).dhypot((start[i2] - c2) * half(i2));
+        let r1 = ((end[i1] - c1) * half(i1)).dhypot((end[i2] - c2) * half(i2));
         if (r0 - r1).abs() > tol {
             return Err(format!(
                 "end point is not on the circle (error 7.56): start radius {r0:.4}, end radius {r1:.4}"
@@ -210,8 +211,8 @@ impl Geometry {
             (a2, self.fwd(i2, c2) + off[i2] + self.length[i2]),
         ];
         let mirrored = self.mirror[i1] != self.mirror[i2];
-        let a0 = ((start[i2] - c2) * half(i2)).atan2((start[i1] - c1) * half(i1));
-        let a1 = ((end[i2] - c2) * half(i2)).atan2((end[i1] - c1) * half(i1));
+        let a0 = ((start[i2] - c2) * half(i2)).datan2((start[i1] - c1) * half(i1));
+        let a1 = ((end[i2] - c2) * half(i2)).datan2((end[i1] - c1) * half(i1));
         let sweep_cw = (a0 - a1).rem_euclid(std::f64::consts::TAU);
         self.apply(t, end, st);
         Ok(Arc {

@@ -159,6 +159,10 @@ pub struct MachineSpec {
     /// axis ordinal) from the low-order end; 0 means the defaults 34, 24, 41 ([`MachineSpec::plane_341`]).
     #[serde(default)]
     pub planes_341: i64,
+    /// Fanuc Macro B `#500`–`#999` at the start of a plan (the machine's `nc/MACROVARS`); empty:
+    /// all null.
+    #[serde(default)]
+    pub retained: crate::macro_b::retained::Retained,
 }
 
 impl MachineSpec {
@@ -183,6 +187,7 @@ impl MachineSpec {
             length_method: LengthMethod::A,
             thread_constant: 0,
             planes_341: 0,
+            retained: crate::macro_b::retained::Retained::default(),
         }
     }
 

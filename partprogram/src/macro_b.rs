@@ -5,13 +5,14 @@
 //! [`Macro`]: one statement or NC words whose values may be expressions ([`crate::ast::Val::Expr`]).
 //! [`eval`] is the reference interpreter of expressions (values are `f64`, the null value `#0` is a
 //! NaN); [`flow`] pairs `WHILE … DO m` with `END m` and resolves literal `GOTO` targets at compile
-//! time; [`native`] compiles runs of macro-only blocks with cranelift (through [`crate::jit`]) into
+//! time; [`retained`] is the file of the retained `#500`–`#999`; [`native`] compiles runs of macro-only blocks with cranelift (through [`crate::jit`]) into
 //! functions that give the same variables, block counts and errors bit for bit. The executor side
 //! (system variables, calls) is `fanuc_exec::macros`.
 
 pub mod eval;
 pub mod flow;
 pub mod native;
+pub mod retained;
 pub mod syntax;
 
 /// A binary operator of a macro expression.
@@ -183,3 +184,8 @@ pub fn is_plain(n: u32) -> bool {
 
 /// Size of the flat variable table (slot n is variable #n for [`is_plain`] numbers).
 pub const SLOTS: usize = 1000;
+
+/// The hidden slot of the flat table (not a plain variable: `#99` cannot be named) holding the
+/// sequence number of the latest executed block that had one, null before the first: what
+/// `#4114`/`#4314` read. Both back ends store it at the head of every block with an `N`.
+pub const SEQ_SLOT: usize = 99;

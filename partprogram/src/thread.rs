@@ -15,6 +15,7 @@
 //! 64 + 2·12·tan 18° = 71.798). A diameter axis moves twice the distance. The block ends at the
 //! programmed end plus both shifts; the next positions must be programmed again (rule S18).
 
+use detmath::Det as _;
 /// A run-in or run-out slope: machine axis index and signed angle in degrees.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Slope {
@@ -114,7 +115,7 @@ pub fn split(
     }
     let shift = |s: Slope, l: f64| {
         let k = if diameter[s.axis] { 2.0 } else { 1.0 };
-        k * l * s.degrees.to_radians().tan()
+        k * l * s.degrees.to_radians().dtan()
     };
     let d_in = -shift(inn, e);
     let d_out = shift(out, j);

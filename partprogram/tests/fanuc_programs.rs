@@ -167,11 +167,11 @@ fn fx16_g13_roughing_spiral_with_k_and_q() {
 
 #[test]
 fn fx20_g71_cylinder_interpolation_converts_degrees_on_the_development() {
-    let p = run(
-        &fanuc_lathe(),
-        &file("lathe/nc/O1000.nc"),
-        PlanOptions::default(),
-    );
+    // The spec's O1000 (a C axis under M21) is a fixture here: the bundled lathe has no C axis.
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/O1000-cylinder.nc");
+    let src = std::fs::read_to_string(path).expect("fixture");
+    let p = run(&fanuc_lathe(), &src, PlanOptions::default());
     let arcs: Vec<(Option<u32>, Kind, f64, f64)> = p
         .blocks
         .iter()

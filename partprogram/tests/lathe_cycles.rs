@@ -4,6 +4,7 @@
 //! with the arithmetic of §4.3 (decimal mode: `r` in µm; op 3 and op 4 truncate toward zero; op 28
 //! rounds to nearest; op 9 is an arithmetic shift of `r`).
 
+use detmath::Det as _;
 mod common;
 
 use common::*;
@@ -146,7 +147,7 @@ fn g85_ends_every_pass_with_the_run_out_of_r22() {
     // R10 = -2 + 3 = 1: two loop passes; R23 = 0: one final pass.
     // G33 J5 (R22) with R04=120.0 (X, +20°): straight to Z -30 + 5 = -25, then the run-out
     // raises the diameter by 2 x 5 x tan 20° = 3.639702 at Z -30 (R31 includes the run-out).
-    let ro = 2.0 * 5.0 * 20f64.to_radians().tan();
+    let ro = 2.0 * 5.0 * 20f64.to_radians().dtan();
     let mut want: Vec<Move> = Vec::new();
     for x in [19.246, 18.643] {
         want.extend([

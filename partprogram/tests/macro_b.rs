@@ -36,8 +36,13 @@ fn both(src: &str) -> partprogram::Plan {
     let a = run(Backend::Interpreter);
     let b = run(Backend::Native);
     assert_eq!(a.blocks, b.blocks);
-    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&a.macro_vars), bits(&b.macro_vars));
+    let diff: Vec<(usize, f64, f64)> = (0..a.macro_vars.len().max(b.macro_vars.len()))
+        .filter(|&i| {
+            a.macro_vars.get(i).map(|x| x.to_bits()) != b.macro_vars.get(i).map(|x| x.to_bits())
+        })
+        .map(|i| (i, a.macro_vars[i], b.macro_vars[i]))
+        .collect();
+    assert!(diff.is_empty(), "#n, interpreter, native: {diff:?}");
     assert_eq!(a.executed, b.executed);
     b
 }
@@ -337,6 +342,45 @@ fn macro_runs_are_compiled_natively() {
 }
 
 #[test]
+fn round_is_half_away_from_zero_at_the_edges_in_both_back_ends() {
+    // The largest double below 0.5, halves, −0.3 (→ −0), odd integers above 2^52 and the halves
+    // of 2^51..2^52 (the two places where `trunc(x + 0.5)` would be wrong).
+    let p = both(
+        "O1\n#100 = 0.49999999999999994\n#101 = -0.5\n#102 = 2.5\n#103 = -0.3\n\
+         #104 = 4503599627370497\n#105 = 2251799813685248.5\n#106 = -2251799813685248.5\n\
+         #1 = 100\nWHILE [#1 LE 106] DO1\n#[#1 + 400] = ROUND[#[#1]]\n#1 = #1 + 1\nEND1\nM30\n",
+    );
+    let got: Vec<u64> = p.macro_vars[500..507].iter().map(|v| v.to_bits()).collect();
+    let want: Vec<u64> = [
+        0.0,
+        -1.0,
+        3.0,
+        -0.0,
+        4_503_599_627_370_497.0,
+        2_251_799_813_685_249.0,
+        -2_251_799_813_685_249.0,
+    ]
+    .iter()
+    .map(|v: &f64| v.to_bits())
+    .collect();
+    assert_eq!(got, want);
+}
+
+#[test]
+fn computed_numbers_and_plain_variables_meet_in_one_native_run() {
+    // One native run with computed numbers and five plain variables: a computed write to #2 is
+    // seen by a plain read, a plain write by a computed read (the run keeps no variable in a
+    // register that a computed number could miss).
+    let src = "O1\n#1 = 2\n#2 = 5\n#[#1] = 7\n#3 = #2 + 1\n#2 = 9\n#4 = #[#1]\n\
+               #[#1 - 1] = #4 * 2\n#5 = #1\nM30\n";
+    let (prog, _) = compile(&haas(), "t", src);
+    let code = prog.and_then(|p| p.macro_native).expect("native code");
+    assert_eq!(code.run_count(), 1);
+    let p = both(src);
+    assert_eq!(&p.macro_vars[1..6], &[18.0, 9.0, 8.0, 9.0, 18.0]);
+}
+
+#[test]
 fn computed_and_system_variables_run_natively_in_one_run() {
     // Squares into #100..#104 through #[…], the G54 X offset counted up by 1.5 per pass, a read of
     // #9999 (nonexistent) after the loop: one native run; the error is the interpreter's.
@@ -403,6 +447,34 @@ fn modal_information_variables_read_the_current_g_codes_and_words() {
 }
 
 #[test]
+fn modal_information_b_m_n_and_o_numbers() {
+    // #4113 the last M (M97–M99 are calls, not M codes), #4114 the N of the latest block with
+    // one (the reading block's own included; native loops with N labels keep it too), #4115 the
+    // executing program's O number, #4102 null (B is never a second auxiliary function here).
+    let p = both(
+        "O1234\nN5 G00 X0 Y0 M08\n#100 = #4113\n#101 = #4114\nN7 #102 = #4114\n#103 = #4115\n\
+         #104 = #4102\nIF [#104 EQ #0] THEN #105 = 1\n#1 = 0\nN20 #1 = #1 + 1\nIF [#1 LT 3] GOTO 20\n\
+         #106 = #4314\nM98 P2000\n#108 = #4115\n#109 = #4113\n#110 = #4114\nM30\n\
+         O2000\nN40 #107 = #4115\nM09\nM99\n",
+    );
+    let v = &p.macro_vars;
+    assert!(v[104].is_nan());
+    let got: Vec<f64> = [100, 101, 102, 103, 105, 106, 107, 108, 109, 110]
+        .iter()
+        .map(|&i| v[i])
+        .collect();
+    assert_eq!(
+        got,
+        vec![8.0, 5.0, 7.0, 1234.0, 1.0, 20.0, 2000.0, 1234.0, 9.0, 40.0]
+    );
+    // Before any M, N: null.
+    let p = both(
+        "O1\n#100 = #4113\n#101 = #4114\nIF [#100 EQ #0] THEN #102 = 1\nIF [#101 EQ #0] THEN #103 = 1\nM30\n",
+    );
+    assert_eq!(&p.macro_vars[102..104], &[1.0, 1.0]);
+}
+
+#[test]
 fn g65_argument_specification_ii_binds_i_j_k_sets() {
     // I1 K3 I4 J5 (Fanuc's example): #4 = 1, #6 = 3, #7 = 4, #8 = 5; A #1; the tenth set's K is #33.
     // D6 then I7 J8 K9 I10: D is #7 (spec I), the second set's I (#7) comes later and wins.
@@ -446,6 +518,11 @@ mod differential {
             "#2001",
             "#5001",
             "#5041",
+            "#4113",
+            "#4114",
+            "#4314",
+            "#4115",
+            "#[4114 + #2]",
         ])
         .prop_map(str::to_string)
     }
@@ -505,7 +582,11 @@ mod differential {
         #[test]
         fn native_matches_interpreter(stmts in proptest::collection::vec(stmt(), 1..10)) {
             let mut src = String::from("O1\n");
-            for s in &stmts {
+            // Every other statement numbered: #4114 reads the latest N in both back ends.
+            for (i, s) in stmts.iter().enumerate() {
+                if i % 2 == 0 {
+                    src.push_str(&format!("N{} ", i + 1));
+                }
                 src.push_str(s);
             }
             src.push_str("N90 G00 X#1 Y#2\nM30\n");

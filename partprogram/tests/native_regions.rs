@@ -17,6 +17,20 @@ fn both(p: &Program, opts: PlanOptions) -> [partprogram::Plan; 2] {
     })
 }
 
+/// The error each back end stops `p` with (native first), panicking with `what` if one plans it.
+fn both_err(p: &Program, what: &str) -> [(Backend, diag::Diagnostic); 2] {
+    [Backend::Native, Backend::Interpreter].map(|backend| {
+        let opts = PlanOptions {
+            backend,
+            ..PlanOptions::default()
+        };
+        match plan(p, opts) {
+            Err((_, d)) => (backend, d),
+            Ok(_) => panic!("{backend:?}: {what}"),
+        }
+    })
+}
+
 /// Regions of the blocks with the given indices (None: interpreted).
 fn regions(p: &Program, blocks: std::ops::Range<usize>) -> Vec<Option<usize>> {
     let native = p.native.as_ref().expect("native code");
@@ -112,16 +126,7 @@ fn computed_g_other_than_73_78_leaves_the_region() {
     // interpreter, which refuses the L it would ignore (2530) for both back ends.
     let p = prog("%1\nN1 R10=1 R20=0\nN2 GR10 L4\nN3 G26 R5=-41200020\nN4 X5 F100\nN5 M30\n");
     assert!(regions(&p, 0..3).iter().all(Option::is_some));
-    for backend in [Backend::Native, Backend::Interpreter] {
-        let Err((_, d)) = plan(
-            &p,
-            PlanOptions {
-                backend,
-                ..PlanOptions::default()
-            },
-        ) else {
-            panic!("{backend:?}: L of a computed G01 was ignored");
-        };
+    for (backend, d) in both_err(&p, "L of a computed G01 was ignored") {
         assert_eq!((d.code, d.line), (2530, 3), "{backend:?}");
     }
     // Without L, the computed G01 is a G01: N4 then moves at feed.
@@ -134,17 +139,8 @@ fn computed_g_other_than_73_78_leaves_the_region() {
     }
     // R10=123 does not fit G: the interpreter reports it at N2 for both back ends.
     let p = prog("%1\nN1 R10=123\nN2 GR10 L1\nN3 M30\n");
-    for backend in [Backend::Native, Backend::Interpreter] {
-        let Err((_, d)) = plan(
-            &p,
-            PlanOptions {
-                backend,
-                ..PlanOptions::default()
-            },
-        ) else {
-            panic!("no error");
-        };
-        assert_eq!((d.code, d.line), (2502, 3));
+    for (backend, d) in both_err(&p, "no error") {
+        assert_eq!((d.code, d.line), (2502, 3), "{backend:?}");
     }
 }
 
@@ -152,16 +148,7 @@ fn computed_g_other_than_73_78_leaves_the_region() {
 fn arithmetic_error_in_a_loop_is_located() {
     // R1 = 2, 1, 0: the third pass divides by zero in N2.
     let p = prog("%1\nN1 R1=3 R3=100\nN2 G27 R5=-42010001 R6=-04030104\nN3 G73 L2 Q9\nN4 M30\n");
-    for backend in [Backend::Native, Backend::Interpreter] {
-        let Err((_, d)) = plan(
-            &p,
-            PlanOptions {
-                backend,
-                ..PlanOptions::default()
-            },
-        ) else {
-            panic!("no error");
-        };
+    for (backend, d) in both_err(&p, "no error") {
         assert_eq!((d.code, d.line), (2500, 3), "{backend:?}");
         assert_eq!(d.message, "parameter arithmetic: division by zero");
     }
@@ -213,16 +200,7 @@ fn division_boundaries_agree() {
         assert_eq!(plan.params[14], -2_147_483_648);
     }
     let p = prog("%1\nN1 R10=65536 R11=-32768 R13=-1 G27 R5=-03101112 R6=-04121314\nN2 M30\n");
-    for backend in [Backend::Native, Backend::Interpreter] {
-        let Err((_, d)) = plan(
-            &p,
-            PlanOptions {
-                backend,
-                ..PlanOptions::default()
-            },
-        ) else {
-            panic!("no error");
-        };
+    for (backend, d) in both_err(&p, "no error") {
         assert_eq!((d.code, d.line), (2500, 2), "{backend:?}");
         assert_eq!(
             d.message,
@@ -245,16 +223,7 @@ fn products_beyond_64_bits_overflow_in_both_back_ends() {
             "%1\nN1 R10=-1 G26 R5=100090\nN2 G26 R5={word}\nN3 M30\n"
         ));
         assert!(regions(&p, 0..2).iter().all(Option::is_some));
-        for backend in [Backend::Native, Backend::Interpreter] {
-            let Err((_, d)) = plan(
-                &p,
-                PlanOptions {
-                    backend,
-                    ..PlanOptions::default()
-                },
-            ) else {
-                panic!("{word}: no error");
-            };
+        for (backend, d) in both_err(&p, &format!("{word}: no error")) {
             assert_eq!((d.code, d.line), (2500, 3), "{word} {backend:?}");
             assert_eq!(
                 d.message,

@@ -2,6 +2,7 @@
 //! on both sides in both corner modes, a line-arc-line contour with the arc feed of structure spec §13.6,
 //! a negative radius, the located errors 2510/2511, and the HAAS examples of gcode-haas-fanuc.md §10.2.
 
+use detmath::Det as _;
 mod common;
 
 use common::*;
@@ -530,9 +531,9 @@ fn contour(segs: &[Seg], left: bool, r: f64) -> String {
             Seg::Arc(i, j, t) => {
                 let (i, j) = ((i * 1000.0).round() / 1000.0, (j * 1000.0).round() / 1000.0);
                 let (cx, cy) = (x + i, y + j);
-                let a = (y - cy).atan2(x - cx) + t;
-                let rr = i.hypot(j);
-                let (ex, ey) = (cx + rr * a.cos(), cy + rr * a.sin());
+                let a = (y - cy).datan2(x - cx) + t;
+                let rr = i.dhypot(j);
+                let (ex, ey) = (cx + rr * a.dcos(), cy + rr * a.dsin());
                 let g = if t >= 0.0 { 3 } else { 2 };
                 s += &format!("N{n} G{g} X{ex:.3} Y{ey:.3} I{i:.3} J{j:.3}\n");
                 (x, y) = (

@@ -160,3 +160,22 @@ fn machine_constants_in_tab0_rek_notation_set_the_slope_and_the_length_method() 
     );
     assert!(parse_constants("X8: 1\n").is_err());
 }
+
+#[test]
+fn f15_start_angle_i_is_carried_to_the_thread_block() {
+    // `I180`: the thread starts 180° after the spindle's zero pulse (000:953–955); `I0.` at it.
+    let src = "%1\nN10 Z205. X20.\nN20 M04 S500 Z200.0 F1.5 I180 G33\nN30 Z190. I0. G33\nN40 M30\n";
+    let p = run(&lathe(), src, PlanOptions::default());
+    let angles: Vec<(Option<u32>, f64)> = p
+        .blocks
+        .iter()
+        .filter(|c| c.thread)
+        .map(|c| (c.n, c.thread_angle))
+        .collect();
+    assert_eq!(angles, vec![(Some(20), 180.0), (Some(30), 0.0)]);
+    let line = p.blocks[1].to_json_line();
+    assert!(
+        line.contains("\"thread\":true,\"thread_angle\":180"),
+        "{line}"
+    );
+}

@@ -449,3 +449,35 @@ fn an_immediate_function_goes_to_mimm_without_a_handshake() {
     );
     assert_eq!(b.cnc.processes()[0].counters().handshakes[0], 1);
 }
+
+#[test]
+fn reset_with_the_estop_chain_still_open_raises_the_alarm_again() {
+    let mut b = Bench::new(cnc(false, 0, 0));
+    b.run(2, &Plc::default());
+    let open = Plc {
+        estop: 0,
+        ..Plc::default()
+    };
+    b.run(2, &open); // the scan opens the chain, the kernel sees it
+    assert_eq!(b.cnc.processes()[0].alarms().len(), 1);
+    b.step(&Plc {
+        estop: 0,
+        ers: 1,
+        ..Plc::default()
+    }); // ERS in the scan, chain still open
+    b.step(&open); // ERS edge: RESET clears the list, the open chain raises the alarm again
+    let p = &b.cnc.processes()[0];
+    let alarms: Vec<&str> = p.alarms().iter().map(|a| a.message.as_str()).collect();
+    assert_eq!(alarms, ["process 1: emergency stop"]);
+    assert!(!p.state().on);
+    b.run(3, &open);
+    assert_eq!(b.cnc.processes()[0].alarms().len(), 1, "raised once");
+    // Closed again: RESET clears it for good.
+    b.step(&Plc {
+        ers: 1,
+        ..Plc::default()
+    });
+    b.run(2, &Plc::default());
+    assert!(b.cnc.processes()[0].alarms().is_empty());
+    assert!(b.cnc.processes()[0].state().on);
+}

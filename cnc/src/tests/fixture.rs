@@ -32,7 +32,7 @@ impl Interpolator for Stepper {
     fn set_hold(&mut self, on: bool) {
         self.hold = on;
     }
-    fn set_spindle_rev_s(&mut self, _: f64) {}
+    fn set_spindle_position(&mut self, _: f64) {}
     fn abort(&mut self) {
         self.queue.clear();
     }
@@ -211,6 +211,7 @@ pub fn block(n: u32, kind: CanonKind, x: f64, m: &[u16], s: Option<f64>, t: Opti
         t,
         dwell: None,
         thread: false,
+        thread_angle: 0.0,
     }
 }
 

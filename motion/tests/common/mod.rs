@@ -49,6 +49,7 @@ pub fn line(tag: u64, end: [f64; 3], f: f64) -> Move {
         exact_stop: false,
         tolerance: None,
         thread_pitch: None,
+        thread_angle: 0.0,
     }
 }
 
@@ -67,6 +68,7 @@ pub fn arc(tag: u64, end: [f64; 3], center: [f64; 2], cw: bool, f: f64) -> Move 
         exact_stop: false,
         tolerance: None,
         thread_pitch: None,
+        thread_angle: 0.0,
     }
 }
 

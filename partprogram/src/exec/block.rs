@@ -318,7 +318,7 @@ impl Exec<'_> {
                 }
             }
             self.geo.move_machine(target, &self.st, self.modal.offset);
-            self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, false);
+            self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, None);
             moved = true;
         } else if any_axis
             || (matches!(self.modal.motion, 2 | 3) && ijk.iter().any(Option::is_some))
@@ -362,12 +362,12 @@ impl Exec<'_> {
                         arc.center,
                         self.feed(),
                         &mfuncs,
-                        false,
+                        None,
                     );
                 }
                 0 => {
                     self.geo.linear(&tgt, &self.st);
-                    self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, false);
+                    self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, None);
                 }
                 _ => {
                     let start = self.geo.machine;
@@ -378,8 +378,10 @@ impl Exec<'_> {
                         self.feed()
                     };
                     let ej = (run_in, ijk[1]);
-                    if !(motion == 33 && self.thread_run(b, start, ej, feed, &mfuncs)?) {
-                        self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, motion == 33);
+                    // G33 I: the start angle after the spindle's zero pulse, degrees (000:916).
+                    let angle = (motion == 33).then(|| ijk[0].unwrap_or(0.0));
+                    if !(motion == 33 && self.thread_run(b, start, ej, feed, &mfuncs, angle)?) {
+                        self.emit(b, Kind::Linear, Vec::new(), feed, &mfuncs, angle);
                     }
                 }
             }
@@ -398,7 +400,7 @@ impl Exec<'_> {
             moved = true;
         }
         if !moved && (!mfuncs.is_empty() || s.is_some() || t.is_some()) {
-            self.emit(b, Kind::Aux, Vec::new(), None, &mfuncs, false);
+            self.emit(b, Kind::Aux, Vec::new(), None, &mfuncs, None);
         }
         let active_cycle = if cancel_cycle { None } else { self.modal.cycle };
         // 7. Program flow at the end of the block.
@@ -469,7 +471,8 @@ impl Exec<'_> {
 
 impl Exec<'_> {
     /// A G33 block with run-in `E` / run-out `J` (`ej`): emits the thread from `start` to the current
-    /// (programmed) end in up to three segments ([`crate::thread`]); false when the block has neither.
+    /// (programmed) end in up to three segments ([`crate::thread`]), each with the start angle
+    /// `angle`; false when the block has neither.
     fn thread_run(
         &mut self,
         b: &crate::program::CBlock,
@@ -477,6 +480,7 @@ impl Exec<'_> {
         ej: (Option<f64>, Option<f64>),
         feed: Option<f64>,
         mfuncs: &[MFunc],
+        angle: Option<f64>,
     ) -> Result<bool, RunError> {
         if ej == (None, None) {
             return Ok(false);
@@ -495,7 +499,7 @@ impl Exec<'_> {
                 .filter(|m| if m.before { k == 0 } else { k == last })
                 .cloned()
                 .collect();
-            self.emit(b, Kind::Linear, Vec::new(), feed, &m, true);
+            self.emit(b, Kind::Linear, Vec::new(), feed, &m, angle);
         }
         Ok(true)
     }

@@ -2,13 +2,15 @@
 //! words whose values are expressions.
 //!
 //! Variables: `#0` null; `#1`–`#33` local (a new set per `G65` level, bound from the arguments;
-//! `M98` keeps the caller's); `#100`–`#199` and `#500`–`#999` common, null at the start of every
-//! plan (a plan keeps no data between runs: the retained `#500`–`#999` of a control are not modelled).
+//! `M98` keeps the caller's); `#100`–`#199` common, null at the start of every plan; `#500`–`#999`
+//! retained: at the start of a plan they hold [`crate::MachineSpec::retained`] (the machine's
+//! `nc/MACROVARS`, [`crate::macro_b::retained`]), and the plan's final values are what a part run
+//! writes back.
 //! System variables, in the program unit (mm, or inch under G20), axes numbered in the machine's axis
 //! order: `#2001`–`#2099` tool length of H1–H99 (the tool axis Z column, as `G10 L10`), `#2201`–`#2299`
 //! its wear (`G10 L11`), `#2401`–`#2600` cutter radius of D1–D200 (as `G10 L12`; HAAS keeps
 //! diameters there), `#2601`–`#2800` its wear (`G10 L13`), `#4001`–`#4130` and `#4201`–`#4330`
-//! modal information (read only, [`modal_code`]), `#3000` alarm (writing stops
+//! modal information (read only, [`modal_code`]: G groups, B, D, F, H, M, N, O, S, T), `#3000` alarm (writing stops
 //! the run with 2531 and the block's comment), `#5001`+ end point of the last block in work
 //! coordinates, `#5021`+ machine coordinates, `#5041`+ current work coordinates (no motion is in
 //! progress in a plan: the same as `#5001`+), `#5201`+ external work offset (added to every work
@@ -46,7 +48,17 @@ pub fn modal_code(n: u32) -> Option<u32> {
     };
     matches!(
         k,
-        4001..=4003 | 4005..=4014 | 4016 | 4107 | 4109 | 4111 | 4119 | 4120 | 4130
+        4001..=4003
+            | 4005..=4014
+            | 4016
+            | 4102
+            | 4107
+            | 4109
+            | 4111
+            | 4113..=4115
+            | 4119
+            | 4120
+            | 4130
     )
     .then_some(k)
 }
@@ -143,7 +155,9 @@ impl SysVars for Ex<'_> {
 
 impl Ex<'_> {
     /// Modal information `#4001`–`#4130` (`k`, see [`modal_code`]): the G code of a group, or the
-    /// last D, F (program unit per minute), H, S, T, G154 P; null when never given.
+    /// last B (never: null), D, F (program unit per minute), H, M (not M97–M99), N (the latest
+    /// executed block with one, the reading block included), S, T, G154 P, and the O number of the
+    /// executing program or subprogram; null when never given.
     fn modal(&self, k: u32) -> f64 {
         let opt = |v: Option<f64>| v.unwrap_or(f64::NAN);
         match k {
@@ -199,9 +213,22 @@ impl Ex<'_> {
                 }
             }
             4016 => 69.0,
+            // B is an axis address or refused: no second auxiliary function is ever given.
+            4102 => f64::NAN,
             4107 => self.d as f64,
             4109 => opt(self.feed.map(|f| if self.inch { f / 25.4 } else { f })),
             4111 => self.tlo_h as f64,
+            4113 => opt(self.last_m.map(f64::from)),
+            4114 => self
+                .vars
+                .slots
+                .get(crate::macro_b::SEQ_SLOT)
+                .copied()
+                .unwrap_or(f64::NAN),
+            4115 => self
+                .frames
+                .last()
+                .map_or(f64::NAN, |f| f64::from(self.prog.units[f.unit].l)),
             4119 => opt(self.s),
             4120 => opt(self.t.map(|t| t as f64)),
             4130 => {

@@ -9,6 +9,7 @@
 //! so both back ends compute the same bits.
 
 use super::{BinOp, Expr, Func};
+use detmath::Det as _;
 
 /// Why a macro expression or statement failed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, thiserror::Error)]
@@ -141,12 +142,12 @@ pub extern "C" fn host_func(code: i64, x: f64) -> f64 {
         return f64::NAN;
     };
     match f {
-        Func::Sin => rad(x).sin(),
-        Func::Cos => rad(x).cos(),
-        Func::Tan => rad(x).tan(),
-        Func::Asin => deg(x.asin()),
-        Func::Acos => deg(x.acos()),
-        Func::Atan => deg(x.atan()),
+        Func::Sin => rad(x).dsin(),
+        Func::Cos => rad(x).dcos(),
+        Func::Tan => rad(x).dtan(),
+        Func::Asin => deg(x.dasin()),
+        Func::Acos => deg(x.dacos()),
+        Func::Atan => deg(x.datan()),
         Func::Sqrt => x.sqrt(),
         Func::Abs => x.abs(),
         Func::Round => x.round(),
@@ -163,12 +164,12 @@ pub extern "C" fn host_func(code: i64, x: f64) -> f64 {
         }
         Func::Ln => {
             if x > 0.0 {
-                x.ln()
+                x.dln()
             } else {
                 f64::NAN
             }
         }
-        Func::Exp => x.exp(),
+        Func::Exp => x.dexp(),
         Func::Bin => bin(x),
         Func::Bcd => bcd(x),
     }
@@ -176,7 +177,7 @@ pub extern "C" fn host_func(code: i64, x: f64) -> f64 {
 
 /// `ATAN[a]/[b]`: the angle of (b, a) in degrees, 0 ≤ angle < 360 (Fanuc's range).
 pub extern "C" fn host_atan2(a: f64, b: f64) -> f64 {
-    let d = deg(a.atan2(b));
+    let d = deg(a.datan2(b));
     if d < 0.0 { d + 360.0 } else { d }
 }
 

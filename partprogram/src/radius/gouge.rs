@@ -14,6 +14,7 @@
 //! back within a tool radius of an earlier part of itself) is not detected.
 
 use super::offset::{Geo, V2};
+use detmath::Det as _;
 
 /// Length (mm) at or below which a compensated element counts as collapsed.
 pub const COLLAPSE: f64 = 1e-9;
@@ -51,7 +52,7 @@ impl std::fmt::Display for Gouge {
 
 /// Signed angle (radians, in (−π, π]) from `u` to `v`, positive counter-clockwise.
 fn angle(u: V2, v: V2) -> f64 {
-    u.cross(v).atan2(u.dot(v))
+    u.cross(v).datan2(u.dot(v))
 }
 
 /// The programmed sweep of an arc in its direction of rotation, in (0, 2π] (a closed arc is a full
@@ -153,7 +154,7 @@ mod tests {
             panic!("not reversed")
         };
         assert!((programmed - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
-        let expected = (2.0f64 / 4.8).atan() - (4.8f64 / 2.0).atan();
+        let expected = (2.0f64 / 4.8).datan() - (4.8f64 / 2.0).datan();
         assert!((sweep - expected).abs() < 1e-12, "{sweep}");
         assert_eq!(
             check(&g, V2::new(3.6769, 3.6769), V2::new(3.6769, 3.6769)),

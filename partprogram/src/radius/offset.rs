@@ -5,6 +5,7 @@
 //! Distances are signed: `d > 0` puts the tool centre to the left of the programmed direction, `d < 0`
 //! to the right. All coordinates are true millimetres in the plane (the caller halves a diameter X).
 
+use detmath::Det as _;
 use std::ops::{Add, Mul, Sub};
 
 /// Angle (radians) below which two tangents count as one direction: the corner point is then the
@@ -68,7 +69,7 @@ impl V2 {
 
     /// Length.
     pub fn len(self) -> f64 {
-        self.x.hypot(self.y)
+        self.x.dhypot(self.y)
     }
 
     /// The vector turned 90° counter-clockwise (the left normal of a direction).
@@ -308,7 +309,7 @@ pub fn corner(
     if d == 0.0 {
         return Ok(Joint::Point(p));
     }
-    let angle = t1.cross(t2).atan2(t1.dot(t2));
+    let angle = t1.cross(t2).datan2(t1.dot(t2));
     if angle.abs() <= TANGENT_TOL {
         return Ok(Joint::Point(a));
     }

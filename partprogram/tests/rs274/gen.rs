@@ -21,10 +21,14 @@
 //! negative value (LinuxCNC floor/ceil, Fanuc towards/away from zero: the argument is taken ABS),
 //! `MOD` of negative or fractional operands (Fanuc rounds the operands, LinuxCNC keeps them and
 //! returns a non-negative remainder: written `[ROUND[ABS[a]] MOD k]`), `ATAN` of a negative
-//! numerator (Fanuc 0..360, LinuxCNC −180..180: `ATAN[ABS[a]]/[b]`), division by a value that can be
-//! zero (divisors are constants), and several assignments in one block (LinuxCNC sets them after the
-//! block). Word values differ by Fanuc's rounding to 0.001 mm (within the 1e-3 tolerance; expression
-//! words are used in G90 only, so the rounding never accumulates).
+//! numerator (Fanuc 0..360, LinuxCNC −180..180) or of a denominator that may be zero in exact
+//! arithmetic (LinuxCNC computes SIN/COS in long double: `COS[90]` is −2.5e-20 there and +6.1e-17
+//! in f64, and `ATAN[0]/[COS[90]]` is 180 there, 0 here): written `ATAN[ABS[a]]/[ABS[b] + 1]`,
+//! division by a value that can be zero (divisors are constants), and several assignments in one
+//! block (LinuxCNC sets them after the block). Word values differ by Fanuc's rounding to 0.001 mm
+//! (the least input increment; LinuxCNC does not round): expression words are used in G90 only, and
+//! a G92 after an expression move is preceded by a literal move, so a rounded position never
+//! becomes part of an offset where a second rounded word would add to it (seed 14 found both).
 
 use proptest::prelude::*;
 
@@ -131,7 +135,7 @@ impl MExpr {
                     4 => format!("FUP[ABS[{a}]]"),
                     5 => format!("[SIN[{a}] * 10]"),
                     6 => format!("[COS[{a}] * 10]"),
-                    7 => format!("[ATAN[ABS[{a}]]/[{b}] / 10]"),
+                    7 => format!("[ATAN[ABS[{a}]]/[ABS[{b}] + 1] / 10]"),
                     8 => format!("[ROUND[ABS[{a}]] MOD {}]", 2 + b.len() % 5),
                     _ => format!("-[{a}]"),
                 }
@@ -239,11 +243,14 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
         w.b(&format!("{p}={v}"));
     }
     let (mut g92, mut tlo) = (false, false);
+    // The position was reached through an expression word (rounded by Fanuc, not by LinuxCNC).
+    let mut rounded = false;
     for s in stmts {
         match s {
             Stmt::Line { rapid, abs, p } => {
                 let g = if *rapid { "G00" } else { "G01" };
                 if *abs {
+                    rounded = false;
                     w.b(&format!(
                         "G90 {g} X{} Y{} Z{}",
                         mm(p[0]),
@@ -331,6 +338,12 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
             Stmt::Local { .. } => {}
             Stmt::Set { v } => {
                 g92 = true;
+                if rounded {
+                    // G92 would make the rounding difference of the position part of every later
+                    // point, where a second rounded word adds to it: start from a literal point.
+                    w.b("G90 G00 X0 Y0 Z20.");
+                    rounded = false;
+                }
                 w.b(&format!("G92 X{} Y{} Z{}", mm(v[0]), mm(v[1]), mm(v[2])));
             }
             Stmt::Home { all } => {
@@ -440,6 +453,7 @@ pub fn render(stmts: &[Stmt], sub: [i32; 2]) -> Rendered {
             }
             Stmt::ExprMove { rapid, e } => {
                 let g = if *rapid { "G00" } else { "G01" };
+                rounded = true;
                 w.b(&format!(
                     "G90 {g} X[{}] Y[{}] Z[{}]",
                     e[0].text(),

@@ -150,6 +150,60 @@ pub fn pos_file(dir: &Path) -> PathBuf {
     dir.join("MP0").join("TAB0.POS")
 }
 
+/// The retained Fanuc macro variables `#500`–`#999`: `<dir>/nc/MACROVARS` (not in
+/// [`machine_view_files`]: a part trace carries its content, not its CRC, because a part run
+/// rewrites it).
+pub fn macro_vars_file(dir: &Path) -> PathBuf {
+    dir.join("nc").join("MACROVARS")
+}
+
+/// The text of the machine's retained-variables file; `None` when it does not exist (every
+/// variable null).
+pub fn read_macro_vars(dir: &Path) -> std::io::Result<Option<String>> {
+    match std::fs::read(macro_vars_file(dir)) {
+        Ok(b) => Ok(Some(String::from_utf8_lossy(&b).into_owned())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(e),
+    }
+}
+
+/// Reads the retained-variables text `text` (the content of [`macro_vars_file`], None: no file)
+/// into `spec`; returns the file's name and text for rendering, and its diagnostics.
+pub fn load_macro_vars(
+    dir: &Path,
+    text: Option<&str>,
+    spec: &mut MachineSpec,
+) -> Option<(String, String, Vec<diag::Diagnostic>)> {
+    let text = text?;
+    let name = crate::cli::output::user_path(&macro_vars_file(dir))
+        .display()
+        .to_string();
+    let (vars, diags) = partprogram::macro_b::retained::parse_retained(&name, text);
+    spec.retained = vars;
+    Some((name, text.to_string(), diags))
+}
+
+/// [`load_macro_vars`] of the machine's own file, an unreadable file being error 2080.
+pub fn load_machine_macro_vars(
+    dir: &Path,
+    spec: &mut MachineSpec,
+) -> Option<(String, String, Vec<diag::Diagnostic>)> {
+    match read_macro_vars(dir) {
+        Ok(text) => load_macro_vars(dir, text.as_deref(), spec),
+        Err(e) => {
+            let name = crate::cli::output::user_path(&macro_vars_file(dir))
+                .display()
+                .to_string();
+            Some(unreadable(
+                partprogram::codes::VARS_IO,
+                name,
+                "retained macro variables",
+                &e,
+            ))
+        }
+    }
+}
+
 /// Every machine file [`machine_spec`] and [`load_corrections`] may read besides the
 /// characterization (the machine's own correction table, not a `--kor` one), whether it exists or
 /// not: what a part trace's header hashes.
@@ -463,7 +517,8 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
     };
     // As the user can open it from the current directory.
     let name = super::output::user_path(&path).display().to_string();
-    let kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
+    let mut kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
+    kor.extend(load_machine_macro_vars(&common.machine, &mut spec));
     let (prog, diags) = partprogram::compile(&spec, &name, &text);
     let mut sources = diag::Sources::new();
     sources.add(name.clone(), text.clone());

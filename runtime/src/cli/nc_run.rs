@@ -108,6 +108,9 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
     let mut next = 0usize;
     let mut ticks: u64 = 0;
     let mut last_block = 0usize;
+    // The virtual spindle turns at the S of the block being run (its direction and M05 are not
+    // simulated): G33 threads wait for its index and follow its position.
+    let (mut spindle_rev, mut spindle_rpm) = (0.0f64, 0.0f64);
     if let Some((w, _)) = out.as_mut() {
         tick_line(&mut line, 0, &start, 0, 0.0);
         w.write_all(line.as_bytes()).map_err(write_err)?;
@@ -115,9 +118,6 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
     loop {
         while next < blocks.len() && kernel.space() > 0 {
             let c = &blocks[next];
-            if let Some(s) = c.s {
-                kernel.set_spindle_rev_s(s / 60.0);
-            }
             let m = Move::from_canon(next as u64, c, &names)
                 .and_then(|m| kernel.push(m.clone()).map(|()| m));
             match m {
@@ -132,8 +132,17 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
         if next >= blocks.len() && kernel.is_idle() {
             break;
         }
+        spindle_rev += spindle_rpm / 60.0 * cfg.tick_s;
+        kernel.set_spindle_position(spindle_rev);
+        if let Some(e) = kernel.take_fault() {
+            eprintln!("error: {}: {e}", compiled.name);
+            return Ok(ExitCode::from(1));
+        }
         let t = kernel.tick();
         ticks += 1;
+        if let Some(s) = t.tag.and_then(|b| blocks.get(b as usize)).and_then(|c| c.s) {
+            spindle_rpm = s.abs();
+        }
         monitor.sample(t);
         // At rest after the last block: the last block finished (an aux record's path is its point).
         if let Some(b) = t.tag.or(t.finished.last().copied()) {

@@ -3,6 +3,12 @@
 //! AUTO; the cycle itself starts when the PLC raises START), watches for the end, and prints the
 //! summary (cycle time, blocks, M/S/T handshakes with their FIN wait, alarms, largest following
 //! error).
+//!
+//! Retained macro variables: the machine's `nc/MACROVARS` is read once at the start (a replay takes
+//! the text its trace header recorded instead) and every plan of the run starts from it;
+//! [`PartRun::save_macro_vars`] writes back, atomically, the variables changed by the plans that
+//! ran (the MDI programs, then the selected program once its cycle started), whatever ended the
+//! run (the end, an alarm, a reset, `--ticks`, Ctrl-C). A replay never writes it.
 
 use std::collections::VecDeque;
 use std::process::ExitCode;
@@ -19,6 +25,7 @@ use crate::machine_facts::Facts;
 use crate::sim::kernel::{KernelIo, KernelSetup};
 use crate::sim::part::{Part, files_read, load_part, plan_text_from};
 use crate::trace::{FileCrc, OtherProgram, PartHeader};
+use partprogram::macro_b::retained::{Retained, format_retained, parse_retained};
 
 /// The program of another process (`sim.toml [cnc] programs`).
 struct Other {
@@ -46,6 +53,14 @@ pub struct PartRun {
     others: Vec<Other>,
     mdi_files: Vec<(String, String)>,
     trajectory: Option<std::io::BufWriter<std::fs::File>>,
+    /// The retained-variables text the run started from (None: no file), for the trace header.
+    vars_text: Option<String>,
+    /// The retained variables the run started from.
+    vars_start: Retained,
+    /// The retained variables at the end of each MDI program planned, in order.
+    vars_mdi: Arc<Mutex<Vec<Retained>>>,
+    /// The selected program's cycle started (its plan's variables count as written).
+    program_ran: bool,
 }
 
 /// MDI text as a program of the machine's dialect (`--dialect`, else `nc/DIALECT`). An operator
@@ -98,6 +113,18 @@ pub struct PartSpec {
     pub mdi: Vec<String>,
     /// `--kor-change`.
     pub kor_change: Option<std::path::PathBuf>,
+    /// Where the retained macro variables come from.
+    pub vars: VarsSource,
+}
+
+/// Where a part run takes its retained macro variables `#500`–`#999` from.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub enum VarsSource {
+    /// The machine's file `nc/MACROVARS` (a live run).
+    #[default]
+    Machine,
+    /// The text a trace header recorded (a replay; None: there was no file).
+    Recorded(Option<String>),
 }
 
 impl PartSpec {
@@ -109,6 +136,7 @@ impl PartSpec {
             dialect: args.dialect.clone(),
             mdi: args.mdi.clone(),
             kor_change: args.kor_change.clone(),
+            vars: VarsSource::Machine,
         }
     }
 
@@ -120,6 +148,7 @@ impl PartSpec {
             dialect: h.dialect.clone(),
             mdi: h.mdi.clone(),
             kor_change: h.kor_change.as_ref().map(std::path::PathBuf::from),
+            vars: VarsSource::Recorded(h.macro_vars.clone()),
         }
     }
 }
@@ -186,6 +215,31 @@ pub fn start_spec(
             }
         }
     }
+    let vars_text = match &args.vars {
+        VarsSource::Machine => crate::cli::nc::read_macro_vars(&machine.dir).map_err(|e| {
+            format!(
+                "{}: {e}",
+                crate::cli::nc::macro_vars_file(&machine.dir).display()
+            )
+        })?,
+        VarsSource::Recorded(t) => t.clone(),
+    };
+    let vars_start = match &vars_text {
+        Some(text) => {
+            let name =
+                crate::cli::output::user_path(&crate::cli::nc::macro_vars_file(&machine.dir))
+                    .display()
+                    .to_string();
+            let (v, diags) = parse_retained(&name, text);
+            if diag::has_errors(&diags) {
+                let mut sources = diag::Sources::new();
+                sources.add(name, text.clone());
+                return Err(diag::render_human(&diags, &sources));
+            }
+            v
+        }
+        None => Retained::default(),
+    };
     let mut others = Vec::new();
     for (k, name) in &machine.script.cnc.programs {
         let process: u8 = k
@@ -203,6 +257,7 @@ pub fn start_spec(
             &machine.dir,
             std::path::Path::new(name),
             args.dialect.as_deref(),
+            vars_text.as_deref(),
         )?;
         others.push(Other {
             process,
@@ -212,7 +267,12 @@ pub fn start_spec(
         });
     }
     let part = match &args.program {
-        Some(p) => Some(load_part(&machine.dir, p, args.dialect.as_deref())?),
+        Some(p) => Some(load_part(
+            &machine.dir,
+            p,
+            args.dialect.as_deref(),
+            vars_text.as_deref(),
+        )?),
         None => None,
     };
     // The files the MDI blocks' compile reads (macros, correction table, constants).
@@ -220,7 +280,13 @@ pub fn start_spec(
         Vec::new()
     } else {
         let text = mdi_program(&machine.dir, args.dialect.as_deref(), &args.mdi.join("\n"));
-        files_read(&machine.dir, "MDI", &text, args.dialect.as_deref())?
+        files_read(
+            &machine.dir,
+            "MDI",
+            &text,
+            args.dialect.as_deref(),
+            vars_text.as_deref(),
+        )?
     };
     let run = PartRun {
         mdi_files,
@@ -245,6 +311,10 @@ pub fn start_spec(
         homing_started: false,
         others,
         trajectory: None,
+        vars_text,
+        vars_start,
+        vars_mdi: Arc::new(Mutex::new(Vec::new())),
+        program_ran: false,
     };
     {
         let mut c = run.lock();
@@ -254,9 +324,23 @@ pub fn start_spec(
         let _ = process;
         let dir = run.machine.clone();
         let dialect = run.dialect.clone();
+        let vars = run.vars_text.clone();
+        let vars_mdi = Arc::clone(&run.vars_mdi);
         c.set_mdi_compiler_at(Arc::new(move |_, text, at| {
             let program = mdi_program(&dir, dialect.as_deref(), text);
-            plan_text_from(&dir, "MDI", &program, dialect.as_deref(), false, at)
+            let (blocks, end) = plan_text_from(
+                &dir,
+                "MDI",
+                &program,
+                dialect.as_deref(),
+                vars.as_deref(),
+                at,
+            )?;
+            vars_mdi
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+                .push(end);
+            Ok(blocks)
         }));
         if let Some(part) = &run.part {
             let replan = crate::sim::part::replanner(
@@ -264,6 +348,7 @@ pub fn start_spec(
                 part,
                 run.dialect.clone(),
                 args.kor_change.clone(),
+                run.vars_text.clone(),
             )?;
             c.process_mut(args.process)
                 .map_err(|e| format!("error: {e}"))?
@@ -303,7 +388,39 @@ impl PartRun {
                 .into_iter()
                 .map(|(file, crc32)| FileCrc { file, crc32 })
                 .collect(),
+            macro_vars: self.vars_text.clone(),
         }
+    }
+
+    /// The retained macro variables after the run: those it started from, changed by each MDI
+    /// program planned and then by the selected program when its cycle started (the plan of the
+    /// block-skip setting its START took).
+    pub fn macro_vars(&self) -> Retained {
+        let mut out = self.vars_start.clone();
+        let mdi = self.vars_mdi.lock().unwrap_or_else(PoisonError::into_inner);
+        for end in mdi.iter() {
+            out.apply_changes(&self.vars_start, end);
+        }
+        if let Some(part) = self.part.as_ref().filter(|_| self.program_ran) {
+            let skip = self
+                .lock()
+                .process_mut(self.process)
+                .is_ok_and(|p| p.skip_selected());
+            out.apply_changes(&part.vars_start, &part.vars_end[usize::from(skip)]);
+        }
+        out
+    }
+
+    /// Writes [`PartRun::macro_vars`] to the machine's `nc/MACROVARS` atomically, when they differ
+    /// from what the run started from (an unchanged table leaves the file alone).
+    pub fn save_macro_vars(&self) -> Result<(), String> {
+        let vars = self.macro_vars();
+        if vars == self.vars_start {
+            return Ok(());
+        }
+        let path = crate::cli::nc::macro_vars_file(&self.machine);
+        crate::atomic_file::write(&path, format_retained(&vars).as_bytes())
+            .map_err(|e| format!("{}: {e}", path.display()))
     }
 
     /// Every other file the programs' compile read, with its CRC-32, in name order.
@@ -366,6 +483,9 @@ impl PartRun {
         }
         if st.interp == Interp::Running && st.mode != Mode::Home && self.started.is_none() {
             self.started = Some(tick);
+        }
+        if self.program_selected && st.interp == Interp::Running && st.mode == Mode::Auto {
+            self.program_ran = true;
         }
         if st.on && st.interp == Interp::Idle && !st.homed {
             // The operator homes first: HOME, then START (the MCZ cycle of every axis).

@@ -380,6 +380,8 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     if status {
         eprintln!();
     }
+    // The retained macro variables the run wrote, whatever ended it (never by a replay).
+    let vars_saved = part.as_ref().map_or(Ok(()), |p| p.save_macro_vars());
     let image = sched_finish(&mut sched)?;
     if let (Some(writer), Some(path)) = (retain_writer, &retain_path) {
         sched.detach_retain();
@@ -417,6 +419,7 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     }
     if let Some(p) = part.as_mut() {
         print!("{}", p.summary(tick_ms));
+        vars_saved.map_err(|e| format!("error: retained macro variables not saved: {e}"))?;
         if args.until_end {
             return Ok(p.exit_code());
         }

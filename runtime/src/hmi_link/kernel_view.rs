@@ -4,6 +4,7 @@
 //! programmed path from the loaded program's blocks, the actual one sampled from the set point of
 //! every frame (≥ 20 per second of a real-time run).
 
+use detmath::Det as _;
 use std::collections::BTreeMap;
 use std::sync::Arc;
 
@@ -236,7 +237,7 @@ fn sample(points: &mut Vec<[f64; 2]>, step: &mut f64, at: [f64; 2]) {
     }
     let keep_last = n < 2 || {
         let (a, b) = (points[n - 2], points[n - 1]);
-        (a[0] - b[0]).hypot(a[1] - b[1]) >= *step
+        (a[0] - b[0]).dhypot(a[1] - b[1]) >= *step
     };
     if !keep_last {
         points[n - 1] = at;

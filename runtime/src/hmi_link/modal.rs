@@ -125,6 +125,7 @@ mod tests {
             t,
             dwell: None,
             thread: false,
+            thread_angle: 0.0,
             exact_stop: false,
             tolerance: None,
             css: None,

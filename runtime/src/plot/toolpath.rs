@@ -2,6 +2,7 @@
 //! arcs drawn through their centres, optionally with a motion trajectory (issue 10's JSON Lines)
 //! on top. The scale is the same on both axes.
 
+use detmath::Det as _;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -100,9 +101,9 @@ pub fn pieces(blocks: &[Canon], view: View) -> Vec<Piece> {
 fn arc_points(start: &[(char, f64)], b: &Canon, cw: bool) -> Vec<Vec<(char, f64)>> {
     let (pa, pb) = b.plane.axes();
     let (ca, cb) = (coord(&b.center, pa), coord(&b.center, pb));
-    let a0 = (coord(start, pb) - cb).atan2(coord(start, pa) - ca);
-    let a1 = (coord(&b.end, pb) - cb).atan2(coord(&b.end, pa) - ca);
-    let r = (coord(start, pa) - ca).hypot(coord(start, pb) - cb);
+    let a0 = (coord(start, pb) - cb).datan2(coord(start, pa) - ca);
+    let a1 = (coord(&b.end, pb) - cb).datan2(coord(&b.end, pa) - ca);
+    let r = (coord(start, pa) - ca).dhypot(coord(start, pb) - cb);
     let tau = std::f64::consts::TAU;
     let mut sweep = if cw { a0 - a1 } else { a1 - a0 };
     sweep = sweep.rem_euclid(tau);
@@ -121,9 +122,9 @@ fn arc_points(start: &[(char, f64)], b: &Canon, cw: bool) -> Vec<Vec<(char, f64)
                     let val = if i == n {
                         e
                     } else if axis == pa {
-                        ca + r * ang.cos()
+                        ca + r * ang.dcos()
                     } else if axis == pb {
-                        cb + r * ang.sin()
+                        cb + r * ang.dsin()
                     } else {
                         s + (e - s) * f
                     };

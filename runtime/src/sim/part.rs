@@ -3,12 +3,17 @@
 //! blocks, with a content hash for the trace header and the summary, and the CRC-32 of every
 //! other file the compile read ([`Part::files`]: macro and cycle files, the correction table,
 //! `nc/CONSTANTS`, `nc/DIALECT`), so that a replay names the file that changed.
+//!
+//! The retained Fanuc macro variables `#500`–`#999` are given as the text of `nc/MACROVARS` (read
+//! once when a part run starts, or taken from a trace header by a replay): every plan of the run
+//! starts from the same values, and [`Part::vars_end`] holds each plan's final ones.
 
 use std::path::{Path, PathBuf};
 
+use partprogram::macro_b::retained::Retained;
 use partprogram::{Canon, PlanOptions};
 
-use crate::cli::nc::{load_corrections, machine_spec};
+use crate::cli::nc::{load_corrections, load_macro_vars, machine_spec};
 
 /// A planned partprogram.
 #[derive(Debug, Clone)]
@@ -26,6 +31,10 @@ pub struct Part {
     /// Every other file the compile read: (path relative to the machine directory, CRC-32), in
     /// name order.
     pub files: Vec<FileCrc>,
+    /// The retained macro variables at the start of both plans.
+    pub vars_start: Retained,
+    /// The retained macro variables at the end of the plan without and with block skip.
+    pub vars_end: [Retained; 2],
 }
 
 /// A file the compile read: (path relative to the machine directory, CRC-32).
@@ -58,8 +67,9 @@ pub fn files_read(
     name: &str,
     text: &str,
     dialect: Option<&str>,
+    vars: Option<&str>,
 ) -> Result<Vec<FileCrc>, String> {
-    Ok(compile_text(dir, name, text, dialect, None)?.files(dir))
+    Ok(compile_text(dir, name, text, dialect, None, vars)?.files(dir))
 }
 
 /// `program` as a path when it exists, else `<machine>/nc/<program>`.
@@ -71,8 +81,8 @@ pub fn program_path(machine: &Path, program: &Path) -> PathBuf {
     }
 }
 
-/// Compiles and plans `text` (named `name`) for the machine in `dir`; the error is the rendered
-/// diagnostics.
+/// Compiles and plans `text` (named `name`) for the machine in `dir` with its retained macro
+/// variables; the error is the rendered diagnostics.
 pub fn plan_text(
     dir: &Path,
     name: &str,
@@ -80,7 +90,11 @@ pub fn plan_text(
     dialect: Option<&str>,
     block_skip: bool,
 ) -> Result<Vec<Canon>, String> {
-    plan_text_from(dir, name, text, dialect, block_skip, &[])
+    let vars = crate::cli::nc::read_macro_vars(dir)
+        .map_err(|e| format!("{}: {e}", crate::cli::nc::macro_vars_file(dir).display()))?;
+    compile_text(dir, name, text, dialect, None, vars.as_deref())?
+        .plan(block_skip, &[])
+        .map(|(blocks, _)| blocks)
 }
 
 /// The re-planner of `part` for the kernel's tool-correction request: the same text planned with
@@ -90,6 +104,7 @@ pub fn replanner(
     part: &Part,
     dialect: Option<String>,
     kor: Option<PathBuf>,
+    vars: Option<String>,
 ) -> Result<cnc::correction::Replanner, String> {
     let bytes = std::fs::read(&part.path).map_err(|e| format!("{}: {e}", part.path.display()))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
@@ -98,23 +113,32 @@ pub fn replanner(
     let name = source_name(&part.path);
     Ok(Box::new(move |program: &str, skip: bool| {
         (program == selected).then(|| {
-            compile_text(&dir, &name, &text, dialect.as_deref(), kor.as_deref())
-                .and_then(|c| c.plan(skip, &[]))
+            compile_text(
+                &dir,
+                &name,
+                &text,
+                dialect.as_deref(),
+                kor.as_deref(),
+                vars.as_deref(),
+            )
+            .and_then(|c| c.plan(skip, &[]))
+            .map(|(blocks, _)| blocks)
         })
     }))
 }
 
-/// [`plan_text`] starting from the axis positions `start` (axis letter, position; MDI blocks
-/// start where the axes stand). Letters the machine does not have are ignored.
+/// Compiles and plans `text` with the retained-variables text `vars`, starting from the axis
+/// positions `start` (axis letter, position; MDI blocks start where the axes stand; letters the
+/// machine does not have are ignored); the blocks and the retained variables at the end.
 pub fn plan_text_from(
     dir: &Path,
     name: &str,
     text: &str,
     dialect: Option<&str>,
-    block_skip: bool,
+    vars: Option<&str>,
     start: &[(char, f64)],
-) -> Result<Vec<Canon>, String> {
-    compile_text(dir, name, text, dialect, None)?.plan(block_skip, start)
+) -> Result<(Vec<Canon>, Retained), String> {
+    compile_text(dir, name, text, dialect, None, vars)?.plan(false, start)
 }
 
 /// A partprogram compiled with the machine's view, ready to be planned (once per block-skip
@@ -125,18 +149,22 @@ pub struct Compiled {
 }
 
 /// Compiles `text` (named `name`) for the machine in `dir` with the correction table `kor` (the
-/// machine's own when None); the error is the rendered diagnostics.
+/// machine's own when None) and the retained-variables text `vars` (None: all null); the error is
+/// the rendered diagnostics.
 pub fn compile_text(
     dir: &Path,
     name: &str,
     text: &str,
     dialect: Option<&str>,
     kor: Option<&Path>,
+    vars: Option<&str>,
 ) -> Result<Compiled, String> {
     let mut spec = machine_spec(dir, dialect, text).map_err(|e| e.to_string())?;
     let mut sources = diag::Sources::new();
     sources.add(name.to_string(), text.to_string());
-    for (kname, ktext, kdiags) in load_corrections(dir, kor, &mut spec) {
+    let mut tables = load_corrections(dir, kor, &mut spec);
+    tables.extend(load_macro_vars(dir, vars, &mut spec));
+    for (kname, ktext, kdiags) in tables {
         if diag::has_errors(&kdiags) {
             sources.add(kname, ktext);
             return Err(diag::render_human(&kdiags, &sources));
@@ -175,8 +203,13 @@ impl Compiled {
     }
 
     /// Plans the program from the axis positions `start` (axis letter, position; letters the
-    /// machine does not have are ignored), with or without block skip.
-    pub fn plan(&self, block_skip: bool, start: &[(char, f64)]) -> Result<Vec<Canon>, String> {
+    /// machine does not have are ignored), with or without block skip: the blocks and the
+    /// retained macro variables at the end.
+    pub fn plan(
+        &self,
+        block_skip: bool,
+        start: &[(char, f64)],
+    ) -> Result<(Vec<Canon>, Retained), String> {
         let mut at = [0.0; 6];
         for (i, a) in self.prog.machine.axes().iter().take(6).enumerate() {
             if let Some((_, x)) = start.iter().find(|(c, _)| c == a) {
@@ -189,7 +222,14 @@ impl Compiled {
             ..PlanOptions::default()
         };
         partprogram::plan(&self.prog, opts)
-            .map(|p| p.blocks)
+            .map(|p| {
+                let vars = if p.macro_vars.is_empty() {
+                    self.prog.machine.retained.clone()
+                } else {
+                    Retained::from_slots(&p.macro_vars)
+                };
+                (p.blocks, vars)
+            })
             .map_err(|(_, d)| diag::render_human(&[d], &self.sources))
     }
 }
@@ -203,15 +243,20 @@ fn source_name(path: &Path) -> String {
 }
 
 /// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
-/// block skip).
-pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Part, String> {
+/// block skip) from the retained-variables text `vars`.
+pub fn load_part(
+    dir: &Path,
+    program: &Path,
+    dialect: Option<&str>,
+    vars: Option<&str>,
+) -> Result<Part, String> {
     let path = program_path(dir, program);
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let text = String::from_utf8_lossy(&bytes).into_owned();
     let name = source_name(&path);
-    let compiled = compile_text(dir, &name, &text, dialect, None)?;
-    let blocks = compiled.plan(false, &[])?;
-    let skipped = compiled.plan(true, &[])?;
+    let compiled = compile_text(dir, &name, &text, dialect, None, vars)?;
+    let (blocks, end_plain) = compiled.plan(false, &[])?;
+    let (skipped, end_skipped) = compiled.plan(true, &[])?;
     Ok(Part {
         name: program.display().to_string(),
         hash: crc32_hex(&bytes),
@@ -219,5 +264,7 @@ pub fn load_part(dir: &Path, program: &Path, dialect: Option<&str>) -> Result<Pa
         blocks,
         skipped,
         files: compiled.files(dir),
+        vars_start: compiled.prog.machine.retained.clone(),
+        vars_end: [end_plain, end_skipped],
     })
 }

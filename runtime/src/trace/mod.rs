@@ -131,6 +131,10 @@ pub struct PartHeader {
     /// `nc/CONSTANTS`, `nc/DIALECT`), relative to the machine directory, in name order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub files: Vec<FileCrc>,
+    /// The retained macro variables' file `nc/MACROVARS` as the run read it at its start (absent:
+    /// no file, every `#500`–`#999` null); a replay plans from this text, not the file.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub macro_vars: Option<String>,
 }
 
 /// A file a part run read and its CRC-32.

@@ -3,7 +3,9 @@
 //!
 //! Plain variables with literal numbers live in cranelift variables (registers) for the whole run
 //! when the run has no computed variable number (`#[…]`): loaded before the entry dispatch, stored
-//! back on every exit. Null (`#0`, NaN) is tracked statically: only a variable read can be null, so
+//! back on every exit. Expressions whose every value is an integer ([`integral`]) are not rounded
+//! again where `MOD` or a computed number rounds, and a literal `MOD` divisor is rounded at compile
+//! time. Null (`#0`, NaN) is tracked statically: only a variable read can be null, so
 //! the "null reads as 0" select is emitted for those only. `ROUND`, `FUP`, `FIX`, `ABS`, `SQRT` and
 //! `MOD` are inline (`MOD` as an integer remainder when both rounded operands are below 2^53, where
 //! it equals the interpreter's `fmod` bit for bit, the sign of a zero included). A computed variable
@@ -22,7 +24,7 @@ use cranelift_codegen::ir::{
 use cranelift_frontend::{FunctionBuilder, Variable};
 
 use super::super::eval::host_atan2;
-use super::super::{Expr, Func, Stmt, Target, is_plain};
+use super::super::{Expr, Func, SEQ_SLOT, Stmt, Target, is_plain};
 use super::{INTERPRET_CODE, LIMIT_CODE, MacroCtx, sys_read, sys_write};
 use crate::program::Program;
 
@@ -91,6 +93,27 @@ fn expr_vars(e: &Expr, out: &mut Vec<u32>, indexed: &mut bool) {
     }
 }
 
+/// True when every value `e` can have (null read as 0, an operation that is not finite fails) is
+/// an integer: rounding it changes no bit (`ROUND` of an integer, `-0` included, is itself).
+fn integral(e: &Expr) -> bool {
+    use super::super::BinOp;
+    match e {
+        Expr::Num(v) => v.fract() == 0.0,
+        Expr::Var(_) | Expr::VarAt(_) | Expr::Atan2(..) => false,
+        Expr::Neg(x) => integral(x),
+        Expr::Call(f, x) => match f {
+            Func::Round | Func::Fix | Func::Fup => true,
+            Func::Abs => integral(x),
+            _ => false,
+        },
+        // A sum, difference or product of integers is one (beyond 2^53 every f64 is an integer).
+        Expr::Bin(BinOp::Add | BinOp::Sub | BinOp::Mul, a, b) => integral(a) && integral(b),
+        Expr::Bin(BinOp::Div, ..) => false,
+        // The remainder of rounded operands, the bitwise operators and the comparisons.
+        Expr::Bin(..) => true,
+    }
+}
+
 /// The variables of run `first..end` kept in registers (none when it computes a variable number).
 fn register_vars(prog: &Program, first: usize, end: usize) -> Vec<u32> {
     let (mut vars, mut indexed) = (Vec::new(), false);
@@ -120,6 +143,8 @@ fn register_vars(prog: &Program, first: usize, end: usize) -> Vec<u32> {
             _ => {}
         }
     }
+    // A computed number may name any variable: registers would need a comparison with each of
+    // them at every `#[…]` (measured: slower than the loads they save).
     if indexed {
         return Vec::new();
     }
@@ -159,10 +184,11 @@ impl G<'_, '_> {
         self.b.switch_to_block(cont);
     }
 
-    /// The variable number of `#[x]` as [`super::super::eval::var_number`] (saturated beyond).
-    fn var_number(&mut self, x: V) -> Value {
+    /// The variable number of `#[x]` as [`super::super::eval::var_number`] (saturated beyond);
+    /// `int`: `x` is an integer already (no rounding).
+    fn var_number(&mut self, x: V, int: bool) -> Value {
         let v = self.z(x);
-        let r = self.round(v);
+        let r = if int { v } else { self.round(v) };
         self.b.ins().fcvt_to_sint_sat(types::I64, r)
     }
 
@@ -205,6 +231,14 @@ impl G<'_, '_> {
             let v = self.b.ins().load(types::F64, FL, self.vars, (n as i32) * 8);
             return V { v, null: true };
         }
+        if n == 4114 || n == 4314 {
+            // The sequence number lives in the table, not in the host.
+            let v = self
+                .b
+                .ins()
+                .load(types::F64, FL, self.vars, (SEQ_SLOT as i32) * 8);
+            return V { v, null: true };
+        }
         // A system variable: the host's value, NaN when the interpreter must run the block.
         let nv = self.b.ins().iconst(types::I64, i64::from(n));
         let fp = self.b.ins().iconst(
@@ -225,8 +259,9 @@ impl G<'_, '_> {
             Expr::Num(v) => nn(self.f(*v)),
             Expr::Var(n) => self.read(*n),
             Expr::VarAt(x) => {
+                let int = integral(x);
                 let x = self.expr(x);
-                let n = self.var_number(x);
+                let n = self.var_number(x, int);
                 let zero = self.b.ins().icmp_imm_s(IntCC::Equal, n, 0);
                 let plain = self.is_plain_n(n);
                 let ok = self.b.ins().bor(zero, plain);
@@ -269,9 +304,10 @@ impl G<'_, '_> {
                     Expr::Num(v) => Some(v),
                     _ => None,
                 };
+                let int_a = integral(a);
                 let a = self.expr(a);
                 let b = self.expr(b);
-                nn(self.bin(*op, a, b, lit))
+                nn(self.bin(*op, a, b, lit, int_a))
             }
         }
     }
@@ -322,13 +358,18 @@ impl G<'_, '_> {
             }
             Target::At(e) => {
                 let x = self.expr(e);
-                let n = self.var_number(x);
+                let n = self.var_number(x, integral(e));
                 let ok = self.is_plain_n(n);
                 self.bail_unless(ok);
                 let a = self.slot_addr(n);
                 self.b.ins().store(FL, v, a, 0);
             }
         }
+    }
+
+    /// The register-held variables (empty in a run with computed numbers).
+    fn reg_list(&self) -> Vec<(u32, Variable)> {
+        self.regs.iter().map(|(n, r)| (*n, *r)).collect()
     }
 
     /// Emits block `bi` at its head.
@@ -343,6 +384,10 @@ impl G<'_, '_> {
             .ins()
             .icmp(IntCC::UnsignedLessThanOrEqual, e, self.max);
         self.guard(ok, LIMIT_CODE);
+        if let Some(n) = blk.n {
+            let v = self.f(f64::from(n));
+            self.b.ins().store(FL, v, self.vars, (SEQ_SLOT as i32) * 8);
+        }
         let Some(stmt) = blk.mac.as_ref().and_then(|m| m.stmt.as_ref()) else {
             return self.goto(bi + 1);
         };
@@ -389,8 +434,7 @@ impl G<'_, '_> {
 
     /// Stores the register-held variables back into the table.
     fn write_back(&mut self) {
-        let regs: Vec<(u32, Variable)> = self.regs.iter().map(|(n, r)| (*n, *r)).collect();
-        for (n, r) in regs {
+        for (n, r) in self.reg_list() {
             let v = self.b.use_var(r);
             self.b.ins().store(FL, v, self.vars, (n as i32) * 8);
         }

@@ -7,6 +7,9 @@ use cranelift_codegen::ir::{BlockArg, InstBuilder, Value, types};
 use cranelift_frontend::FunctionBuilder;
 
 use super::{G, V};
+
+/// 2^53: below it every integer is an `f64`, and the integer remainder equals `fmod`.
+const LIM: f64 = 9_007_199_254_740_992.0;
 use crate::macro_b::eval::{MacroError, host_func, host_mod};
 use crate::macro_b::{BinOp, Func};
 
@@ -50,17 +53,15 @@ impl G<'_, '_> {
         self.b.inst_results(c)[0]
     }
 
-    /// `ROUND`: half away from zero, as `f64::round`.
+    /// `ROUND`: half away from zero, as `f64::round`: `trunc(x ± h)` with `h` the largest double
+    /// below 0.5 (with 0.5 itself, 0.49999999999999994 and the odd integers above 2^52 would round
+    /// up once more; with `h` the sum rounds to the right side of every half, `-0` and the
+    /// values below 0.5 in magnitude keep their sign, as `f64::round` gives them).
     pub(super) fn round(&mut self, x: Value) -> Value {
-        let t = self.b.ins().trunc(x);
-        let d = self.b.ins().fsub(x, t);
-        let ad = self.b.ins().fabs(d);
-        let half = self.f(0.5);
-        let up = self.b.ins().fcmp(FloatCC::GreaterThanOrEqual, ad, half);
-        let one = self.f(1.0);
-        let one = self.b.ins().fcopysign(one, x);
-        let t1 = self.b.ins().fadd(t, one);
-        self.b.ins().select(up, t1, t)
+        let h = self.f(0.499_999_999_999_999_94);
+        let h = self.b.ins().fcopysign(h, x);
+        let s = self.b.ins().fadd(x, h);
+        self.b.ins().trunc(s)
     }
 
     /// `FUP`: away from zero, as the interpreter's `host_func`.
@@ -73,13 +74,20 @@ impl G<'_, '_> {
         self.b.ins().select(whole, x, t1)
     }
 
-    /// `a MOD b` of rounded operands, `b` ≠ 0: an integer remainder below 2^53, else `host_mod`.
-    pub(super) fn rem(&mut self, a: Value, b: Value) -> Value {
-        let lim = self.f(9_007_199_254_740_992.0);
-        let (aa, ab) = (self.b.ins().fabs(a), self.b.ins().fabs(b));
+    /// `a MOD b` of rounded operands, `b` ≠ 0: an integer remainder below 2^53, else `host_mod`;
+    /// `k`: `b` is this constant (below 2^53).
+    pub(super) fn rem(&mut self, a: Value, b: Value, k: Option<f64>) -> Value {
+        let lim = self.f(LIM);
+        let aa = self.b.ins().fabs(a);
         let oka = self.b.ins().fcmp(FloatCC::LessThan, aa, lim);
-        let okb = self.b.ins().fcmp(FloatCC::LessThan, ab, lim);
-        let ok = self.b.ins().band(oka, okb);
+        let ok = match k {
+            Some(_) => oka,
+            None => {
+                let ab = self.b.ins().fabs(b);
+                let okb = self.b.ins().fcmp(FloatCC::LessThan, ab, lim);
+                self.b.ins().band(oka, okb)
+            }
+        };
         let (fast, slow, done) = (
             self.b.create_block(),
             self.b.create_block(),
@@ -89,7 +97,10 @@ impl G<'_, '_> {
         self.b.ins().brif(ok, fast, &[], slow, &[]);
         self.b.switch_to_block(fast);
         let x = self.b.ins().fcvt_to_sint_sat(types::I64, a);
-        let y = self.b.ins().fcvt_to_sint_sat(types::I64, b);
+        let y = match k {
+            Some(k) => self.b.ins().iconst(types::I64, k as i64),
+            None => self.b.ins().fcvt_to_sint_sat(types::I64, b),
+        };
         let r = self.b.ins().srem(x, y);
         let r = self.b.ins().fcvt_from_sint(types::F64, r);
         let r = self.b.ins().fcopysign(r, a);
@@ -106,8 +117,10 @@ impl G<'_, '_> {
         self.b.ins().select(c, one, zero)
     }
 
-    /// `a op b`; `lit`: the right operand when it is a number literal (no zero-divisor check then).
-    pub(super) fn bin(&mut self, op: BinOp, a: V, b: V, lit: Option<f64>) -> Value {
+    /// `a op b`; `lit`: the right operand when it is a number literal (no zero-divisor check then,
+    /// and `MOD` uses it rounded at compile time); `int_a`: `a` is an integer (`MOD` does not round
+    /// it).
+    pub(super) fn bin(&mut self, op: BinOp, a: V, b: V, lit: Option<f64>, int_a: bool) -> Value {
         if matches!(op, BinOp::Eq | BinOp::Ne) {
             let same = self.b.ins().fcmp(FloatCC::Equal, a.v, b.v);
             let eq = if a.null && b.null {
@@ -160,14 +173,19 @@ impl G<'_, '_> {
                 self.fin(r)
             }
             BinOp::Mod => {
-                let ra = self.round(a);
-                let rb = self.round(b);
-                if lit.is_none_or(|v| v.round() == 0.0) {
+                let ra = if int_a { a } else { self.round(a) };
+                // A literal divisor below 2^53 is rounded here, and its range needs no check.
+                let k = lit.map(f64::round).filter(|k| *k != 0.0 && k.abs() < LIM);
+                let rb = match k {
+                    Some(k) => self.f(k),
+                    None => self.round(b),
+                };
+                if k.is_none() {
                     let zero = self.f(0.0);
                     let ok = self.b.ins().fcmp(FloatCC::NotEqual, rb, zero);
                     self.guard(ok, MacroError::DivZero.code());
                 }
-                let r = self.rem(ra, rb);
+                let r = self.rem(ra, rb, k);
                 self.fin(r)
             }
             BinOp::And => int(self, |b, x, y| b.ins().band(x, y)),
