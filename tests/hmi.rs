@@ -6,7 +6,7 @@ mod hmi_common;
 
 use std::process::Command;
 
-use hmi_common::{Hmi, http, replay, root};
+use hmi_common::{Hmi, Ws, http, replay, root};
 
 fn json(body: &str) -> serde_json::Value {
     serde_json::from_str(body).unwrap_or_else(|e| panic!("not JSON ({e}): {body}"))
@@ -244,4 +244,29 @@ fn a_non_loopback_bind_needs_the_printed_token() {
     assert_eq!(http(&addr, "GET", "/static/app.js", None, None).0, 200);
     let _ = child.kill();
     let _ = child.wait();
+}
+
+/// `/ws?ack=1` sends nothing more until the client acknowledges, and then the newest snapshot, not
+/// the next in a queue; `/ws` pushes without being asked.
+#[test]
+fn a_paced_websocket_client_gets_the_latest_snapshot_after_each_acknowledgement() {
+    let hmi = Hmi::start(&root().join("plc-programs/lathe"), &["--ticks", "3000"]);
+    let mut paced = Ws::connect(&hmi.addr, "/ws?ack=1");
+    let wait = std::time::Duration::from_secs(10);
+    let first = paced.next_tick(wait).expect("the first frame");
+    // Not acknowledged: nothing comes, however many snapshots the scan publishes (every 25 ms).
+    assert_eq!(paced.next_tick(std::time::Duration::from_millis(600)), None);
+    hmi.wait_tick(first + 60);
+    paced.send("ack");
+    let second = paced.next_tick(wait).expect("a frame after the ack");
+    assert!(
+        second >= first + 60,
+        "after the ack the newest snapshot (tick ≥ {}), not a queued one: {second}",
+        first + 60
+    );
+    // Unpaced: frames keep coming with nothing sent.
+    let mut pushed = Ws::connect(&hmi.addr, "/ws");
+    let ticks: Vec<u64> = (0..3).filter_map(|_| pushed.next_tick(wait)).collect();
+    assert_eq!(ticks.len(), 3, "{ticks:?}");
+    hmi.stop();
 }

@@ -39,7 +39,7 @@ def one(args, variant, port):
     client = None
     if variant == "20hz":
         client = subprocess.Popen(
-            [sys.executable, os.path.join(HERE, "ws_client.py"), f"127.0.0.1:{port}", "--hz", "20"],
+            [sys.executable, os.path.join(HERE, "ws_client.py"), f"127.0.0.1:{port}", "--hz", "20", "--ack"],
             stdout=subprocess.PIPE, text=True)
     out = p.stdout.read()
     _, status, ru = os.wait4(p.pid, 0)

@@ -4,8 +4,10 @@ cost measurement in the README ("the HMI open at 20 Hz costs the scan <= 5 %").
 
 Usage: ws_client.py HOST:PORT [--hz 20] [--seconds N]
 
-Standard library only: the HTTP upgrade, then one frame read every 1/hz s (the server sends at
-most 40 Hz into a latest-value channel, so a client reading slower skips frames). Prints the frames
+Standard library only: the HTTP upgrade, then one frame read every 1/hz s. With --ack the client
+acknowledges each frame as the page does and the server sends the latest snapshot only then, so
+the client skips snapshots; without it the server pushes every snapshot (up to 40 Hz) and a slower
+reader falls behind by what the socket buffers hold. Prints the frames
 read, the bytes and the last tick seen. Exits 0 when the server closes the connection or on SIGTERM.
 """
 
@@ -42,11 +44,19 @@ def read_frame(sock):
     return b0 & 0x0F, read_exact(sock, n)
 
 
+def send_text(sock, data):
+    """One masked text frame (clients must mask)."""
+    mask = os.urandom(4)
+    body = bytes(b ^ mask[i % 4] for i, b in enumerate(data))
+    sock.sendall(bytes([0x81, 0x80 | len(data)]) + mask + body)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("addr")
     ap.add_argument("--hz", type=float, default=20.0)
     ap.add_argument("--seconds", type=float, default=0.0, help="0: until the server closes")
+    ap.add_argument("--ack", action="store_true", help="paced: acknowledge each frame (as the page does)")
     a = ap.parse_args()
     host, port = a.addr.rsplit(":", 1)
     deadline = time.monotonic() + a.seconds if a.seconds > 0 else None
@@ -61,7 +71,7 @@ def main():
     key = base64.b64encode(os.urandom(16)).decode()
     sock.sendall(
         (
-            f"GET /ws HTTP/1.1\r\nHost: {a.addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+            f"GET /ws{'?ack=1' if a.ack else ''} HTTP/1.1\r\nHost: {a.addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
             f"Sec-WebSocket-Key: {key}\r\nSec-WebSocket-Version: 13\r\n\r\n"
         ).encode()
     )
@@ -87,6 +97,8 @@ def main():
                 frames += 1
                 size += len(payload)
                 tick = json.loads(payload).get("tick")
+                if a.ack:
+                    send_text(sock, b"ack")
             next_read += period
             time.sleep(max(0.0, next_read - time.monotonic()))
     except (EOFError, ConnectionError):

@@ -1,30 +1,79 @@
-//! `GET /ws`: the live image. Each new snapshot is sent as one JSON text frame; the channel keeps
-//! only the latest, so a slow client skips snapshots and never holds up the scan.
+//! `GET /ws`: the live image. Each snapshot is sent as one JSON text frame, always the latest:
+//! the channel keeps only the newest, so the scan is never held up.
+//!
+//! A browser reads every frame into its own queue however slowly it handles them, so pushing each
+//! new snapshot would let a slow page fall behind by seconds. With `?ack=1` (what the page uses)
+//! the server sends the next frame only after the client's message acknowledging the last one (any
+//! text): a slow client skips snapshots and is never more than one frame behind. Without it each
+//! new snapshot is pushed as it comes (at most the publish rate), for clients that cannot answer.
 
-use axum::extract::State;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use axum::extract::{Query, State};
 use axum::response::Response;
 
 use crate::server::AppState;
 
-/// Upgrades the connection and streams snapshots until the client goes away.
-pub async fn upgrade(ws: WebSocketUpgrade, State(state): State<AppState>) -> Response {
-    ws.on_upgrade(move |socket| stream(socket, state))
+/// The query of `/ws` (the token, if any, is checked before).
+#[derive(Debug, Default, serde::Deserialize)]
+pub struct WsQuery {
+    /// `1`: paced by the client's acknowledgements.
+    #[serde(default)]
+    pub ack: u8,
 }
 
-async fn stream(mut socket: WebSocket, state: AppState) {
+/// Upgrades the connection and streams snapshots until the client goes away.
+pub async fn upgrade(
+    ws: WebSocketUpgrade,
+    Query(q): Query<WsQuery>,
+    State(state): State<AppState>,
+) -> Response {
+    ws.on_upgrade(move |socket| stream(socket, state, q.ack == 1))
+}
+
+/// What the client sent: an acknowledgement, nothing that matters, or the end.
+enum Incoming {
+    Ack,
+    Other,
+    Gone,
+}
+
+fn incoming(m: Option<Result<Message, axum::Error>>) -> Incoming {
+    match m {
+        Some(Ok(Message::Text(_) | Message::Binary(_))) => Incoming::Ack,
+        Some(Ok(Message::Ping(_) | Message::Pong(_))) => Incoming::Other,
+        Some(Ok(Message::Close(_)) | Err(_)) | None => Incoming::Gone,
+    }
+}
+
+async fn stream(mut socket: WebSocket, state: AppState, paced: bool) {
     // The render thread renders while a client is connected.
     let _client = state.demand.connect();
     let mut rx = state.snapshots.clone();
     // The current value first, then every change.
     rx.mark_changed();
-    while rx.changed().await.is_ok() {
+    loop {
+        tokio::select! {
+            changed = rx.changed() => if changed.is_err() { return },
+            m = socket.recv() => match incoming(m) {
+                Incoming::Gone => return,
+                // An acknowledgement with no frame outstanding, or a ping: wait on.
+                Incoming::Ack | Incoming::Other => continue,
+            },
+        }
         let snap = rx.borrow_and_update().clone();
         let Ok(text) = serde_json::to_string(&*snap) else {
-            break;
+            return;
         };
         if socket.send(Message::Text(text.into())).await.is_err() {
-            break;
+            return;
+        }
+        // Paced: no next frame before the client has taken this one.
+        while paced {
+            match incoming(socket.recv().await) {
+                Incoming::Ack => break,
+                Incoming::Other => {}
+                Incoming::Gone => return,
+            }
         }
     }
 }

@@ -430,8 +430,10 @@ function frame() {
   requestAnimationFrame(frame);
 }
 function connect() {
-  const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws" + (token ? "?token=" + encodeURIComponent(token) : ""));
-  ws.onmessage = ev => onSnapshot(JSON.parse(ev.data));
+  // ack=1: the server sends the next (latest) snapshot only after this page has taken the last one,
+  // so a slow page skips snapshots instead of falling behind.
+  const ws = new WebSocket((location.protocol === "https:" ? "wss://" : "ws://") + location.host + "/ws?ack=1" + (token ? "&token=" + encodeURIComponent(token) : ""));
+  ws.onmessage = ev => { try { onSnapshot(JSON.parse(ev.data)); } finally { ws.send("ack"); } };
   ws.onclose = () => { document.getElementById("status").textContent = "disconnected; retrying…"; setTimeout(connect, 1000); };
 }
 async function start() {

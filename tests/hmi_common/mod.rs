@@ -210,3 +210,68 @@ pub fn replay(machine: &Path, trace: &Path, extra: &[&str]) -> (bool, String) {
     );
     (out.status.success(), text)
 }
+
+/// A minimal WebSocket client of `/ws` (std only): the upgrade, unmasked server frames read,
+/// masked text frames sent.
+pub struct Ws(TcpStream);
+
+impl Ws {
+    /// Connects to `path` (e.g. `/ws?ack=1`) of the HMI at `addr`.
+    pub fn connect(addr: &str, path: &str) -> Ws {
+        let mut s = TcpStream::connect(addr).expect("connect");
+        write!(
+            s,
+            "GET {path} HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+             Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+        )
+        .expect("upgrade request");
+        let mut head = Vec::new();
+        let mut b = [0u8; 1];
+        while !head.ends_with(b"\r\n\r\n") {
+            s.read_exact(&mut b).expect("upgrade answer");
+            head.push(b[0]);
+        }
+        assert!(
+            head.starts_with(b"HTTP/1.1 101"),
+            "{}",
+            String::from_utf8_lossy(&head)
+        );
+        Ws(s)
+    }
+
+    /// The next text frame's `tick`, or None when none arrives within `wait`.
+    pub fn next_tick(&mut self, wait: Duration) -> Option<u64> {
+        self.0.set_read_timeout(Some(wait)).expect("timeout");
+        let mut h = [0u8; 2];
+        if self.0.read_exact(&mut h).is_err() {
+            return None;
+        }
+        // Once a frame has begun, read it whole.
+        self.0
+            .set_read_timeout(Some(Duration::from_secs(10)))
+            .expect("timeout");
+        let mut n = u64::from(h[1] & 0x7F);
+        if n == 126 {
+            let mut l = [0u8; 2];
+            self.0.read_exact(&mut l).expect("length");
+            n = u64::from(u16::from_be_bytes(l));
+        } else if n == 127 {
+            let mut l = [0u8; 8];
+            self.0.read_exact(&mut l).expect("length");
+            n = u64::from_be_bytes(l);
+        }
+        let mut body = vec![0u8; usize::try_from(n).expect("size")];
+        self.0.read_exact(&mut body).expect("frame");
+        let v: serde_json::Value = serde_json::from_slice(&body).expect("a JSON snapshot");
+        v["tick"].as_u64()
+    }
+
+    /// Sends a (masked) text frame.
+    pub fn send(&mut self, text: &str) {
+        let mask = [0x12u8, 0x34, 0x56, 0x78];
+        let mut f = vec![0x81, 0x80 | u8::try_from(text.len()).expect("short")];
+        f.extend_from_slice(&mask);
+        f.extend(text.bytes().enumerate().map(|(i, b)| b ^ mask[i % 4]));
+        self.0.write_all(&f).expect("send");
+    }
+}
