@@ -45,6 +45,17 @@ fn incoming(m: Option<Result<Message, axum::Error>>) -> Incoming {
     }
 }
 
+/// Waits for the client's acknowledgement; false when the client went away instead.
+async fn acknowledged(socket: &mut WebSocket) -> bool {
+    loop {
+        match incoming(socket.recv().await) {
+            Incoming::Ack => return true,
+            Incoming::Other => {}
+            Incoming::Gone => return false,
+        }
+    }
+}
+
 async fn stream(mut socket: WebSocket, state: AppState, paced: bool) {
     // The render thread renders while a client is connected.
     let _client = state.demand.connect();
@@ -68,12 +79,8 @@ async fn stream(mut socket: WebSocket, state: AppState, paced: bool) {
             return;
         }
         // Paced: no next frame before the client has taken this one.
-        while paced {
-            match incoming(socket.recv().await) {
-                Incoming::Ack => break,
-                Incoming::Other => {}
-                Incoming::Gone => return,
-            }
+        if paced && !acknowledged(&mut socket).await {
+            return;
         }
     }
 }
