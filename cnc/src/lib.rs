@@ -64,6 +64,7 @@ pub struct Cnc {
     mdi: Option<MdiCompiler>,
     mdi_at: Option<MdiCompilerAt>,
     mdi_compiles: u64,
+    plc_halted: bool,
 }
 
 /// Why an operator command could not be given.
@@ -89,6 +90,19 @@ impl Cnc {
             mdi: None,
             mdi_at: None,
             mdi_compiles: 0,
+            plc_halted: false,
+        }
+    }
+
+    /// The PLC logic stopped (the runtime tripped on scan overruns): nothing answers the
+    /// handshakes and ESTOP can no longer be trusted, so every process takes the emergency stop,
+    /// with an alarm that names the cause, and stays off for the rest of the run.
+    pub fn plc_halted(&mut self) {
+        if std::mem::replace(&mut self.plc_halted, true) {
+            return;
+        }
+        for p in &mut self.processes {
+            p.raise("the PLC logic halted (scan overruns)".into(), true);
         }
     }
 
@@ -100,7 +114,8 @@ impl Cnc {
     /// One logic tick: `out` are the PLC's last published outputs, `image` the packets the next
     /// scan reads.
     pub fn step(&mut self, tick: u64, out: &[u8], image: &mut [u8]) {
-        let estop_ok = tick > 0 && self.machine.estop.is_none_or(|s| s.read(out) == 1);
+        let estop_ok =
+            !self.plc_halted && tick > 0 && self.machine.estop.is_none_or(|s| s.read(out) == 1);
         let mut reset = false;
         for p in &mut self.processes {
             p.set_power(estop_ok);

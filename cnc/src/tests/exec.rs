@@ -481,3 +481,31 @@ fn reset_with_the_estop_chain_still_open_raises_the_alarm_again() {
     assert!(b.cnc.processes()[0].alarms().is_empty());
     assert!(b.cnc.processes()[0].state().on);
 }
+
+#[test]
+fn a_halted_plc_stops_every_process_for_good() {
+    let mut b = Bench::new(cnc(false, 0, 0));
+    b.run(2, &Plc::default());
+    assert!(b.cnc.processes()[0].state().on);
+    // The runtime tripped on overruns: the outputs the kernel reads are frozen with ESTOP closed.
+    b.cnc.plc_halted();
+    b.cnc.plc_halted(); // once is enough
+    b.run(2, &Plc::default());
+    let p = &b.cnc.processes()[0];
+    let alarms: Vec<&str> = p.alarms().iter().map(|a| a.message.as_str()).collect();
+    assert_eq!(
+        alarms,
+        [
+            "process 1: the PLC logic halted (scan overruns)",
+            "process 1: emergency stop"
+        ]
+    );
+    assert!(!p.state().on);
+    // A RESET (ERS) clears the list, but the machine stays off: the logic no longer runs.
+    b.step(&Plc {
+        ers: 1,
+        ..Plc::default()
+    });
+    b.run(2, &Plc::default());
+    assert!(!b.cnc.processes()[0].state().on);
+}

@@ -261,6 +261,14 @@ impl PacketIo for KernelIo {
         self.last_out[..n].copy_from_slice(&packets[..n]);
     }
 
+    fn safe_state(&mut self) {
+        self.sim.safe_state();
+        self.cnc
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .plc_halted();
+    }
+
     fn take_alarms(&mut self) -> Vec<IoAlarm> {
         let mut v = self.sim.take_alarms();
         v.append(&mut self.alarms);
