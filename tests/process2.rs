@@ -170,3 +170,35 @@ fn the_mill_completes_process_2_m_functions() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("alarm"), "{stderr}");
 }
+
+/// `--dialect` names the dialect of the operator's program: a Fanuc MDI block on the mill runs
+/// while process 2 runs its MEFI MAGAZINE program (it was parsed as Fanuc too and refused).
+#[test]
+fn dialect_applies_to_the_operators_program_not_to_process_2s() {
+    let mill = root().join("plc-programs/mill");
+    let out = ncplc(&[
+        "run".as_ref(),
+        mill.as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--dialect".as_ref(),
+        "fanuc".as_ref(),
+        "--mdi".as_ref(),
+        "G91 G00 X-10.".as_ref(),
+        "--until-end".as_ref(),
+        "--ticks".as_ref(),
+        "3000".as_ref(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("process 1: 1 blocks;"), "{stdout}");
+    assert!(
+        stdout.contains("process 2: 1 blocks; handshakes M 1"),
+        "{stdout}"
+    );
+}

@@ -253,10 +253,12 @@ pub fn start_spec(
                     args.process
                 )
             })?;
+        // `--dialect` is the dialect of the operator's program and MDI; the other processes'
+        // programs are the machine's own (nc/DIALECT, else detected from their header).
         let part = load_part(
             &machine.dir,
             std::path::Path::new(name),
-            args.dialect.as_deref(),
+            None,
             vars_text.as_deref(),
         )?;
         others.push(Other {
