@@ -436,3 +436,37 @@ fn a_thread_with_the_spindle_stopped_is_a_located_alarm() {
     assert_eq!(out.status.code(), Some(0), "{stdout}");
     assert!(stdout.contains(", ended\n"), "{stdout}");
 }
+
+/// In virtual time nobody but the script can press START: a `--until-end` run whose script never
+/// does stops after ten minutes of machine time with nothing moving (60,000 ticks of 10 ms) and
+/// says why, instead of spinning for ever.
+#[test]
+fn until_end_without_a_start_stops_after_ten_idle_minutes() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let sim = dir.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    let cut = text
+        .find("# The operator presses CYCLE START.")
+        .expect("the lathe's script presses START");
+    std::fs::write(&sim, &text[..cut]).expect("write");
+    let out = ncplc(&[
+        "run".as_ref(),
+        dir.path().as_os_str(),
+        "--virtual-time".as_ref(),
+        "--no-watch".as_ref(),
+        "--program".as_ref(),
+        "PART1".as_ref(),
+        "--until-end".as_ref(),
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{stdout}");
+    assert!(
+        stdout.contains("the cycle never started (START from the PLC)\n"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("alarm: nothing moved and no block ran from tick 1 to tick 60001:"),
+        "{stdout}"
+    );
+}

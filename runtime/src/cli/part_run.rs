@@ -45,6 +45,11 @@ pub struct PartRun {
     machine: std::path::PathBuf,
     dialect: Option<String>,
     started: Option<u64>,
+    /// In virtual time with nobody to press a button: after this many ticks with no axis moving
+    /// and no block running, the run stops (else `--until-end` would spin for ever).
+    idle_limit: Option<u64>,
+    /// The tick since which nothing has happened (see `idle_limit`).
+    idle_since: Option<u64>,
     finished: Option<u64>,
     alarms: Vec<String>,
     failed: bool,
@@ -306,6 +311,8 @@ pub fn start_spec(
         machine: machine.dir.clone(),
         dialect: args.dialect.clone(),
         started: None,
+        idle_limit: None,
+        idle_since: None,
         finished: None,
         alarms: Vec::new(),
         failed: false,
@@ -486,6 +493,22 @@ impl PartRun {
         if st.interp == Interp::Running && st.mode != Mode::Home && self.started.is_none() {
             self.started = Some(tick);
         }
+        if st.moving || st.interp == Interp::Running || self.finished.is_some() {
+            self.idle_since = None;
+        } else {
+            let since = *self.idle_since.get_or_insert(tick);
+            if let Some(limit) = self.idle_limit
+                && tick - since >= limit
+                && !self.failed
+            {
+                self.alarms.push(format!(
+                    "nothing moved and no block ran from tick {since} to tick {tick}: in virtual time \
+                     only the sim.toml script could press START (or continue after M00), and it \
+                     does not; give --ticks N to run a fixed time"
+                ));
+                self.failed = true;
+            }
+        }
         if self.program_selected && st.interp == Interp::Running && st.mode == Mode::Auto {
             self.program_ran = true;
         }
@@ -569,6 +592,12 @@ impl PartRun {
             self.finished = Some(tick);
         }
         !(until_end && (ended || self.failed))
+    }
+
+    /// Stops a `--until-end` run after `ticks` ticks in which nothing moved and no block ran
+    /// (virtual time without an HMI: nobody but the script can act).
+    pub fn set_idle_limit(&mut self, ticks: u64) {
+        self.idle_limit = Some(ticks);
     }
 
     /// The exit code of `--until-end`: 0 when the program ended, 1 on a stopping alarm or when

@@ -187,6 +187,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
                     .map_err(|e| e.to_string())?,
                 None => io,
             };
+            let mut run = run;
+            let nobody = args.hmi.hmi.is_none() && args.modbus_hmi.is_none();
+            if args.virtual_time && args.until_end && args.ticks.is_none() && nobody {
+                // Ten minutes of machine time with nothing happening: nobody will press START.
+                run.set_idle_limit(600_000 / u64::from(tick_ms));
+            }
             (io, None, Some(run))
         }
         Some(opened) => {
