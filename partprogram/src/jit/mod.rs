@@ -20,6 +20,7 @@
 //! (self-modifying cycles) stay with the interpreter. Native and interpreted runs agree bit for bit
 //! (checked by differential tests).
 
+pub(crate) mod dispatch;
 mod ops;
 pub mod region;
 

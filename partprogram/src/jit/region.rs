@@ -19,9 +19,7 @@
 //! of 0 clears it and falls through, with a count k > 0 stores k−1 and jumps.
 
 use cranelift_codegen::ir::condcodes::IntCC;
-use cranelift_codegen::ir::{
-    Block, BlockArg, InstBuilder, JumpTableData, SigRef, Type, Value, types,
-};
+use cranelift_codegen::ir::{Block, BlockArg, InstBuilder, SigRef, Type, Value, types};
 use cranelift_frontend::{FunctionBuilder, Variable};
 
 use super::ops::{FL, Gen};
@@ -283,25 +281,7 @@ pub(super) fn build(
         heads: run.blocks.iter().map(|_| b.create_block()).collect(),
         first,
     };
-    // Dispatch on the entry block.
-    let base = b.ins().iconst(types::I64, first as i64);
-    let idx = b.ins().isub(at, base);
-    let len = b.ins().iconst(types::I64, run.blocks.len() as i64);
-    let inside = b.ins().icmp(IntCC::UnsignedLessThan, idx, len);
-    let (dispatch, outside) = (b.create_block(), b.create_block());
-    b.ins().brif(inside, dispatch, &[], outside, &[]);
-    b.switch_to_block(outside);
-    b.ins().jump(exit, &[BlockArg::from(at)]);
-    b.switch_to_block(dispatch);
-    let idx32 = b.ins().ireduce(types::I32, idx);
-    let def = b.func.dfg.block_call(outside, &[]);
-    let table: Vec<_> = fr
-        .heads
-        .iter()
-        .map(|&h| b.func.dfg.block_call(h, &[]))
-        .collect();
-    let jt = b.create_jump_table(JumpTableData::new(def, &table));
-    b.ins().br_table(idx32, jt);
+    super::dispatch::entry_dispatch(b, at, first, &fr.heads, exit);
     for (k, pb) in run.blocks.iter().enumerate() {
         b.switch_to_block(fr.heads[k]);
         block(

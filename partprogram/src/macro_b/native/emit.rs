@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 
 use cranelift_codegen::ir::condcodes::{FloatCC, IntCC};
 use cranelift_codegen::ir::{
-    Block, BlockArg, InstBuilder, JumpTableData, MemFlagsData, SigRef, Type, Value, types,
+    Block, BlockArg, InstBuilder, MemFlagsData, SigRef, Type, Value, types,
 };
 use cranelift_frontend::{FunctionBuilder, Variable};
 
@@ -473,23 +473,7 @@ pub(super) fn build(
     b.append_block_param(fail, types::I64);
     b.append_block_param(fail, types::I64);
     let heads: Vec<Block> = (first..end).map(|_| b.create_block()).collect();
-    // Dispatch on the entry block.
-    let idx = b.ins().iadd_imm_s(at, -(first as i64));
-    let len = b.ins().iconst(types::I64, (end - first) as i64);
-    let inside = b.ins().icmp(IntCC::UnsignedLessThan, idx, len);
-    let (dispatch, outside) = (b.create_block(), b.create_block());
-    b.ins().brif(inside, dispatch, &[], outside, &[]);
-    b.switch_to_block(outside);
-    b.ins().jump(exit, &[BlockArg::from(at)]);
-    b.switch_to_block(dispatch);
-    let idx32 = b.ins().ireduce(types::I32, idx);
-    let def = b.func.dfg.block_call(outside, &[]);
-    let table: Vec<_> = heads
-        .iter()
-        .map(|&h| b.func.dfg.block_call(h, &[]))
-        .collect();
-    let jt = b.create_jump_table(JumpTableData::new(def, &table));
-    b.ins().br_table(idx32, jt);
+    crate::jit::dispatch::entry_dispatch(b, at, first, &heads, exit);
     let mut g = G {
         b,
         ptr,
