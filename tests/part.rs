@@ -4,7 +4,7 @@
 use std::process::Output;
 
 mod e2e_common;
-use e2e_common::{copy_dir, ncplc, root};
+use e2e_common::{copy_dir, lathe_cut_at, ncplc, root};
 
 /// A copy of the lathe with `extra` appended to its sim.toml.
 fn lathe_with(extra: &str) -> tempfile::TempDir {
@@ -442,14 +442,7 @@ fn a_thread_with_the_spindle_stopped_is_a_located_alarm() {
 /// says why, instead of spinning for ever.
 #[test]
 fn until_end_without_a_start_stops_after_ten_idle_minutes() {
-    let dir = tempfile::tempdir().expect("tempdir");
-    copy_dir(&root().join("plc-programs/lathe"), dir.path());
-    let sim = dir.path().join("sim.toml");
-    let text = std::fs::read_to_string(&sim).expect("sim.toml");
-    let cut = text
-        .find("# The operator presses CYCLE START.")
-        .expect("the lathe's script presses START");
-    std::fs::write(&sim, &text[..cut]).expect("write");
+    let dir = lathe_cut_at("# The operator presses CYCLE START.");
     let out = ncplc(&[
         "run".as_ref(),
         dir.path().as_os_str(),

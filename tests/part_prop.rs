@@ -8,21 +8,14 @@
 use proptest::prelude::*;
 
 mod e2e_common;
-use e2e_common::{copy_dir, ncplc, root};
+use e2e_common::{copy_dir, lathe_cut_at, ncplc, root};
 
 /// The lathe without the scripted feed hold of PART1 (the operator only presses START) and
 /// without its zero-offset table: the programs are written in the machine frame (a Fanuc
 /// program starts in G54, which `MP0/TAB0.POS` would move to the part).
 fn lathe() -> tempfile::TempDir {
-    let dir = tempfile::tempdir().expect("tempdir");
-    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let dir = lathe_cut_at("# Feed hold from the panel during the second pass");
     std::fs::remove_file(dir.path().join("MP0/TAB0.POS")).expect("the lathe's TAB0.POS");
-    let sim = dir.path().join("sim.toml");
-    let text = std::fs::read_to_string(&sim).expect("sim.toml");
-    let cut = text
-        .find("# Feed hold from the panel during the second pass")
-        .expect("the feed hold of the part script");
-    std::fs::write(&sim, &text[..cut]).expect("write");
     dir
 }
 

@@ -32,3 +32,17 @@ pub fn copy_dir(from: &Path, to: &Path) {
         }
     }
 }
+
+/// A copy of the bundled lathe whose `sim.toml` ends just before the line `marker` (the script's
+/// later events dropped).
+pub fn lathe_cut_at(marker: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let sim = dir.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    let cut = text
+        .find(marker)
+        .unwrap_or_else(|| panic!("the lathe's sim.toml has `{marker}`"));
+    std::fs::write(&sim, &text[..cut]).expect("write sim.toml");
+    dir
+}

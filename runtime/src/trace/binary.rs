@@ -480,6 +480,11 @@ mod tests {
         );
     }
 
+    /// The error `decode` gives for `bytes`, as text.
+    fn decode_error(bytes: &[u8]) -> Option<String> {
+        decode(bytes).map_err(|e| e.to_string()).err()
+    }
+
     #[test]
     fn truncation_is_reported() {
         let trace = Trace {
@@ -491,22 +496,16 @@ mod tests {
             }],
         };
         let bytes = encode(&trace).expect("encode");
-        let e = decode(&bytes[..bytes.len() - 1])
-            .map_err(|e| e.to_string())
-            .err();
         assert_eq!(
-            e.as_deref(),
+            decode_error(&bytes[..bytes.len() - 1]).as_deref(),
             Some("frame 1: truncated: the last frame has no 0x00 terminator")
         );
     }
 
     #[test]
     fn a_file_that_is_no_trace_is_named_so() {
-        let e = decode(b"root:x:0:0:root:/root:/bin/bash\n")
-            .map_err(|e| e.to_string())
-            .err();
         assert_eq!(
-            e.as_deref(),
+            decode_error(b"root:x:0:0:root:/root:/bin/bash\n").as_deref(),
             Some(
                 "frame 0: not an ncplc trace: neither a text trace (a JSON header line first) nor a binary one (truncated: the last frame has no 0x00 terminator)"
             )
