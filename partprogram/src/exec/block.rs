@@ -255,8 +255,8 @@ impl Exec<'_> {
         mfuncs.sort_by_key(|m| !m.before);
         // 6. Tables, transformations, motion.
         let any_axis = axes.iter().any(Option::is_some);
-        // The branch below that interpolates a path, decided here so that a word the block
-        // would ignore stops the plan before the block is emitted.
+        // Whether the block interpolates a path (the last branch below), decided here so that a
+        // word the block would ignore stops the plan before the block is emitted.
         let interpolated = !(g92 || g93 || lift || g30 || transform.is_some())
             && (any_axis
                 || (matches!(self.modal.motion, 2 | 3) && ijk.iter().any(Option::is_some)));
@@ -320,9 +320,7 @@ impl Exec<'_> {
             self.geo.move_machine(target, &self.st, self.modal.offset);
             self.emit(b, Kind::Rapid, Vec::new(), None, &mfuncs, None);
             moved = true;
-        } else if any_axis
-            || (matches!(self.modal.motion, 2 | 3) && ijk.iter().any(Option::is_some))
-        {
+        } else if interpolated {
             let offset = block_offset.unwrap_or(self.modal.offset);
             let tgt = Target {
                 axes,
