@@ -264,6 +264,14 @@ fn a_paced_websocket_client_gets_the_latest_snapshot_after_each_acknowledgement(
         "after the ack the newest snapshot (tick ≥ {}), not a queued one: {second}",
         first + 60
     );
+    // A pacing the server does not know is refused, not taken for the unpaced stream.
+    for bad in ["/ws?ack=2", "/ws?ack=yes"] {
+        let Err(answer) = Ws::try_connect(&hmi.addr, bad) else {
+            panic!("{bad} was upgraded");
+        };
+        assert!(answer.starts_with("HTTP/1.1 400"), "{bad}: {answer}");
+        assert!(answer.contains("\"error\":"), "{bad}: {answer}");
+    }
     // Unpaced: frames keep coming with nothing sent.
     let mut pushed = Ws::connect(&hmi.addr, "/ws");
     let ticks: Vec<u64> = (0..3).filter_map(|_| pushed.next_tick(wait)).collect();

@@ -7,9 +7,12 @@
 //! text): a slow client skips snapshots and is never more than one frame behind. Without it each
 //! new snapshot is pushed as it comes (at most the publish rate), for clients that cannot answer.
 
+use axum::extract::rejection::QueryRejection;
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::extract::{Query, State};
-use axum::response::Response;
+use axum::response::{IntoResponse, Response};
+
+use crate::error::ApiError;
 
 use crate::server::AppState;
 
@@ -21,12 +24,21 @@ pub struct WsQuery {
     pub ack: u8,
 }
 
-/// Upgrades the connection and streams snapshots until the client goes away.
+/// Upgrades the connection and streams snapshots until the client goes away; an `ack` other
+/// than 0 or 1 is a `400`, not silently a pushed stream.
 pub async fn upgrade(
+    query: Result<Query<WsQuery>, QueryRejection>,
     ws: WebSocketUpgrade,
-    Query(q): Query<WsQuery>,
     State(state): State<AppState>,
 ) -> Response {
+    let q = match query {
+        Ok(Query(q)) => q,
+        Err(e) => return ApiError::bad_request(format!("/ws: {e}")).into_response(),
+    };
+    if q.ack > 1 {
+        return ApiError::bad_request(format!("ack={}: 1 paces frames, 0 pushes them", q.ack))
+            .into_response();
+    }
     ws.on_upgrade(move |socket| stream(socket, state, q.ack == 1))
 }
 

@@ -218,6 +218,11 @@ pub struct Ws(TcpStream);
 impl Ws {
     /// Connects to `path` (e.g. `/ws?ack=1`) of the HMI at `addr`.
     pub fn connect(addr: &str, path: &str) -> Ws {
+        Ws::try_connect(addr, path).unwrap_or_else(|answer| panic!("{answer}"))
+    }
+
+    /// [`Ws::connect`], or the server's whole answer when it does not upgrade.
+    pub fn try_connect(addr: &str, path: &str) -> Result<Ws, String> {
         let mut s = TcpStream::connect(addr).expect("connect");
         write!(
             s,
@@ -231,12 +236,15 @@ impl Ws {
             s.read_exact(&mut b).expect("upgrade answer");
             head.push(b[0]);
         }
-        assert!(
-            head.starts_with(b"HTTP/1.1 101"),
-            "{}",
-            String::from_utf8_lossy(&head)
-        );
-        Ws(s)
+        if !head.starts_with(b"HTTP/1.1 101") {
+            let mut rest = Vec::new();
+            s.set_read_timeout(Some(Duration::from_secs(2)))
+                .expect("timeout");
+            let _ = s.read_to_end(&mut rest);
+            head.extend(rest);
+            return Err(String::from_utf8_lossy(&head).into_owned());
+        }
+        Ok(Ws(s))
     }
 
     /// The next text frame's `tick`, or None when none arrives within `wait`.
