@@ -40,7 +40,7 @@ fn every_plc_example_of_the_language_reference_compiles() {
     // statements, expressions (two).
     assert_eq!(examples.len(), 8);
     let (ctx, _) =
-        runtime::cli::build::machine_context(&root().join("plc-programs/lathe")).expect("lathe");
+        ncplc::cli::build::machine_context(&root().join("plc-programs/lathe")).expect("lathe");
     for (line, text) in examples {
         let name = format!("docs/plc-language.md:{line}");
         let c = compiler::compile_with_threads(&name, text.as_bytes(), &ctx, 1);

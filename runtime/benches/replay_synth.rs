@@ -14,7 +14,7 @@ use packets::Signal;
 use runtime::compiled::{EngineKind, load};
 use runtime::program::Loaded;
 use runtime::replay::{ReplayOptions, replay_with};
-use runtime::trace::{TickRecord, Trace};
+use trace::{TickRecord, Trace};
 
 fn ctx() -> MachineContext {
     MachineContext {

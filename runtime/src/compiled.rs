@@ -358,13 +358,13 @@ pub fn compile_cached(
             if !c.diagnostics.is_empty() {
                 eprint!(
                     "{}",
-                    crate::cli::output::render_diagnostics(&c.diagnostics, &sources)
+                    crate::render::render_diagnostics(&c.diagnostics, &sources)
                 );
             }
             variant(Arc::new(p), flow, engine, threads, cache)
         }
         _ => Err(LoadError::Diagnostics {
-            rendered: crate::cli::output::render_diagnostics(&c.diagnostics, &sources),
+            rendered: crate::render::render_diagnostics(&c.diagnostics, &sources),
             diagnostics: c.diagnostics,
         }),
     }

@@ -8,7 +8,7 @@
 
 use packets::Signal;
 
-use crate::trace::SignalValue;
+use trace::SignalValue;
 
 /// The force table and the pending one-shot writes.
 #[derive(Debug, Clone, Default)]

@@ -1,6 +1,8 @@
-//! The ncplc runtime: the cyclic scan loop that owns the signal packets, plus the `ncplc` CLI.
+//! The ncplc scan runtime: the cyclic loop that owns the signal packets and the program's image.
 //!
-//! See ARCHITECTURE.md at the repository root for how the crates fit together.
+//! See ARCHITECTURE.md at the repository root for how the crates fit together. Above this crate
+//! `sim` simulates the machine, `controller` assembles a running controller, and the `ncplc` binary
+//! parses arguments and prints; below it `trace` holds the trace formats.
 //!
 //! | module | concept |
 //! |---|---|
@@ -10,44 +12,39 @@
 //! | [`scheduler`] | the tick loop: latch, scan, publish; overruns, safe state, swaps, retain |
 //! | [`clock`] | real time (absolute deadlines, SCHED_FIFO) and virtual time |
 //! | [`stats`] | scan-time and wake-latency histograms |
-//! | [`trace`] | trace records, text and binary forms, recorder, comparison |
 //! | [`replay`] | replaying a trace and comparing outputs |
 //! | [`idle_skip`], [`output_watch`] | the replay's exact jumps over idle ticks and its lean output diff |
 //! | [`retain`] | atomic, checksummed retained data (PGCFIL OLD, MUSPE) |
+//! | [`atomic_file`] | every file ncplc replaces: temporary file, sync, rename |
 //! | [`online`] | watching the source, background compile, swap at a tick boundary |
-//! | [`handshake`], [`sim`] | the simulated CNC (M/S/T handshake) and machine |
-//! | [`io`] | choosing the I/O (`sim`, `modbus`, `canopen`) |
-//! | [`config`], [`machine`], [`machine_facts`] | machine settings for a run |
+//! | [`force`] | the HMI's write-once and force table, applied by the scheduler |
+//! | [`config`], [`machine_facts`] | machine settings for a run, from the validated characterization |
 //! | [`process_map`] | the interface map against the machine's processes (NBP>1 roles) |
+//! | [`render`] | diagnostics rendered (coloured as the CLI chose) and paths as the user sees them |
+//! | [`testkit`] | hand-written programs for tests |
+//!
+//! **Invariants:** the scan never allocates, prints or waits on I/O; the image is the only state
+//! of a running program (engines keep none). This crate depends on `trace` and the compiler side,
+//! never on `sim`, `controller` or the CLI.
 
 pub mod atomic_file;
-pub mod cli;
 pub mod clock;
 pub mod compiled;
 pub mod config;
 pub mod force;
-pub mod hmi_link;
 pub mod idle_skip;
-pub use cnc::handshake;
 pub mod image;
-pub mod io;
-pub mod machine;
 pub mod machine_facts;
 pub mod online;
 pub mod output_watch;
-pub mod plot;
 pub mod process_map;
 pub mod program;
+pub mod render;
 pub mod replay;
 pub mod retain;
 pub mod scheduler;
-pub mod sim;
 pub mod stats;
 pub mod testkit;
-pub mod trace;
 
 #[cfg(test)]
 mod replay_skip_tests;
-#[cfg(test)]
-#[path = "scheduler_tests.rs"]
-mod scheduler_tests;

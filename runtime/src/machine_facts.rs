@@ -52,7 +52,7 @@ impl Facts {
         let mut load = characterization::load_machine(dir);
         let shown = dir.display().to_string();
         if load.has_errors() || load.machine.is_none() {
-            crate::cli::output::relocate(&mut load, dir);
+            crate::render::relocate(&mut load, dir);
             let errors: Vec<_> = load
                 .diagnostics
                 .iter()
@@ -61,7 +61,7 @@ impl Facts {
                 .collect();
             return Err(MachineError::Invalid {
                 dir: shown,
-                report: crate::cli::output::render_diagnostics(&errors, &load.sources),
+                report: crate::render::render_diagnostics(&errors, &load.sources),
             });
         }
         match load.machine {

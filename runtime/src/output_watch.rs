@@ -7,8 +7,8 @@
 
 use packets::Signal;
 
-use crate::trace::SignalValue;
-use crate::trace::recorder::OutputTracker;
+use trace::SignalValue;
+use trace::recorder::OutputTracker;
 
 /// An [`OutputTracker`] behind a whole-span equality check.
 #[derive(Debug, Clone)]

@@ -18,10 +18,10 @@ use crate::idle_skip::IdleSkipper;
 use crate::image::Image;
 use crate::output_watch::OutputWatch;
 use crate::program::Loaded;
-use crate::trace::compare::{Comparator, report};
-use crate::trace::positions::{PositionComparator, PositionTracker};
-use crate::trace::recorder::InputDiff;
-use crate::trace::{AxisValue, OperatorCommand, SignalValue, TickRecord, Trace};
+use trace::compare::{Comparator, report};
+use trace::positions::{PositionComparator, PositionTracker};
+use trace::recorder::InputDiff;
+use trace::{AxisValue, OperatorCommand, SignalValue, TickRecord, Trace};
 
 /// The CNC side a replay re-runs: a part run's kernel, plant and operator.
 pub trait ReplayKernel {

@@ -11,7 +11,7 @@ use crate::config::RunConfig;
 use crate::program::Loaded;
 use crate::replay::{Replay, ReplayOptions, replay_with};
 use crate::testkit::sig;
-use crate::trace::{TickRecord, Trace};
+use trace::{TickRecord, Trace};
 
 fn load(src: &str, tick_ms: u32, engine: EngineKind) -> Loaded {
     let cfg = RunConfig {

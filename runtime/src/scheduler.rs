@@ -17,9 +17,9 @@ use crate::image::Image;
 use crate::program::Loaded;
 use crate::retain::{RetainLayout, RetainRecord};
 use crate::stats::Stats;
-use crate::trace::positions::{PositionSource, PositionTracker};
-use crate::trace::recorder::{InputDiff, OutputTracker};
-use crate::trace::{TickRecord, TraceError, TraceSink};
+use trace::positions::{PositionSource, PositionTracker};
+use trace::recorder::{InputDiff, OutputTracker};
+use trace::{TickRecord, TraceError, TraceSink};
 
 /// A new program for the running scheduler, compiled in the background.
 pub struct Swap {
@@ -81,13 +81,13 @@ pub struct Scheduler {
     events: Vec<Event>,
     recording: Option<(InputDiff, Box<dyn TraceSink>, TickRecord)>,
     /// Operator commands applied since the last tick, for the next tick's record.
-    commands: Vec<crate::trace::OperatorCommand>,
+    commands: Vec<trace::OperatorCommand>,
     tracker: OutputTracker,
     swaps: Option<Receiver<Swap>>,
     retain: Option<RetainState>,
     last_io_error: Option<TraceError>,
     forces: Forces,
-    forced_scratch: Vec<crate::trace::SignalValue>,
+    forced_scratch: Vec<trace::SignalValue>,
     positions: Option<(PositionSource, PositionTracker)>,
 }
 
@@ -232,7 +232,7 @@ impl Scheduler {
 
     /// With a recording: the kernel accepted operator command `c` at this tick boundary; it goes
     /// into the next tick's record (a replay gives it to its kernel before that tick's latch).
-    pub fn record_command(&mut self, c: crate::trace::OperatorCommand) {
+    pub fn record_command(&mut self, c: trace::OperatorCommand) {
         if self.recording.is_some() {
             self.commands.push(c);
         }

@@ -1,0 +1,126 @@
+//! What the web HMI costs the scan (issue 13 target: ≤ 5 %): 2,000 logic ticks of the lathe part
+//! (PART1 through kernel + logic + plant, virtual time) without the HMI, and with the HMI serving
+//! and a WebSocket client pulling the live image at 20 Hz. With the HMI, every tick services the
+//! request channel and samples the tool path, and every second tick publishes a snapshot (the
+//! 40 Hz publish rate of a real-time run at the lathe's 10 ms tick is one every 2.5 ticks: this is
+//! the dearer bound). The client runs on its own thread, as a browser's server task would.
+
+mod common;
+
+use std::io::{Read, Write};
+use std::net::TcpStream;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use controller::machine::Machine;
+use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
+use runtime::scheduler::Scheduler;
+
+const TICKS: u64 = 2_000;
+
+fn lathe() -> Machine {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../plc-programs/lathe");
+    Machine::open(&dir, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The lathe with PART1 selected in AUTO (its part script presses START at tick 10).
+fn part_scheduler(m: &Machine, text: &str) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
+    common::part_scheduler(m, "PART1", text, |io| Box::new(io))
+}
+
+/// A WebSocket client that reads whatever arrived every 50 ms (20 Hz) until `stop`.
+fn client(addr: std::net::SocketAddr, stop: Arc<AtomicBool>) -> std::thread::JoinHandle<u64> {
+    std::thread::spawn(move || {
+        let mut s = TcpStream::connect(addr).unwrap_or_else(|e| panic!("{e}"));
+        let _ = write!(
+            s,
+            "GET /ws HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
+             Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+        );
+        let _ = s.set_read_timeout(Some(Duration::from_millis(5)));
+        let mut buf = vec![0u8; 1 << 16];
+        let mut got = 0u64;
+        while !stop.load(Ordering::Relaxed) {
+            std::thread::sleep(Duration::from_millis(50));
+            while let Ok(n) = s.read(&mut buf) {
+                if n == 0 {
+                    break;
+                }
+                got += n as u64;
+            }
+        }
+        got
+    })
+}
+
+fn bench(c: &mut Criterion) {
+    let m = lathe();
+    let source = m.read_source().unwrap_or_else(|e| panic!("{e}"));
+    let text = std::fs::read_to_string(m.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
+    let mut g = c.benchmark_group("hmi_cost");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(8));
+    g.bench_function("lathe_part1_2000_ticks_without_hmi", |b| {
+        b.iter_batched(
+            || part_scheduler(&m, &text).0,
+            |mut s| {
+                s.run(Some(TICKS), |_| true);
+                s.tick_count()
+            },
+            BatchSize::PerIteration,
+        )
+    });
+    // One server for every iteration of the HMI variant: each iteration wires a fresh scheduler's
+    // kernel into a fresh link (a link starts its own server; the old ones stay idle).
+    for (name, publish_every) in [
+        ("lathe_part1_2000_ticks_with_hmi_and_a_20hz_client", 2),
+        (
+            "lathe_part1_2000_ticks_hmi_service_only_publish_at_25ms_wall",
+            0,
+        ),
+    ] {
+        g.bench_function(name, |b| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    let (mut s, cnc) = part_scheduler(&m, &text);
+                    let mut link = common::hmi_link(&m, &source, &text, cnc);
+                    let stop = Arc::new(AtomicBool::new(false));
+                    let reader = client(link.running.addr, Arc::clone(&stop));
+                    std::thread::sleep(Duration::from_millis(100));
+                    let t = Instant::now();
+                    s.run(Some(TICKS), |s| {
+                        link.service(s);
+                        if publish_every > 0 && s.tick_count() % publish_every == 0 {
+                            link.publish(s);
+                        }
+                        true
+                    });
+                    total += t.elapsed();
+                    stop.store(true, Ordering::Relaxed);
+                    let got = reader.join().unwrap_or(0);
+                    assert!(got > 0, "the client received nothing");
+                }
+                total
+            })
+        });
+    }
+    // The scan thread's part of one published snapshot alone, on the lathe 1,000 ticks into
+    // PART1 (the kernel moving, a tool path sampled).
+    g.bench_function("publish_one_snapshot_scan_thread_part", |b| {
+        let (mut s, cnc) = part_scheduler(&m, &text);
+        let mut link = common::hmi_link(&m, &source, &text, cnc);
+        s.run(Some(1_000), |s| {
+            link.service(s);
+            true
+        });
+        b.iter(|| link.publish(&s))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

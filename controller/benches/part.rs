@@ -1,0 +1,134 @@
+//! Part runs (issue 11 targets): a 10-minute mill part through kernel + logic + plant in virtual
+//! time (target ≤ 1 s), and the kernel's cost per logic tick (one process, the lathe part;
+//! target p99 ≤ 20 µs), printed as p50/p99/max beside criterion's mean.
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+use std::time::Instant;
+
+mod common;
+
+use packets::PacketIo;
+
+use controller::machine::Machine;
+use criterion::{Criterion, criterion_group, criterion_main};
+use runtime::scheduler::Scheduler;
+use sim::kernel::KernelIo;
+
+fn machine(name: &str) -> Machine {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../plc-programs")
+        .join(name);
+    Machine::open(&dir, None).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The mill's square 25 times: about 10 minutes of machining.
+fn long_mill_program() -> String {
+    let mut s =
+        String::from("%3 \"Ten minutes of squares\nN10 T2 M06\nN20 G54 S2000 M03\nN30 M08\n");
+    s.push_str("N40 G00 X-100 Y-100 Z-50\nN50 G01 Z-60 F300\n");
+    let mut n = 60;
+    for _ in 0..25 {
+        for (x, y) in [(-160, -100), (-160, -160), (-100, -160), (-100, -100)] {
+            s.push_str(&format!("N{n} X{x} Y{y} F600\n"));
+            n += 10;
+        }
+    }
+    s.push_str(&format!(
+        "N{n} G00 Z-50\nN{} M09\nN{} M05\nN{} M30\n",
+        n + 10,
+        n + 20,
+        n + 30
+    ));
+    s
+}
+
+/// A scheduler running `text` on `m` (AUTO selected; the part script presses START).
+fn part_scheduler(
+    m: &Machine,
+    text: &str,
+    timed: Option<Arc<Mutex<Vec<u64>>>>,
+) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
+    common::part_scheduler(m, "bench", text, |io| match timed {
+        Some(times) => Box::new(Timed { inner: io, times }),
+        None => Box::new(io),
+    })
+}
+
+fn ended(cnc: &std::sync::Mutex<cnc::Cnc>) -> bool {
+    cnc.lock()
+        .map(|c| c.processes()[0].counters().ended >= 1)
+        .unwrap_or(true)
+}
+
+fn bench(c: &mut Criterion) {
+    let mill = machine("mill");
+    let text = long_mill_program();
+    let (mut s, cnc) = part_scheduler(&mill, &text, None);
+    s.run(Some(200_000), |_| !ended(&cnc));
+    let ticks = s.tick_count();
+    eprintln!(
+        "long mill part: {ticks} ticks = {:.1} s machine time",
+        ticks as f64 * f64::from(mill.config.tick_ms) / 1000.0
+    );
+    let mut g = c.benchmark_group("part_run");
+    g.sample_size(10);
+    g.bench_function("mill_10min_part_kernel_logic_plant", |b| {
+        b.iter(|| {
+            let (mut s, cnc) = part_scheduler(&mill, &text, None);
+            s.run(Some(200_000), |_| !ended(&cnc));
+            assert!(ended(&cnc));
+            s.tick_count()
+        })
+    });
+    g.finish();
+
+    // The kernel's cost per logic tick: `latch_inputs` of the kernel I/O (the part script's
+    // inputs, then `Cnc::step`: 5 interpolation ticks, drives, spindle, handshakes) over the
+    // lathe part, timed per tick.
+    let lathe = machine("lathe");
+    let part =
+        std::fs::read_to_string(lathe.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
+    let times = Arc::new(Mutex::new(Vec::new()));
+    let (mut s, cnc) = part_scheduler(&lathe, &part, Some(Arc::clone(&times)));
+    s.run(Some(20_000), |_| !ended(&cnc));
+    let mut times = times.lock().map(|v| v.clone()).unwrap_or_default();
+    times.sort_unstable();
+    let q = |f: f64| times[((times.len() - 1) as f64 * f) as usize] as f64 / 1000.0;
+    eprintln!(
+        "kernel latch per logic tick (lathe PART1, {} ticks): p50 {:.2} µs  p99 {:.2} µs  max {:.2} µs",
+        times.len(),
+        q(0.5),
+        q(0.99),
+        q(1.0)
+    );
+}
+
+/// Times every `latch_inputs` of the wrapped I/O.
+struct Timed {
+    inner: KernelIo,
+    times: Arc<Mutex<Vec<u64>>>,
+}
+
+impl PacketIo for Timed {
+    fn name(&self) -> &str {
+        "timed"
+    }
+    fn latch_inputs(&mut self, tick: u64, packets: &mut [u8]) {
+        let t = Instant::now();
+        self.inner.latch_inputs(tick, packets);
+        let ns = t.elapsed().as_nanos() as u64;
+        if let Ok(mut v) = self.times.lock() {
+            v.push(ns);
+        }
+    }
+    fn publish_outputs(&mut self, tick: u64, packets: &[u8]) {
+        self.inner.publish_outputs(tick, packets);
+    }
+    fn take_alarms(&mut self) -> Vec<packets::IoAlarm> {
+        self.inner.take_alarms()
+    }
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,120 @@
+//! The servers of a controller: the web HMI (crate `hmi`, through [`crate::hmi_link`]) and the
+//! extension point for others ([`Server`]: an OPC UA server, …). The Modbus HMI sits in front of the
+//! I/O instead ([`crate::io::with_modbus_hmi`]).
+//!
+//! **Invariant:** the scan never waits for a server: [`Server::after_tick`] runs on the scan thread
+//! and must only copy (into a triple buffer, a `watch`) and drain requests with `try_recv`, as
+//! `hmi_link` does.
+
+use std::sync::{Arc, Mutex};
+
+use runtime::online::Note;
+use runtime::scheduler::{Event, Scheduler};
+use sim::HandshakeCounts;
+
+use crate::hmi_link::flow_switch::FlowSwitch;
+use crate::hmi_link::kernel_cnc::KernelCnc;
+use crate::hmi_link::{HmiLink, catalog, image_cnc::ImageCnc};
+use crate::machine::Machine;
+use crate::settings::Hmi;
+
+/// A server beside the scan, given the scheduler after every tick (to publish its image and apply
+/// requests at the tick boundary) and every event. Added with [`crate::Builder::server`].
+pub trait Server: Send {
+    /// Called once, after the controller is assembled and before the first tick.
+    fn start(&mut self, machine: &Machine, tick_ms: u32) -> Result<(), String>;
+    /// An event of the tick just run (alarm, cleared alarm, online change).
+    fn on_event(&mut self, _event: &Event, _tick: u64) {}
+    /// An online-change note (compiled, rejected, error).
+    fn on_note(&mut self, _note: &Note) {}
+    /// After every tick, on the scan thread: publish (copy only) and apply requests.
+    fn after_tick(&mut self, sched: &mut Scheduler);
+}
+
+/// A part run's kernel and its partprograms' texts (name, text), for the Machine page.
+pub type PartKernel = (Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>);
+
+/// The access token of the HMI: read from `token_file`, generated for a non-loopback address,
+/// none on loopback.
+pub fn hmi_token(hmi: &Hmi) -> Result<Option<String>, String> {
+    match &hmi.token_file {
+        Some(path) => {
+            let t = std::fs::read_to_string(path)
+                .map_err(|e| format!("error: --hmi-token-file {}: {e}", path.display()))?;
+            let t = t.trim().to_string();
+            if t.is_empty() {
+                return Err(format!(
+                    "error: --hmi-token-file {}: the file is empty",
+                    path.display()
+                ));
+            }
+            Ok(Some(t))
+        }
+        None if !hmi::auth::is_loopback(&hmi.addr) => Ok(Some(
+            hmi::auth::generate_token().map_err(|e| format!("error: HMI token: {e}"))?,
+        )),
+        None => Ok(None),
+    }
+}
+
+/// What the web HMI shows besides the program: the simulated CNC's counts or a part run's kernel.
+pub struct HmiInputs<'a> {
+    /// The PLC source (for the catalog's source lines).
+    pub source: &'a [u8],
+    /// The logic tick.
+    pub tick_ms: u32,
+    /// The simulated CNC's handshake counts.
+    pub counts: Option<HandshakeCounts>,
+    /// A part run's kernel with its programs' texts.
+    pub kernel: Option<PartKernel>,
+    /// The run-time power-flow switch.
+    pub flow: FlowSwitch,
+}
+
+/// Starts the web HMI with `token` (see [`hmi_token`]) and says on stderr where it listens.
+pub fn start_hmi(
+    hmi: &Hmi,
+    token: Option<String>,
+    machine: &Machine,
+    inputs: HmiInputs<'_>,
+) -> Result<HmiLink, String> {
+    let processes: Vec<u8> = if machine.signals.processes.is_empty() {
+        vec![1]
+    } else {
+        machine
+            .signals
+            .processes
+            .iter()
+            .map(|p| p.process)
+            .collect()
+    };
+    let image = ImageCnc::new(&machine.interface, &processes, inputs.counts);
+    let cnc: Box<dyn crate::hmi_link::Cnc> = match inputs.kernel {
+        Some((k, sources)) => Box::new(KernelCnc::new(k, image, &sources)),
+        None => Box::new(image),
+    };
+    let config = hmi::ServerConfig {
+        addr: hmi.addr,
+        token: token.clone(),
+        readonly: hmi.readonly,
+    };
+    let link = HmiLink::start(
+        config,
+        catalog::build(machine, inputs.source),
+        cnc,
+        inputs.tick_ms,
+        Some(inputs.flow),
+    )
+    .map_err(|e| format!("error: {e}"))?;
+    let bound = link.running.addr;
+    match &token {
+        Some(t) if hmi.token_file.is_none() => {
+            eprintln!("hmi: http://{bound}/?token={t}  (access token {t})")
+        }
+        _ => eprintln!("hmi: http://{bound}/"),
+    }
+    if hmi.readonly {
+        eprintln!("hmi: read-only");
+    }
+    Ok(link)
+}

@@ -1,0 +1,155 @@
+//! `ncplc check <machine-dir>`: reads and validates a machine's characterization files.
+//!
+//! The machine's interface map is checked too: the errors of `<machine>/interface.toml` (codes
+//! 1601–1608) and, when AXCFIL says NBP>1, every handshake signal a process 2..NBP lacks (1609).
+//!
+//! The I/O map `<machine>/io.toml` is checked too when the machine has one (the fieldbus crate's
+//! located validation, codes 3000–3499, against the connectors IOCFIL declares); a machine without
+//! io.toml runs with `--io sim` only, which is not a problem of the machine; an io.toml that
+//! declares no I/O (empty, or no device and no node) is a warning (3050), since `run --io modbus`
+//! and `--io canopen` refuse it.
+//!
+//! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
+//! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
+//! does not exist, 0 otherwise. `--dump` prints the typed model as JSON on stdout.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+/// Output format of the diagnostics.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// rustc-style with the source line and the span marked.
+    Human,
+    /// One JSON object per line per diagnostic.
+    Json,
+}
+
+/// Arguments of `ncplc check`.
+#[derive(Debug, clap::Args)]
+pub struct Args {
+    /// The machine directory (holding FCRSYS).
+    #[arg(value_name = "MACHINE")]
+    pub machine_dir: PathBuf,
+    /// How to print diagnostics.
+    #[arg(long, value_enum, default_value_t = Format::Human)]
+    pub format: Format,
+    /// Print the typed model as JSON (diagnostics go to stderr).
+    #[arg(long)]
+    pub dump: bool,
+    /// Diagnostics printed per file; the rest are counted in one `note: N more errors in FILE`
+    /// line (0: print all).
+    #[arg(long, value_name = "N", default_value_t = diag::DEFAULT_MAX_PER_FILE)]
+    pub max_errors: usize,
+}
+
+/// Renders the diagnostics of `load` in `format`, at most `max_errors` per file (0: all).
+pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: usize) -> String {
+    match format {
+        Format::Human if load.diagnostics.is_empty() => {
+            // Say what was checked, so a clean run is distinguishable from one that read nothing.
+            let mut files: Vec<&str> = Vec::new();
+            for name in [
+                "FCRSYS",
+                "AXCFIL",
+                "PGCFIL",
+                "IOCFIL",
+                "interface.toml",
+                "io.toml",
+            ] {
+                files.extend(load.sources.names().filter(|f| f.ends_with(name)));
+            }
+            format!("{}: no problems found\n", files.join(", "))
+        }
+        Format::Human => {
+            super::output::render_diagnostics_capped(&load.diagnostics, &load.sources, max_errors)
+        }
+        Format::Json => diag::json_lines_capped(&load.diagnostics, max_errors),
+    }
+}
+
+/// The diagnostics of `<machine_dir>/io.toml` (none when the file does not exist), its text
+/// added to `sources` for rendering.
+pub fn check_io_map(
+    machine_dir: &std::path::Path,
+    machine: &characterization::Machine,
+    sources: &mut diag::Sources,
+) -> Vec<diag::Diagnostic> {
+    let path = machine_dir.join("io.toml");
+    if !path.exists() {
+        return Vec::new();
+    }
+    let declared = match &machine.iocfil {
+        Some(io) => fieldbus::DeclaredConnectors {
+            inputs: io.input_connectors(),
+            outputs: io.output_connectors(),
+        },
+        // No IOCFIL (its own error is reported): check the map without connector rules.
+        None => fieldbus::DeclaredConnectors::default(),
+    };
+    let (map, mut diags) = fieldbus::load_map(machine_dir, &declared);
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {
+        diags.push(w);
+    }
+    sources.add("io.toml", text);
+    diags
+}
+
+/// The warning for an io.toml that declares no I/O at all (empty, or only `[hmi]`/`[affinity]`):
+/// `run --io modbus|canopen` refuses such a map (3050), `run --io sim` ignores it, so check says
+/// so up front instead of "no problems found".
+fn no_io_declared(map: &fieldbus::IoMap, text: &str) -> Option<diag::Diagnostic> {
+    let has_nodes = map.canopen.as_ref().is_some_and(|c| !c.nodes.is_empty());
+    if !map.modbus.is_empty() || has_nodes {
+        return None;
+    }
+    let what = if text.trim().is_empty() {
+        "io.toml is empty: it declares no I/O"
+    } else {
+        "io.toml declares no I/O (no Modbus device, no CANopen node)"
+    };
+    Some(
+        diag::Diagnostic::warning(
+            fieldbus::codes::NO_DEVICES,
+            "io.toml",
+            0..0,
+            format!("{what}; `run --io modbus` and `run --io canopen` refuse it (3050)"),
+        )
+        .with_hint("add a [[modbus.device]] table or a [canopen] table with [[canopen.node]] entries (docs/io-toml.md), or delete io.toml and run with --io sim"),
+    )
+}
+
+/// Runs `ncplc check`.
+pub fn run(args: Args) -> ExitCode {
+    if !args.machine_dir.is_dir() {
+        return super::output::usage_error(format!(
+            "ncplc check: {}: not a machine directory (no such directory)",
+            args.machine_dir.display()
+        ));
+    }
+    let mut load = characterization::load_machine(&args.machine_dir);
+    if let Some(machine) = load.machine.clone() {
+        let map = runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
+        load.diagnostics.extend(map);
+        let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
+        load.diagnostics.extend(io);
+    }
+    super::output::relocate(&mut load, &args.machine_dir);
+    let report = render(&load, args.format, args.max_errors);
+    // Diagnostics on stderr; stdout holds only the --dump model.
+    eprint!("{report}");
+    if args.dump {
+        let model = serde_json::to_string_pretty(&load.machine)
+            .unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"));
+        if writeln!(std::io::stdout().lock(), "{model}").is_err() {
+            return ExitCode::from(2);
+        }
+    }
+    if load.has_errors() {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    }
+}
