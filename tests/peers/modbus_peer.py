@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""pymodbus as the peer of ncplc's Modbus TCP code (tests/modbus_peer.rs drives it).
+"""pymodbus as the peer of ncplc's Modbus TCP code (tests/e2e/modbus_peer.rs drives it).
 
   modbus_peer.py device
       A remote-I/O coupler served by pymodbus: 64 discrete inputs (0 and 1, the lathe's e-stop

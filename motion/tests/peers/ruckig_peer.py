@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """The reference Ruckig (PyPI `ruckig`) behind the same point-to-point semantics as
-motion::PtpAxis, for motion/tests/ruckig_peer.rs.
+motion::PtpAxis, for motion/tests/it/ruckig_peer.rs.
 
 stdin, one case per line:  v a j dt p0 ticks cmd...   (j = inf: no jerk limit)
   cmd = TICK:to:TARGET:V   move to TARGET at no more than V (capped by v)

@@ -1,7 +1,10 @@
 //! `ncplc test <machine> [TRACE…] [--junit FILE]`: replays every golden trace of a machine (its
 //! `traces/` folder, or the traces given) on all cores, prints one line per trace and exits 1 when
 //! any replay diverges (2 when a trace or the program cannot be loaded). `--junit` writes the
-//! results as JUnit XML for CI systems.
+//! results as JUnit XML for CI systems. `--shard K/N` replays only the K-th of N disjoint shares of
+//! the traces (see `shard`), so the machines of a CI matrix split one fleet of golden traces.
+
+mod shard;
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -15,6 +18,7 @@ use controller::replayer::Replayer;
 use runtime::compiled::EngineKind;
 use runtime::replay::ReplayOptions;
 use trace::Trace;
+pub use shard::{Shard, ShardError};
 
 /// Arguments of `ncplc test`.
 #[derive(Debug, clap::Args)]
@@ -32,6 +36,9 @@ pub struct Args {
     /// Replays at once (default: the number of cores).
     #[arg(long)]
     pub jobs: Option<usize>,
+    /// Replay only shard K of N (1 ≤ K ≤ N): the traces sorted by path, trace i to shard i mod N.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<Shard>,
 }
 
 /// How one trace fared.
@@ -130,10 +137,15 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
     } else {
         args.traces.clone()
     };
+    let all = traces.len();
+    let traces = match args.shard {
+        Some(shard) => shard.select(traces),
+        None => traces,
+    };
     let jobs = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
-        .clamp(1, traces.len());
+        .clamp(1, traces.len().max(1));
     let bar = std::io::stderr().is_terminal().then(|| {
         let bar = indicatif::ProgressBar::new(traces.len() as u64);
         bar.set_style(
@@ -188,9 +200,12 @@ fn run_inner(args: Args) -> Result<ExitCode, String> {
             }
         }
     }
+    let share = match args.shard {
+        Some(shard) => format!("shard {shard}: {} of {all}", outcomes.len()),
+        None => outcomes.len().to_string(),
+    };
     println!(
-        "{} traces on {jobs} threads: {passed} identical, {diverged} diverging, {errors} errors ({:.2} s)",
-        outcomes.len(),
+        "{share} traces on {jobs} threads: {passed} identical, {diverged} diverging, {errors} errors ({:.2} s)",
         start.elapsed().as_secs_f64()
     );
     if let Some(path) = &args.junit {
@@ -237,7 +252,10 @@ pub fn junit_xml(suite: &str, outcomes: &[Outcome]) -> String {
         .iter()
         .filter(|o| matches!(o.verdict, Verdict::Error(_)))
         .count();
-    let total: f64 = outcomes.iter().map(|o| o.elapsed.as_secs_f64()).sum();
+    // A fold from +0.0: an empty `sum()` of f64 is -0.0, which would print as `time="-0.000"`.
+    let total = outcomes
+        .iter()
+        .fold(0.0, |t, o| t + o.elapsed.as_secs_f64());
     let mut s = format!(
         "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites>\n  <testsuite name=\"ncplc test {}\" tests=\"{}\" failures=\"{failures}\" errors=\"{errors}\" time=\"{total:.3}\">\n",
         xml(suite),

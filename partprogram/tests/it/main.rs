@@ -1,0 +1,24 @@
+//! The integration tests of crate `partprogram`, one test binary: each module was a separate
+//! `tests/*.rs` binary before (issue 24: one link instead of one per file).
+
+mod arith_ops;
+mod common;
+mod conformance;
+mod corrections;
+mod diagnostics;
+mod differential;
+mod examples;
+mod fanuc_classes;
+mod fanuc_programs;
+mod gouge;
+mod lathe_cycles;
+mod macro_b;
+mod mefi_programs;
+mod modal_record;
+mod native_regions;
+mod path_control;
+mod planes;
+mod radius;
+mod rs274_diff;
+mod spindle_modes;
+mod threads;

@@ -1,0 +1,272 @@
+//! ncplc's Modbus TCP code against an independent peer, pymodbus (Debian `python3-pymodbus`,
+//! driven by `tests/peers/modbus_peer.py`):
+//! - pymodbus serves a remote-I/O coupler and `ncplc run --io modbus` is its client: the lathe's
+//!   logic energises coil 4 (DRIVES_ON) once discrete inputs 0 and 1 (the e-stop chain) are closed,
+//!   and drops it when the peer opens input 0;
+//! - pymodbus's `ModbusTcpClient` is a SCADA client of the HMI server in front of the simulated
+//!   lathe (`--modbus-hmi`): what it reads is the image of a recorded tick, its write of the holding
+//!   window reaches the image (and the trace, so the replay is exact), and the refusals are the
+//!   documented exception codes.
+//!
+//! Without pymodbus for `/usr/bin/python3` the tests are skipped with a loud message, except under
+//! `CI=true`, where they fail (`.ci/run` installs it).
+
+use crate::e2e_common;
+
+use std::io::{BufRead, BufReader};
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::e2e_common::serial;
+
+use e2e_common::{Ncplc, copy_dir, ncplc, root};
+use serde_json::Value;
+
+const PYTHON: &str = "/usr/bin/python3";
+
+/// Whether pymodbus is there; without it, skip loudly (fail under CI).
+fn have_pymodbus() -> bool {
+    let ok = Command::new(PYTHON)
+        .args(["-c", "import pymodbus.client, pymodbus.server"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "pymodbus is missing under CI (apt-get install python3-pymodbus python3-serial python3-serial-asyncio)"
+        );
+        eprintln!(
+            "SKIPPED: no pymodbus for {PYTHON}; apt-get install python3-pymodbus python3-serial python3-serial-asyncio"
+        );
+    }
+    ok
+}
+
+fn peer(args: &[&str]) -> Command {
+    let mut c = Command::new(PYTHON);
+    c.arg(root().join("tests/peers/modbus_peer.py")).args(args);
+    c
+}
+
+/// Kills a child process however the test ends.
+struct Killed(Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// A copy of the lathe whose io.toml points at `device` and whose HMI server is on a free port.
+fn lathe(device: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    let _ = std::fs::remove_dir_all(dir.path().join("traces"));
+    let map = std::fs::read_to_string(dir.path().join("io.toml")).expect("io.toml");
+    let map = map
+        .replace("127.0.0.1:5020", device)
+        .replace("127.0.0.1:1502", "127.0.0.1:0");
+    std::fs::write(dir.path().join("io.toml"), map).expect("io.toml");
+    dir
+}
+
+fn run_args(machine: &Path, extra: &[&str]) -> Command {
+    let mut c = Ncplc::run(machine)
+        .args(["--overrun-limit", "0"])
+        .args(extra)
+        .command();
+    c.stdout(Stdio::null()).stderr(Stdio::piped());
+    c
+}
+
+#[test]
+fn ncplc_drives_a_pymodbus_remote_io_coupler() {
+    if !have_pymodbus() {
+        return;
+    }
+    let _serial = serial();
+    let mut device = peer(&["device"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("python runs");
+    let mut lines = BufReader::new(device.stdout.take().expect("stdout")).lines();
+    let first = lines.next().and_then(Result::ok).unwrap_or_default();
+    let port = first
+        .strip_prefix("listening ")
+        .unwrap_or_else(|| panic!("the peer did not listen: {first:?}"))
+        .to_string();
+    let device = Killed(device);
+    let machine = lathe(&format!("127.0.0.1:{port}"));
+    let run = Killed(
+        run_args(machine.path(), &["--io", "modbus", "--ticks", "3000"])
+            .spawn()
+            .expect("ncplc runs"),
+    );
+    // The peer prints its verdict once coil 4 has risen and dropped again, or after 20 s.
+    let verdict: Value = lines
+        .next()
+        .and_then(Result::ok)
+        .and_then(|l| serde_json::from_str(&l).ok())
+        .expect("the peer's verdict");
+    drop(run);
+    drop(device);
+    assert_eq!(verdict["energised"], true, "{verdict}");
+    assert_eq!(verdict["dropped"], true, "{verdict}");
+    // Coils = OU4 contacts 0..31: DRIVES_ON (4) with the chain closed, never with input 0 open.
+    let on = &verdict["coils_when_energised"];
+    assert!(
+        on.as_array().is_some_and(|c| c.contains(&Value::from(4))),
+        "{verdict}"
+    );
+    let off = &verdict["coils_when_dropped"];
+    assert!(
+        off.as_array().is_some_and(|c| !c.contains(&Value::from(4))),
+        "{verdict}"
+    );
+}
+
+/// The image of every tick of a trace, as signal → value maps of inputs and outputs.
+fn images(trace: &str) -> Vec<(u64, std::collections::BTreeMap<String, i64>)> {
+    let mut now = std::collections::BTreeMap::new();
+    let mut out = Vec::new();
+    for line in trace.lines().skip(1) {
+        let Ok(rec) = serde_json::from_str::<Value>(line) else {
+            continue;
+        };
+        for part in ["in", "out"] {
+            if let Some(m) = rec[part].as_object() {
+                for (k, v) in m {
+                    now.insert(k.clone(), v.as_i64().unwrap_or(0));
+                }
+            }
+        }
+        out.push((rec["t"].as_u64().unwrap_or(0), now.clone()));
+    }
+    out
+}
+
+#[test]
+fn a_pymodbus_scada_client_reads_and_writes_the_simulated_lathe() {
+    if !have_pymodbus() {
+        return;
+    }
+    let _serial = serial();
+    let machine = lathe("127.0.0.1:5020");
+    let trace = machine.path().join("session.jsonl");
+    let mut run = run_args(
+        machine.path(),
+        &["--modbus-hmi", "127.0.0.1:0", "--ticks", "400", "--record"],
+    )
+    .arg(&trace)
+    .spawn()
+    .expect("ncplc runs");
+    // `--modbus-hmi 127.0.0.1:0`: the server prints the port it took.
+    let err = BufReader::new(run.stderr.take().expect("stderr"));
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in err.lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let run = Killed(run);
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let mut said = Vec::new();
+    let addr = loop {
+        let line = rx
+            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            .unwrap_or_else(|_| panic!("no HMI server address in:\n{}", said.join("\n")));
+        if let Some(a) = line.split("listening on ").nth(1) {
+            break a.split_whitespace().next().unwrap_or_default().to_string();
+        }
+        said.push(line);
+    };
+    let (host, port) = addr.rsplit_once(':').expect("ADDR:PORT");
+    let out = peer(&["client", host, port]).output().expect("python runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let got: Value = serde_json::from_slice(&out.stdout).expect("the client's JSON");
+    let mut run = run;
+    let status = run.0.wait().expect("ncplc ends");
+    assert!(status.success());
+    // Exceptions, as fieldbus/src/modbus/server.rs documents them: a bit of an output connector
+    // read as a discrete input and a register past the table 02, a write outside the window 02,
+    // a coil write 01 (the logic owns the outputs).
+    assert_eq!(got["inputs_of_an_output_connector"]["exception"], 2);
+    assert_eq!(got["registers_past_the_table"]["exception"], 2);
+    assert_eq!(got["write_outside_window"]["exception"], 2);
+    assert_eq!(got["write_coil"]["exception"], 1);
+    // 0x1234 into register 400 = K bytes 800 (low, 0x34) and 801 (high, 0x12) = W200K0.
+    assert_eq!(got["write_window"]["ok"], true);
+    assert_eq!(
+        got["holding_read_back"]["registers"],
+        serde_json::json!([0x1234])
+    );
+    assert_eq!(
+        got["window_read_back"]["registers"],
+        serde_json::json!([0x1234, 0])
+    );
+    // What the client read is the image of some recorded tick: discrete inputs 0..15 are
+    // I0A0..I0A15, coils 128..135 are U4A0..U4A7.
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let ticks = images(&text);
+    let bits = |prefix: &str, v: &Value| -> Vec<(String, i64)> {
+        v.as_array()
+            .map(|b| {
+                b.iter()
+                    .enumerate()
+                    .map(|(i, x)| (format!("{prefix}{i}"), x.as_i64().unwrap_or(-1)))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    for (what, prefix, read) in [
+        (
+            "discrete inputs",
+            "I0A",
+            bits("I0A", &got["inputs_0_16"]["bits"]),
+        ),
+        ("coils", "U4A", bits("U4A", &got["coils_128_136"]["bits"])),
+    ] {
+        assert!(!read.is_empty(), "{what}: {got}");
+        assert!(
+            ticks.iter().any(|(_, img)| read
+                .iter()
+                .all(|(k, v)| img.get(k).copied().unwrap_or(0) == *v)),
+            "{what} {read:?} ({prefix}…) match no recorded tick"
+        );
+    }
+    // The write is in the trace as the window's input bits (0x34: 2, 4, 5; 0x12: 9, 12) at one
+    // tick, so the replay of the session is exact.
+    let written = text
+        .lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .find(|r| r["in"].get("I200K2").is_some())
+        .expect("the window write is recorded");
+    let mut set: Vec<&str> = written["in"]
+        .as_object()
+        .map(|m| {
+            m.keys()
+                .map(String::as_str)
+                .filter(|k| k.starts_with("I200K"))
+                .collect()
+        })
+        .unwrap_or_default();
+    set.sort_unstable();
+    assert_eq!(set, ["I200K12", "I200K2", "I200K4", "I200K5", "I200K9"]);
+    let replay = ncplc(&[
+        "replay".as_ref(),
+        machine.path().as_os_str(),
+        trace.as_os_str(),
+    ]);
+    assert!(
+        replay.status.success(),
+        "{}",
+        String::from_utf8_lossy(&replay.stderr)
+    );
+}
