@@ -473,9 +473,29 @@ impl PartRun {
         let cnc = Arc::clone(&self.cnc);
         let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
         let n = self.process;
-        let Ok(p) = c.process_mut(n) else {
+        let Some(st) = self.watch_main(&mut c, tick) else {
             return false;
         };
+        self.operate_main(&mut c, &st);
+        let others_ended = self.operate_others(&mut c);
+        let ended = others_ended
+            && match &self.part {
+                Some(_) => {
+                    self.program_selected && c.process_mut(n).is_ok_and(|p| p.counters().ended >= 1)
+                }
+                None => self.mdi.is_empty() && !self.mdi_running && st.interp == Interp::Idle,
+            };
+        if ended && self.finished.is_none() {
+            self.finished = Some(tick);
+        }
+        !(until_end && (ended || self.failed))
+    }
+
+    /// The operator watches the main process after a tick: trajectory, refused commands, stopping
+    /// alarms, the cycle's start, idle time, whether the selected program ran. None: no process.
+    fn watch_main(&mut self, c: &mut Cnc, tick: u64) -> Option<cnc::state::State> {
+        let n = self.process;
+        let p = c.process_mut(n).ok()?;
         if let Some(w) = self.trajectory.as_mut() {
             use std::io::Write as _;
             if let Err(e) = w.write_all(p.take_trajectory().as_bytes()) {
@@ -521,6 +541,13 @@ impl PartRun {
         if self.program_selected && st.interp == Interp::Running && st.mode == Mode::Auto {
             self.program_ran = true;
         }
+        Some(st)
+    }
+
+    /// The operator acts on the main process: homes first (HOME, then START), then runs the MDI
+    /// program, then selects the program in AUTO (the PLC's START begins its cycle).
+    fn operate_main(&mut self, c: &mut Cnc, st: &cnc::state::State) {
+        let n = self.process;
         if st.on && st.interp == Interp::Idle && !st.homed {
             // The operator homes first: HOME, then START (the MCZ cycle of every axis).
             if st.mode != Mode::Home {
@@ -560,6 +587,11 @@ impl PartRun {
                 }
             }
         }
+    }
+
+    /// The operator selects the other processes' programs in AUTO and starts them once the main
+    /// cycle runs; true when every one of them has ended.
+    fn operate_others(&mut self, c: &mut Cnc) -> bool {
         let mut others_ended = true;
         for o in &mut self.others {
             let Ok(p) = c.process_mut(o.process) else {
@@ -590,17 +622,7 @@ impl PartRun {
                 o.started = c.start(o.process).is_ok();
             }
         }
-        let ended = others_ended
-            && match &self.part {
-                Some(_) => {
-                    self.program_selected && c.process_mut(n).is_ok_and(|p| p.counters().ended >= 1)
-                }
-                None => self.mdi.is_empty() && !self.mdi_running && st.interp == Interp::Idle,
-            };
-        if ended && self.finished.is_none() {
-            self.finished = Some(tick);
-        }
-        !(until_end && (ended || self.failed))
+        others_ended
     }
 
     /// Stops a `--until-end` run after `ticks` ticks in which nothing moved and no block ran

@@ -105,7 +105,7 @@ fn bad_scripts_are_rejected() {
 fn mill_signals() -> CncSignals {
     let o = compiler::InterfaceMap::parse(
         "interface.toml",
-        include_str!("../../../plc-programs/mill/interface.toml"),
+        include_str!("../../plc-programs/mill/interface.toml"),
     )
     .expect("the mill's map parses");
     let map = compiler::InterfaceMap::builtin()
