@@ -85,7 +85,8 @@ impl Machine {
                         d
                     })
                     .collect();
-                return Err(OpenError::SimChecks(diag::render_human(&diags, &sources)));
+                let rendered = diag::render_human(&diags, &sources);
+                return Err(OpenError::SimChecks(rendered.trim_end().to_string()));
             }
         };
         let signals = CncSignals::from_map(&interface, process_map::nbp(&facts.machine));
