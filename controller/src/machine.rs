@@ -16,7 +16,7 @@ use runtime::config::RunConfig;
 use runtime::machine_facts::{Facts, MachineError};
 use runtime::online::CompileFn;
 use runtime::process_map::{self, MissingHandshakes};
-use sim::{CncSignals, Script, Sim, SimError};
+use sim::{CncSignals, Script};
 
 /// Why a machine directory could not be opened for `run` or `replay`.
 #[derive(Debug, thiserror::Error)]
@@ -24,14 +24,9 @@ pub enum OpenError {
     /// The characterization is missing or has errors.
     #[error(transparent)]
     Facts(#[from] MachineError),
-    /// `sim.toml` is not a valid script.
-    #[error("{}: {source}", path.display())]
-    SimScript {
-        /// The script file.
-        path: PathBuf,
-        /// What is wrong with it.
-        source: SimError,
-    },
+    /// `sim.toml` has errors (the located diagnostics `ncplc check` reports, rendered).
+    #[error("{0}")]
+    SimChecks(String),
     /// `interface.toml` is invalid.
     #[error("error[E{code:04}]: {0}", code = .0.code())]
     Interface(InterfaceMapError),
@@ -71,19 +66,29 @@ impl Machine {
         if let Some(p) = plc {
             config.plc_source = p.to_path_buf();
         }
-        let sim_path = dir.join("sim.toml");
-        let script = match std::fs::read_to_string(&sim_path) {
-            Ok(text) => Sim::parse_script(&text).map_err(|source| OpenError::SimScript {
-                path: sim_path.clone(),
-                source,
-            })?,
-            Err(_) => Script {
-                strobe_timeout_ms: 10_000,
-                ..Script::default()
-            },
-        };
         let interface = InterfaceMap::load_for_machine(dir).map_err(OpenError::Interface)?;
         process_map::require(&facts.machine, &interface)?;
+        let sim = sim::validate::load(dir, &facts.machine, &interface);
+        let script = match sim.script {
+            Some(s) if !diag::has_errors(&sim.diagnostics) => s,
+            _ => {
+                let mut sources = diag::Sources::new();
+                let name = runtime::render::user_path(&dir.join(sim::validate::FILE))
+                    .display()
+                    .to_string();
+                sources.add(name.clone(), sim.text.unwrap_or_default());
+                let diags: Vec<diag::Diagnostic> = sim
+                    .diagnostics
+                    .into_iter()
+                    .map(|mut d| {
+                        d.file.clone_from(&name);
+                        d
+                    })
+                    .collect();
+                let rendered = diag::render_human(&diags, &sources);
+                return Err(OpenError::SimChecks(rendered.trim_end().to_string()));
+            }
+        };
         let signals = CncSignals::from_map(&interface, process_map::nbp(&facts.machine));
         Ok(Machine {
             dir: dir.to_path_buf(),

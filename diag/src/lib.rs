@@ -17,7 +17,7 @@
 //! | 1000–1999 | PLC-language compiler (`compiler`) |
 //! | 2000–2999 | partprogram compiler (`partprogram`) |
 //! | 3000–3499 | I/O map and fieldbus configuration (`fieldbus`) |
-//! | 3500–3999 | runtime (traces, retain, scheduler) |
+//! | 3500–3999 | runtime: 3600–3619 `sim.toml` (`runtime::sim::validate`), 3620–3629 the other machine files `check` reads (`nc/DIALECT`, `nc/CONSTANTS`, `retain.bin`) |
 //!
 //! Broken input is data, not a panic: front ends return their result together with a
 //! `Vec<Diagnostic>`, and the command-line tool decides the exit code with [`has_errors`].

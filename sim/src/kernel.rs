@@ -123,21 +123,30 @@ pub fn build_cnc(setup: &KernelSetup, script: &Script) -> Result<Cnc, SimError> 
     Ok(Cnc::new(processes, machine))
 }
 
-/// Checks the script against the machine and the kernel (see the module docs).
-fn check_script(setup: &KernelSetup, script: &Script) -> Result<(), SimError> {
-    let mut written: Vec<Signal> = setup
-        .interface
+/// Every signal the CNC kernel writes in a part run: the general reset and each process's
+/// CNC→PLC signals (a sim.toml may not set these).
+pub fn kernel_written(
+    axcfil: &Axcfil,
+    iocfil: Option<&Iocfil>,
+    interface: &InterfaceMap,
+) -> Vec<Signal> {
+    let mut written: Vec<Signal> = interface
         .role(1, "RESET")
         .map(|e| e.signal)
         .into_iter()
         .collect();
-    for cfg in ProcessConfig::all(setup.axcfil, setup.iocfil) {
+    for cfg in ProcessConfig::all(axcfil, iocfil) {
         let n = cfg.number;
         written.extend(
-            ProcessSignals::from_roles(|role| setup.interface.role(n, role).map(|e| e.signal))
-                .written(),
+            ProcessSignals::from_roles(|role| interface.role(n, role).map(|e| e.signal)).written(),
         );
     }
+    written
+}
+
+/// Checks the script against the machine and the kernel (see the module docs).
+fn check_script(setup: &KernelSetup, script: &Script) -> Result<(), SimError> {
+    let written = kernel_written(setup.axcfil, setup.iocfil, setup.interface);
     for at in &script.at {
         if !at.m.is_empty() || at.s.is_some() || at.t.is_some() {
             return Err(SimError::Invalid(format!(

@@ -47,6 +47,7 @@ pub mod part;
 mod process;
 mod script;
 mod signals;
+pub mod validate;
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -84,7 +85,7 @@ fn parse_sig(name: &str) -> Result<Signal, SimError> {
 }
 
 /// Checks that `at`'s functions have a channel in `signals`.
-fn check_functions(at: &At, signals: &CncSignals) -> Result<(), SimError> {
+pub(crate) fn check_functions(at: &At, signals: &CncSignals) -> Result<(), SimError> {
     if !(1..=5).contains(&at.process) {
         return Err(SimError::Invalid(format!(
             "tick {}: process {} is outside 1..5",

@@ -50,10 +50,15 @@ fn example_machines_check_clean() {
         );
         let m = format!("plc-programs/{name}");
         // Both have an io.toml, which `check` validates too.
+        // And sim.toml and the part-run tables (issue 23: check reads what run reads).
         let extra = if extra {
-            format!(", {m}/interface.toml, {m}/io.toml")
+            format!(
+                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
+            )
         } else {
-            format!(", {m}/io.toml")
+            format!(
+                ", {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
+            )
         };
         assert_eq!(
             text,
@@ -345,4 +350,164 @@ fn io_toml_without_io_is_a_warning() {
         );
         assert_eq!(lines[0]["severity"], "warning");
     }
+}
+
+/// `check` reads sim.toml (issue 23, item 3): an input on a connector IOCFIL does not declare is
+/// a located error (exit 1), and `run` refuses the machine with the same diagnostic.
+#[test]
+fn sim_toml_signal_on_an_undeclared_connector_is_a_located_error() {
+    let dir = copy_machine("lathe");
+    let sim = dir.path().join("sim.toml");
+    let mut text = std::fs::read_to_string(&sim).expect("sim.toml");
+    let line = text.lines().count() + 3;
+    text.push_str("[[at]]\ntick = 5\nset = { I29A3 = 1 }\n");
+    std::fs::write(&sim, text).expect("write");
+    let d = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&d]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [(
+            3602,
+            "sim.toml".to_string(),
+            line as u64,
+            9,
+            "I29A3 is not an input signal of this machine".to_string()
+        )]
+    );
+    let out = ncplc(&["run", &d, "--virtual-time", "--ticks", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains("error[E3602]: I29A3 is not an input signal of this machine")
+            && err.contains(&format!("sim.toml:{line}:9")),
+        "{err}"
+    );
+}
+
+/// Unknown keys, ticks a periodic script never reaches, out-of-range values, undeclared outputs
+/// and K signals outside the interface map: every one located, none ignored.
+#[test]
+fn sim_toml_unknown_keys_ticks_and_values_are_located() {
+    let dir = copy_machine("lathe");
+    let sim = dir.path().join("sim.toml");
+    let base = std::fs::read_to_string(&sim).expect("sim.toml");
+    let n = base.lines().count() as u64;
+    let cases: [(&str, (u64, u64, u64, &str)); 5] = [
+        (
+            "[[at]]\ntick = 5\nsett = { I0A3 = 1 }\n",
+            (
+                3600,
+                n + 3,
+                1,
+                "unknown field `sett`, expected one of `tick`, `process`, `set`, `m`, `s`, `t`, `turn`",
+            ),
+        ),
+        (
+            "[[at]]\ntick = 2000\nset = { I0A3 = 1 }\n",
+            (
+                3604,
+                n + 2,
+                8,
+                "[[at]] tick 2000 never comes: the script repeats every 2000 ticks",
+            ),
+        ),
+        (
+            "[[at]]\ntick = 5\nset = { I0A3 = 2 }\n",
+            (3603, n + 3, 16, "I0A3 = 2 is out of range (0..1)"),
+        ),
+        (
+            "[[follow]]\ninput = \"I0A5\"\noutput = \"U12A0\"\n",
+            (
+                3602,
+                n + 3,
+                10,
+                "U12A0 is not an output signal of this machine",
+            ),
+        ),
+        (
+            "[[at]]\ntick = 5\nset = { I30K3 = 1 }\n",
+            (
+                3602,
+                n + 3,
+                9,
+                "I30K3 is not an input signal of this machine",
+            ),
+        ),
+    ];
+    let d = dir.path().display().to_string();
+    for (extra, (c, line, col, message)) in cases {
+        std::fs::write(&sim, format!("{base}{extra}")).expect("write");
+        let (code, lines) = json_check(&[&d]);
+        assert_eq!(code, Some(1), "{extra}");
+        let got: Vec<_> = lines.iter().map(brief).collect();
+        assert_eq!(
+            got,
+            [(c, "sim.toml".to_string(), line, col, message.to_string())],
+            "{extra}"
+        );
+    }
+}
+
+/// The part-run files `check` reads besides the characterization: nc/DIALECT and nc/CONSTANTS
+/// (every bad line), located.
+#[test]
+fn nc_dialect_and_constants_are_checked() {
+    let dir = copy_machine("lathe");
+    std::fs::write(dir.path().join("nc/DIALECT"), "\n  fanuk\n").expect("write");
+    std::fs::write(
+        dir.path().join("nc/CONSTANTS"),
+        "R8: 1\nR329 1000000\n\"comment\nR341: x\n",
+    )
+    .expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [
+            (
+                3620,
+                "nc/DIALECT".to_string(),
+                2,
+                3,
+                "unknown dialect `fanuk` (use mefi or fanuc)".to_string()
+            ),
+            (
+                3621,
+                "nc/CONSTANTS".to_string(),
+                2,
+                1,
+                "expected `R<n>: <value>`, found `R329 1000000`".to_string()
+            ),
+            (
+                3621,
+                "nc/CONSTANTS".to_string(),
+                4,
+                1,
+                "expected `R<n>: <value>`, found `R341: x`".to_string()
+            ),
+        ]
+    );
+}
+
+/// interface.toml: a table other than `[[signal]]` is a located error (1601), not ignored.
+#[test]
+fn interface_toml_unknown_table_is_a_located_error() {
+    let dir = copy_machine("lathe");
+    std::fs::write(
+        dir.path().join("interface.toml"),
+        "# overrides\n[[signl]]\nname = \"SPARE\"\n",
+    )
+    .expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert_eq!(
+        (got[0].0, got[0].1.as_str(), got[0].2, got[0].3),
+        (1601, "interface.toml", 2, 3)
+    );
+    assert!(got[0].4.contains("unknown field `signl`"), "{got:?}");
 }

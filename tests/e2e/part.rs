@@ -32,8 +32,11 @@ fn a_part_script_may_not_set_what_the_kernel_writes() {
     let out = part_run(m.path()).output();
     assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
+    // The located diagnostic of `check` (issue 23: one validation for check and run).
     assert!(
-        err.ends_with("sim script: tick 3: I1K5 is written by the CNC kernel in a part run\n"),
+        err.starts_with("error[E3606]: I1K5 is written by the CNC kernel in a part run\n")
+            && err.contains("sim.toml:138:9\n")
+            && err.contains("\n1 error, 0 warnings\n"),
         "{err}"
     );
 }
@@ -44,15 +47,17 @@ fn a_part_script_may_not_name_an_undeclared_input_nor_issue_functions() {
     let m = lathe_with("[[part.at]]\ntick = 3\nset = { I2A0 = 1 }\n");
     let err = String::from_utf8_lossy(&part_run(m.path()).output().stderr).into_owned();
     assert!(
-        err.ends_with("sim script: I2A0 is not a signal of this machine (packet-A inputs: IOCFIL IN connectors; K/N: the interface map)\n"),
+        err.starts_with("error[E3602]: I2A0 is not an input signal of this machine\n")
+            && err.contains("sim.toml:138:9\n")
+            && err.contains("help: packet-A inputs are on the IN connectors IOCFIL declares\n"),
         "{err}"
     );
     let m = lathe_with("[[part.at]]\ntick = 3\nm = [8]\n");
     let err = String::from_utf8_lossy(&part_run(m.path()).output().stderr).into_owned();
     assert!(
-        err.ends_with(
-            "sim script: tick 3: m, s and t come from the partprogram in a part run; remove them\n"
-        ),
+        err.starts_with(
+            "error[E3606]: tick 3: m, s and t come from the partprogram in a part run\n"
+        ) && err.contains("sim.toml:138:1\n"),
         "{err}"
     );
 }

@@ -123,7 +123,9 @@ pub struct InterfaceSignal {
     pub origin: Origin,
 }
 
+/// The file: `[[signal]]` tables only; any other table or key is an error (1601), not ignored.
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 struct RawMap {
     #[serde(default)]
     signal: Vec<RawEntry>,

@@ -9,6 +9,11 @@
 //! declares no I/O (empty, or no device and no node) is a warning (3050), since `run --io modbus`
 //! and `--io canopen` refuse it.
 //!
+//! `sim.toml` is checked against the machine once the interface map is valid (codes 3600–3610,
+//! `sim::validate`, the same validation `run` refuses with), and the other files a run reads
+//! (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables, `nc/MACROVARS`,
+//! `retain.bin`) through [`super::check_files`].
+//!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
 //! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
 //! does not exist, 0 otherwise. `--dump` prints the typed model as JSON on stdout.
@@ -57,6 +62,12 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
                 "IOCFIL",
                 "interface.toml",
                 "io.toml",
+                "sim.toml",
+                "DIALECT",
+                "CONSTANTS",
+                "KOR",
+                "TAB0.POS",
+                "MACROVARS",
             ] {
                 files.extend(load.sources.names().filter(|f| f.ends_with(name)));
             }
@@ -132,9 +143,24 @@ pub fn run(args: Args) -> ExitCode {
     let mut load = characterization::load_machine(&args.machine_dir);
     if let Some(machine) = load.machine.clone() {
         let map = runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
+        let map_ok = !diag::has_errors(&map);
         load.diagnostics.extend(map);
         let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(io);
+        // sim.toml against the map `run` would use, once that map is valid (its errors are
+        // reported above, and `run` refuses them before it reads sim.toml).
+        if map_ok && let Ok(interface) = compiler::InterfaceMap::load_for_machine(&args.machine_dir)
+        {
+            let sim = sim::validate::load(&args.machine_dir, &machine, &interface);
+            if let Some(text) = sim.text {
+                load.sources.add(sim::validate::FILE, text);
+            }
+            load.diagnostics.extend(sim.diagnostics);
+        }
+        load.diagnostics.extend(super::check_files::check(
+            &args.machine_dir,
+            &mut load.sources,
+        ));
     }
     super::output::relocate(&mut load, &args.machine_dir);
     let report = render(&load, args.format, args.max_errors);

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 
 pub mod build;
 pub mod check;
+pub mod check_files;
 pub mod hmi_args;
 pub mod nc;
 pub mod nc_plot;

@@ -1,0 +1,135 @@
+//! The machine files besides the characterization, the maps and sim.toml that `ncplc check` reads:
+//! what a part run (`run --program`, `nc run`) and a PLC run read from the machine directory.
+//!
+//! - `nc/DIALECT`: one word, `mefi` or `fanuc` (3620 otherwise, at the word);
+//! - `nc/CONSTANTS`: `R<n>: <value>` lines (3621 at each bad line, every line checked);
+//! - `MP0/TAB0.KOR` (else `MP0/TAB2.KOR`), `MP0/TAB0.POS`, `nc/MACROVARS`: the partprogram
+//!   readers' own located diagnostics (20xx), read with the machine's axes exactly as a part run
+//!   reads them (skipped while the characterization, DIALECT or CONSTANTS have errors, which are
+//!   reported);
+//! - `retain.bin`: a damaged record is a warning (3622), as `run` warns and starts without it.
+//!
+//! Every file that exists is added to the sources under its name relative to the machine
+//! directory; a missing file is not a problem (each has a default).
+
+use std::path::Path;
+
+use diag::{Diagnostic, Sources};
+
+use sim::machine_view as nc;
+
+/// Codes of the machine files checked here (docs/README.md §Diagnostics).
+pub mod codes {
+    /// `nc/DIALECT` names no dialect.
+    pub const DIALECT: u32 = 3620;
+    /// A line of `nc/CONSTANTS` is not `R<n>: <value>`, or its value is not valid.
+    pub const CONSTANTS: u32 = 3621;
+    /// `retain.bin` is damaged (run starts without retained data).
+    pub const RETAIN: u32 = 3622;
+    /// A machine file exists but cannot be read.
+    pub const IO: u32 = 3623;
+}
+
+fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
+    match std::fs::read(dir.join(rel)) {
+        Ok(b) => Some(String::from_utf8_lossy(&b).into_owned()),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => {
+            out.push(Diagnostic::error(
+                codes::IO,
+                rel,
+                0..0,
+                format!("cannot read {rel}: {e}"),
+            ));
+            None
+        }
+    }
+}
+
+/// The diagnostics of every such file of `dir`, their texts added to `sources`.
+pub fn check(dir: &Path, sources: &mut Sources) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    if let Some(text) = read(dir, "nc/DIALECT", &mut out) {
+        let word = text.trim();
+        if let Err(e) = word.parse::<partprogram::Dialect>() {
+            let start = text.find(word).unwrap_or(0);
+            out.push(
+                Diagnostic::error(codes::DIALECT, "nc/DIALECT", start..start + word.len(), e)
+                    .with_hint("nc/DIALECT holds one word: mefi or fanuc")
+                    .locate(&text),
+            );
+        }
+        sources.add("nc/DIALECT", text);
+    }
+    if let Some(text) = read(dir, "nc/CONSTANTS", &mut out) {
+        out.extend(constants(&text));
+        sources.add("nc/CONSTANTS", text);
+    }
+    if !diag::has_errors(&out) {
+        tables(dir, sources, &mut out);
+    }
+    let retain = dir.join("retain.bin");
+    if let Err(e) = runtime::retain::load(&retain) {
+        out.push(
+            Diagnostic::warning(codes::RETAIN, "retain.bin", 0..0, e.to_string())
+                .with_hint("`run` starts without retained data; delete retain.bin to silence this"),
+        );
+    }
+    out
+}
+
+/// Every bad line of `nc/CONSTANTS` (each line is read on its own, as `run` reads them all).
+fn constants(text: &str) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    let mut spec = partprogram::MachineSpec::new(partprogram::Dialect::Mefi, &['X']);
+    let mut offset = 0;
+    for line in text.split_inclusive('\n') {
+        let span = offset..offset + line.trim_end().len();
+        offset += line.len();
+        let result = partprogram::machine::parse_constants(line).and_then(|values| {
+            values
+                .into_iter()
+                .try_for_each(|(n, v)| spec.set_constant(n, v))
+        });
+        if let Err(e) = result {
+            let message = match e {
+                partprogram::machine::ConstantsError::Syntax { text, .. } => {
+                    format!("expected `R<n>: <value>`, found `{text}`")
+                }
+                other => other.to_string(),
+            };
+            out.push(
+                Diagnostic::error(codes::CONSTANTS, "nc/CONSTANTS", span, message)
+                    .with_hint("one constant per line: `R329: 1000000` (a `\"` starts a comment)")
+                    .locate(text),
+            );
+        }
+    }
+    out
+}
+
+/// The correction, zero-offset and retained-variable tables, read with the machine's axes.
+fn tables(dir: &Path, sources: &mut Sources, out: &mut Vec<Diagnostic>) {
+    let Ok(spec) = nc::machine_spec(dir, None, "") else {
+        return;
+    };
+    let axes = spec.axes();
+    let kor = ["MP0/TAB0.KOR", "MP0/TAB2.KOR"]
+        .into_iter()
+        .find(|n| dir.join(n).is_file());
+    if let Some(name) = kor
+        && let Some(text) = read(dir, name, out)
+    {
+        out.extend(partprogram::parse_kor(name, &text, &axes).1);
+        sources.add(name, text);
+    }
+    if let Some(text) = read(dir, "MP0/TAB0.POS", out) {
+        out.extend(partprogram::parse_pos("MP0/TAB0.POS", &text, &axes).1);
+        sources.add("MP0/TAB0.POS", text);
+    }
+    if let Some(text) = read(dir, "nc/MACROVARS", out) {
+        let (_, d) = partprogram::macro_b::retained::parse_retained("nc/MACROVARS", &text);
+        out.extend(d);
+        sources.add("nc/MACROVARS", text);
+    }
+}

@@ -1,0 +1,48 @@
+#!/usr/bin/env python3
+"""Error-dense inputs that are well formed line by line (issue 23, item 4), seeded.
+
+Usage: tests/gen/error_dense.py MACHINE_COPY [MEGABYTES] [SEED]
+
+Overwrites, in the machine directory MACHINE_COPY (a copy of plc-programs/lathe):
+  MP0/AXCFIL       its own records, then valid and unknown records alternating (`NAS=X` /
+                   `QZQ<n>=1`) in section 3 up to MEGABYTES
+  nc/DENSE.nc      a partprogram alternating a valid block and a block with an unknown address
+  MP0/PLCPRG.dense the PLC program followed by lines alternating a valid and an undefined name
+Each file is MEGABYTES (default 50) long; the same SEED (default 1) gives the same bytes.
+Measure with `/usr/bin/time -v ncplc check MACHINE_COPY --max-errors 100` (AXCFIL),
+`ncplc nc check MACHINE_COPY nc/DENSE.nc`, `ncplc build MACHINE_COPY --plc MP0/PLCPRG.dense`.
+"""
+import os
+import random
+import sys
+
+
+def fill(path, head, pair, size):
+    rng = random.Random(SEED)
+    with open(path, "w", encoding="latin-1") as f:
+        f.write(head)
+        n = len(head)
+        while n < size:
+            text = pair(rng)
+            f.write(text)
+            n += len(text)
+
+
+machine = sys.argv[1]
+size = int(float(sys.argv[2]) * 1_000_000) if len(sys.argv) > 2 else 50_000_000
+SEED = int(sys.argv[3]) if len(sys.argv) > 3 else 1
+
+ax = os.path.join(machine, "MP0", "AXCFIL")
+with open(ax, encoding="latin-1") as f:
+    base = f.read()
+fill(ax, base.rstrip("\n") + "\n",
+     lambda r: f"NAS=X\nQZQ{r.randrange(10)}=1\n", size)
+
+fill(os.path.join(machine, "nc", "DENSE.nc"), "%\n",
+     lambda r: f"G01 X{r.randrange(100)}. F100.\nG01 Q{r.randrange(100)}.\n", size)
+
+plc = os.path.join(machine, "MP0", "PLCPRG")
+with open(plc, encoding="latin-1") as f:
+    base = f.read()
+fill(plc + ".dense", base.rstrip("\n") + "\n",
+     lambda r: f"P1 = I0A0\nP1 = NOSUCH{r.randrange(1000)}\n", size)
