@@ -1,5 +1,6 @@
 //! What the kernel takes from the characterization for one process: its coordinated axes with the
-//! drive constants the plant and the following-error check need (GMxx KV, SRV, MCZ), its spindle
+//! drive constants the plant and the following-error check need (GMxx KV, FRC Kvff/Kvffi, FQF,
+//! SRV, MCZ), its spindle
 //! (GMxx, TSM, POM), its M-function declarations (IOCFIL section 2) and GPS.
 
 use std::collections::BTreeMap;
@@ -9,6 +10,9 @@ use characterization::iocfil::{Iocfil, Sequencing};
 use packets::Signal;
 use partprogram::MTiming;
 
+use crate::following::SrvLimits;
+use crate::servo::Gains;
+
 /// One coordinated axis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AxisConfig {
@@ -16,10 +20,14 @@ pub struct AxisConfig {
     pub name: char,
     /// Position-loop gain KV (1/s) of GM0 (20 when not given).
     pub kv: f64,
-    /// SRV: allowed following error at rest (mm; 0 = unchecked).
-    pub srv_standby: f64,
-    /// SRV: allowed following error while moving without feed-forward (mm; 0 = unchecked).
-    pub srv_moving: f64,
+    /// FRC Kvff: velocity feed-forward coefficient (1 when not given).
+    pub kvff: f64,
+    /// FRC Kvffi: integral coefficient (0 when not given).
+    pub kvffi: f64,
+    /// FQF: feed-forward filter bandwidth in Hz (0 = off, also when not given).
+    pub fqf_hz: f64,
+    /// SRV: the allowed following error at rest, moving with VFF and without (mm; 0 = unchecked).
+    pub srv: SrvLimits,
     /// The axis has an MCZ homing cycle (else it counts as referenced at power-on).
     pub needs_homing: bool,
     /// MFC limit-switch inputs (+, −).
@@ -36,6 +44,18 @@ pub struct AxisConfig {
     pub jog_speed: f64,
     /// The MCZ homing cycle, when the axis has one.
     pub home: Option<HomeConfig>,
+}
+
+impl AxisConfig {
+    /// The position-loop constants: KV, Kvff, Kvffi, FQF.
+    pub fn gains(&self) -> Gains {
+        Gains {
+            kv: self.kv,
+            kvff: self.kvff,
+            kvffi: self.kvffi,
+            fqf_hz: self.fqf_hz,
+        }
+    }
 }
 
 /// MCZ: the homing cycle of an axis.
@@ -116,8 +136,14 @@ fn axis_config(a: &Axis) -> AxisConfig {
     AxisConfig {
         name: a.name,
         kv: gm0.and_then(|g| g.kv).filter(|k| *k > 0.0).unwrap_or(20.0),
-        srv_standby: srv[0].unwrap_or(0.0),
-        srv_moving: srv[2].or(srv[1]).unwrap_or(0.0),
+        kvff: a.frc.as_ref().map_or(1.0, |f| f.kvff),
+        kvffi: a.frc.as_ref().map_or(0.0, |f| f.kvffi),
+        fqf_hz: a.fqf.filter(|f| *f > 0.0).unwrap_or(0.0),
+        srv: SrvLimits {
+            standby: srv[0].unwrap_or(0.0),
+            vff: srv[1].unwrap_or(0.0),
+            no_vff: srv[2].unwrap_or(0.0),
+        },
         needs_homing: a.mcz.is_some(),
         limit_inputs: a.mfc.unwrap_or((None, None)),
         soft: zone(a, 1),

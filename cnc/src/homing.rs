@@ -172,6 +172,7 @@ impl Process {
                     return;
                 }
                 self.drives[i].shift(coord);
+                self.monitors[i].shift(coord);
                 self.homed_axes[i] = true;
                 self.home_stage = None;
                 return;

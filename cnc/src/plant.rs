@@ -1,10 +1,14 @@
-//! The simulated machine around the controller (the plant): axis drives that follow their set
-//! points as a first-order lag with the position-loop gain KV of GMxx, and a spindle that ramps to
-//! its reference with the acceleration TSM allows; its encoder's position (revolutions, an index
-//! pulse at every whole one) is integrated from the actual speed every tick, for G33.
+//! The simulated machine around the controller (the plant): axis drives whose ideal velocity loop
+//! runs the velocity command `w + KV · e` (e = set point − actual, w the controller's velocity
+//! feed-forward of [`crate::servo`], 0 without VFF), and a spindle that ramps to its reference
+//! with the acceleration TSM allows; its encoder's position (revolutions, an index pulse at every
+//! whole one) is integrated from the actual speed every tick, for G33.
 //!
-//! A drive's following error in steady motion is v / KV (10 000 mm/min at KV 20: 8.3 mm), which
-//! is what SRV's "without feed-forward" limit is set against.
+//! The set point moves linearly between two interpolation ticks (speed s = Δ/dt) and w is held
+//! over the tick, so the error obeys `de/dt = s − w − KV·e` and is integrated exactly:
+//! `eₙ = e∞ + (eₙ₋₁ − e∞)·e^(−KV·dt)` with `e∞ = (s − w)/KV`. Without feed-forward a drive in
+//! steady motion lags exactly v/KV (12 000 mm/min at KV 20: 10 mm), which SRV's no-VFF limit is
+//! set against; with w = Kvff·s it lags (1 − Kvff)·v/KV, 0 at Kvff = 1.
 
 use detmath::Det as _;
 use packets::Signal;
@@ -27,8 +31,6 @@ pub struct Drive {
     kv: f64,
     command: f64,
     actual: f64,
-    still_ticks: u32,
-    dt: f64,
     offset: f64,
     home_switch: Option<f64>,
     /// Edges of the + and − hardware limit switches on the machine's scale (MFC), when simulated.
@@ -44,8 +46,6 @@ impl Drive {
             kv,
             command: pos,
             actual: pos,
-            still_ticks: u32::MAX,
-            dt: 0.001,
             offset: 0.0,
             home_switch: None,
             limit_switches: [None; 2],
@@ -104,18 +104,25 @@ impl Drive {
         self.offset += shift;
     }
 
-    /// One servo tick of `dt` seconds towards the set point `command`.
-    pub fn tick(&mut self, command: f64, dt: f64) {
+    /// One servo tick of `dt` seconds: the set point moves linearly to `command`, the controller
+    /// adds the velocity feed-forward `feed_forward` (mm/s) to KV × error.
+    pub fn tick(&mut self, command: f64, feed_forward: f64, dt: f64) {
         self.previous_actual = self.actual;
-        if command == self.command {
-            self.still_ticks = self.still_ticks.saturating_add(1);
+        let speed = if dt > 0.0 {
+            (command - self.command) / dt
         } else {
-            self.still_ticks = 0;
-        }
+            0.0
+        };
+        let settled = (speed - feed_forward) / self.kv;
+        let q = (-self.kv * dt).dexp();
+        let error = settled + (self.command - self.actual - settled) * q;
         self.command = command;
-        self.dt = dt;
-        let k = 1.0 - (-self.kv * dt).dexp();
-        self.actual += (command - self.actual) * k;
+        self.actual = command - error;
+    }
+
+    /// The set point of the last tick.
+    pub fn command(&self) -> f64 {
+        self.command
     }
 
     /// The actual position.
@@ -126,11 +133,6 @@ impl Drive {
     /// Set point minus actual position.
     pub fn error(&self) -> f64 {
         self.command - self.actual
-    }
-
-    /// The set point has not moved for five time constants (the standby limit applies).
-    pub fn settled(&self) -> bool {
-        f64::from(self.still_ticks) * self.dt >= 5.0 / self.kv
     }
 }
 
@@ -198,12 +200,73 @@ mod tests {
 
     #[test]
     fn drive_lags_by_one_time_constant() {
-        // KV 20: after 50 ms (one time constant) of a 10 mm step the error is 10·e^-1.
+        // KV 20: a 10 mm step taken in one tick of 2 ms (s = 5000 mm/s) leaves the error
+        // e₁ = 250·(1 − q), q = e^(−0.04); 24 more ticks (48 ms) at rest decay it by q²⁴.
         let mut d = Drive::new(20.0, 0.0);
-        for _ in 0..25 {
-            d.tick(10.0, 0.002);
+        d.tick(10.0, 0.0, 0.002);
+        let q = (-0.04f64).dexp();
+        assert!((d.error() - 250.0 * (1.0 - q)).abs() < 1e-9);
+        for _ in 0..24 {
+            d.tick(10.0, 0.0, 0.002);
         }
-        assert!((d.error() - 10.0 * (-1.0f64).dexp()).abs() < 1e-9);
+        assert!((d.error() - 250.0 * (1.0 - q) * q.powi(24)).abs() < 1e-9);
+    }
+
+    /// A rapid at 12 m/min (200 mm/s) on a KV 20 axis, 2 ms ticks, from rest at the RAP
+    /// acceleration 800 mm/s² (a linear ramp of 0.25 s = 125 ticks), then at speed.
+    fn rapid(kvff: f64, fqf_hz: f64, vff: bool) -> (f64, f64) {
+        use crate::servo::{FeedForward, Gains};
+        let g = Gains {
+            kvff,
+            fqf_hz,
+            ..Gains::with_kv(20.0)
+        };
+        let (dt, a, v) = (0.002, 800.0, 200.0);
+        let mut d = Drive::new(20.0, 0.0);
+        let mut ff = FeedForward::default();
+        let (mut sp, mut speed, mut peak) = (0.0, 0.0f64, 0.0f64);
+        for _ in 0..1000 {
+            let before = speed;
+            speed = (speed + a * dt).min(v);
+            let delta = (before + speed) / 2.0 * dt;
+            sp += delta;
+            let w = ff.step(&g, vff, delta, d.error(), dt);
+            d.tick(sp, w, dt);
+            peak = peak.max(d.error().abs());
+        }
+        (d.error(), peak)
+    }
+
+    #[test]
+    fn without_feed_forward_a_rapid_lags_v_over_kv() {
+        // e∞ = s/KV at every tick: 200/20 = 10 mm once at speed; after 1.75 s at speed the
+        // transient is gone (q^875 ≈ 6e-16 of it), and the lag never exceeds it.
+        let (end, peak) = rapid(1.0, 0.0, false);
+        assert!((end - 10.0).abs() < 1e-9, "{end}");
+        assert!(peak <= 10.0 + 1e-9, "{peak}");
+    }
+
+    #[test]
+    fn with_kvff_1_a_rapid_has_no_lag_and_kvff_095_lags_five_percent() {
+        // w = Kvff·s: e∞ = (1 − Kvff)·s/KV: 0 at Kvff 1; 0.05 × 10 mm at 0.95.
+        let (end, peak) = rapid(1.0, 0.0, true);
+        assert!(end.abs() < 1e-9 && peak < 1e-9, "{end} {peak}");
+        let (end, peak) = rapid(0.95, 0.0, true);
+        assert!((end - 0.5).abs() < 1e-9, "{end}");
+        assert!(peak <= 0.5 + 1e-9, "{peak}");
+    }
+
+    #[test]
+    fn fqf_adds_a_transient_lag_while_accelerating() {
+        // FQF 20 Hz, p = e^(−0.08π): during the ramp the filtered speed lags s by
+        // L = a·dt·p/(1 − p) → 800·0.002·p/(1 − p) = 5.600 mm/s, so e∞ = L/KV → 0.2800 mm; the
+        // error stays below it (≤ 0.1 × v/KV = 1 mm, the target) and is 0 at speed.
+        let p = (-0.08 * std::f64::consts::PI).dexp();
+        let bound = 800.0 * 0.002 * p / (1.0 - p) / 20.0;
+        assert!((bound - 0.280_0).abs() < 1e-4, "{bound}");
+        let (end, peak) = rapid(1.0, 20.0, true);
+        assert!(end.abs() < 1e-9, "{end}");
+        assert!(peak <= bound && peak > 0.9 * bound, "{peak} {bound}");
     }
 
     #[test]

@@ -8,8 +8,10 @@
 //! 3. step the handshake channels with the FINs; advance the block executor; strobe what it issued;
 //! 4. run the interpolation ticks that fit the logic tick: each sets the spindle reference from
 //!    the law at the last set points ([`crate::spindle`]: G96 follows the radius), the drives
-//!    follow each set point, DEN tags are collected; advance the executor again so that the next
-//!    block starts without a gap;
+//!    follow each set point with the velocity feed-forward of [`crate::servo`] (on for a
+//!    programmed move in MDI/AUTO/STEP while UEP = 0), [`crate::following`] checks each axis's
+//!    error against the SRV limit in force, DEN tags are collected; advance the executor again so
+//!    that the next block starts without a gap;
 //! 5. write the CNC→PLC signals into `image`.
 
 use std::collections::VecDeque;
@@ -19,6 +21,7 @@ use partprogram::Canon;
 
 use crate::config::ProcessConfig;
 use crate::exec::Phase;
+use crate::following::{AxisMonitor, Peak};
 use crate::handshake::{Channel, Kind, Note, bcd};
 use crate::interp::{Interpolator, TickOut};
 use crate::plant::{Drive, PlantSignals, Spindle};
@@ -46,8 +49,6 @@ pub struct Counters {
     pub wait_ticks: [u64; 3],
     /// Programs that ended with M02/M30.
     pub ended: u64,
-    /// Largest following error seen (mm) and its axis.
-    pub max_following: (f64, char),
     /// Logic ticks with CYCLE = 1.
     pub cycle_ticks: u64,
     /// Logic ticks with constant surface speed (FG96 = 1).
@@ -67,6 +68,12 @@ pub struct Process {
     pub(crate) channels: [Option<Channel>; 3],
     pub(crate) interp: Box<dyn Interpolator>,
     pub(crate) drives: Vec<Drive>,
+    /// The controller's velocity feed-forward per axis.
+    servo: Vec<crate::servo::FeedForward>,
+    /// The following-error monitor per axis.
+    pub(crate) monitors: Vec<AxisMonitor>,
+    /// The system variable UEP: 1 = no velocity feed-forward (PGCFIL `ASS=UEP`, 0 by default).
+    uep: bool,
     pub(crate) spindle: Option<Spindle>,
     pub(crate) plant: PlantSignals,
     pub(crate) mode: Mode,
@@ -150,6 +157,15 @@ impl Process {
             .enumerate()
             .map(|(i, a)| Drive::new(a.kv, start.get(i).copied().unwrap_or(0.0)))
             .collect();
+        let monitors = cfg
+            .axes
+            .iter()
+            .enumerate()
+            .map(|(i, a)| {
+                AxisMonitor::new(a.name, a.srv, a.kv, start.get(i).copied().unwrap_or(0.0))
+            })
+            .collect();
+        let servo = vec![crate::servo::FeedForward::default(); cfg.axes.len()];
         let spindle = cfg.spindle.as_ref().map(|s| Spindle::new(s.accel));
         let gear = crate::spindle::Gear {
             engaged: u8::from(cfg.spindle.as_ref().is_some_and(|s| s.ranges.len() == 1)),
@@ -165,6 +181,9 @@ impl Process {
             channels,
             interp,
             drives,
+            servo,
+            monitors,
+            uep: false,
             spindle,
             plant: PlantSignals::default(),
             mode: Mode::Idle,
@@ -564,6 +583,10 @@ impl Process {
             }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);
+            // A programmed block's motion, including the tick in which the last one ends (the
+            // interpolator's tag is None from that tick on).
+            let programmed = self.tick_out.tag.is_some_and(|t| t > 0)
+                || self.tick_out.finished.iter().any(|t| *t > 0);
             self.tick_handwheels();
             self.held |= self.tick_out.held && hold_request;
             for tag in std::mem::take(&mut self.tick_out.finished) {
@@ -585,11 +608,14 @@ impl Process {
                 );
                 *t += 1;
             }
-            let moving = !self.interp.is_idle();
-            for (i, d) in self.drives.iter_mut().enumerate() {
-                d.tick(pos.get(i).copied().unwrap_or(0.0), dt);
+            let vff = crate::servo::vff_active(self.mode, self.uep, programmed);
+            for (i, (d, ff)) in self.drives.iter_mut().zip(&mut self.servo).enumerate() {
+                let sp = pos.get(i).copied().unwrap_or(0.0);
+                let g = self.cfg.axes[i].gains();
+                let w = ff.step(&g, vff, sp - d.command(), d.error(), dt);
+                d.tick(sp, w, dt);
             }
-            self.check_following(moving);
+            self.check_following(vff, dt);
         }
     }
 
@@ -601,29 +627,37 @@ impl Process {
             .all(|(i, _)| signals::read(out, self.sig.rabi.get(i).copied().flatten(), 1) == 1)
     }
 
-    fn check_following(&mut self, moving: bool) {
-        for i in 0..self.drives.len() {
-            let err = self.drives[i].error().abs();
-            let a = &self.cfg.axes[i];
-            if err > self.counters.max_following.0 {
-                self.counters.max_following = (err, a.name);
-            }
-            let limit = if moving || !self.drives[i].settled() {
-                a.srv_moving
-            } else {
-                a.srv_standby
-            };
-            if self.on && limit > 0.0 && err > limit {
-                let name = a.name;
-                self.raise(
-                    format!("following error of axis {name}: {err:.3} mm exceeds SRV {limit} mm"),
-                    true,
-                );
-                self.fault = true;
-                self.on = false;
-                return;
-            }
+    /// Every axis's error against its SRV limit in force; the first one beyond it stops the
+    /// process (machine off) with an alarm naming the axis, the limit and why it applies.
+    fn check_following(&mut self, vff: bool, dt: f64) {
+        let mut first = None;
+        for (d, m) in self.drives.iter().zip(&mut self.monitors) {
+            let e = m.check(d.command(), d.actual(), vff, dt);
+            first = first.or(e);
         }
+        if let Some(e) = first
+            && self.on
+        {
+            self.raise(e.to_string(), true);
+            self.fault = true;
+            self.on = false;
+        }
+    }
+
+    /// UEP (1 = no velocity feed-forward), as PGCFIL `ASS=UEP` or the operator sets it.
+    pub fn set_uep(&mut self, on: bool) {
+        self.uep = on;
+    }
+
+    /// The system variable UEP.
+    pub fn uep(&self) -> bool {
+        self.uep
+    }
+
+    /// Per axis: its letter and the largest following error seen with the limit it was checked
+    /// against (None before the first interpolation tick).
+    pub fn following_peaks(&self) -> Vec<(char, Option<Peak>)> {
+        self.monitors.iter().map(|m| (m.name(), m.peak())).collect()
     }
 
     fn write_plc(&self, image: &mut [u8]) {
@@ -709,12 +743,23 @@ impl Process {
         out.block = i;
         out.block_n = self.program.get(i).and_then(|b| b.n);
         out.axes.truncate(self.cfg.axes.len());
-        for (k, (a, d)) in self.cfg.axes.iter().zip(&self.drives).enumerate() {
+        for (k, ((a, d), m)) in self
+            .cfg
+            .axes
+            .iter()
+            .zip(&self.drives)
+            .zip(&self.monitors)
+            .enumerate()
+        {
+            let limit = m.limit();
             let axis = AxisStatus {
                 name: a.name,
                 command: cmd.get(k).copied().unwrap_or(0.0),
                 actual: d.actual(),
                 following_error: d.error(),
+                limit,
+                limit_mm: limit.of(&a.srv),
+                largest: m.peak().map_or(0.0, |p| p.error),
             };
             match out.axes.get_mut(k) {
                 Some(slot) => *slot = axis,

@@ -2,6 +2,7 @@
 //! the block, every axis's set point, actual position and following error, feed, spindle speed and
 //! the active alarms.
 
+use crate::following::Limit;
 use crate::state::{Interp, Mode};
 
 /// One axis.
@@ -15,6 +16,13 @@ pub struct AxisStatus {
     pub actual: f64,
     /// Set point minus actual (mm).
     pub following_error: f64,
+    /// The SRV limit in force now (stand-by at rest, VFF or no-VFF while moving).
+    #[serde(serialize_with = "limit_name")]
+    pub limit: Limit,
+    /// Its value (mm; 0 = unchecked).
+    pub limit_mm: f64,
+    /// The largest |following error| since power-on (mm).
+    pub largest: f64,
 }
 
 /// One process.
@@ -54,4 +62,8 @@ fn mode_name<S: serde::Serializer>(m: &Mode, s: S) -> Result<S::Ok, S::Error> {
 
 fn interp_name<S: serde::Serializer>(m: &Interp, s: S) -> Result<S::Ok, S::Error> {
     s.serialize_str(&format!("{m:?}").to_lowercase())
+}
+
+fn limit_name<S: serde::Serializer>(l: &Limit, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(l.name())
 }

@@ -263,6 +263,7 @@ fn kernel_io(machine: &Machine, tick_ms: u32) -> Result<(KernelIo, Arc<Mutex<Cnc
             if let Ok(p) = c.process_mut(n) {
                 p.set_manual_axes(mas);
                 p.set_alternative_feed(cfg.and_then(|p| p.qfd));
+                p.set_uep(cfg.and_then(|p| p.assigned("UEP")) == Some(1.0));
             }
         }
     }
@@ -681,11 +682,7 @@ impl PartRun {
                 secs(k.wait_ticks[0]),
                 secs(k.wait_ticks[1]),
                 secs(k.wait_ticks[2]),
-                if k.max_following.1 == '\0' {
-                    "-".to_string()
-                } else {
-                    format!("{:.3} mm ({})", k.max_following.0, k.max_following.1)
-                }
+                cnc::following::summary(&p.following_peaks())
             ));
             if k.corrections > 0 {
                 s.push_str(&format!(

@@ -178,6 +178,13 @@ pub struct AxisStatus {
     pub actual: f64,
     /// Command minus actual.
     pub following_error: f64,
+    /// The SRV limit in force: `stand-by` (at rest), `VFF` (moving with feed-forward) or
+    /// `no-VFF` (moving without); empty without a kernel.
+    pub limit: String,
+    /// Its value in mm (0 = unchecked).
+    pub limit_mm: f64,
+    /// The largest |following error| since power-on (mm).
+    pub largest: f64,
 }
 
 /// M/S/T handshake counts of a process.

@@ -342,8 +342,10 @@ function renderMachine() {
     setText(box, ".modal", p.modal_codes.join(" "));
     const dro = box.querySelector(".dro");
     const rows = p.axes.map(a => "<tr data-axis=\"" + a.name + "\"><td>" + a.name + "</td><td class=\"cmd\">" + a.command.toFixed(3) + "</td><td class=\"act\">" +
-      a.actual.toFixed(3) + "</td><td class=\"ferr\">" + a.following_error.toFixed(4) + "</td></tr>").join("");
-    const html = p.axes.length ? "<tr><th>axis</th><th>command</th><th>actual</th><th>following error</th></tr>" + rows : "";
+      a.actual.toFixed(3) + "</td><td class=\"ferr\">" + a.following_error.toFixed(4) + "</td><td class=\"srv\">" +
+      (a.limit ? a.limit + " " + (a.limit_mm > 0 ? a.limit_mm : "unchecked") : "—") + "</td><td class=\"largest\">" +
+      a.largest.toFixed(4) + "</td></tr>").join("");
+    const html = p.axes.length ? "<tr><th>axis</th><th>command</th><th>actual</th><th>following error</th><th>SRV limit</th><th>largest</th></tr>" + rows : "";
     if (dro.dataset.html !== html) { dro.innerHTML = html; dro.dataset.html = html; }
     const ul = box.querySelector(".alarms");
     const akey = JSON.stringify(p.alarms);

@@ -220,6 +220,13 @@ fn letter_run_hint(src: &str, at: usize) -> Option<String> {
             "did you mean `{fixed}`? `O` is a letter; the digit is `0`"
         ));
     }
+    if run == "UEP" {
+        // A system variable of the process (003:4607-4610), not a word: no block may set it here.
+        return Some(
+            "`UEP` (velocity feed-forward off) is a system variable of the process: set it with PGCFIL section 4 `ASS=UEP,1`; a partprogram block cannot change it"
+                .to_string(),
+        );
+    }
     let known = PROCESS_INSTRUCTIONS.iter().find(|w| **w == run).copied();
     let meant = known.or_else(|| diag::nearest(&run, PROCESS_INSTRUCTIONS.iter().copied()))?;
     let lead = if known.is_some() {

@@ -1,5 +1,5 @@
-//! The end-to-end tests of the workspace, one test binary (`cargo test -p runtime --test e2e`;
-//! one module with `cargo test -p runtime --test e2e part::`): each module drives the `ncplc`
+//! The end-to-end tests of the workspace, one test binary (`cargo test -p ncplc --test e2e`;
+//! one module with `cargo test -p ncplc --test e2e part::`): each module drives the `ncplc`
 //! binary on the bundled machines and was a binary of its own before issue 24.
 //!
 //! Invariants of sharing one process: no test changes the process's environment variables or
@@ -35,5 +35,6 @@ mod record_crash;
 mod replay;
 mod retain;
 mod run;
+mod servo;
 mod test_cmd;
 mod trace;

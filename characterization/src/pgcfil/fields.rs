@@ -111,6 +111,12 @@ impl<'f> Emit<'f> {
         self.take(r)
     }
 
+    /// A "boolean" parameter, 0 or 1: error 901.
+    pub fn boolean(&mut self, p: &Param) -> Option<bool> {
+        let r = values::boolean(&self.ctx(), p);
+        self.take(r)
+    }
+
     /// A "real" parameter: error 20.
     pub fn real(&mut self, p: &Param) -> Option<f64> {
         let r = values::real(&self.ctx(), p);

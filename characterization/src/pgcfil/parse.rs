@@ -432,7 +432,15 @@ fn section4(e: &mut Emit<'_>, blocks: &mut Blocks, rec: &Record, proc: &mut PgPr
                     "write ASS=<variable>,<value>",
                 );
             }
-            let value = e.real(&p[1]);
+            // The variables 5.8.2 gives the "boolean" format take 0 or 1 only (003:4569-4615;
+            // MDF's table type is boolean too, but its text is a coefficient 0 … 1).
+            let boolean =
+                ["USB", "UVR", "USO", "URL", "RAP", "UAS", "UEP", "VOL"].contains(&name.as_str());
+            let value = if boolean {
+                e.boolean(&p[1]).map(f64::from)
+            } else {
+                e.real(&p[1])
+            };
             if e.ascii(&p[0]).is_none() {
                 return;
             }

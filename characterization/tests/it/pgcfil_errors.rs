@@ -243,6 +243,18 @@ fn e128_e129_ass() {
 }
 
 #[test]
+fn p901_a_boolean_ass_takes_0_or_1() {
+    // ASS=UEP,value has the boolean format (003:4607-4610).
+    one(&file("", "", "", "PRO=1\nASS=UEP,7\n", S5, ""), 901, "7", 0);
+    one(
+        &file("", "", "", "PRO=1\nASS=USO,0.5\n", S5, ""),
+        901,
+        "0.5",
+        0,
+    );
+}
+
+#[test]
 fn e133_tof() {
     one(
         &file("", "", "", S4, "PRO=1\nNIP=1\nTOF=13\nNAM=Z\nNPD=Z,X\n", ""),

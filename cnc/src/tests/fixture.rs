@@ -41,6 +41,7 @@ impl Interpolator for Stepper {
         if self.hold {
             return;
         }
+        out.tag = self.queue.front().map(|q| q.0);
         if let Some(&(tag, x)) = self.queue.front() {
             let d = (x - self.pos[0]).clamp(-1.0, 1.0);
             self.pos[0] += d;
@@ -139,22 +140,40 @@ pub fn cnc_with(
     rabi_timeout: u64,
     spindle: Option<crate::config::SpindleConfig>,
 ) -> Cnc {
+    cnc_with_axis(parallel, timeout, rabi_timeout, spindle, axis_x())
+}
+
+/// The fixture's X: KV ∞ (an ideal drive: no lag), SRV unchecked, LO1 −5 … 3, LO2 −8 … 6.
+pub fn axis_x() -> AxisConfig {
+    AxisConfig {
+        name: 'X',
+        kv: f64::INFINITY,
+        kvff: 1.0,
+        kvffi: 0.0,
+        fqf_hz: 0.0,
+        srv: crate::following::SrvLimits::default(),
+        needs_homing: false,
+        limit_inputs: (None, None),
+        soft: (Some(-5.0), Some(3.0)),
+        soft2: (Some(-8.0), Some(6.0)),
+        cub: None,
+        accel: 1000.0,
+        jog_speed: 1000.0,
+        home: None,
+    }
+}
+
+/// [`cnc_with`] with the axis `axis`.
+pub fn cnc_with_axis(
+    parallel: bool,
+    timeout: u64,
+    rabi_timeout: u64,
+    spindle: Option<crate::config::SpindleConfig>,
+    axis: AxisConfig,
+) -> Cnc {
     let cfg = ProcessConfig {
         number: 1,
-        axes: vec![AxisConfig {
-            name: 'X',
-            kv: 1e9,
-            srv_standby: 0.0,
-            srv_moving: 0.0,
-            needs_homing: false,
-            limit_inputs: (None, None),
-            soft: (Some(-5.0), Some(3.0)),
-            soft2: (Some(-8.0), Some(6.0)),
-            cub: None,
-            accel: 1000.0,
-            jog_speed: 1000.0,
-            home: None,
-        }],
+        axes: vec![axis],
         spindle,
         m_timing: lathe_m(),
         parallel,

@@ -9,5 +9,6 @@ mod homing;
 mod limit_switch;
 mod manual;
 mod mdi;
+mod servo;
 mod spindle;
 mod zones;

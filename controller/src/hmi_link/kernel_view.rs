@@ -185,6 +185,9 @@ impl CncView for KernelView {
                     command: a.command,
                     actual: a.actual,
                     following_error: a.following_error,
+                    limit: a.limit.name().to_string(),
+                    limit_mm: a.limit_mm,
+                    largest: a.largest,
                 })
                 .collect();
             ps.spindle_speed = Some(st.spindle_rpm);

@@ -220,6 +220,12 @@ fn letter_runs_get_a_did_you_mean() {
         d.hint,
         "`RPT` is an instruction of the process logic (PGCFIL), not a partprogram word; a block holds words of one address letter and a number"
     );
+    let d = first("%1\nN1 UEP=1\nN2 M30\n");
+    assert_eq!((d.code, d.line, d.column), (2002, 2, 5));
+    assert_eq!(
+        d.hint,
+        "`UEP` (velocity feed-forward off) is a system variable of the process: set it with PGCFIL section 4 `ASS=UEP,1`; a partprogram block cannot change it"
+    );
     let d = first("%1\nN1 EPX\nN2 M30\n");
     assert_eq!((d.code, d.line, d.column), (2002, 2, 5));
     assert_eq!(
