@@ -115,6 +115,8 @@ struct Slot {
     last_hb: Option<Instant>,
     fault: Option<DriveFault>,
     code_asked: bool,
+    /// The `603Fh` read is on the wire and unanswered (waited for within the tick only).
+    code_wait: bool,
     enable_ticks: u32,
 }
 
@@ -150,6 +152,7 @@ impl DriveSet {
                 last_hb: None,
                 fault: None,
                 code_asked: false,
+                code_wait: false,
                 enable_ticks: 0,
             })
             .collect();
@@ -313,6 +316,7 @@ impl DriveSet {
                     s.nmt = st;
                 }
             } else if id == cob::SDO_TX + u16::from(node) {
+                s.code_wait = false;
                 if let Some(sdo::SdoResponse::Uploaded {
                     index: 0x603F,
                     value,
@@ -326,6 +330,7 @@ impl DriveSet {
             }
             if s.fault.is_some_and(|f| f.cause == FaultCause::Drive) && !s.code_asked {
                 s.code_asked = true;
+                s.code_wait = true;
                 out.push(CanMsg::new(
                     cob::SDO_RX + u16::from(node),
                     &sdo::upload_request(0x603F, 0),
@@ -339,6 +344,8 @@ impl DriveSet {
     pub fn after_sync(&mut self, now: Instant) {
         let Some(started) = self.started else { return };
         for s in &mut self.slots {
+            // An unanswered `603Fh` read is not waited for past its tick.
+            s.code_wait = false;
             let consumer = s.cfg.heartbeat * HEARTBEAT_FACTOR;
             let last = s.last_hb.unwrap_or(started);
             let node = s.cfg.node_id;
@@ -378,12 +385,9 @@ impl DriveSet {
         })
     }
 
-    /// True when a `603Fh` read is still unanswered.
+    /// True when a `603Fh` read sent this tick is still unanswered.
     pub fn code_pending(&self) -> bool {
-        self.slots.iter().any(|s| {
-            s.fault
-                .is_some_and(|f| f.cause == FaultCause::Drive && f.code == 0)
-        })
+        self.slots.iter().any(|s| s.code_wait)
     }
 }
 
@@ -407,5 +411,86 @@ pub fn scale(units: f64, counts_per_unit: f64) -> i32 {
         0
     } else {
         v.clamp(f64::from(i32::MIN), f64::from(i32::MAX)) as i32
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn set() -> (DriveSet, Instant) {
+        let d = CanDrive {
+            process: 1,
+            axis: 'X',
+            node_id: 3,
+            counts_per_unit: 100.0,
+            mode: DriveMode::Csp,
+            heartbeat: Duration::from_millis(50),
+            sdo: Vec::new(),
+        };
+        let mut s = DriveSet::new(&[d], Duration::from_millis(10));
+        let now = Instant::now();
+        s.started(now, &[0x0240]);
+        (s, now)
+    }
+
+    #[test]
+    fn the_rpdo_carries_the_controlword_and_the_scaled_set_point() {
+        let (mut s, now) = set();
+        let cmd = DriveCommand {
+            set_point: 1.234,
+            enable: true,
+            ..DriveCommand::default()
+        };
+        assert!(s.command(AxisId::new('X'), cmd));
+        assert!(!s.command(AxisId::new('Y'), cmd));
+        let f = s.rpdos(now);
+        assert_eq!(f.len(), 1);
+        assert_eq!(
+            (f[0].id, f[0].payload()),
+            (0x203, &[0x06, 0, 123, 0, 0, 0][..])
+        );
+    }
+
+    #[test]
+    fn a_fault_statusword_asks_for_603f_once_and_the_answer_fills_the_code() {
+        let (mut s, now) = set();
+        let x = AxisId::new('X');
+        let tpdo = CanMsg::new(0x183, &[0x08, 0x02, 0x10, 0, 0, 0]);
+        let asked = s.on_frame(&tpdo, now);
+        assert_eq!(asked.len(), 1);
+        assert_eq!(
+            (asked[0].id, asked[0].payload()),
+            (0x603, &sdo::upload_request(0x603F, 0)[..])
+        );
+        assert!(s.code_pending());
+        let fault = |code| {
+            Some(DriveFault {
+                node: 3,
+                code,
+                cause: FaultCause::Drive,
+            })
+        };
+        assert_eq!(
+            s.feedback(x).map(|f| (f.state, f.fault, f.healthy)),
+            Some((State::Fault, fault(0), false))
+        );
+        // The faulted drive's 6064h (16 counts) is not taken as a position.
+        assert_eq!(s.feedback(x).map(|f| f.position), Some(0.0));
+        assert!(s.on_frame(&tpdo, now).is_empty(), "asked once");
+        let answer = [0x4B, 0x3F, 0x60, 0, 0x30, 0x55, 0, 0];
+        assert!(s.on_frame(&CanMsg::new(0x583, &answer), now).is_empty());
+        assert!(!s.code_pending());
+        assert_eq!(s.feedback(x).and_then(|f| f.fault), fault(0x5530));
+    }
+
+    #[test]
+    fn scaling_rounds_and_saturates() {
+        assert_eq!(scale(0.375, 1000.0), 375);
+        assert_eq!(scale(0.0625, 100.0), 6);
+        assert_eq!(scale(-0.5, 1.0), -1);
+        assert_eq!(scale(f64::NAN, 1.0), 0);
+        assert_eq!(scale(1e12, 1.0), i32::MAX);
+        assert_eq!(scale(f64::NEG_INFINITY, 1.0), i32::MIN);
     }
 }

@@ -50,6 +50,14 @@ pub enum DriveStartError {
     Bus(String),
 }
 
+impl DriveStartError {
+    /// The error as a diagnostic on io.toml (code 3077): no drive was started.
+    pub fn diagnostic(&self) -> diag::Diagnostic {
+        diag::Diagnostic::error(crate::codes::DRIVE_START, "io.toml", 0..0, self.to_string())
+            .with_hint("no drive was started or enabled; check the node id and wiring, and the object in the drive's manual")
+    }
+}
+
 fn outcome(code: Option<u32>) -> String {
     match code {
         None => "got no answer (timeout)".into(),
