@@ -108,7 +108,8 @@ fn valid_drive_entries_parse_as_written() {
 fn every_drive_error_is_located() {
     let line = |fields: &str| format!("{HEAD}{}", entry(fields));
     // HEAD is 5 lines, `[[canopen.drive]]` line 6, the fields from line 7.
-    let cases: Vec<(String, Vec<(u32, u32, u32, &str)>)> = vec![
+    type Expected<'a> = Vec<(u32, u32, u32, &'a str)>;
+    let cases: Vec<(String, Expected)> = vec![
         (
             line("axis = \"Y\"\nnode_id = 3\ncounts_per_unit = 1\nmode = \"csp\""),
             vec![(

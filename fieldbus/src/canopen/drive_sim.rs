@@ -326,7 +326,7 @@ impl DriveSimState {
         let every = u64::from(self.tpdo.transmission.max(1));
         if self.tpdo.cob_id & 0x8000_0000 == 0
             && self.tpdo.transmission <= 240
-            && self.syncs % every == 0
+            && self.syncs.is_multiple_of(every)
         {
             out.push(CanMsg::new(
                 (self.tpdo.cob_id & 0x7FF) as u16,

@@ -89,7 +89,7 @@ impl<B: CanBus> Drives<B> {
         }
         self.bus.send(&CanMsg::new(cob::SYNC, &[])).await?;
         let deadline = Instant::now() + self.answer_timeout;
-        while !(self.set.all_answered() && !self.set.code_pending()) {
+        while !self.set.all_answered() || self.set.code_pending() {
             let m = match tokio::time::timeout_at(deadline, self.bus.recv()).await {
                 Err(_) => break,
                 Ok(m) => m?,

@@ -322,10 +322,9 @@ impl DriveSet {
                     value,
                     ..
                 }) = sdo::parse_response(d)
+                    && let Some(f) = s.fault.as_mut().filter(|f| f.cause == FaultCause::Drive)
                 {
-                    if let Some(f) = s.fault.as_mut().filter(|f| f.cause == FaultCause::Drive) {
-                        f.code = value as u16;
-                    }
+                    f.code = value as u16;
                 }
             }
             if s.fault.is_some_and(|f| f.cause == FaultCause::Drive) && !s.code_asked {

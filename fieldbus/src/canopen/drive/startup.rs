@@ -104,7 +104,7 @@ pub fn interpolation_period(tick: Duration) -> (u8, i8) {
         (-2, 10_000),
         (-1, 100_000),
     ] {
-        if us % div == 0 && us / div <= 255 {
+        if us.is_multiple_of(div) && us / div <= 255 {
             return ((us / div) as u8, exp);
         }
     }
