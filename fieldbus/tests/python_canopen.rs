@@ -179,7 +179,11 @@ async fn ncplc_drives_a_python_canopen_local_node() {
             serde_json::json!([cw, 250 * n])
         })
         .collect();
-    assert_eq!(v["seen"], serde_json::Value::Array(want));
+    assert_eq!(
+        v["seen"],
+        serde_json::Value::Array(want),
+        "per SYNC (controlword, target)"
+    );
     assert_eq!(v["state"], "OE");
     assert_eq!(v["mode"], 8);
     assert_eq!(v["period"], serde_json::json!([100, -4]));

@@ -5,8 +5,9 @@
 //! it feeds every received frame to [`DriveSet::on_frame`] and calls [`DriveSet::after_sync`]
 //! (heartbeat consumer, missing TPDOs, enable timeout). A statusword with the fault bit or an EMCY
 //! frame makes the drive faulted and asks (once) for `603Fh` by SDO; the answer fills the fault's
-//! code. A lost heartbeat, a refused enable or a drive that leaves NMT *operational* is a latched
-//! fault too, cleared only by a fault reset once the cause is gone. Feedback is *healthy* only
+//! code. A lost heartbeat, a refused enable or a drive that leaves NMT *operational* (once it had
+//! one heartbeat consumer time since the NMT start to report it) is a latched fault too, cleared
+//! only by a fault reset once the cause is gone. Feedback is *healthy* only
 //! while the drive is operational, unfaulted and answered the last SYNC: the position of any
 //! other drive is the last healthy one, never a value from the faulted or silent drive.
 
@@ -357,7 +358,9 @@ impl DriveSet {
             };
             if now.duration_since(last) > consumer {
                 latch(s, CODE_HEARTBEAT, FaultCause::HeartbeatLost);
-            } else if s.nmt != nmt::OPERATIONAL {
+            } else if s.nmt != nmt::OPERATIONAL && now.duration_since(started) > consumer {
+                // A heartbeat sent before the NMT start may arrive after it: a drive has one
+                // consumer time to report operational.
                 latch(s, CODE_NMT, FaultCause::NotOperational);
             }
             if s.cmd.enable && !s.cmd.quick_stop && s.fault.is_none() {
