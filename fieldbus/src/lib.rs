@@ -53,8 +53,8 @@ use std::str::FromStr;
 use diag::Diagnostic;
 use packets::PacketIo;
 
-pub use map::{DeclaredConnectors, IoMap};
-pub use validate::{codes, load_map, parse_map};
+pub use map::{DeclaredAxis, DeclaredConnectors, IoMap};
+pub use validate::{codes, load_map, load_map_with_axes, parse_map, parse_map_with_axes};
 
 /// Which packet-A I/O `ncplc run --io` uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
@@ -156,6 +156,16 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
             Ok(Box::new(io))
         }
         IoKind::Canopen => {
+            if let Some(d) = map.canopen.as_ref().and_then(|c| c.drives.first()) {
+                return Err(whole_file(
+                    codes::DRIVES_NOT_DRIVEN,
+                    format!(
+                        "io.toml declares CiA 402 drives (axis {} on node {} first): drive entries are validated by `ncplc check` but not yet driven by `ncplc run`",
+                        d.axis, d.node_id
+                    ),
+                    "remove the [[canopen.drive]] tables to run the I/O nodes (docs/drives.md says what is wired)",
+                ));
+            }
             let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
                 return Err(whole_file(
                     codes::NO_DEVICES,

@@ -19,6 +19,12 @@
 //! name = "dio1"
 //! node_id = 2
 //! heartbeat_ms = 100
+//! [[canopen.drive]]                       # a CiA 402 servo drive (docs/drives.md)
+//! axis = "X"                              # AXCFIL axis name (process = n when not 1)
+//! node_id = 3
+//! counts_per_unit = 10000                 # drive position units per mm, degree or revolution
+//! mode = "csp"                            # csp (axes) | csv (spindle)
+//! heartbeat_ms = 50
 //!
 //! [[input]]                               # device → packet A input connector bytes
 //! device = "rio1"
@@ -195,6 +201,55 @@ pub struct CanNode {
     pub outputs: Vec<PdoMapping>,
 }
 
+/// The CiA 402 mode of operation a drive runs in (object `6060h`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DriveMode {
+    /// Cyclic synchronous position (8): the target position every SYNC.
+    Csp,
+    /// Cyclic synchronous velocity (9): the target velocity every SYNC.
+    Csv,
+}
+
+impl DriveMode {
+    /// The value of object `6060h` for this mode.
+    pub fn code(self) -> i8 {
+        match self {
+            DriveMode::Csp => 8,
+            DriveMode::Csv => 9,
+        }
+    }
+}
+
+/// A CiA 402 servo drive on the CANopen bus, driving one AXCFIL axis or spindle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CanDrive {
+    /// AXCFIL process number (1..5).
+    pub process: u32,
+    /// AXCFIL axis name (`S` for a spindle).
+    pub axis: char,
+    /// Node id 1..127.
+    pub node_id: u8,
+    /// Drive position units per axis unit (mm, degree or revolution); finite and > 0.
+    pub counts_per_unit: f64,
+    /// The mode of operation.
+    pub mode: DriveMode,
+    /// Heartbeat producer time the master writes to `1017h`; the consumer allows 3× this.
+    pub heartbeat: Duration,
+    /// Extra SDO writes after the standard configuration, before NMT start.
+    pub sdo: Vec<SdoWrite>,
+}
+
+/// An axis the machine's AXCFIL declares, as the drive validation needs it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DeclaredAxis {
+    /// Process number (1..5).
+    pub process: u32,
+    /// Axis name.
+    pub name: char,
+    /// TPA axis type as written (the Table 4.1 codes summed); 0 when the axis has no TPA.
+    pub tpa: u32,
+}
+
 /// How the CANopen master reaches the bus.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum TransportConfig {
@@ -215,7 +270,7 @@ pub enum TransportConfig {
 }
 
 /// The CANopen part of the map.
-#[derive(Debug, Clone, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct CanopenConfig {
     /// How to reach the bus.
     pub transport: TransportConfig,
@@ -223,6 +278,8 @@ pub struct CanopenConfig {
     pub sdo_timeout: Duration,
     /// The nodes.
     pub nodes: Vec<CanNode>,
+    /// The CiA 402 drives (`[[canopen.drive]]`).
+    pub drives: Vec<CanDrive>,
 }
 
 /// A K/N byte window the HMI may write (holding registers).
@@ -244,7 +301,7 @@ pub struct HmiConfig {
 }
 
 /// A validated I/O map.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Default, PartialEq)]
 pub struct IoMap {
     /// The HMI server, when the map has `[hmi]`.
     pub hmi: Option<HmiConfig>,
@@ -326,6 +383,21 @@ pub(crate) struct RawCanopen {
     pub sdo_timeout_ms: Option<Spanned<u64>>,
     #[serde(default)]
     pub node: Vec<Spanned<RawCanNode>>,
+    #[serde(default)]
+    pub drive: Vec<Spanned<RawCanDrive>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawCanDrive {
+    pub axis: Spanned<String>,
+    pub process: Option<Spanned<u32>>,
+    pub node_id: Spanned<u32>,
+    pub counts_per_unit: Spanned<f64>,
+    pub mode: Spanned<String>,
+    pub heartbeat_ms: Option<Spanned<u64>>,
+    #[serde(default)]
+    pub sdo: Vec<Spanned<SdoWrite>>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -110,6 +110,11 @@ impl Facts {
         }
     }
 
+    /// The AXCFIL axes, for the drive entries of the fieldbus I/O map.
+    pub fn declared_axes(&self) -> Vec<fieldbus::DeclaredAxis> {
+        declared_axes(&self.machine)
+    }
+
     /// The 64 initial bytes of packet T (IOCFIL section 4; unset bytes are 0).
     pub fn t_init(&self) -> Vec<u8> {
         let mut t = vec![0u8; packets::Packet::T.len()];
@@ -120,6 +125,23 @@ impl Facts {
         }
         t
     }
+}
+
+/// Every AXCFIL axis of `machine` (process, name, TPA as written), for the fieldbus validation
+/// of `[[canopen.drive]]` entries.
+pub fn declared_axes(machine: &Machine) -> Vec<fieldbus::DeclaredAxis> {
+    machine
+        .axcfil
+        .processes
+        .iter()
+        .flat_map(|p| {
+            p.axes.iter().map(|a| fieldbus::DeclaredAxis {
+                process: p.number,
+                name: a.name,
+                tpa: a.tpa.as_ref().map_or(0, |t| t.axis_type.raw),
+            })
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -150,6 +172,26 @@ mod tests {
         let ctx = facts.compiler_context().expect("interface map");
         assert_eq!(ctx.a_inputs, vec![0, 1, 2]);
         assert_eq!(ctx.a_outputs, vec![4, 5, 6]);
+    }
+
+    #[test]
+    fn the_mill_declares_its_axes_for_the_drive_entries() {
+        let facts = Facts::load(&example("mill")).expect("the mill loads");
+        let axes: Vec<_> = facts
+            .declared_axes()
+            .iter()
+            .map(|a| (a.process, a.name, a.tpa))
+            .collect();
+        assert_eq!(
+            axes,
+            vec![
+                (1, 'X', 0x1),
+                (1, 'Y', 0x1),
+                (1, 'Z', 0x1),
+                (1, 'S', 0x820),
+                (2, 'T', 0x2)
+            ]
+        );
     }
 
     #[test]

@@ -464,6 +464,36 @@ fn nc_dialect_and_constants_are_checked() {
     let (code, lines) = json_check(&[&dir.path().display().to_string()]);
     assert_eq!(code, Some(1));
     let got: Vec<_> = lines.iter().map(brief).collect();
+
+/// `check` validates `[[canopen.drive]]` entries against the machine's AXCFIL axes (issue 21):
+/// the mill's X, Y, Z and S are valid, an axis it lacks and a spindle in `csp` are located errors.
+#[test]
+fn check_validates_the_drive_entries_against_axcfil() {
+    let dir = copy_machine("mill");
+    let io = dir.path().join("io.toml");
+    let mut text = std::fs::read_to_string(&io).expect("io.toml");
+    assert_eq!(text.lines().count(), 116);
+    for (axis, node, mode) in [
+        ("X", 10, "csp"),
+        ("Y", 11, "csp"),
+        ("Z", 12, "csp"),
+        ("S", 13, "csv"),
+    ] {
+        text += &format!(
+            "[[canopen.drive]]\naxis = \"{axis}\"\nnode_id = {node}\ncounts_per_unit = 1000\nmode = \"{mode}\"\n"
+        );
+    }
+    std::fs::write(&io, &text).expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!((code, lines.len()), (Some(0), 0), "{lines:?}");
+    // Lines 137..141: an undeclared axis; 142..146: the spindle in csp on node 3, an I/O node.
+    text += "[[canopen.drive]]\naxis = \"Q\"\nnode_id = 20\ncounts_per_unit = 1\nmode = \"csp\"\n";
+    text += "[[canopen.drive]]\naxis = \"S\"\nnode_id = 3\ncounts_per_unit = 1\nmode = \"csp\"\n";
+    std::fs::write(&io, text).expect("write");
+    let (code, lines) = json_check(&[&dir.path().display().to_string()]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    let io_toml = || "io.toml".to_string();
     assert_eq!(
         got,
         [
@@ -487,6 +517,33 @@ fn nc_dialect_and_constants_are_checked() {
                 4,
                 1,
                 "expected `R<n>: <value>`, found `R341: x`".to_string()
+
+                3070,
+                io_toml(),
+                138,
+                8,
+                "AXCFIL declares no axis Q in process 1".to_string()
+            ),
+            (
+                3071,
+                io_toml(),
+                143,
+                8,
+                "axis S of process 1 is on two drives".to_string()
+            ),
+            (
+                3072,
+                io_toml(),
+                144,
+                11,
+                "node id 3 is already an I/O node".to_string()
+            ),
+            (
+                3074,
+                io_toml(),
+                146,
+                8,
+                "mode \"csp\" does not fit axis S (TPA=820), a spindle".to_string()
             ),
         ]
     );
@@ -511,3 +568,4 @@ fn interface_toml_unknown_table_is_a_located_error() {
     );
     assert!(got[0].4.contains("unknown field `signl`"), "{got:?}");
 }
+

@@ -4,9 +4,13 @@
 //! consumer, SDO configuration at start). The bus is reached through the [`transport::CanBus`] trait
 //! with three implementations: Linux SocketCAN ([`socketcan_bus`]), an in-process virtual bus
 //! ([`virtual_bus`]) and CAN over UDP in the cannelloni format ([`cannelloni`]). [`node_sim`] is a
-//! simulated CiA 401 node for tests and for the `virtual` transport.
+//! simulated CiA 401 node for tests and for the `virtual` transport. [`drive`] is the CiA 402 side
+//! of the master (servo drives in cyclic synchronous position or velocity mode), [`drive_sim`] a
+//! simulated CiA 402 drive node.
 
 pub mod cannelloni;
+pub mod drive;
+pub mod drive_sim;
 pub mod master;
 pub mod node_sim;
 pub mod sdo;

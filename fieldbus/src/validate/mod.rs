@@ -4,7 +4,8 @@
 //! the byte span that toml's spans give. Nothing here panics on any input text. The checks: syntax and
 //! unknown fields, signal names, connectors out of range, connectors IOCFIL does not declare (`INx` /
 //! `OUx`), direction mismatches, overlapping mappings, unknown and duplicate devices, Modbus and
-//! CANopen parameter ranges, healthy bits and the HMI window. The codes are listed in
+//! CANopen parameter ranges, healthy bits, the HMI window and the CiA 402 drive entries
+//! ([`drives`]: against the AXCFIL axes when the caller gives them). The codes are listed in
 //! `fieldbus/DIAGNOSTICS.md`.
 
 use std::collections::{BTreeMap, HashMap};
@@ -18,6 +19,7 @@ use toml::Spanned;
 
 use crate::map::*;
 
+mod drives;
 mod mappings;
 mod sections;
 
@@ -72,6 +74,24 @@ pub mod codes {
     pub const SIM: u32 = 3099;
     /// Warning: a declared connector no mapping uses.
     pub const UNMAPPED: u32 = 3090;
+    /// A drive names no AXCFIL axis (or not an axis name).
+    pub const DRIVE_AXIS: u32 = 3070;
+    /// An axis is on two drive entries.
+    pub const DRIVE_AXIS_TWICE: u32 = 3071;
+    /// A drive's node id is an I/O node's or another drive's.
+    pub const DRIVE_NODE: u32 = 3072;
+    /// A drive's `counts_per_unit` is 0, negative or not finite.
+    pub const DRIVE_SCALE: u32 = 3073;
+    /// An unknown drive mode, or one that does not fit the axis type (spindle ↔ `csv`).
+    pub const DRIVE_MODE: u32 = 3074;
+    /// A drive mode that is not supported yet (`pp`).
+    pub const DRIVE_MODE_NOT_YET: u32 = 3075;
+    /// The axis type does not allow a bus drive (AXCFIL error 226's TPA codes, virtual axes).
+    pub const DRIVE_AXIS_TYPE: u32 = 3076;
+    /// A drive failed its start-up (no answer or an SDO abort): no drive is enabled.
+    pub const DRIVE_START: u32 = 3077;
+    /// `run` was given drive entries, which are validated but not yet driven by a run.
+    pub const DRIVES_NOT_DRIVEN: u32 = 3078;
 }
 
 /// Default HMI server address.
@@ -162,13 +182,23 @@ impl Ctx<'_> {
 }
 
 /// Reads `<machine_dir>/io.toml` and validates it; the map is `Some` exactly when there are no errors.
+/// Drive entries are checked without the machine's axes (see [`load_map_with_axes`]).
 pub fn load_map(
     machine_dir: &Path,
     declared: &DeclaredConnectors,
 ) -> (Option<IoMap>, Vec<Diagnostic>) {
+    load_map_with_axes(machine_dir, declared, None)
+}
+
+/// [`load_map`], with the drive entries checked against the AXCFIL `axes` when given.
+pub fn load_map_with_axes(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+    axes: Option<&[DeclaredAxis]>,
+) -> (Option<IoMap>, Vec<Diagnostic>) {
     let path = machine_dir.join("io.toml");
     match std::fs::read_to_string(&path) {
-        Ok(text) => parse_map(&text, "io.toml", declared),
+        Ok(text) => parse_map_with_axes(&text, "io.toml", declared, axes),
         Err(e) => {
             let d = Diagnostic::error(codes::UNREADABLE, "io.toml", 0..0, format!("cannot read {}: {e}", path.display()))
                 .with_hint("write an I/O map <machine>/io.toml (see fieldbus/DIAGNOSTICS.md) or run with --io sim");
@@ -178,11 +208,22 @@ pub fn load_map(
 }
 
 /// Parses and validates the text of an I/O map named `file`; the map is `Some` exactly when there
-/// are no errors (warnings may accompany it).
+/// are no errors (warnings may accompany it). Drive entries are checked without the axes.
 pub fn parse_map(
     text: &str,
     file: &str,
     declared: &DeclaredConnectors,
+) -> (Option<IoMap>, Vec<Diagnostic>) {
+    parse_map_with_axes(text, file, declared, None)
+}
+
+/// [`parse_map`], with the drive entries checked against the AXCFIL `axes` when given (`None`:
+/// every check but those needing the axes).
+pub fn parse_map_with_axes(
+    text: &str,
+    file: &str,
+    declared: &DeclaredConnectors,
+    axes: Option<&[DeclaredAxis]>,
 ) -> (Option<IoMap>, Vec<Diagnostic>) {
     let mut cx = Ctx {
         file,
@@ -256,6 +297,8 @@ pub fn parse_map(
                 ids.insert(n.node_id, span);
             }
         }
+        let mut cfg = cfg;
+        cfg.drives = drives::drives(&mut cx, &c.get_ref().drive, &ids, axes);
         map.canopen = Some(cfg);
     }
 

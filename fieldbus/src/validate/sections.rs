@@ -205,23 +205,7 @@ pub(super) fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> Cano
                 1
             }
         };
-        for s in &r.sdo {
-            let w = s.get_ref();
-            let fits = match w.size {
-                1 => w.value <= 0xFF,
-                2 => w.value <= 0xFFFF,
-                4 => true,
-                _ => false,
-            };
-            if !fits {
-                cx.err(
-                    codes::VALUE,
-                    s.span(),
-                    format!("SDO value {} does not fit size {}", w.value, w.size),
-                    "size is 1, 2 or 4 bytes and the value must fit it",
-                );
-            }
-        }
+        check_sdo_writes(cx, &r.sdo);
         nodes.push(CanNode {
             name: r.name.get_ref().clone(),
             node_id,
@@ -236,5 +220,27 @@ pub(super) fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> Cano
         transport,
         sdo_timeout: cx.ms(&c.sdo_timeout_ms, 100, "sdo_timeout_ms"),
         nodes,
+        drives: Vec::new(),
+    }
+}
+
+/// Checks that each SDO write's value fits its size (1, 2 or 4 bytes).
+pub(super) fn check_sdo_writes(cx: &mut Ctx, writes: &[toml::Spanned<SdoWrite>]) {
+    for s in writes {
+        let w = s.get_ref();
+        let fits = match w.size {
+            1 => w.value <= 0xFF,
+            2 => w.value <= 0xFFFF,
+            4 => true,
+            _ => false,
+        };
+        if !fits {
+            cx.err(
+                codes::VALUE,
+                s.span(),
+                format!("SDO value {} does not fit size {}", w.value, w.size),
+                "size is 1, 2 or 4 bytes and the value must fit it",
+            );
+        }
     }
 }

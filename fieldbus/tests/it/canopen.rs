@@ -17,6 +17,7 @@ fn node_cfg(heartbeat_ms: u64, sdo: Vec<SdoWrite>) -> CanopenConfig {
     CanopenConfig {
         transport: TransportConfig::Virtual,
         sdo_timeout: Duration::from_millis(100),
+        drives: Vec::new(),
         nodes: vec![CanNode {
             name: "dio1".into(),
             node_id: 2,

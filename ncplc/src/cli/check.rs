@@ -4,7 +4,8 @@
 //! 1601–1608) and, when AXCFIL says NBP>1, every handshake signal a process 2..NBP lacks (1609).
 //!
 //! The I/O map `<machine>/io.toml` is checked too when the machine has one (the fieldbus crate's
-//! located validation, codes 3000–3499, against the connectors IOCFIL declares); a machine without
+//! located validation, codes 3000–3499, against the connectors IOCFIL declares and, for the
+//! `[[canopen.drive]]` entries, the axes AXCFIL declares); a machine without
 //! io.toml runs with `--io sim` only, which is not a problem of the machine; an io.toml that
 //! declares no I/O (empty, or no device and no node) is a warning (3050), since `run --io modbus`
 //! and `--io canopen` refuse it.
@@ -99,7 +100,8 @@ pub fn check_io_map(
         // No IOCFIL (its own error is reported): check the map without connector rules.
         None => fieldbus::DeclaredConnectors::default(),
     };
-    let (map, mut diags) = fieldbus::load_map(machine_dir, &declared);
+    let axes = crate::machine_facts::declared_axes(machine);
+    let (map, mut diags) = fieldbus::load_map_with_axes(machine_dir, &declared, Some(&axes));
     let text = std::fs::read_to_string(&path).unwrap_or_default();
     if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {
         diags.push(w);

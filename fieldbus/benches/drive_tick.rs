@@ -1,0 +1,63 @@
+//! The master's per-tick drive logic without I/O (`DriveSet`) for four axes and a spindle: the
+//! RPDOs of one tick's commands, the five TPDO answers, the after-SYNC checks (issue 21's budget
+//! for kernel + drives is 20 µs p99 per tick; this is the drives' part, bus time excluded).
+
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use fieldbus::canopen::CanMsg;
+use fieldbus::canopen::drive::{AxisId, DriveCommand, DriveSet};
+use fieldbus::map::{CanDrive, DriveMode};
+use tokio::time::Instant;
+
+fn bench(c: &mut Criterion) {
+    let drives: Vec<CanDrive> = [('X', 3), ('Y', 4), ('Z', 5), ('A', 6), ('S', 7)]
+        .iter()
+        .map(|&(axis, node_id)| CanDrive {
+            process: 1,
+            axis,
+            node_id,
+            counts_per_unit: 10_000.0,
+            mode: if axis == 'S' {
+                DriveMode::Csv
+            } else {
+                DriveMode::Csp
+            },
+            heartbeat: Duration::from_secs(3600),
+            sdo: Vec::new(),
+        })
+        .collect();
+    let mut set = DriveSet::new(&drives, Duration::from_millis(1));
+    let now = Instant::now();
+    set.started(now, &[0x0237; 5]);
+    let axes: Vec<AxisId> = set.axes().collect();
+    let answers: Vec<CanMsg> = drives
+        .iter()
+        .map(|d| CanMsg::new(0x180 + u16::from(d.node_id), &[0x37, 0x02, 1, 2, 3, 0]))
+        .collect();
+    let mut n = 0.0f64;
+    c.bench_function("drive_tick_5_drives", |b| {
+        b.iter(|| {
+            n += 0.001;
+            for a in &axes {
+                set.command(
+                    *a,
+                    DriveCommand {
+                        set_point: n,
+                        enable: true,
+                        ..DriveCommand::default()
+                    },
+                );
+            }
+            let out = set.rpdos(now);
+            for m in &answers {
+                std::hint::black_box(set.on_frame(m, now));
+            }
+            set.after_sync(now);
+            std::hint::black_box(out.len())
+        })
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

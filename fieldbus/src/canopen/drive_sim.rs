@@ -1,0 +1,572 @@
+//! A simulated CiA 402 servo drive on any [`CanBus`], for tests, peers and the `virtual` transport.
+//!
+//! It boots (boot-up message), follows NMT, produces its heartbeat every `1017h` ms and serves an
+//! object dictionary over SDO: `1000h` (`00020192h`, CiA 402), `1017h`, the RPDO1/TPDO1
+//! communication (`1400h`, `1800h`) and mapping (`1600h`, `1A00h`) records, `603Fh` error code,
+//! `6040h` controlword, `6041h` statusword, `6060h`/`6061h` mode, `6064h` position actual,
+//! `606Ch` velocity actual, `607Ah` target position, `60FFh` target velocity, `60C2h`
+//! interpolation period. RPDO1 is synchronous: its mapped objects are applied at the next SYNC,
+//! then the power state machine ([`cia402::transition`]) takes the controlword, the axis model
+//! moves, and TPDO1 carries the mapped objects (transmission type n: every n-th SYNC).
+//!
+//! The axis model is an ideal follower with a lag of `lag` SYNCs: in *Operation enabled* the
+//! actual value is the target received `lag` SYNCs before (0: the target of this SYNC). In `csv`
+//! the velocity follows the same way and the position integrates it over the interpolation
+//! period. Test hooks: [`DriveSimState::inject_fault`] (statusword fault + EMCY at the next SYNC),
+//! `heartbeat_stopped` (a lost heartbeat, the node otherwise working), `silent` (no frame at
+//! all), `refuse_enable`, `sdo_abort` (one object aborts every write).
+
+use std::collections::VecDeque;
+use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
+
+use super::drive::cia402::{self, State};
+use super::transport::CanBus;
+use super::{CanMsg, cob, nmt, sdo};
+
+/// Device type `1000h`: CiA 402 (profile 402 = 0192h), servo drive (type 0002h).
+pub const DEVICE_TYPE: u32 = 0x0002_0192;
+/// Abort code: value range of parameter exceeded.
+pub const ABORT_RANGE: u32 = 0x0609_0030;
+/// Abort code: object cannot be mapped to the PDO.
+pub const ABORT_NOT_MAPPABLE: u32 = 0x0604_0041;
+/// Abort code: mapped objects exceed the PDO length.
+pub const ABORT_PDO_LENGTH: u32 = 0x0604_0042;
+
+/// The drive's state, shared with whoever runs it.
+#[derive(Debug, Clone)]
+pub struct DriveSimState {
+    /// NMT state.
+    pub nmt: u8,
+    /// CiA 402 state.
+    pub state: State,
+    /// Controlword last applied (`6040h`).
+    pub controlword: u16,
+    /// Mode of operation (`6060h`).
+    pub mode: i8,
+    /// Target position (`607Ah`).
+    pub target_position: i32,
+    /// Target velocity (`60FFh`).
+    pub target_velocity: i32,
+    /// Position actual value (`6064h`).
+    pub position: i32,
+    /// Velocity actual value (`606Ch`).
+    pub velocity: i32,
+    /// Error code (`603Fh`).
+    pub error_code: u16,
+    /// Interpolation period (`60C2h` sub 1, sub 2).
+    pub interpolation: (u8, i8),
+    /// Producer heartbeat time in ms (`1017h`); 0 = none.
+    pub heartbeat_ms: u16,
+    /// RPDO1 COB-ID (`1400h`/1), transmission type (`1400h`/2), mapping (`1600h`).
+    pub rpdo: PdoConfig,
+    /// TPDO1 COB-ID (`1800h`/1), transmission type (`1800h`/2), mapping (`1A00h`).
+    pub tpdo: PdoConfig,
+    /// SYNCs the follower lags behind the target.
+    pub lag: usize,
+    /// Hook: no heartbeat is produced (the node otherwise works).
+    pub heartbeat_stopped: bool,
+    /// Hook: the node sends nothing and ignores everything.
+    pub silent: bool,
+    /// Hook: the drive stays *Switched on* when asked to enable operation.
+    pub refuse_enable: bool,
+    /// Hook: writes to this object (index, sub-index) abort with this code.
+    pub sdo_abort: Option<(u16, u8, u32)>,
+    /// SYNCs received.
+    pub syncs: u64,
+    /// Every (SYNC number, controlword, target) applied at a SYNC while operational.
+    pub applied: Vec<(u64, u16, i32)>,
+    pending_fault: Option<u16>,
+    pending_rpdo: Option<CanMsg>,
+    history: VecDeque<i32>,
+    exact_position: f64,
+}
+
+/// One PDO's communication and mapping parameters.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PdoConfig {
+    /// COB-ID; bit 31 set = PDO disabled.
+    pub cob_id: u32,
+    /// Transmission type (1..240: every n-th SYNC).
+    pub transmission: u8,
+    /// Number of mapped objects.
+    pub count: u8,
+    /// Mapping entries: index << 16 | sub-index << 8 | bit length.
+    pub map: [u32; 8],
+}
+
+impl DriveSimState {
+    fn new(id: u8) -> DriveSimState {
+        let pdo = |cob: u16, map: [u32; 2]| PdoConfig {
+            cob_id: u32::from(cob) + u32::from(id),
+            transmission: 1,
+            count: 2,
+            map: [map[0], map[1], 0, 0, 0, 0, 0, 0],
+        };
+        DriveSimState {
+            nmt: nmt::PRE_OPERATIONAL,
+            state: State::SwitchOnDisabled,
+            controlword: 0,
+            mode: 0,
+            target_position: 0,
+            target_velocity: 0,
+            position: 0,
+            velocity: 0,
+            error_code: 0,
+            interpolation: (1, -3),
+            heartbeat_ms: 0,
+            rpdo: pdo(cob::RPDO1, [0x6040_0010, 0x607A_0020]),
+            tpdo: pdo(cob::TPDO1, [0x6041_0010, 0x6064_0020]),
+            lag: 0,
+            heartbeat_stopped: false,
+            silent: false,
+            refuse_enable: false,
+            sdo_abort: None,
+            syncs: 0,
+            applied: Vec::new(),
+            pending_fault: None,
+            pending_rpdo: None,
+            history: VecDeque::new(),
+            exact_position: 0.0,
+        }
+    }
+
+    /// Makes the drive fault at the next SYNC with error code `code` (`603Fh`), sending an EMCY.
+    pub fn inject_fault(&mut self, code: u16) {
+        self.pending_fault = Some(code);
+    }
+
+    /// The statusword (`6041h`).
+    pub fn statusword(&self) -> u16 {
+        self.state.statusword()
+    }
+
+    fn period_s(&self) -> f64 {
+        let scale = match self.interpolation.1 {
+            -6 => 1e-6,
+            -5 => 1e-5,
+            -4 => 1e-4,
+            -3 => 1e-3,
+            -2 => 1e-2,
+            -1 => 1e-1,
+            _ => 1.0,
+        };
+        f64::from(self.interpolation.0) * scale
+    }
+
+    fn get(&self, index: u16, sub: u8) -> Result<(u32, u8), u32> {
+        let pdo = |p: &PdoConfig, comm: bool| -> Result<(u32, u8), u32> {
+            match (comm, sub) {
+                (true, 0) => Ok((2, 1)),
+                (true, 1) => Ok((p.cob_id, 4)),
+                (true, 2) => Ok((u32::from(p.transmission), 1)),
+                (false, 0) => Ok((u32::from(p.count), 1)),
+                (false, 1..=8) => Ok((p.map[usize::from(sub) - 1], 4)),
+                _ => Err(sdo::ABORT_NO_SUBINDEX),
+            }
+        };
+        let only0 = |v: u32, size: u8| {
+            if sub == 0 {
+                Ok((v, size))
+            } else {
+                Err(sdo::ABORT_NO_SUBINDEX)
+            }
+        };
+        match index {
+            0x1000 => only0(DEVICE_TYPE, 4),
+            0x1017 => only0(u32::from(self.heartbeat_ms), 2),
+            0x1400 => pdo(&self.rpdo, true),
+            0x1600 => pdo(&self.rpdo, false),
+            0x1800 => pdo(&self.tpdo, true),
+            0x1A00 => pdo(&self.tpdo, false),
+            0x603F => only0(u32::from(self.error_code), 2),
+            0x6040 => only0(u32::from(self.controlword), 2),
+            0x6041 => only0(u32::from(self.statusword()), 2),
+            0x6060 | 0x6061 => only0(u32::from(self.mode as u8), 1),
+            0x6064 => only0(self.position as u32, 4),
+            0x606C => only0(self.velocity as u32, 4),
+            0x607A => only0(self.target_position as u32, 4),
+            0x60FF => only0(self.target_velocity as u32, 4),
+            0x60C2 => match sub {
+                0 => Ok((2, 1)),
+                1 => Ok((u32::from(self.interpolation.0), 1)),
+                2 => Ok((u32::from(self.interpolation.1 as u8), 1)),
+                _ => Err(sdo::ABORT_NO_SUBINDEX),
+            },
+            _ => Err(sdo::ABORT_NO_OBJECT),
+        }
+    }
+
+    /// Writes an object from SDO (`size` checked) or from a PDO (`size` = the mapped size).
+    fn set(&mut self, index: u16, sub: u8, v: u32, size: u8) -> Result<(), u32> {
+        if let Some((i, s, code)) = self.sdo_abort
+            && (i, s) == (index, sub)
+        {
+            return Err(code);
+        }
+        let (_, want) = self.get(index, sub)?;
+        if size != want {
+            return Err(sdo::ABORT_LENGTH);
+        }
+        let map_entry = |p: &mut PdoConfig, v: u32, rx: bool| -> Result<(), u32> {
+            let obj = (v >> 16) as u16;
+            let ok = if rx {
+                matches!(obj, 0x6040 | 0x607A | 0x60FF | 0x6060)
+            } else {
+                matches!(obj, 0x6041 | 0x6064 | 0x606C | 0x6061 | 0x603F)
+            };
+            if !ok || v & 0xFF == 0 || v & 0x07 != 0 {
+                return Err(ABORT_NOT_MAPPABLE);
+            }
+            p.map[usize::from(sub) - 1] = v;
+            Ok(())
+        };
+        let count = |p: &mut PdoConfig, v: u32| -> Result<(), u32> {
+            let bits: u32 = p.map.iter().take(v as usize).map(|m| m & 0xFF).sum();
+            if v > 8 || bits > 64 {
+                return Err(ABORT_PDO_LENGTH);
+            }
+            p.count = v as u8;
+            Ok(())
+        };
+        match (index, sub) {
+            (0x1017, 0) => self.heartbeat_ms = v as u16,
+            (0x1400, 1) => self.rpdo.cob_id = v,
+            (0x1400, 2) => self.rpdo.transmission = v as u8,
+            (0x1800, 1) => self.tpdo.cob_id = v,
+            (0x1800, 2) => self.tpdo.transmission = v as u8,
+            (0x1600, 0) => count(&mut self.rpdo, v)?,
+            (0x1A00, 0) => count(&mut self.tpdo, v)?,
+            (0x1600, _) => map_entry(&mut self.rpdo, v, true)?,
+            (0x1A00, _) => map_entry(&mut self.tpdo, v, false)?,
+            (0x6040, 0) => self.controlword = v as u16,
+            (0x6060, 0) => {
+                if !matches!(v, 8 | 9) {
+                    return Err(ABORT_RANGE);
+                }
+                self.mode = v as i8;
+            }
+            (0x607A, 0) => self.target_position = v as i32,
+            (0x60FF, 0) => self.target_velocity = v as i32,
+            (0x60C2, 1) => self.interpolation.0 = v as u8,
+            (0x60C2, 2) => self.interpolation.1 = v as u8 as i8,
+            _ => return Err(sdo::ABORT_READ_ONLY),
+        }
+        Ok(())
+    }
+
+    /// Applies a received RPDO's bytes to the mapped objects.
+    fn apply_rpdo(&mut self, m: &CanMsg) {
+        let d = m.payload();
+        let mut at = 0usize;
+        let map = self.rpdo.map;
+        for e in map.iter().take(usize::from(self.rpdo.count)).copied() {
+            let n = ((e & 0xFF) / 8) as usize;
+            let Some(bytes) = d.get(at..at + n) else {
+                return;
+            };
+            let mut v = [0u8; 4];
+            v[..n.min(4)].copy_from_slice(&bytes[..n.min(4)]);
+            let _ = self.set(
+                (e >> 16) as u16,
+                (e >> 8) as u8,
+                u32::from_le_bytes(v),
+                n as u8,
+            );
+            at += n;
+        }
+    }
+
+    fn tpdo_bytes(&self) -> Vec<u8> {
+        let mut out = Vec::with_capacity(8);
+        for e in self
+            .tpdo
+            .map
+            .iter()
+            .take(usize::from(self.tpdo.count))
+            .copied()
+        {
+            let n = ((e & 0xFF) / 8) as usize;
+            let v = self
+                .get((e >> 16) as u16, (e >> 8) as u8)
+                .map_or(0, |(v, _)| v);
+            out.extend_from_slice(&v.to_le_bytes()[..n.min(4)]);
+        }
+        out
+    }
+
+    /// One SYNC: the pending RPDO, the state machine, the axis model; the frames to send.
+    fn on_sync(&mut self, id: u8) -> Vec<CanMsg> {
+        self.syncs += 1;
+        let mut out = Vec::new();
+        if self.nmt != nmt::OPERATIONAL {
+            return out;
+        }
+        let last = self.controlword;
+        if let Some(m) = self.pending_rpdo.take() {
+            self.apply_rpdo(&m);
+        }
+        self.applied
+            .push((self.syncs, self.controlword, self.target_position));
+        self.state = cia402::transition(self.state, self.controlword, last, self.refuse_enable);
+        if let Some(code) = self.pending_fault.take() {
+            self.state = State::Fault;
+            self.error_code = code;
+            let c = code.to_le_bytes();
+            out.push(CanMsg::new(
+                0x080 + u16::from(id),
+                &[c[0], c[1], 0x01, 0, 0, 0, 0, 0],
+            ));
+        } else if self.state == State::SwitchOnDisabled && self.error_code != 0 {
+            // Left Fault by a reset: the error is cleared (an EMCY with code 0 says so).
+            self.error_code = 0;
+            out.push(CanMsg::new(0x080 + u16::from(id), &[0; 8]));
+        }
+        self.follow();
+        let every = u64::from(self.tpdo.transmission.max(1));
+        if self.tpdo.cob_id & 0x8000_0000 == 0
+            && self.tpdo.transmission <= 240
+            && self.syncs.is_multiple_of(every)
+        {
+            out.push(CanMsg::new(
+                (self.tpdo.cob_id & 0x7FF) as u16,
+                &self.tpdo_bytes(),
+            ));
+        }
+        out
+    }
+
+    fn follow(&mut self) {
+        let enabled = self.state == State::OperationEnabled;
+        let target = if self.mode == 9 {
+            self.target_velocity
+        } else {
+            self.target_position
+        };
+        if !enabled {
+            self.history.clear();
+            self.velocity = 0;
+            return;
+        }
+        self.history.push_back(target);
+        while self.history.len() > self.lag + 1 {
+            self.history.pop_front();
+        }
+        if self.history.len() <= self.lag {
+            return;
+        }
+        let Some(&now) = self.history.front() else {
+            return;
+        };
+        let period = self.period_s();
+        if self.mode == 9 {
+            self.velocity = now;
+            self.exact_position += f64::from(now) * period;
+            self.position = self.exact_position.round() as i32;
+        } else {
+            let moved = f64::from(now.wrapping_sub(self.position));
+            self.velocity = if period > 0.0 {
+                (moved / period).round() as i32
+            } else {
+                0
+            };
+            self.position = now;
+            self.exact_position = f64::from(now);
+        }
+    }
+}
+
+/// A running simulated drive.
+pub struct Cia402Node {
+    /// The node id.
+    pub node_id: u8,
+    state: Arc<Mutex<DriveSimState>>,
+    task: Option<tokio::task::JoinHandle<()>>,
+}
+
+fn lock(s: &Mutex<DriveSimState>) -> MutexGuard<'_, DriveSimState> {
+    s.lock().unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+impl Cia402Node {
+    /// Spawns the drive on the current tokio runtime.
+    pub fn spawn<B: CanBus>(bus: B, node_id: u8) -> Cia402Node {
+        let state = Arc::new(Mutex::new(DriveSimState::new(node_id)));
+        let task = tokio::spawn(run(bus, node_id, state.clone()));
+        Cia402Node {
+            node_id,
+            state,
+            task: Some(task),
+        }
+    }
+
+    /// Locks the drive's state (to read it or to set a hook).
+    pub fn state(&self) -> MutexGuard<'_, DriveSimState> {
+        lock(&self.state)
+    }
+
+    /// Stops the drive: no more frames at all.
+    pub fn kill(&mut self) {
+        if let Some(t) = self.task.take() {
+            t.abort();
+        }
+    }
+}
+
+impl Drop for Cia402Node {
+    fn drop(&mut self) {
+        self.kill();
+    }
+}
+
+async fn run<B: CanBus>(mut bus: B, id: u8, state: Arc<Mutex<DriveSimState>>) {
+    if bus
+        .send(&CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]))
+        .await
+        .is_err()
+    {
+        return;
+    }
+    let mut next_hb = tokio::time::Instant::now();
+    loop {
+        let hb_ms = lock(&state).heartbeat_ms;
+        let wait = if hb_ms == 0 {
+            Duration::from_secs(3600)
+        } else {
+            next_hb.saturating_duration_since(tokio::time::Instant::now())
+        };
+        let replies = tokio::select! {
+            m = bus.recv() => match m {
+                Ok(m) => handle(&mut lock(&state), id, &m),
+                Err(_) => return,
+            },
+            () = tokio::time::sleep(wait) => {
+                let s = lock(&state);
+                next_hb = tokio::time::Instant::now() + Duration::from_millis(u64::from(s.heartbeat_ms.max(1)));
+                if s.silent || s.heartbeat_stopped || s.heartbeat_ms == 0 {
+                    Vec::new()
+                } else {
+                    vec![CanMsg::new(cob::HEARTBEAT + u16::from(id), &[s.nmt])]
+                }
+            }
+        };
+        for r in replies {
+            if bus.send(&r).await.is_err() {
+                return;
+            }
+        }
+    }
+}
+
+/// What the drive does with one frame; the frames it answers with.
+pub fn handle(s: &mut DriveSimState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
+    if s.silent || m.extended || m.rtr {
+        return Vec::new();
+    }
+    let d = m.payload();
+    let cob_id = m.id as u16;
+    let mut out = Vec::new();
+    if cob_id == cob::NMT && d.len() >= 2 && (d[1] == id || d[1] == 0) {
+        match d[0] {
+            nmt::CMD_START => s.nmt = nmt::OPERATIONAL,
+            nmt::CMD_STOP => s.nmt = nmt::STOPPED,
+            nmt::CMD_PRE_OPERATIONAL => s.nmt = nmt::PRE_OPERATIONAL,
+            nmt::CMD_RESET_NODE | nmt::CMD_RESET_COMM => {
+                let hooks = (s.refuse_enable, s.sdo_abort, s.lag);
+                *s = DriveSimState::new(id);
+                (s.refuse_enable, s.sdo_abort, s.lag) = hooks;
+                out.push(CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]));
+            }
+            _ => {}
+        }
+    } else if cob_id == cob::SYNC {
+        out = s.on_sync(id);
+    } else if u32::from(cob_id) == s.rpdo.cob_id && s.nmt == nmt::OPERATIONAL {
+        s.pending_rpdo = Some(*m);
+    } else if cob_id == cob::SDO_RX + u16::from(id) && s.nmt != nmt::STOPPED {
+        let snapshot = s.clone();
+        let mut write = None;
+        let answer = sdo::serve_request(
+            d,
+            |index, sub| snapshot.get(index, sub),
+            |index, sub, v, size| {
+                let mut probe = snapshot.clone();
+                let r = probe.set(index, sub, v, size);
+                if r.is_ok() {
+                    write = Some(probe);
+                }
+                r
+            },
+        );
+        if let Some(new) = write {
+            *s = new;
+        }
+        if let Some(a) = answer {
+            out.push(CanMsg::new(cob::SDO_TX + u16::from(id), &a));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sdo_write(s: &mut DriveSimState, index: u16, sub: u8, v: u32, size: u8) -> Vec<u8> {
+        let req = sdo::download_request(index, sub, v, size).expect("size");
+        let out = handle(s, 3, &CanMsg::new(0x603, &req));
+        out[0].payload().to_vec()
+    }
+
+    #[test]
+    fn the_dictionary_refuses_bad_writes_with_the_cia_301_codes() {
+        let mut s = DriveSimState::new(3);
+        assert_eq!(sdo_write(&mut s, 0x6060, 0, 8, 1)[0], 0x60);
+        assert_eq!(s.mode, 8);
+        let abort = |b: Vec<u8>| (b[0], u32::from_le_bytes([b[4], b[5], b[6], b[7]]));
+        assert_eq!(
+            abort(sdo_write(&mut s, 0x6060, 0, 3, 1)),
+            (0x80, ABORT_RANGE)
+        );
+        assert_eq!(
+            abort(sdo_write(&mut s, 0x6060, 0, 8, 2)),
+            (0x80, sdo::ABORT_LENGTH)
+        );
+        assert_eq!(
+            abort(sdo_write(&mut s, 0x6041, 0, 1, 2)),
+            (0x80, sdo::ABORT_READ_ONLY)
+        );
+        assert_eq!(
+            abort(sdo_write(&mut s, 0x1600, 1, 0x6041_0010, 4)),
+            (0x80, ABORT_NOT_MAPPABLE)
+        );
+        assert_eq!(
+            abort(sdo_write(&mut s, 0x2000, 0, 1, 1)),
+            (0x80, sdo::ABORT_NO_OBJECT)
+        );
+        s.sdo_abort = Some((0x60C2, 1, ABORT_RANGE));
+        assert_eq!(
+            abort(sdo_write(&mut s, 0x60C2, 1, 10, 1)),
+            (0x80, ABORT_RANGE)
+        );
+    }
+
+    #[test]
+    fn a_sync_applies_the_rpdo_then_answers_with_the_tpdo() {
+        let mut s = DriveSimState::new(3);
+        handle(&mut s, 3, &CanMsg::new(0, &[nmt::CMD_START, 3]));
+        s.mode = 8;
+        s.state = State::SwitchedOn;
+        s.controlword = 0x07;
+        let mut rpdo = [0u8; 6];
+        rpdo[..2].copy_from_slice(&0x0Fu16.to_le_bytes());
+        rpdo[2..].copy_from_slice(&12_345i32.to_le_bytes());
+        handle(&mut s, 3, &CanMsg::new(0x203, &rpdo));
+        let out = handle(&mut s, 3, &CanMsg::new(0x80, &[]));
+        assert_eq!(s.state, State::OperationEnabled);
+        assert_eq!(out.len(), 1);
+        assert_eq!(out[0].id, 0x183);
+        assert_eq!(out[0].payload(), &[0x27, 0x02, 0x39, 0x30, 0, 0]);
+        assert_eq!(s.applied, vec![(1, 0x0F, 12_345)]);
+    }
+}
