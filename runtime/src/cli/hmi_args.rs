@@ -1,6 +1,8 @@
 //! The `--hmi` options of `ncplc run` and starting the web HMI from them.
 
 use std::net::SocketAddr;
+
+use clap::builder::TypedValueParser as _;
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
@@ -15,16 +17,45 @@ pub type PartKernel = (Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>);
 /// The web HMI options.
 #[derive(Debug, Clone, clap::Args)]
 pub struct HmiArgs {
-    /// Serve the web HMI (default 127.0.0.1:8080; a non-loopback address needs the access token).
+    /// Serve the web HMI (default 127.0.0.1:8080); every request needs the session token of
+    /// the address printed at start (docs/hmi-security.md).
     #[arg(long, value_name = "ADDR:PORT", num_args = 0..=1, default_missing_value = "127.0.0.1:8080")]
     pub hmi: Option<SocketAddr>,
-    /// The HMI only watches: writes, forces and commands are refused.
+    /// The HMI only watches: everyone is a viewer (writes, forces, commands and the power-flow
+    /// switch are refused).
     #[arg(long, requires = "hmi")]
     pub hmi_readonly: bool,
-    /// Read the HMI access token from this file (otherwise one is generated and printed for a
-    /// non-loopback address).
+    /// Read the HMI's tokens from this file, one `ROLE TOKEN` a line (viewer, operator,
+    /// integrator), or a single token with every right; otherwise one integrator token is
+    /// generated and printed in the start URL.
     #[arg(long, value_name = "FILE", requires = "hmi")]
     pub hmi_token_file: Option<PathBuf>,
+    /// Another name the HMI answers to in the `Host` header (`NAME` or `NAME:PORT`; repeatable).
+    #[arg(long, value_name = "NAME", requires = "hmi")]
+    pub hmi_allow_host: Vec<String>,
+    /// Another origin whose pages may change the machine or open the WebSocket
+    /// (`http://panel.lan:8080`; repeatable).
+    #[arg(long, value_name = "ORIGIN", requires = "hmi")]
+    pub hmi_allow_origin: Vec<String>,
+    /// Serve HTTPS with this certificate chain (PEM).
+    #[arg(long, value_name = "FILE", requires_all = ["hmi", "hmi_tls_key"])]
+    pub hmi_tls_cert: Option<PathBuf>,
+    /// The private key of --hmi-tls-cert (PEM).
+    #[arg(long, value_name = "FILE", requires_all = ["hmi", "hmi_tls_cert"])]
+    pub hmi_tls_key: Option<PathBuf>,
+    /// Largest request body in bytes.
+    #[arg(long, value_name = "BYTES", requires = "hmi", default_value_t = hmi::security::limits::Limits::default().max_body)]
+    pub hmi_max_body: usize,
+    /// Most connections open at once.
+    #[arg(long, value_name = "N", requires = "hmi", default_value_t = hmi::security::limits::Limits::default().max_clients,
+          value_parser = clap::value_parser!(u16).range(1..).map(usize::from))]
+    pub hmi_max_clients: usize,
+    /// Largest WebSocket message from a client in bytes.
+    #[arg(long, value_name = "BYTES", requires = "hmi", default_value_t = hmi::security::limits::Limits::default().ws_max_message)]
+    pub hmi_ws_max_message: usize,
+    /// Most WebSocket messages per second from one client.
+    #[arg(long, value_name = "N", requires = "hmi", default_value_t = hmi::security::limits::Limits::default().ws_rate)]
+    pub hmi_ws_rate: u32,
     /// Start with power flow on the Program page (switchable at run time: `POST /api/flow`, the
     /// page's toggle): every statement also writes its result into a flow area (costs scan time:
     /// +27 % instructions per tick on the 10,000-statement scan benchmark).
@@ -47,23 +78,21 @@ impl HmiArgs {
         let Some(addr) = self.hmi else {
             return Ok(None);
         };
-        let token = match &self.hmi_token_file {
+        let tokens = match &self.hmi_token_file {
             Some(path) => {
                 let t = std::fs::read_to_string(path)
                     .map_err(|e| format!("error: --hmi-token-file {}: {e}", path.display()))?;
-                let t = t.trim().to_string();
-                if t.is_empty() {
-                    return Err(format!(
-                        "error: --hmi-token-file {}: the file is empty",
-                        path.display()
-                    ));
-                }
-                Some(t)
+                hmi::Tokens::parse(&t)
+                    .map_err(|e| format!("error: --hmi-token-file {}:{e}", path.display()))?
             }
-            None if !hmi::auth::is_loopback(&addr) => {
-                Some(hmi::auth::generate_token().map_err(|e| format!("error: HMI token: {e}"))?)
-            }
-            None => None,
+            None => hmi::Tokens::generate().map_err(|e| format!("error: HMI token: {e}"))?,
+        };
+        let tls = match (&self.hmi_tls_cert, &self.hmi_tls_key) {
+            (Some(cert), Some(key)) => Some(hmi::security::tls::TlsFiles {
+                cert: cert.clone(),
+                key: key.clone(),
+            }),
+            _ => None,
         };
         let processes: Vec<u8> = if machine.signals.processes.is_empty() {
             vec![1]
@@ -80,10 +109,21 @@ impl HmiArgs {
             Some((k, sources)) => Box::new(KernelCnc::new(k, image, &sources)),
             None => Box::new(image),
         };
+        let defaults = hmi::security::limits::Limits::default();
         let config = hmi::ServerConfig {
             addr,
-            token: token.clone(),
+            tokens: tokens.clone(),
             readonly: self.hmi_readonly,
+            allow_hosts: self.hmi_allow_host.clone(),
+            allow_origins: self.hmi_allow_origin.clone(),
+            tls: tls.clone(),
+            limits: hmi::security::limits::Limits {
+                max_body: self.hmi_max_body,
+                max_clients: self.hmi_max_clients,
+                ws_max_message: self.hmi_ws_max_message,
+                ws_rate: self.hmi_ws_rate,
+                idle: defaults.idle,
+            },
         };
         let link = HmiLink::start(
             config,
@@ -94,11 +134,20 @@ impl HmiArgs {
         )
         .map_err(|e| format!("error: {e}"))?;
         let bound = link.running.addr;
-        match &token {
-            Some(t) if self.hmi_token_file.is_none() => {
-                eprintln!("hmi: http://{bound}/?token={t}  (access token {t})")
+        let scheme = if tls.is_some() { "https" } else { "http" };
+        match (&self.hmi_token_file, tokens.first()) {
+            (None, Some(t)) => eprintln!("hmi: {scheme}://{bound}/?token={t}"),
+            _ => {
+                let (v, o, i) = tokens.counts();
+                eprintln!(
+                    "hmi: {scheme}://{bound}/  (open it with ?token=YOUR_TOKEN; the token file gives {v} viewer, {o} operator, {i} integrator)"
+                )
             }
-            _ => eprintln!("hmi: http://{bound}/"),
+        }
+        if !hmi::is_loopback(&bound) && tls.is_none() {
+            eprintln!(
+                "hmi: warning: {bound} is reachable from the network and the HMI speaks plain HTTP: anyone on the network path can read the session token and the machine's state, and with the token write, force and start the machine; give --hmi-tls-cert and --hmi-tls-key (docs/hmi-security.md)"
+            );
         }
         if self.hmi_readonly {
             eprintln!("hmi: read-only");
