@@ -37,7 +37,8 @@ fn client(addr: std::net::SocketAddr, stop: Arc<AtomicBool>) -> std::thread::Joi
         let _ = write!(
             s,
             "GET /ws HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
-             Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+             Authorization: Bearer {}\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n",
+            common::BENCH_TOKEN
         );
         let _ = s.set_read_timeout(Some(Duration::from_millis(5)));
         let mut buf = vec![0u8; 1 << 16];

@@ -64,7 +64,7 @@ pub struct Builder {
 struct Checked {
     machine: Machine,
     source: Vec<u8>,
-    token: Option<String>,
+    token: Option<hmi::Tokens>,
 }
 
 /// What the start-up threads opened: the I/O, the simulated CNC's counts, a part run.
@@ -175,7 +175,7 @@ impl Builder {
                 .push("error: --program and --mdi run on the simulated machine (--io sim)".into());
         }
         let token = match self.hmi.as_ref().map(hmi_token).transpose() {
-            Ok(t) => t.flatten(),
+            Ok(t) => t,
             Err(e) => {
                 errors.push(e);
                 None
@@ -319,7 +319,12 @@ impl Builder {
             kernel,
             flow,
         };
-        start_hmi(hmi, checked.token.clone(), &checked.machine, inputs)
+        start_hmi(
+            hmi,
+            checked.token.clone().unwrap_or_default(),
+            &checked.machine,
+            inputs,
+        )
             .map(Some)
             .map_err(BuildError::Start)
     }

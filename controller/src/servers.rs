@@ -34,26 +34,17 @@ pub trait Server: Send {
 /// A part run's kernel and its partprograms' texts (name, text), for the Machine page.
 pub type PartKernel = (Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>);
 
-/// The access token of the HMI: read from `token_file`, generated for a non-loopback address,
-/// none on loopback.
-pub fn hmi_token(hmi: &Hmi) -> Result<Option<String>, String> {
+/// The session tokens of the HMI: read from `token_file` (`ROLE TOKEN` lines, or one token with
+/// every right), else one integrator token generated from the OS's CSPRNG.
+pub fn hmi_token(hmi: &Hmi) -> Result<hmi::Tokens, String> {
     match &hmi.token_file {
         Some(path) => {
             let t = std::fs::read_to_string(path)
                 .map_err(|e| format!("error: --hmi-token-file {}: {e}", path.display()))?;
-            let t = t.trim().to_string();
-            if t.is_empty() {
-                return Err(format!(
-                    "error: --hmi-token-file {}: the file is empty",
-                    path.display()
-                ));
-            }
-            Ok(Some(t))
+            hmi::Tokens::parse(&t)
+                .map_err(|e| format!("error: --hmi-token-file {}:{e}", path.display()))
         }
-        None if !hmi::auth::is_loopback(&hmi.addr) => Ok(Some(
-            hmi::auth::generate_token().map_err(|e| format!("error: HMI token: {e}"))?,
-        )),
-        None => Ok(None),
+        None => hmi::Tokens::generate().map_err(|e| format!("error: HMI token: {e}")),
     }
 }
 
@@ -71,10 +62,10 @@ pub struct HmiInputs<'a> {
     pub flow: FlowSwitch,
 }
 
-/// Starts the web HMI with `token` (see [`hmi_token`]) and says on stderr where it listens.
+/// Starts the web HMI with `tokens` (see [`hmi_token`]) and says on stderr where it listens.
 pub fn start_hmi(
     hmi: &Hmi,
-    token: Option<String>,
+    tokens: hmi::Tokens,
     machine: &Machine,
     inputs: HmiInputs<'_>,
 ) -> Result<HmiLink, String> {
@@ -95,8 +86,12 @@ pub fn start_hmi(
     };
     let config = hmi::ServerConfig {
         addr: hmi.addr,
-        token: token.clone(),
+        tokens: tokens.clone(),
         readonly: hmi.readonly,
+        allow_hosts: hmi.allow_hosts.clone(),
+        allow_origins: hmi.allow_origins.clone(),
+        tls: hmi.tls.clone(),
+        limits: hmi.limits,
     };
     let link = HmiLink::start(
         config,
@@ -107,11 +102,20 @@ pub fn start_hmi(
     )
     .map_err(|e| format!("error: {e}"))?;
     let bound = link.running.addr;
-    match &token {
-        Some(t) if hmi.token_file.is_none() => {
-            eprintln!("hmi: http://{bound}/?token={t}  (access token {t})")
+    let scheme = if hmi.tls.is_some() { "https" } else { "http" };
+    match (&hmi.token_file, tokens.first()) {
+        (None, Some(t)) => eprintln!("hmi: {scheme}://{bound}/?token={t}"),
+        _ => {
+            let (v, o, i) = tokens.counts();
+            eprintln!(
+                "hmi: {scheme}://{bound}/  (open it with ?token=YOUR_TOKEN; the token file gives {v} viewer, {o} operator, {i} integrator)"
+            )
         }
-        _ => eprintln!("hmi: http://{bound}/"),
+    }
+    if !hmi::is_loopback(&bound) && hmi.tls.is_none() {
+        eprintln!(
+            "hmi: warning: {bound} is reachable from the network and the HMI speaks plain HTTP: anyone on the network path can read the session token and the machine's state, and with the token write, force and start the machine; give --hmi-tls-cert and --hmi-tls-key (docs/hmi-security.md)"
+        );
     }
     if hmi.readonly {
         eprintln!("hmi: read-only");

@@ -50,10 +50,19 @@ pub struct Recording {
 pub struct Hmi {
     /// Where it listens.
     pub addr: SocketAddr,
-    /// Writes, forces and commands refused.
+    /// Everyone is a viewer: writes, forces, commands and the power-flow switch refused.
     pub readonly: bool,
-    /// Read the access token from this file (else one is generated for a non-loopback address).
+    /// Read the tokens and their roles from this file (else one integrator token is generated
+    /// and printed in the start URL; docs/hmi-security.md).
     pub token_file: Option<PathBuf>,
+    /// More names the `Host` header may give (`--hmi-allow-host`).
+    pub allow_hosts: Vec<String>,
+    /// More origins a state-changing request or WebSocket may come from (`--hmi-allow-origin`).
+    pub allow_origins: Vec<String>,
+    /// Serve HTTPS with these PEM files (`--hmi-tls-cert`, `--hmi-tls-key`).
+    pub tls: Option<hmi::security::tls::TlsFiles>,
+    /// Request body, client and WebSocket limits.
+    pub limits: hmi::security::limits::Limits,
 }
 
 /// The clock step.

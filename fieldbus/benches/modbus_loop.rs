@@ -36,7 +36,9 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group};
-use fieldbus::map::{ByteRange, HmiConfig, HmiWindow, ModbusArea, ModbusDevice, ModbusMapping};
+use fieldbus::map::{
+    ByteRange, HmiConfig, HmiLimits, HmiWindow, ModbusArea, ModbusDevice, ModbusMapping,
+};
 use fieldbus::modbus::client::ModbusIo;
 use fieldbus::modbus::server::HmiIo;
 use fieldbus::modbus::sim::RemoteIoSim;
@@ -553,6 +555,7 @@ fn scan_overhead(c: &mut Criterion) {
             start: Packet::K.offset() + 800,
             len: 16,
         }],
+        limits: HmiLimits::default(),
     };
     let mut io = HmiIo::start(Box::new(client), &hmi_cfg).expect("hmi");
     // Keep an HMI client polling the server while measuring.

@@ -6,6 +6,10 @@
 //! [hmi]                                   # Modbus TCP server for an HMI or SCADA
 //! bind = "127.0.0.1:1502"
 //! holding = [{ byte = "W200K0", len = 4 }]   # the writable window (K/N bytes)
+//! unit = 1                                # the unit id clients address (default 1)
+//! max_connections = 8                     # open connections at once (default 8)
+//! max_requests_per_s = 100                # per connection (default 100; more: exception 06)
+//! idle_timeout_ms = 60000                 # close a connection silent this long (default 60 s)
 //!
 //! [[modbus.device]]                       # remote I/O reached as a Modbus TCP client
 //! name = "rio1"
@@ -298,6 +302,33 @@ pub struct HmiConfig {
     pub bind: SocketAddr,
     /// The writable windows.
     pub holding: Vec<HmiWindow>,
+    /// The unit id it answers and what one client may cost.
+    pub limits: HmiLimits,
+}
+
+/// The Modbus HMI server's unit id and limits (`[hmi]` keys; defaults in [`HmiLimits::default`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct HmiLimits {
+    /// The unit id requests must name (`unit`, default 1).
+    pub unit: u8,
+    /// Most open connections (`max_connections`, default 8).
+    pub max_connections: usize,
+    /// Most requests per second on one connection (`max_requests_per_s`, default 100).
+    pub max_requests_per_s: u32,
+    /// A connection without a request byte for this long is closed (`idle_timeout_ms`,
+    /// default 60 000).
+    pub idle_timeout: Duration,
+}
+
+impl Default for HmiLimits {
+    fn default() -> HmiLimits {
+        HmiLimits {
+            unit: 1,
+            max_connections: 8,
+            max_requests_per_s: 100,
+            idle_timeout: Duration::from_secs(60),
+        }
+    }
 }
 
 /// A validated I/O map.
@@ -339,6 +370,10 @@ pub(crate) struct RawAffinity {
 #[serde(deny_unknown_fields)]
 pub(crate) struct RawHmi {
     pub bind: Option<Spanned<String>>,
+    pub unit: Option<Spanned<u32>>,
+    pub max_connections: Option<Spanned<u32>>,
+    pub max_requests_per_s: Option<Spanned<u32>>,
+    pub idle_timeout_ms: Option<Spanned<u64>>,
     #[serde(default)]
     pub holding: Vec<Spanned<RawWindow>>,
 }

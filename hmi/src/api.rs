@@ -2,16 +2,17 @@
 
 use std::time::Duration;
 
-use axum::Json;
 use axum::body::Bytes;
 use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
+use axum::{Extension, Json};
 use packets::{Packet, Signal};
 use serde::Deserialize;
 use serde_json::{Value, json};
 
 use crate::error::ApiError;
 use crate::model::{Command, Envelope, Request, SharedSnapshot};
+use crate::security::Role;
 use crate::server::AppState;
 
 /// How long a handler waits for the scan to apply a request.
@@ -32,12 +33,15 @@ pub async fn snapshot(state: &AppState) -> SharedSnapshot {
 }
 
 /// `GET /api/status`: the latest snapshot without the raw image.
-pub async fn status(State(state): State<AppState>) -> Response {
+pub async fn status(State(state): State<AppState>, role: Option<Extension<Role>>) -> Response {
     let snap = snapshot(&state).await;
     let mut v = serde_json::to_value(&*snap).unwrap_or(Value::Null);
     if let Some(o) = v.as_object_mut() {
         o.remove("image");
         o.insert("readonly".into(), Value::Bool(state.config.readonly));
+        if let Some(Extension(role)) = role {
+            o.insert("role".into(), Value::String(role.name().into()));
+        }
         o.insert(
             "machine_name".into(),
             Value::String(state.catalog.machine.clone()),
@@ -75,11 +79,15 @@ struct FlowBody {
     enabled: bool,
 }
 
-/// `POST /api/flow`: switch the scan's power flow on or off (it watches, so `--hmi-readonly`
-/// allows it). The scan switches once the variant is compiled, at a tick boundary.
-pub async fn set_flow(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+/// `POST /api/flow`: switch the scan's power flow on or off (role `integrator`: it changes the
+/// scan's code). The scan switches once the variant is compiled, at a tick boundary.
+pub async fn set_flow(
+    State(state): State<AppState>,
+    Extension(role): Extension<Role>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
     let b: FlowBody = parse_json(&body)?;
-    let tick = ask(&state, Request::Flow(b.enabled)).await?;
+    let tick = ask(&state, role, Request::Flow(b.enabled)).await?;
     Ok(Json(json!({"enabled": b.enabled, "tick": tick})).into_response())
 }
 
@@ -120,16 +128,24 @@ struct SetBody {
 }
 
 /// `POST /api/write`: write a value once, before the next scan.
-pub async fn write(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+pub async fn write(
+    State(state): State<AppState>,
+    Extension(role): Extension<Role>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
     let (sig, value) = set_body(&state, &body)?;
-    let tick = ask(&state, Request::Write(sig, value)).await?;
+    let tick = ask(&state, role, Request::Write(sig, value)).await?;
     Ok(Json(json!({"signal": sig.to_string(), "value": value, "tick": tick})).into_response())
 }
 
 /// `POST /api/force`: force a value before and after every scan until unforced.
-pub async fn force(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+pub async fn force(
+    State(state): State<AppState>,
+    Extension(role): Extension<Role>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
     let (sig, value) = set_body(&state, &body)?;
-    let tick = ask(&state, Request::Force(sig, value)).await?;
+    let tick = ask(&state, role, Request::Force(sig, value)).await?;
     Ok(
         Json(json!({"signal": sig.to_string(), "value": value, "forced": true, "tick": tick}))
             .into_response(),
@@ -139,18 +155,22 @@ pub async fn force(State(state): State<AppState>, body: Bytes) -> Result<Respons
 /// `DELETE /api/force/<ADDR>`: remove one force.
 pub async fn unforce(
     State(state): State<AppState>,
+    Extension(role): Extension<Role>,
     Path(addr): Path<String>,
 ) -> Result<Response, ApiError> {
     writable(&state)?;
     let sig = resolve(&state, &addr)?;
-    let tick = ask(&state, Request::Unforce(sig)).await?;
+    let tick = ask(&state, role, Request::Unforce(sig)).await?;
     Ok(Json(json!({"signal": sig.to_string(), "forced": false, "tick": tick})).into_response())
 }
 
 /// `DELETE /api/force`: remove every force.
-pub async fn unforce_all(State(state): State<AppState>) -> Result<Response, ApiError> {
+pub async fn unforce_all(
+    State(state): State<AppState>,
+    Extension(role): Extension<Role>,
+) -> Result<Response, ApiError> {
     writable(&state)?;
-    let tick = ask(&state, Request::UnforceAll).await?;
+    let tick = ask(&state, role, Request::UnforceAll).await?;
     Ok(Json(json!({"forced": [], "tick": tick})).into_response())
 }
 
@@ -165,7 +185,11 @@ struct CommandBody {
 }
 
 /// `POST /api/command`: an operator command for a process.
-pub async fn command(State(state): State<AppState>, body: Bytes) -> Result<Response, ApiError> {
+pub async fn command(
+    State(state): State<AppState>,
+    Extension(role): Extension<Role>,
+    body: Bytes,
+) -> Result<Response, ApiError> {
     writable(&state)?;
     let b: CommandBody = parse_json(&body)?;
     let process = match b.process {
@@ -228,6 +252,7 @@ pub async fn command(State(state): State<AppState>, body: Bytes) -> Result<Respo
     };
     let tick = ask(
         &state,
+        role,
         Request::Command {
             process,
             command: command.clone(),
@@ -306,11 +331,15 @@ pub fn same_storage(a: &Signal, b: &Signal) -> bool {
     a.image_byte() == b.image_byte() && a.bit() == b.bit()
 }
 
-async fn ask(state: &AppState, request: Request) -> Result<u64, ApiError> {
+async fn ask(state: &AppState, role: Role, request: Request) -> Result<u64, ApiError> {
     let (tx, rx) = tokio::sync::oneshot::channel();
     state
         .requests
-        .send(Envelope { request, reply: tx })
+        .send(Envelope {
+            request,
+            role,
+            reply: tx,
+        })
         .map_err(|_| ApiError::unavailable("the scan has stopped"))?;
     match tokio::time::timeout(REPLY_TIMEOUT, rx).await {
         Ok(Ok(Ok(tick))) => Ok(tick),

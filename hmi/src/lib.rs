@@ -9,10 +9,10 @@
 
 pub mod api;
 pub mod assets;
-pub mod auth;
 pub mod demand;
 pub mod error;
 pub mod model;
+pub mod security;
 pub mod server;
 pub mod ws;
 
@@ -22,4 +22,5 @@ pub use model::{
     MdiCompiles, NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot,
     Snapshot, SourceLine, Toolpath,
 };
-pub use server::{Running, ServerConfig, StartError, start};
+pub use security::{Role, Tokens};
+pub use server::{Running, ServerConfig, StartError, is_loopback, start};

@@ -305,6 +305,8 @@ pub type Reply = Result<u64, String>;
 pub struct Envelope {
     /// The request.
     pub request: Request,
+    /// The role of the session that sent it (traces record it with a command).
+    pub role: crate::security::Role,
     /// Where the scan sends its answer.
     pub reply: tokio::sync::oneshot::Sender<Reply>,
 }

@@ -1,5 +1,5 @@
-//! Starting the HMI: bind (refusing a non-loopback bind without a token), build the router, serve
-//! on a thread of its own with a small tokio runtime.
+//! Starting the HMI: bind, build the router behind the security checks (`security`), serve on a
+//! thread of its own with a small tokio runtime, over TLS when given a certificate.
 
 use std::net::SocketAddr;
 use std::sync::{Arc, mpsc};
@@ -10,27 +10,48 @@ use tokio::sync::watch;
 
 use crate::demand::Demand;
 use crate::model::{Catalog, Envelope, SharedSnapshot};
-use crate::{api, assets, auth, ws};
+use crate::security::limits::Limits;
+use crate::security::listener::Gate;
+use crate::security::tls::{self, TlsError, TlsFiles};
+use crate::security::{Guard, Tokens, host, origin};
+use crate::{api, assets, security, ws};
 
 /// How the HMI is served.
 #[derive(Debug, Clone)]
 pub struct ServerConfig {
     /// Where to listen.
     pub addr: SocketAddr,
-    /// The access token; required (`Some`) for a non-loopback address.
-    pub token: Option<String>,
-    /// Refuse writes, forces and commands.
+    /// The session tokens and their roles (at least one).
+    pub tokens: Tokens,
+    /// Everyone is a viewer: writes, forces, commands and the power-flow switch are refused.
     pub readonly: bool,
+    /// More names the `Host` header may give (`--hmi-allow-host`).
+    pub allow_hosts: Vec<String>,
+    /// More origins a state-changing request or WebSocket may come from (`--hmi-allow-origin`).
+    pub allow_origins: Vec<String>,
+    /// Serve HTTPS with these PEM files.
+    pub tls: Option<TlsFiles>,
+    /// Resource limits.
+    pub limits: Limits,
+}
+
+/// True when `addr` only accepts connections from this host.
+pub fn is_loopback(addr: &SocketAddr) -> bool {
+    addr.ip().is_loopback()
 }
 
 /// Why the HMI could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum StartError {
-    /// A non-loopback bind without a token.
-    #[error(
-        "--hmi {0}: not a loopback address, so the HMI needs an access token (--hmi-token-file FILE, or let ncplc generate one with --hmi-token)"
-    )]
+    /// No token to check requests against.
+    #[error("--hmi {0}: the HMI needs at least one access token")]
     NeedsToken(SocketAddr),
+    /// An `--hmi-allow-origin` value that is not an origin.
+    #[error("--hmi-allow-origin: {0}")]
+    BadOrigin(String),
+    /// The certificate or key could not be used.
+    #[error(transparent)]
+    Tls(#[from] TlsError),
     /// The address could not be bound.
     #[error("--hmi {addr}: {source}")]
     Bind {
@@ -57,6 +78,8 @@ pub struct AppState {
     pub requests: mpsc::Sender<Envelope>,
     /// Who is looking (wakes the render thread).
     pub demand: Arc<Demand>,
+    /// The checks every request passes.
+    pub guard: Arc<Guard>,
 }
 
 /// A running HMI server.
@@ -89,7 +112,7 @@ pub fn router(state: AppState) -> Router {
         .fallback(api::not_found)
         .layer(axum::middleware::from_fn_with_state(
             state.clone(),
-            auth::require_token,
+            security::check,
         ))
         .with_state(state)
 }
@@ -102,9 +125,20 @@ pub fn start(
     requests: mpsc::Sender<Envelope>,
     demand: Arc<Demand>,
 ) -> Result<Running, StartError> {
-    if !auth::is_loopback(&config.addr) && config.token.is_none() {
+    if config.tokens.first().is_none() {
         return Err(StartError::NeedsToken(config.addr));
     }
+    if let Some(bad) = config
+        .allow_origins
+        .iter()
+        .find_map(|o| origin::OriginList::invalid(o))
+    {
+        return Err(StartError::BadOrigin(bad));
+    }
+    let acceptor = match &config.tls {
+        Some(files) => Some(tls::acceptor(files)?),
+        None => None,
+    };
     let listener = std::net::TcpListener::bind(config.addr).map_err(|source| StartError::Bind {
         addr: config.addr,
         source,
@@ -119,7 +153,18 @@ pub fn start(
         .enable_all()
         .build()
         .map_err(StartError::Runtime)?;
+    let guard = Guard {
+        hosts: host::HostList::new(addr, acceptor.is_some(), &config.allow_hosts),
+        origins: origin::OriginList::new(&config.allow_origins),
+        tokens: config.tokens.clone(),
+        readonly: config.readonly,
+        tls: acceptor.is_some(),
+        port: addr.port(),
+        max_body: config.limits.max_body,
+    };
+    let limits = config.limits;
     let state = AppState {
+        guard: Arc::new(guard),
         config: Arc::new(config),
         catalog: Arc::new(catalog),
         snapshots,
@@ -137,7 +182,14 @@ pub fn start(
                         return;
                     }
                 };
-                if let Err(e) = axum::serve(listener, router(state)).await {
+                let gate = match Gate::start(listener, limits.max_clients, limits.idle, acceptor) {
+                    Ok(g) => g,
+                    Err(e) => {
+                        eprintln!("hmi: {e}");
+                        return;
+                    }
+                };
+                if let Err(e) = axum::serve(gate, router(state)).await {
                     eprintln!("hmi: {e}");
                 }
             });

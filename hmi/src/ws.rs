@@ -6,14 +6,19 @@
 //! the server sends the next frame only after the client's message acknowledging the last one (any
 //! text): a slow client skips snapshots and is never more than one frame behind. Without it each
 //! new snapshot is pushed as it comes (at most the publish rate), for clients that cannot answer.
+//!
+//! A client message over `--hmi-ws-max-message` bytes closes the connection with code 1009, more
+//! than `--hmi-ws-rate` messages in a second with code 1008 (the reason names the limit).
 
 use axum::extract::rejection::QueryRejection;
-use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use std::time::Instant;
+
+use axum::extract::ws::{CloseFrame, Message, WebSocket, WebSocketUpgrade, close_code};
 use axum::extract::{Query, State};
 use axum::response::{IntoResponse, Response};
 
 use crate::error::ApiError;
-
+use crate::security::limits::{Limits, Rate};
 use crate::server::AppState;
 
 /// The query of `/ws` (the token, if any, is checked before).
@@ -39,7 +44,10 @@ pub async fn upgrade(
         return ApiError::bad_request(format!("ack={}: 1 paces frames, 0 pushes them", q.ack))
             .into_response();
     }
-    ws.on_upgrade(move |socket| stream(socket, state, q.ack == 1))
+    let max = state.config.limits.ws_max_message;
+    ws.max_message_size(max)
+        .max_frame_size(max)
+        .on_upgrade(move |socket| stream(socket, state, q.ack == 1))
 }
 
 /// What the client sent: an acknowledgement, nothing that matters, or the end.
@@ -49,35 +57,85 @@ enum Incoming {
     Gone,
 }
 
-fn incoming(m: Option<Result<Message, axum::Error>>) -> Incoming {
-    match m {
-        Some(Ok(Message::Text(_) | Message::Binary(_))) => Incoming::Ack,
-        Some(Ok(Message::Ping(_) | Message::Pong(_))) => Incoming::Other,
-        Some(Ok(Message::Close(_)) | Err(_)) | None => Incoming::Gone,
+/// A client's messages: counted against the rate, an error (a message over the size limit) or a
+/// message over the rate closes the connection with a close frame saying which limit.
+struct Client {
+    rate: Rate,
+    limits: Limits,
+}
+
+impl Client {
+    async fn incoming(
+        &mut self,
+        socket: &mut WebSocket,
+        m: Option<Result<Message, axum::Error>>,
+    ) -> Incoming {
+        let m = match m {
+            Some(Ok(Message::Close(_))) | None => return Incoming::Gone,
+            Some(Err(_)) => {
+                // tungstenite refuses a message or frame over the size limit with an error.
+                close(
+                    socket,
+                    close_code::SIZE,
+                    format!("message over {} bytes", self.limits.ws_max_message),
+                )
+                .await;
+                return Incoming::Gone;
+            }
+            Some(Ok(m)) => m,
+        };
+        if !self.rate.hit(Instant::now()) {
+            close(
+                socket,
+                close_code::POLICY,
+                format!("more than {} messages per second", self.limits.ws_rate),
+            )
+            .await;
+            return Incoming::Gone;
+        }
+        match m {
+            Message::Text(_) | Message::Binary(_) => Incoming::Ack,
+            _ => Incoming::Other,
+        }
+    }
+
+    /// Waits for the client's acknowledgement; false when the client went away instead.
+    async fn acknowledged(&mut self, socket: &mut WebSocket) -> bool {
+        loop {
+            let m = socket.recv().await;
+            match self.incoming(socket, m).await {
+                Incoming::Ack => return true,
+                Incoming::Other => {}
+                Incoming::Gone => return false,
+            }
+        }
     }
 }
 
-/// Waits for the client's acknowledgement; false when the client went away instead.
-async fn acknowledged(socket: &mut WebSocket) -> bool {
-    loop {
-        match incoming(socket.recv().await) {
-            Incoming::Ack => return true,
-            Incoming::Other => {}
-            Incoming::Gone => return false,
-        }
-    }
+/// Sends a close frame (best effort: the client may be gone already).
+async fn close(socket: &mut WebSocket, code: u16, reason: String) {
+    let frame = CloseFrame {
+        code,
+        reason: reason.into(),
+    };
+    let _ = socket.send(Message::Close(Some(frame))).await;
 }
 
 async fn stream(mut socket: WebSocket, state: AppState, paced: bool) {
     // The render thread renders while a client is connected.
     let _client = state.demand.connect();
     let mut rx = state.snapshots.clone();
+    let limits = state.config.limits;
+    let mut client = Client {
+        rate: Rate::new(limits.ws_rate, Instant::now()),
+        limits,
+    };
     // The current value first, then every change.
     rx.mark_changed();
     loop {
         tokio::select! {
             changed = rx.changed() => if changed.is_err() { return },
-            m = socket.recv() => match incoming(m) {
+            m = socket.recv() => match client.incoming(&mut socket, m).await {
                 Incoming::Gone => return,
                 // An acknowledgement with no frame outstanding, or a ping: wait on.
                 Incoming::Ack | Incoming::Other => continue,
@@ -91,7 +149,7 @@ async fn stream(mut socket: WebSocket, state: AppState, paced: bool) {
             return;
         }
         // Paced: no next frame before the client has taken this one.
-        if paced && !acknowledged(&mut socket).await {
+        if paced && !client.acknowledged(&mut socket).await {
             return;
         }
     }

@@ -1,6 +1,7 @@
 //! End-to-end tests of the web HMI's JSON API over real HTTP against `ncplc run --hmi`: reads,
 //! writes, forces (and that a recorded session with forces replays exactly), refusals as JSON
-//! 4xx, read-only mode, and the access token of a non-loopback bind.
+//! 4xx, read-only mode, and the access token of a non-loopback bind (the security checks
+//! themselves: `hmi_security.rs`).
 
 use crate::hmi_common;
 
@@ -183,10 +184,16 @@ fn a_readonly_hmi_refuses_writes_forces_and_commands() {
     ] {
         let (code, got) = hmi.http(method, path, body);
         assert_eq!(code, 403, "{method} {path}");
-        assert_eq!(
-            json(&got)["error"].as_str(),
-            Some("the HMI is read-only (--hmi-readonly): writes, forces and commands are disabled")
+        let v = json(&got);
+        let error = v["error"].as_str().unwrap_or_default();
+        assert!(
+            error.ends_with(
+                "; the HMI is read-only (--hmi-readonly): writes, forces and commands are disabled"
+            ),
+            "{got}"
         );
+        // The start URL's token is an integrator's; read-only makes it a viewer.
+        assert_eq!(v["role"], "viewer", "{got}");
     }
     assert_eq!(hmi.http("GET", "/api/status", None).0, 200);
     hmi.stop();
@@ -212,22 +219,22 @@ fn a_non_loopback_bind_needs_the_printed_token() {
         .spawn()
         .expect("ncplc");
     let err = child.stderr.take().expect("stderr");
-    let line = std::io::BufRead::lines(std::io::BufReader::new(err))
-        .map_while(Result::ok)
+    let mut lines = std::io::BufRead::lines(std::io::BufReader::new(err)).map_while(Result::ok);
+    let line = lines
         .find(|l| l.starts_with("hmi: http://"))
         .expect("the HMI line");
-    // hmi: http://0.0.0.0:PORT/?token=T  (access token T)
-    let port = line
-        .split(':')
-        .nth(3)
-        .and_then(|p| p.split('/').next())
-        .expect("port");
-    let token = line
-        .rsplit(' ')
-        .next()
-        .expect("token")
-        .trim_end_matches(')');
+    // hmi: http://0.0.0.0:PORT/?token=T
+    let (bound, token) = hmi_common::start_line(&line).expect("start line");
+    let token = token.expect("the start URL carries the token");
+    let token = token.as_str();
+    let port = bound.rsplit(':').next().expect("port");
     assert_eq!(token.len(), 32, "{line}");
+    // The plain-HTTP risk of a non-loopback bind is named.
+    let warning = lines.next().expect("a warning after the start line");
+    assert!(
+        warning.starts_with(&format!("hmi: warning: 0.0.0.0:{port} is reachable from the network and the HMI speaks plain HTTP: anyone on the network path can read the session token")),
+        "{warning}"
+    );
     let addr = format!("127.0.0.1:{port}");
     let (code, body) = http(&addr, "GET", "/api/status", None, None);
     assert_eq!(code, 401, "{body}");
@@ -236,9 +243,10 @@ fn a_non_loopback_bind_needs_the_printed_token() {
         401
     );
     assert_eq!(http(&addr, "GET", "/api/status", None, Some(token)).0, 200);
+    // The start URL sets the session cookie and sends the browser to `/`.
     assert_eq!(
         http(&addr, "GET", &format!("/?token={token}"), None, None).0,
-        200
+        303
     );
     // The scripts are public (they hold no data).
     assert_eq!(http(&addr, "GET", "/static/app.js", None, None).0, 200);
@@ -251,7 +259,7 @@ fn a_non_loopback_bind_needs_the_printed_token() {
 #[test]
 fn a_paced_websocket_client_gets_the_latest_snapshot_after_each_acknowledgement() {
     let hmi = Hmi::start(&root().join("plc-programs/lathe"), &["--ticks", "3000"]);
-    let mut paced = Ws::connect(&hmi.addr, "/ws?ack=1");
+    let mut paced = hmi.ws("/ws?ack=1");
     let wait = std::time::Duration::from_secs(10);
     let first = paced.next_tick(wait).expect("the first frame");
     // Not acknowledged: nothing comes, however many snapshots the scan publishes (every 25 ms).
@@ -266,14 +274,18 @@ fn a_paced_websocket_client_gets_the_latest_snapshot_after_each_acknowledgement(
     );
     // A pacing the server does not know is refused, not taken for the unpaced stream.
     for bad in ["/ws?ack=2", "/ws?ack=yes"] {
-        let Err(answer) = Ws::try_connect(&hmi.addr, bad) else {
+        let auth = format!(
+            "Authorization: Bearer {}\r\n",
+            hmi.token.as_deref().unwrap_or("")
+        );
+        let Err(answer) = Ws::try_connect_with(&hmi.addr, bad, &auth) else {
             panic!("{bad} was upgraded");
         };
         assert!(answer.starts_with("HTTP/1.1 400"), "{bad}: {answer}");
         assert!(answer.contains("\"error\":"), "{bad}: {answer}");
     }
     // Unpaced: frames keep coming with nothing sent.
-    let mut pushed = Ws::connect(&hmi.addr, "/ws");
+    let mut pushed = hmi.ws("/ws");
     let ticks: Vec<u64> = (0..3).filter_map(|_| pushed.next_tick(wait)).collect();
     assert_eq!(ticks.len(), 3, "{ticks:?}");
     hmi.stop();

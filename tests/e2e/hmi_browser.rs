@@ -118,9 +118,7 @@ async fn page(c: &Client, name: &str) -> Result<(), String> {
 }
 
 async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
-    c.goto(&format!("http://{}/", hmi.addr))
-        .await
-        .map_err(|e| e.to_string())?;
+    open_with_token(c, hmi).await?;
     until("the first live frame", 20, || async {
         text(c, "#status").await.filter(|t| t.starts_with("tick"))
     })
@@ -259,6 +257,25 @@ fn have_browser() -> bool {
     false
 }
 
+/// Opens the start URL (`/?token=…`): the server answers with the session cookie and sends the
+/// browser to `/`, which then works with the cookie alone (the address no longer shows the token).
+async fn open_with_token(c: &Client, hmi: &Hmi) -> Result<(), String> {
+    let token = hmi.token.as_deref().ok_or("the start URL has no token")?;
+    c.goto(&format!("http://{}/?token={token}", hmi.addr))
+        .await
+        .map_err(|e| e.to_string())?;
+    let url = c.current_url().await.map_err(|e| e.to_string())?;
+    if url.as_str() != format!("http://{}/", hmi.addr) {
+        return Err(format!("the start URL did not lead to / but to {url}"));
+    }
+    // The cookie is HttpOnly: the page's scripts do not see it.
+    let seen = js(c, "return document.cookie").await?;
+    if seen.as_str().is_some_and(|s| s.contains("ncplc_hmi_")) {
+        return Err(format!("the session cookie is readable by scripts: {seen}"));
+    }
+    Ok(())
+}
+
 /// Runs `steps` in a fresh browser against `hmi`; on failure keeps a screenshot named `name`
 /// and panics with the step's error. Stops the HMI either way.
 async fn in_browser<F>(hmi: Hmi, name: &str, steps: F)
@@ -333,9 +350,7 @@ async fn block_n(c: &Client) -> Option<u64> {
 }
 
 async fn machine_steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
-    c.goto(&format!("http://{}/", hmi.addr))
-        .await
-        .map_err(|e| e.to_string())?;
+    open_with_token(c, hmi).await?;
     page(c, "machine").await?;
     until("PART1 selected, idle", 20, || async {
         let state = text(c, "#proc-1 .state").await?;

@@ -315,8 +315,9 @@ fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
     // named.
     let text = std::fs::read_to_string(&trace).expect("trace");
     let cmds = recorded_commands(&text);
-    let start = json!([{"process": 1, "command": "start"}]);
-    let hold = json!([{"process": 1, "command": "hold"}]);
+    // Each with the role of the session that sent it (the start URL's token: integrator).
+    let start = json!([{"process": 1, "command": "start", "role": "integrator"}]);
+    let hold = json!([{"process": 1, "command": "hold", "role": "integrator"}]);
     assert_eq!(
         cmds,
         vec![(started, start.clone()), (held, hold), (resumed, start)]
@@ -330,7 +331,12 @@ fn a_part_run_with_start_and_hold_from_the_api_replays_exactly() {
     // Without the recorded HOLD the replay runs through it: the positions diverge.
     let without: String = text
         .lines()
-        .map(|l| l.replace(r#","cmd":[{"process":1,"command":"hold"}]"#, ""))
+        .map(|l| {
+            l.replace(
+                r#","cmd":[{"process":1,"command":"hold","role":"integrator"}]"#,
+                "",
+            )
+        })
         .collect::<Vec<_>>()
         .join("\n");
     assert_ne!(without.len(), text.trim_end().len(), "the HOLD was removed");
@@ -371,7 +377,8 @@ fn an_mdi_line_from_the_api_is_planned_beside_the_scan_and_replays_exactly() {
     // The accepted line is in the record of the tick that applied it; the refused one is not.
     let text = std::fs::read_to_string(&trace).expect("trace");
     let cmds = recorded_commands(&text);
-    let mdi = json!([{"process": 1, "command": "mdi", "line": "N5 G00 X-30 Z-20"}]);
+    let mdi =
+        json!([{"process": 1, "command": "mdi", "line": "N5 G00 X-30 Z-20", "role": "integrator"}]);
     assert_eq!(cmds.last(), Some(&(applied, mdi)), "{cmds:?}");
     let (ok, err) = replay(lathe.path(), &trace, &[]);
     assert!(ok, "the recorded session replays:\n{err}");

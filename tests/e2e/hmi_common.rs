@@ -1,5 +1,6 @@
 //! Shared by the HMI end-to-end tests: start `ncplc run --hmi 127.0.0.1:0`, find the bound
-//! address in its stderr, talk HTTP/1.1 to it, stop it with SIGTERM (it then finishes its trace).
+//! address and the session token in the start URL it prints, talk HTTP/1.1 to it (with the token
+//! as a Bearer header), stop it with SIGTERM (it then finishes its trace).
 
 #![allow(dead_code)]
 
@@ -21,7 +22,23 @@ pub fn root() -> PathBuf {
 pub struct Hmi {
     pub child: Child,
     pub addr: String,
+    /// The token of the start URL (none when the run reads a token file).
+    pub token: Option<String>,
     pub stderr: mpsc::Receiver<String>,
+}
+
+/// The address and token of a start line `hmi: http://ADDR/?token=T`.
+pub fn start_line(line: &str) -> Option<(String, Option<String>)> {
+    let rest = line
+        .strip_prefix("hmi: http://")
+        .or_else(|| line.strip_prefix("hmi: https://"))?;
+    let addr = rest.split('/').next().unwrap_or_default().to_string();
+    let token = rest
+        .split_whitespace()
+        .next()
+        .and_then(|url| url.split_once("?token="))
+        .map(|(_, t)| t.to_string());
+    Some((addr, token))
 }
 
 impl Hmi {
@@ -47,11 +64,11 @@ impl Hmi {
         loop {
             match rx.recv_timeout(Duration::from_secs(60)) {
                 Ok(line) => {
-                    if let Some(rest) = line.strip_prefix("hmi: http://") {
-                        let addr = rest.split('/').next().unwrap_or_default().to_string();
+                    if let Some((addr, token)) = start_line(&line) {
                         return Hmi {
                             child,
                             addr,
+                            token,
                             stderr: rx,
                         };
                     }
@@ -66,9 +83,18 @@ impl Hmi {
         }
     }
 
-    /// One HTTP request; returns (status, body).
+    /// One HTTP request with the start URL's token; returns (status, body).
     pub fn http(&self, method: &str, path: &str, body: Option<&str>) -> (u16, String) {
-        http(&self.addr, method, path, body, None)
+        http(&self.addr, method, path, body, self.token.as_deref())
+    }
+
+    /// A WebSocket of `path` with the start URL's token.
+    pub fn ws(&self, path: &str) -> Ws {
+        let auth = format!(
+            "Authorization: Bearer {}\r\n",
+            self.token.as_deref().unwrap_or_default()
+        );
+        Ws::try_connect_with(&self.addr, path, &auth).unwrap_or_else(|answer| panic!("{answer}"))
     }
 
     /// Waits until `GET /api/status` reports at least `tick`.
@@ -117,25 +143,66 @@ pub fn http(
     body: Option<&str>,
     token: Option<&str>,
 ) -> (u16, String) {
+    let auth = token.map_or(String::new(), |t| format!("Authorization: Bearer {t}\r\n"));
+    let r = raw(addr, method, path, &auth, body);
+    (r.status, r.body)
+}
+
+/// An answer: status, head (status line and headers) and body.
+#[derive(Debug)]
+pub struct Answer {
+    pub status: u16,
+    pub head: String,
+    pub body: String,
+}
+
+impl Answer {
+    /// The value of header `name` (case-insensitive), if present.
+    pub fn header(&self, name: &str) -> Option<&str> {
+        self.head.lines().find_map(|l| {
+            let (k, v) = l.split_once(':')?;
+            k.eq_ignore_ascii_case(name).then(|| v.trim())
+        })
+    }
+
+    /// The body as JSON.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::from_str(&self.body).unwrap_or_default()
+    }
+}
+
+/// One HTTP/1.1 request with `Connection: close` and the extra `headers` (each ending in
+/// `\r\n`); `Host: ADDR` unless `headers` give a Host.
+pub fn raw(addr: &str, method: &str, path: &str, headers: &str, body: Option<&str>) -> Answer {
     let mut s = TcpStream::connect(addr).expect("connect");
     s.set_read_timeout(Some(Duration::from_secs(10))).ok();
     let body = body.unwrap_or("");
-    let auth = token.map_or(String::new(), |t| format!("Authorization: Bearer {t}\r\n"));
+    let host = if headers.to_ascii_lowercase().contains("host:") {
+        String::new()
+    } else {
+        format!("Host: {addr}\r\n")
+    };
     write!(
         s,
-        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n{auth}Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
+        "{method} {path} HTTP/1.1\r\n{host}Connection: close\r\n{headers}Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
         body.len()
     )
     .expect("send");
-    let mut resp = String::new();
-    s.read_to_string(&mut resp).expect("read");
+    let mut resp = Vec::new();
+    // A server that refuses a large body may close before reading it all.
+    let _ = s.read_to_end(&mut resp);
+    let resp = String::from_utf8_lossy(&resp).into_owned();
     let status = resp
         .split(' ')
         .nth(1)
         .and_then(|c| c.parse().ok())
         .unwrap_or(0);
-    let body = resp.split_once("\r\n\r\n").map_or("", |(_, b)| b);
-    (status, body.to_string())
+    let (head, body) = resp.split_once("\r\n\r\n").unwrap_or((&resp, ""));
+    Answer {
+        status,
+        head: head.to_string(),
+        body: body.to_string(),
+    }
 }
 
 /// A copy of the simulated lathe in which nobody presses CYCLE START during a part run (its
@@ -224,11 +291,16 @@ impl Ws {
 
     /// [`Ws::connect`], or the server's whole answer when it does not upgrade.
     pub fn try_connect(addr: &str, path: &str) -> Result<Ws, String> {
+        Ws::try_connect_with(addr, path, "")
+    }
+
+    /// [`Ws::try_connect`] with extra request headers (each ending in `\r\n`).
+    pub fn try_connect_with(addr: &str, path: &str, headers: &str) -> Result<Ws, String> {
         let mut s = TcpStream::connect(addr).expect("connect");
         write!(
             s,
             "GET {path} HTTP/1.1\r\nHost: {addr}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n\
-             Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
+             {headers}Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n"
         )
         .expect("upgrade request");
         let mut head = Vec::new();
@@ -277,10 +349,52 @@ impl Ws {
 
     /// Sends a (masked) text frame.
     pub fn send(&mut self, text: &str) {
+        let _ = self.try_send(text);
+    }
+
+    /// Sends a (masked) text frame of any length; false when the server has closed.
+    pub fn try_send(&mut self, text: &str) -> bool {
         let mask = [0x12u8, 0x34, 0x56, 0x78];
-        let mut f = vec![0x81, 0x80 | u8::try_from(text.len()).expect("short")];
+        let mut f = vec![0x81];
+        match text.len() {
+            n if n < 126 => f.push(0x80 | n as u8),
+            n if n <= 0xFFFF => {
+                f.push(0x80 | 126);
+                f.extend_from_slice(&(n as u16).to_be_bytes());
+            }
+            n => {
+                f.push(0x80 | 127);
+                f.extend_from_slice(&(n as u64).to_be_bytes());
+            }
+        }
         f.extend_from_slice(&mask);
         f.extend(text.bytes().enumerate().map(|(i, b)| b ^ mask[i % 4]));
-        self.0.write_all(&f).expect("send");
+        self.0.write_all(&f).is_ok()
+    }
+
+    /// Reads frames until a close frame; its code and reason (None when the connection ends
+    /// without one within `wait`).
+    pub fn close_frame(&mut self, wait: Duration) -> Option<(u16, String)> {
+        self.0.set_read_timeout(Some(wait)).expect("timeout");
+        loop {
+            let mut h = [0u8; 2];
+            self.0.read_exact(&mut h).ok()?;
+            let mut n = u64::from(h[1] & 0x7F);
+            if n == 126 {
+                let mut l = [0u8; 2];
+                self.0.read_exact(&mut l).ok()?;
+                n = u64::from(u16::from_be_bytes(l));
+            } else if n == 127 {
+                let mut l = [0u8; 8];
+                self.0.read_exact(&mut l).ok()?;
+                n = u64::from_be_bytes(l);
+            }
+            let mut body = vec![0u8; usize::try_from(n).ok()?];
+            self.0.read_exact(&mut body).ok()?;
+            if h[0] & 0x0F == 0x8 && body.len() >= 2 {
+                let code = u16::from_be_bytes([body[0], body[1]]);
+                return Some((code, String::from_utf8_lossy(&body[2..]).into_owned()));
+            }
+        }
     }
 }

@@ -19,6 +19,7 @@ mod hmi_browser;
 mod hmi_cnc;
 mod hmi_common;
 mod hmi_flow;
+mod hmi_security;
 mod io;
 mod macro_vars;
 mod manual_limits;

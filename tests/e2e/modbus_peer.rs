@@ -270,3 +270,89 @@ fn a_pymodbus_scada_client_reads_and_writes_the_simulated_lathe() {
         String::from_utf8_lossy(&replay.stderr)
     );
 }
+
+/// Starts `ncplc run --modbus-hmi 127.0.0.1:0` on `machine`; the run and the server's address.
+fn modbus_hmi(machine: &Path, extra: &[&str]) -> (Killed, String) {
+    let mut run = run_args(machine, &["--modbus-hmi", "127.0.0.1:0"])
+        .args(extra)
+        .spawn()
+        .expect("ncplc runs");
+    let err = BufReader::new(run.stderr.take().expect("stderr"));
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in err.lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let run = Killed(run);
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let mut said = Vec::new();
+    loop {
+        let line = rx
+            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            .unwrap_or_else(|_| panic!("no HMI server address in:\n{}", said.join("\n")));
+        if let Some(a) = line.split("listening on ").nth(1) {
+            return (
+                run,
+                a.split_whitespace().next().unwrap_or_default().to_string(),
+            );
+        }
+        said.push(line);
+    }
+}
+
+/// pymodbus as a hostile client of the HMI server (issue 23): the per-connection rate, the unit
+/// id, the connection cap, the idle timeout and malformed MBAP headers, with the limits of
+/// `[hmi]` in io.toml; the server keeps serving a well-behaved client throughout.
+#[test]
+fn the_hmi_server_holds_its_limits_against_a_hostile_pymodbus_client() {
+    if !have_pymodbus() {
+        return;
+    }
+    let _serial = serial();
+    let machine = lathe("127.0.0.1:5020");
+    let map_path = machine.path().join("io.toml");
+    let map = std::fs::read_to_string(&map_path).expect("io.toml");
+    let window = "holding = [{ byte = \"W200K0\", len = 16 }]";
+    assert!(map.contains(window), "the lathe's io.toml has its window");
+    let map = map.replace(
+        window,
+        &format!("{window}\nmax_connections = 3\nmax_requests_per_s = 20\nidle_timeout_ms = 500"),
+    );
+    std::fs::write(&map_path, map).expect("io.toml");
+    let (run, addr) = modbus_hmi(machine.path(), &["--ticks", "100000"]);
+    let (host, port) = addr.rsplit_once(':').expect("ADDR:PORT");
+    let out = peer(&["hostile", host, port, "20", "3"])
+        .output()
+        .expect("python runs");
+    drop(run);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let got: Value = serde_json::from_slice(&out.stdout).expect("the client's JSON");
+    // Unit 7 is not this server (unit 1 by default): 0B, gateway target failed to respond.
+    assert_eq!(got["wrong_unit"]["exception"], 11, "{got}");
+    assert_eq!(got["write_outside_window"]["exception"], 2, "{got}");
+    // 50 pipelined requests within a second: 20 served, 30 answered 06 (server device busy).
+    assert_eq!(
+        (
+            &got["flood_answers"],
+            &got["flood_served"],
+            &got["flood_busy"]
+        ),
+        (&Value::from(50), &Value::from(20), &Value::from(30)),
+        "{got}"
+    );
+    // Three connections served, a fourth closed at once, room again when one leaves.
+    assert_eq!(got["held_answered"], 3, "{got}");
+    assert_eq!(got["over_cap_closed"], true, "{got}");
+    assert_eq!(got["after_one_left"], serde_json::json!([null]), "{got}");
+    // Three bytes of a header and silence: closed by the 500 ms idle timeout.
+    let half = got["half_open_closed_after_s"].as_f64().unwrap_or(-1.0);
+    assert!((0.4..3.0).contains(&half), "{got}");
+    assert_eq!(got["bad_protocol_closed"], true, "{got}");
+    assert_eq!(got["zero_length_closed"], true, "{got}");
+    assert!(got["still_serving"]["registers"].is_array(), "{got}");
+}

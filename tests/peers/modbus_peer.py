@@ -10,6 +10,12 @@
       A SCADA client (pymodbus ModbusTcpClient) against ncplc's HMI server: reads discrete
       inputs, coils and input registers, writes a holding register of the window and one outside
       it, writes a coil, and prints one JSON line with every answer (values or exception codes).
+  modbus_peer.py hostile HOST PORT LIMIT CONNECTIONS
+      A hostile client of ncplc's HMI server, whose io.toml allows LIMIT requests per second per
+      connection and CONNECTIONS connections: a flood of 50 pipelined requests on one connection,
+      a wrong unit id, one connection more than allowed, a half-open connection (3 bytes of a
+      header, then silence), malformed MBAP headers (protocol id 0x1234, length 0), a write
+      outside the window; prints one JSON line with what each got.
 """
 import asyncio, json, socket, sys, time
 
@@ -88,7 +94,115 @@ def client(host, port):
     return 0
 
 
+def mbap(tid, unit, pdu, protocol=0, length=None):
+    """One Modbus TCP frame (MBAP header + PDU)."""
+    n = len(pdu) + 1 if length is None else length
+    return tid.to_bytes(2, "big") + protocol.to_bytes(2, "big") + n.to_bytes(2, "big") + bytes([unit]) + pdu
+
+
+def read_regs(tid, unit=1):
+    """Read input registers 0..1 (function 04)."""
+    return mbap(tid, unit, bytes([4, 0, 0, 0, 2]))
+
+
+def frames(sock, n, wait=5.0):
+    """Reads up to n response frames: a list of (function, exception or None)."""
+    sock.settimeout(wait)
+    buf, out = b"", []
+    while len(out) < n:
+        while len(buf) >= 7 and len(buf) >= 6 + int.from_bytes(buf[4:6], "big"):
+            size = 6 + int.from_bytes(buf[4:6], "big")
+            frame, buf = buf[:size], buf[size:]
+            fc = frame[7]
+            out.append((fc, frame[8] if fc & 0x80 else None))
+        if len(out) >= n:
+            break
+        try:
+            chunk = sock.recv(4096)
+        except OSError:
+            break
+        if not chunk:
+            break
+        buf += chunk
+    return out
+
+
+def closed_within(sock, wait):
+    """Seconds until the server closes `sock` without answering, or None if it answers or stays."""
+    sock.settimeout(wait)
+    t0 = time.monotonic()
+    try:
+        data = sock.recv(1024)
+    except ConnectionResetError:
+        data = b""  # closed with unread bytes: a reset
+    except OSError:
+        return None  # the wait ran out
+    return round(time.monotonic() - t0, 3) if not data else None
+
+
+def hostile(host, port, limit, connections):
+    out = {}
+    # Pymodbus itself with a wrong unit id, and a write outside the window.
+    c = ModbusTcpClient(host, port=port, timeout=3)
+    c.connect()
+    out["wrong_unit"] = answer(c.read_input_registers(0, 1, slave=7))
+    out["write_outside_window"] = answer(c.write_register(0, 7, slave=1))
+    c.close()
+    # A flood: 50 requests in one write on a fresh connection.
+    s = socket.create_connection((host, port))
+    s.sendall(b"".join(read_regs(i) for i in range(50)))
+    got = frames(s, 50)
+    out["flood_served"] = sum(1 for fc, e in got if e is None)
+    out["flood_busy"] = sum(1 for fc, e in got if e == 6)
+    out["flood_answers"] = len(got)
+    s.close()
+    time.sleep(0.2)
+    # The connection cap: CONNECTIONS answered, one more closed at once, room again after one goes.
+    held = []
+    for i in range(connections):
+        k = socket.create_connection((host, port))
+        k.sendall(read_regs(i))
+        held.append((k, frames(k, 1)))
+    out["held_answered"] = sum(1 for _, f in held if f and f[0][1] is None)
+    extra = socket.create_connection((host, port))
+    extra.sendall(read_regs(99))
+    out["over_cap_closed"] = closed_within(extra, 5.0) is not None
+    extra.close()
+    held[0][0].close()
+    time.sleep(0.3)
+    again = socket.create_connection((host, port))
+    again.sendall(read_regs(100))
+    out["after_one_left"] = [e for _, e in frames(again, 1)]
+    again.close()
+    for k, _ in held[1:]:
+        k.close()
+    time.sleep(0.3)
+    # Half open: three bytes of a header, then nothing; the idle timeout closes it.
+    h = socket.create_connection((host, port))
+    h.sendall(read_regs(1)[:3])
+    out["half_open_closed_after_s"] = closed_within(h, 10.0)
+    h.close()
+    # Malformed MBAP headers: the connection is closed without an answer.
+    for name, frame in [
+        ("bad_protocol", mbap(1, 1, bytes([4, 0, 0, 0, 1]), protocol=0x1234)),
+        ("zero_length", mbap(1, 1, b"", length=0)),
+    ]:
+        m = socket.create_connection((host, port))
+        m.sendall(frame)
+        out[name + "_closed"] = closed_within(m, 5.0) is not None
+        m.close()
+    # The server still serves a well-behaved client.
+    c = ModbusTcpClient(host, port=port, timeout=3)
+    c.connect()
+    out["still_serving"] = answer(c.read_input_registers(400, 1, slave=1))
+    c.close()
+    print(json.dumps(out, sort_keys=True), flush=True)
+    return 0
+
+
 if __name__ == "__main__":
+    if sys.argv[1:2] == ["hostile"] and len(sys.argv) == 6:
+        sys.exit(hostile(sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5])))
     if sys.argv[1:2] == ["device"]:
         sys.exit(asyncio.run(device()))
     if sys.argv[1:2] == ["client"] and len(sys.argv) == 4:

@@ -424,6 +424,7 @@ mod tests {
         let cmd = |command| OperatorCommand {
             process: 1,
             command,
+            role: Some(hmi::Role::Operator),
         };
         let trace = Trace {
             tick_ms: 10,

@@ -73,6 +73,10 @@ pub struct OperatorCommand {
     /// What the operator did.
     #[serde(flatten)]
     pub command: hmi::Command,
+    /// The role of the HMI session that sent it (`"role":"operator"`; absent in traces written
+    /// before roles, which read as before).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub role: Option<hmi::Role>,
 }
 
 /// An axis of a part-run trace: its process and letter, written `1X` (process 1, axis X).

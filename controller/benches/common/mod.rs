@@ -61,6 +61,10 @@ pub fn part_scheduler(
     (s, cnc)
 }
 
+/// The session token of the HMI benches' server (a viewer: the benches only watch).
+#[allow(dead_code)]
+pub const BENCH_TOKEN: &str = "bench-token-0123456789";
+
 /// The HMI benches' link: an HMI server on an ephemeral loopback port over the CNC kernel `cnc`
 /// running `text` as PART1 on `m` (PLC source `source`).
 #[allow(dead_code)] // the part-run benches include this module without serving an HMI
@@ -76,8 +80,12 @@ pub fn hmi_link(
     let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.to_string())]);
     let config = hmi::ServerConfig {
         addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
-        token: None,
+        tokens: hmi::Tokens::single(BENCH_TOKEN.into(), hmi::Role::Viewer),
         readonly: false,
+        allow_hosts: Vec::new(),
+        allow_origins: Vec::new(),
+        tls: None,
+        limits: hmi::security::limits::Limits::default(),
     };
     controller::hmi_link::HmiLink::start(
         config,

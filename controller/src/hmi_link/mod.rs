@@ -197,6 +197,7 @@ impl HmiLink {
                         sched.record_command(trace::OperatorCommand {
                             process: *process,
                             command: command.clone(),
+                            role: Some(env.role),
                         });
                     }
                     r.map(|()| applied_at)

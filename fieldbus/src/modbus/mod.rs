@@ -7,6 +7,7 @@
 
 pub mod client;
 pub mod frame;
+pub mod guard;
 pub mod server;
 pub mod sim;
 pub mod writer;

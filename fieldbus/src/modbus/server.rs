@@ -14,6 +14,14 @@
 //! 01 (illegal function: no coil is writable, the logic owns the outputs); an empty or oversized
 //! quantity gets 03 (illegal data value); any other function gets 01.
 //!
+//! Requests go to the unit `[hmi] unit` names (default 1); another unit id gets exception 0B
+//! (gateway target device failed to respond). What one client may cost is bounded (`guard`): at
+//! most `max_connections` open connections (default 8; one more is closed at once), at most
+//! `max_requests_per_s` requests per second per connection (default 100; more are answered with
+//! exception 06, server device busy, and not served), and a connection with no request byte for
+//! `idle_timeout_ms` (default 60 000) is closed. A malformed MBAP header (protocol id other than 0,
+//! length 0) closes its connection; other clients go on.
+//!
 //! The scan never waits for a client: [`HmiIo::publish_outputs`] copies the packets into a triple
 //! buffer the server reads, and HMI writes reach the scan through an `rtrb` ring that
 //! [`HmiIo::latch_inputs`] drains. The window keeps its last written value and overrides the image
@@ -24,10 +32,11 @@ use std::net::SocketAddr;
 use std::sync::{Arc, Mutex};
 
 use packets::{IoAlarm, Packet, PacketIo, is_a_input_connector};
-use tokio_modbus::{ExceptionCode, Request, Response};
+use tokio_modbus::{ExceptionCode, Request, Response, SlaveRequest};
 
+use super::guard::{Guarded, Places, Rate};
 use crate::exchange::{TripleReader, TripleWriter, triple};
-use crate::map::{HmiConfig, HmiWindow};
+use crate::map::{HmiConfig, HmiLimits, HmiWindow};
 
 const IMAGE: usize = packets::PACKETS_LEN;
 /// Registers in the input/holding register tables (K and N, 2 bytes each).
@@ -78,18 +87,26 @@ impl HmiIo {
             writes: Mutex::new(w_tx),
             windows: cfg.holding.clone(),
         });
+        let limits = cfg.limits;
         runtime.spawn(async move {
             let server = tokio_modbus::server::tcp::Server::new(listener);
-            let on_connected = move |stream: tokio::net::TcpStream, addr| {
+            let places = Places::new(limits.max_connections);
+            let on_connected = move |stream: tokio::net::TcpStream, _addr: SocketAddr| {
                 let shared = shared.clone();
                 let _ = stream.set_nodelay(true);
-                async move {
-                    tokio_modbus::server::tcp::accept_tcp_connection(stream, addr, move |_| {
-                        Ok(Some(HmiService {
-                            shared: shared.clone(),
-                        }))
-                    })
-                }
+                // Over the cap the connection is dropped (closed) at once.
+                let conn = places.take().map(|place| {
+                    let service = HmiService {
+                        shared,
+                        limits,
+                        rate: Mutex::new(Rate::new(
+                            limits.max_requests_per_s,
+                            std::time::Instant::now(),
+                        )),
+                    };
+                    (service, Guarded::new(stream, limits.idle_timeout, place))
+                });
+                std::future::ready(Ok::<_, std::io::Error>(conn))
             };
             // A failing connection only ends that connection; `serve` ends when accept fails.
             let _ = server.serve(&on_connected, |_err| {}).await;
@@ -159,6 +176,9 @@ impl PacketIo for HmiIo {
 
 struct HmiService {
     shared: Arc<Shared>,
+    limits: HmiLimits,
+    /// This connection's requests in the current second.
+    rate: Mutex<Rate>,
 }
 
 impl HmiService {
@@ -259,13 +279,24 @@ impl HmiService {
 }
 
 impl tokio_modbus::server::Service for HmiService {
-    type Request = Request<'static>;
+    type Request = SlaveRequest<'static>;
     type Response = Response;
     type Exception = ExceptionCode;
     type Future = Ready<Result<Response, ExceptionCode>>;
 
     fn call(&self, req: Self::Request) -> Self::Future {
-        let r = match req {
+        if req.slave != self.limits.unit {
+            return std::future::ready(Err(ExceptionCode::GatewayTargetDevice));
+        }
+        let within = self
+            .rate
+            .lock()
+            .map(|mut r| r.hit(std::time::Instant::now()))
+            .unwrap_or(false);
+        if !within {
+            return std::future::ready(Err(ExceptionCode::ServerDeviceBusy));
+        }
+        let r = match req.request {
             Request::ReadDiscreteInputs(a, n) => {
                 self.bits(a, n, true).map(Response::ReadDiscreteInputs)
             }

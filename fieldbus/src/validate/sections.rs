@@ -5,6 +5,7 @@ use std::ops::Range;
 use std::time::Duration;
 
 use packets::{Packet, Signal};
+use toml::Spanned;
 
 use super::{Ctx, codes};
 use crate::map::*;
@@ -77,7 +78,56 @@ pub(super) fn hmi(cx: &mut Ctx, raw: &RawHmi) -> HmiConfig {
         }
         holding.push(win);
     }
-    HmiConfig { bind, holding }
+    HmiConfig {
+        bind,
+        holding,
+        limits: hmi_limits(cx, raw),
+    }
+}
+
+/// The `[hmi]` unit id and limits, each checked against its range.
+fn hmi_limits(cx: &mut Ctx, raw: &RawHmi) -> HmiLimits {
+    let d = HmiLimits::default();
+    let mut ranged = |v: &Option<Spanned<u32>>,
+                      range: std::ops::RangeInclusive<u32>,
+                      default: u32,
+                      what: &str| match v {
+        Some(s) if !range.contains(s.get_ref()) => {
+            cx.err(
+                codes::VALUE,
+                s.span(),
+                format!("{what} {} is out of range", s.get_ref()),
+                format!("use {}..{}", range.start(), range.end()),
+            );
+            default
+        }
+        Some(s) => *s.get_ref(),
+        None => default,
+    };
+    let unit = ranged(&raw.unit, 0..=255, u32::from(d.unit), "unit");
+    let conns = ranged(
+        &raw.max_connections,
+        1..=1024,
+        d.max_connections as u32,
+        "max_connections",
+    );
+    let rate = ranged(
+        &raw.max_requests_per_s,
+        1..=100_000,
+        d.max_requests_per_s,
+        "max_requests_per_s",
+    );
+    let idle = cx.ms(
+        &raw.idle_timeout_ms,
+        d.idle_timeout.as_millis() as u64,
+        "idle_timeout_ms",
+    );
+    HmiLimits {
+        unit: u8::try_from(unit).unwrap_or(d.unit),
+        max_connections: conns as usize,
+        max_requests_per_s: rate,
+        idle_timeout: idle,
+    }
 }
 
 pub(super) fn modbus_device(cx: &mut Ctx, d: &RawModbusDevice) -> ModbusDevice {

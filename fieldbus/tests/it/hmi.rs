@@ -4,7 +4,7 @@
 use std::net::SocketAddr;
 use std::time::{Duration, Instant};
 
-use fieldbus::map::{HmiConfig, HmiWindow};
+use fieldbus::map::{HmiConfig, HmiLimits, HmiWindow};
 use fieldbus::modbus::server::HmiIo;
 use fieldbus::modbus::sim::RemoteIoSim;
 use fieldbus::{DeclaredConnectors, IoKind};
@@ -52,6 +52,7 @@ fn hmi_reads_the_image_writes_only_its_window_and_gets_exceptions_elsewhere() {
     let cfg = HmiConfig {
         bind: "127.0.0.1:0".parse().expect("addr"),
         holding: vec![window],
+        limits: HmiLimits::default(),
     };
     let mut hmi = HmiIo::start(Box::new(Fixed), &cfg).expect("server");
     let addr = hmi.local_addr();

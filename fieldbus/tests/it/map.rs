@@ -332,3 +332,54 @@ proptest::proptest! {
         proptest::prop_assert_eq!(map.is_some(), !diag::has_errors(&diags));
     }
 }
+
+#[test]
+fn hmi_server_limits_have_defaults_ranges_and_no_unknown_key() {
+    use fieldbus::map::HmiLimits;
+    let limits = |text: &str| {
+        let (map, diags) = parse_map(text, "io.toml", &lathe());
+        assert!(diags.is_empty(), "{diags:?}");
+        map.and_then(|m| m.hmi).map(|h| h.limits)
+    };
+    assert_eq!(
+        limits("[hmi]\n"),
+        Some(HmiLimits {
+            unit: 1,
+            max_connections: 8,
+            max_requests_per_s: 100,
+            idle_timeout: Duration::from_secs(60),
+        })
+    );
+    assert_eq!(
+        limits(
+            "[hmi]\nunit = 255\nmax_connections = 2\nmax_requests_per_s = 20\nidle_timeout_ms = 500\n"
+        ),
+        Some(HmiLimits {
+            unit: 255,
+            max_connections: 2,
+            max_requests_per_s: 20,
+            idle_timeout: Duration::from_millis(500),
+        })
+    );
+    assert_eq!(
+        located("[hmi]\nunit = 256\n", &lathe()),
+        [(codes::VALUE, 2, 8)]
+    );
+    assert_eq!(
+        located("[hmi]\nmax_connections = 0\n", &lathe()),
+        [(codes::VALUE, 2, 19)]
+    );
+    assert_eq!(
+        located("[hmi]\nmax_requests_per_s = 0\n", &lathe()),
+        [(codes::VALUE, 2, 22)]
+    );
+    assert_eq!(
+        located("[hmi]\nidle_timeout_ms = 0\n", &lathe()),
+        [(codes::VALUE, 2, 19)]
+    );
+    // A misspelt key is an error at the key, never ignored.
+    assert_eq!(
+        located("[hmi]\nmax_conections = 3\n", &lathe()),
+        [(codes::SYNTAX, 2, 1)]
+    );
+}
