@@ -568,7 +568,7 @@ mod tests {
             json!({"capabilities": {}, "initializationOptions": {"debounceMs": 40}}),
         );
         assert_eq!(
-            r.result.expect("capabilities")["capabilities"]["renameProvider"]["prepareProvider"],
+            r.response_result.expect("capabilities")["capabilities"]["renameProvider"]["prepareProvider"],
             json!(true)
         );
         note(&client, "initialized", json!({}));
@@ -599,12 +599,12 @@ mod tests {
         // Bad params and an unknown method are errors; the server goes on.
         let r = request(&client, 2, "textDocument/hover", json!({"nonsense": 1}));
         assert_eq!(
-            r.error.map(|e| e.code),
+            r.response_result.err().map(|e| e.code),
             Some(ErrorCode::InvalidParams as i32)
         );
         let r = request(&client, 3, "textDocument/nothing", json!({}));
         assert_eq!(
-            r.error.map(|e| e.code),
+            r.response_result.err().map(|e| e.code),
             Some(ErrorCode::MethodNotFound as i32)
         );
         let r = request(
@@ -613,13 +613,13 @@ mod tests {
             "textDocument/hover",
             json!({"textDocument": {"uri": u}, "position": {"line": 0, "character": 9}}),
         );
-        let v = r.result.expect("a hover");
+        let v = r.response_result.expect("a hover");
         assert_eq!(
             v["contents"]["value"],
             "**I0A1**\n\nPacket A, connector 0, bit 1; width bit\n\nWho writes it: written by the I/O (a physical input), read by the PLC. This program does not write it."
         );
         let r = request(&client, 5, "shutdown", Value::Null);
-        assert!(r.error.is_none());
+        assert!(r.response_result.is_ok());
         note(&client, "exit", Value::Null);
         assert!(t.join().expect("the server thread").is_ok());
     }
