@@ -8,7 +8,8 @@ use std::time::Instant;
 use diag::Diagnostic;
 
 use crate::context::MachineContext;
-use crate::{ir, lexer, lower, parser, sema};
+use crate::parse_cache::ParseCache;
+use crate::{ast, ir, lexer, lower, parser, sema};
 
 /// Numbers for the one-line build summary.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -53,7 +54,36 @@ pub fn compile_with_threads(
 ) -> Compilation {
     let start = Instant::now();
     let text = lexer::decode_source(source);
-    let (ast, mut diagnostics) = parser::parse_with_threads(file_name, &text, threads);
+    let (ast, diagnostics) = parser::parse_with_threads(file_name, &text, threads);
+    check_parsed(file_name, text, &ast, diagnostics, ctx, start)
+}
+
+/// [`compile`] of an editor's text (already decoded) reusing the parsed segments of earlier
+/// versions that `cache` holds ([`parser::parse_cached`]); the compilation is exactly
+/// [`compile`]'s. Also returns the syntax tree, for the editor's index of names.
+pub fn compile_incremental(
+    file_name: &str,
+    text: &str,
+    ctx: &MachineContext,
+    cache: &mut ParseCache,
+) -> (Compilation, ast::Program) {
+    let start = Instant::now();
+    // What `decode_source` does to valid UTF-8: the byte-order mark is not part of the program.
+    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text).to_string();
+    let (ast, diagnostics) = parser::parse_cached(file_name, &text, cache);
+    let c = check_parsed(file_name, text, &ast, diagnostics, ctx, start);
+    (c, ast)
+}
+
+/// Checks and lowers a parsed program (the part of a compile after the parser).
+fn check_parsed(
+    file_name: &str,
+    text: String,
+    ast: &ast::Program,
+    mut diagnostics: Vec<Diagnostic>,
+    ctx: &MachineContext,
+    start: Instant,
+) -> Compilation {
     if parser::stopped_early(&diagnostics) {
         // The stop comes first: it is the cause, and the per-file cap of the CLI would hide it
         // behind the errors of the lines read (random text has several per line).
@@ -77,7 +107,7 @@ pub fn compile_with_threads(
             text,
         };
     }
-    let (checked, mut sema_diags) = sema::check(file_name, &text, &ast, ctx);
+    let (checked, mut sema_diags) = sema::check(file_name, &text, ast, ctx);
     if diag::has_errors(&diagnostics) {
         // Usage is not known after a syntax error: the lines that would use or write a name may
         // be the ones the parser could not read, so "never used/written" would mislead.

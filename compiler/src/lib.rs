@@ -13,13 +13,14 @@ pub mod jit;
 pub mod lexer;
 pub mod lower;
 pub mod migrate;
+pub mod parse_cache;
 pub mod parser;
 pub mod sema;
 pub mod synth;
 
 pub use context::MachineContext;
 pub use engine::Engine;
-pub use front::{Compilation, CompileStats, compile, compile_with_threads};
+pub use front::{Compilation, CompileStats, compile, compile_incremental, compile_with_threads};
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;
 pub use jit::{JitError, JitProgram};

@@ -10,6 +10,7 @@ use lalrpop_util::ParseError;
 
 use crate::ast::{BinOp, Expr, ExprKind, Line, Program, Span, Stmt, StmtKind};
 use crate::lexer::{self, LexErrorKind, Spanned, Tok};
+use crate::parse_cache::{ParseCache, Parsed};
 use crate::sema::codes;
 
 lalrpop_util::lalrpop_mod!(
@@ -41,6 +42,24 @@ const FIRST_CHUNK_LINES: usize = 256;
 /// [`MAX_BAD_LINES`] bad statement lines in a row ([`codes::GAVE_UP`]): work and memory stay
 /// bounded by what is read, whatever the file.
 pub fn parse_with_threads(file: &str, text: &str, threads: usize) -> (Program, Vec<Diagnostic>) {
+    parse_inner(file, text, threads, None)
+}
+
+/// [`parse`] reusing the segments of earlier texts that `cache` holds (an editor's parse after an
+/// edit; see [`crate::parse_cache`]); the result is always exactly [`parse`]'s.
+pub fn parse_cached(file: &str, text: &str, cache: &mut ParseCache) -> (Program, Vec<Diagnostic>) {
+    cache.begin();
+    let r = parse_inner(file, text, 1, Some(&mut *cache));
+    cache.end();
+    r
+}
+
+fn parse_inner(
+    file: &str,
+    text: &str,
+    threads: usize,
+    mut cache: Option<&mut ParseCache>,
+) -> (Program, Vec<Diagnostic>) {
     let threads = match threads {
         0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
         n => n,
@@ -82,18 +101,24 @@ pub fn parse_with_threads(file: &str, text: &str, threads: usize) -> (Program, V
         if tokens.is_empty() {
             break;
         }
-        let (lines, recovered) = if threads > 1 && tokens.len() >= SPLIT_TOKENS {
-            parse_lines_split(&tokens)
-        } else {
-            parse_lines(&tokens).0
-        };
         let first_new = syntax.len();
-        for r in recovered {
-            if let Some(d) = syntax_diagnostic(file, text, r.error) {
-                syntax.push(d);
+        if let Some(cache) = cache.as_deref_mut() {
+            let p = cache.parse_chunk(text, &tokens, |t| parsed(file, text, t));
+            syntax.extend(p.diagnostics);
+            all_lines.extend(p.lines);
+        } else {
+            let (lines, recovered) = if threads > 1 && tokens.len() >= SPLIT_TOKENS {
+                parse_lines_split(&tokens)
+            } else {
+                parse_lines(&tokens).0
+            };
+            for r in recovered {
+                if let Some(d) = syntax_diagnostic(file, text, r.error) {
+                    syntax.push(d);
+                }
             }
+            all_lines.extend(lines);
         }
-        all_lines.extend(lines);
         // Statement lines with an error, in order: a lexer error or a syntax error inside.
         let mut starts: Vec<usize> = lexer
             .errors
@@ -226,6 +251,23 @@ fn parse_lines<'a>(tokens: &[Spanned<'a>]) -> ((Vec<Line>, Recovered<'a>), bool)
             });
             ((Vec::new(), recovered), true)
         }
+    }
+}
+
+/// [`parse_lines`] with the syntax diagnostics made, for [`ParseCache::parse_chunk`].
+fn parsed<'a>(file: &str, text: &str, tokens: &[Spanned<'a>]) -> Parsed {
+    let ((lines, recovered), failed) = parse_lines(tokens);
+    let eof = recovered
+        .iter()
+        .any(|e| matches!(e.error, ParseError::UnrecognizedEof { .. }));
+    let diagnostics = recovered
+        .into_iter()
+        .filter_map(|r| syntax_diagnostic(file, text, r.error))
+        .collect();
+    Parsed {
+        lines,
+        diagnostics,
+        whole_pass_needed: failed || eof,
     }
 }
 

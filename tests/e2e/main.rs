@@ -21,6 +21,7 @@ mod hmi_common;
 mod hmi_flow;
 mod hmi_security;
 mod io;
+mod lsp;
 mod macro_vars;
 mod manual_limits;
 mod modbus_peer;

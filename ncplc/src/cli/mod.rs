@@ -55,6 +55,16 @@ pub enum Command {
     Plot(plot::Args),
     /// Replay every golden trace of a machine (CI): one line per trace, JUnit XML, exit 1 on divergence.
     Test(test::Args),
+    /// Serve the PLC language to an editor (Language Server Protocol over stdin/stdout).
+    Lsp,
+    /// Format a PLC source in place (layout only; `--check`: exit 1 when it is not formatted).
+    Fmt {
+        /// The PLC source.
+        file: std::path::PathBuf,
+        /// Only check; write nothing.
+        #[arg(long)]
+        check: bool,
+    },
 }
 
 /// Runs the parsed command line and returns the process exit code.
@@ -72,5 +82,13 @@ pub fn main(cli: Cli) -> ExitCode {
         Command::Nc(a) => nc::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Test(a) => test::run(a),
+        Command::Lsp => match plc_lsp::serve_stdio() {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("ncplc lsp: {e}");
+                ExitCode::from(2)
+            }
+        },
+        Command::Fmt { file, check } => plc_lsp::format::run_cli(&file, check),
     }
 }
