@@ -16,7 +16,7 @@
 //! rapid override), capped by every axis's speed over its largest share of the direction and,
 //! on arcs, by 70 % of every axis's acceleration as centripetal acceleration. Its tangential
 //! acceleration is what is left of 98 % of every axis's limit over its share. A backward pass
-//! over the look-ahead window (default 256 blocks) gives every piece the highest end speed from
+//! over the look-ahead window (default 500 blocks) gives every piece the highest end speed from
 //! which the rest of the queue, ending at rest, can still be met; the piece being entered is then
 //! profiled in closed form (speed up to a peak, cruise, change to its end speed), sampled at the
 //! tick, and many pieces may be consumed within one tick.
@@ -42,6 +42,8 @@
 //! instant of zero acceleration (inside a cruise or at the boundary of a change).
 
 pub mod bound;
+pub mod cam;
+pub mod complex;
 pub mod config;
 mod emergency;
 pub mod geom;
@@ -52,6 +54,7 @@ pub mod plan;
 pub mod profile;
 pub mod ptp;
 pub mod samples;
+pub mod smooth;
 mod thread;
 
 pub use config::{AccParams, AxisLimits, Config, ConfigError, Law, config_from_axcfil};

@@ -86,6 +86,10 @@ pub struct Piece {
     pub reserve: bool,
     /// Its start is an unblended kink (the reserve stays).
     pub kink_start: bool,
+    /// Complex speed: the joint speed the criteria allow at its start (infinite: none).
+    pub crit_start: f64,
+    /// Complex speed: the path acceleration under smooth connection (R236; infinite: none).
+    pub a_cap: f64,
 }
 
 /// Recomputes a piece's dynamics without the kink reserve once both its junctions are known to
@@ -107,15 +111,16 @@ pub fn relax(p: &mut Piece, axes: &[AxisLimits], acc: &AccParams, dt: f64, pcts:
             }
         }
         if amin.is_finite() {
-            p.dynm.a = amin;
-            p.base.1 = amin;
+            p.dynm.a = amin.min(p.a_cap);
+            p.base.1 = p.dynm.a;
         }
         return;
     }
     let (v_hard, dynm, axis) = dynamics(axes, &p.seg, rapid, p.dynm.law, acc, dt, false);
     p.v_hard = v_hard;
-    p.base = (v_hard, dynm.a);
+    p.base = (v_hard, dynm.a.min(p.a_cap));
     p.dynm = dynm;
+    p.dynm.a = p.base.1;
     p.axis = axis;
     tune(p, pcts.0, pcts.1, false);
 }
@@ -249,7 +254,7 @@ pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
         }
     }
     if a.is_finite() && a > 0.0 && a > a_base {
-        p.dynm.a = a;
+        p.dynm.a = a.min(p.a_cap);
         p.v_hard = c;
     } else if raise_only {
         p.dynm.a = a_base;
