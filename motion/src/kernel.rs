@@ -270,6 +270,7 @@ impl Kernel {
             &self.cfg.acc,
             self.cfg.tick_s,
             true,
+            plan::CENTRIPETAL_SHARE,
         );
         let len = seg.len;
         let mut piece = Piece {
@@ -369,8 +370,16 @@ impl Kernel {
             prev.v_junction = f64::INFINITY;
             plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
             // Both ends of the blend are tangent: no kink reserve.
-            let (v_hard, dynm, axis) =
-                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt, false);
+            let (v_hard, dynm, axis) = plan::dynamics(
+                &self.cfg.axes,
+                &arc,
+                false,
+                prev.dynm.law,
+                &acc,
+                dt,
+                false,
+                plan::BLEND_CENTRIPETAL_SHARE,
+            );
             let len = arc.len;
             let mut piece = Piece {
                 seg: arc,

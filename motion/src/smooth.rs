@@ -31,6 +31,9 @@ pub const MAX_TURN: f64 = 20.0 * std::f64::consts::PI / 180.0;
 pub const HALF: usize = 12;
 /// Share of the tolerance a point may move (the rest is the corner blends').
 pub const SHIFT_SHARE: f64 = 0.5;
+/// A fit that would move a point farther than this (mm) is not the rounding's jitter but the
+/// curve itself (a tight corner the quadratic cannot follow): a narrower fit is tried.
+pub const FIT_CAP: f64 = 0.002;
 
 /// The streaming smoother: moves in, moves out (the same blocks and tags; the end points of a
 /// run's interior points moved within the band, the run's blocks carrying the blend share of
@@ -140,12 +143,13 @@ impl Smoother {
         let i = self.done + 1;
         let after = self.pts.len() - 1 - i;
         let shift = self.tol * SHIFT_SHARE;
+        let cap = shift.min(FIT_CAP);
         let p = self.pts[i];
         let mut q = p;
         let mut k = HALF.min(i).min(after);
         while k >= 2 {
             if let Some(c) = quadratic_at(&self.pts, &self.arc, i, k)
-                && (c - p).norm() <= shift
+                && (c - p).norm() <= cap
             {
                 q = c;
                 break;
