@@ -62,3 +62,20 @@ fn a_rounded_chord_circle_runs_near_the_feed_with_smoothing() {
     assert!(smooth / lb <= 1.10, "ratio {}", smooth / lb);
     assert!(smooth < plain);
 }
+
+#[test]
+fn short_cam_programs_are_faster_than_linuxcnc() {
+    // LinuxCNC 2.9's time / bound on the same programs and limits (motion/compare/linuxcnc,
+    // 2026-11-28, README).
+    let cfg = mill(Law::Linear);
+    for (p, linuxcnc) in [
+        (cam::circle(5.0, 0.5, 3, 3000.0), 1.1503),
+        (cam::circle(20.0, 0.08, 3, 6000.0), 1.1485),
+        (cam::ellipse(30.0, 15.0, 0.1, 3, 6000.0), 1.1423),
+        (cam::freeform(0.2, 3, 5000.0), 1.1318),
+    ] {
+        let t = check(&p, Law::Linear);
+        let lb = lower_bound(&cfg, &p.start, &p.moves);
+        assert!(t / lb < linuxcnc, "{}: {} ≥ {linuxcnc}", p.name, t / lb);
+    }
+}
