@@ -276,19 +276,19 @@ fn g05_1_q1_smooths_a_rounded_chord_circle_and_says_so() {
     };
     let (s_on, h_on, t_on) = run(true);
     let (s_off, h_off, t_off) = run(false);
-    // G05.1 Q1 is a block of its own: the G01 to the start and the 1571 chords follow it.
+    // After G05.1 Q1: the G01 to the start, the 1571 chords and the M30 record.
     assert!(
-        s_on.contains("contour control: 1572 blocks; lines ≤ 2 mm smoothed within 0.005 mm"),
+        s_on.contains("contour control: 1573 blocks; lines ≤ 2 mm smoothed within 0.005 mm"),
         "{s_on}"
     );
-    assert_eq!(h_on["contour"]["blocks"], 1572);
+    assert_eq!(h_on["contour"]["blocks"], 1573);
     assert_eq!(h_on["contour"]["smoothing"], "tolerance band");
     assert!(s_off.contains("contour control: off"), "{s_off}");
     assert_eq!(h_off["contour"]["blocks"], 0);
     assert!(t_on < t_off, "{t_on} s with G05.1 Q1, {t_off} s without");
 }
 
-/// A complex-speed constant out of range in nc/CONSTANTS stops `nc run` with the file and line.
+/// A complex-speed constant out of range in nc/CONSTANTS stops `nc run` (exit 2, as other machine-file errors) with the file and line.
 #[test]
 fn a_complex_speed_constant_out_of_range_is_refused_with_its_line() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -305,7 +305,7 @@ fn a_complex_speed_constant_out_of_range_is_refused_with_its_line() {
     )
     .expect("write");
     let out = ncplc(&["nc", "run", m.to_str().expect("utf-8"), "CONTOUR"]);
-    assert_eq!(out.status.code(), Some(1), "{}", text(&out.stdout));
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stdout));
     let e = text(&out.stderr);
     assert!(
         e.contains("CONSTANTS: line 2: R385: 90000000 is out of range (decades 1–7 an acceleration of 1…9999999 mm/s², decade 8 0…4)"),
