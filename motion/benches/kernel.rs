@@ -6,7 +6,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, criterion_group};
-use motion::{Kernel, Move, bound::lower_bound, samples};
+use motion::{Kernel, Move, bound::lower_bound, cam, samples};
 
 /// Runs to idle on the benchmark mill; returns the number of ticks.
 fn run(moves: &[Move], start: [f64; 3]) -> u64 {
@@ -80,6 +80,21 @@ fn ratios() {
     }
 }
 
+/// The CAM set (issue 22) with contour control: time / bound.
+fn cam_ratios() {
+    for p in cam::set() {
+        let t = samples::ticks_to_idle_with(samples::mill(), &p.moves, p.start, true)
+            .expect("the program runs") as f64
+            * 0.001;
+        let lb = lower_bound(&samples::mill(), &p.start, &p.moves);
+        println!(
+            "{:>32}: {t:8.3} s, lower bound {lb:8.3} s, ratio {:.4}",
+            p.name,
+            t / lb
+        );
+    }
+}
+
 fn virtual_time(c: &mut Criterion) {
     let moves = samples::cam(250);
     let ticks = run(&moves, samples::start("cam"));
@@ -94,6 +109,20 @@ fn virtual_time(c: &mut Criterion) {
     g.bench_function("virtual_time_100k_blocks", |b| {
         b.iter(|| run(black_box(&moves), samples::start("cam")))
     });
+    // The same 100,250 blocks rounded to 0.001 mm under contour control (smoothing and
+    // complex speed): planning stays linear in the blocks.
+    let rounded = cam::raster(250, 0.1, 3, 6000.0);
+    let smooth = |m: &[Move]| {
+        samples::ticks_to_idle_with(samples::mill(), m, rounded.start, true).expect("runs")
+    };
+    println!(
+        "100k blocks under contour control: {} blocks, {:.1} s of motion",
+        rounded.moves.len(),
+        smooth(&rounded.moves) as f64 * 0.001
+    );
+    g.bench_function("virtual_time_100k_blocks_contour", |b| {
+        b.iter(|| smooth(black_box(&rounded.moves)))
+    });
     g.finish();
 }
 
@@ -105,6 +134,14 @@ fn main() {
     // for `/usr/bin/time`'s CPU time on a loaded machine, where wall-clock time is the load's).
     if let Some(rows) = std::env::var_os("MOTION_BENCH_ONE_RUN") {
         let rows = rows.to_str().and_then(|r| r.parse().ok()).unwrap_or(25);
+        if std::env::var_os("MOTION_BENCH_CONTOUR").is_some() {
+            // `MOTION_BENCH_CONTOUR=1`: the rounded raster under contour control.
+            let p = cam::raster(rows, 0.1, 3, 6000.0);
+            let ticks = samples::ticks_to_idle_with(samples::mill(), &p.moves, p.start, true)
+                .expect("runs");
+            println!("ticks {ticks}");
+            return;
+        }
         let moves = samples::cam(rows);
         // `MOTION_BENCH_OVERRIDES=1`: the feed and rapid overrides are set (unchanged, 100 %)
         // before every tick, as the CNC kernel does each logic tick.
@@ -117,6 +154,7 @@ fn main() {
         return;
     }
     ratios();
+    cam_ratios();
     per_tick_cost();
     benches();
     Criterion::default().configure_from_args().final_summary();

@@ -117,6 +117,8 @@ pub struct Config {
     pub window: usize,
     /// The ACC parameters that define the S and exponential laws.
     pub acc: AccParams,
+    /// Complex speed (MEFI appendix A6): the joint criteria under contour control.
+    pub complex: crate::complex::ComplexSpeed,
 }
 
 impl Config {
@@ -230,7 +232,7 @@ impl Config {
 /// Builds the configuration of AXCFIL process `process`: the axes of its coordinated interpolator
 /// (spindles excluded), RAP for rapids, GMxx Vmax and MAN max_accel for feed moves, the S-law jerk
 /// from ACC, the software limits of LO1 (else LOP; both zero: unchecked), int_tick of INx. The
-/// tolerance defaults to 0.01 mm and the window to 256 blocks.
+/// tolerance defaults to 0.01 mm and the window to 500 blocks (complex speed looks up to 500 blocks ahead).
 pub fn config_from_axcfil(axcfil: &Axcfil, process: u32) -> Result<Config, ConfigError> {
     let p: &Process = axcfil
         .process(process)
@@ -269,8 +271,9 @@ pub fn config_from_axcfil(axcfil: &Axcfil, process: u32) -> Result<Config, Confi
         tick_s: f64::from(inx.int_tick) / 1000.0,
         tolerance_mm: 0.01,
         law: Law::Linear,
-        window: 256,
+        window: 500,
         acc,
+        complex: crate::complex::ComplexSpeed::default(),
     };
     cfg.validate()?;
     Ok(cfg)

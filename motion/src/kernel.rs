@@ -8,6 +8,7 @@ use crate::geom::{Seg, Shape, Vector, turn_angle, vector};
 use crate::moves::{MotionError, Move, Path};
 use crate::plan::{self, Motion, Piece};
 use crate::profile::Profile;
+use crate::smooth::Smoother;
 use crate::thread::{self, ThreadRun};
 
 /// The output of one interpolation tick.
@@ -77,6 +78,12 @@ pub struct Kernel {
     pub(crate) scale: Vec<f64>,
     /// Some axis has a factor other than 1.
     pub(crate) scaled: bool,
+    /// Tolerance-band smoothing of short lines ([`crate::smooth`]; None: off).
+    pub(crate) smooth: Option<Smoother>,
+    /// The last programmed end point pushed (slide mm; `end` is the smoothed one).
+    pub(crate) prog_end: Vector,
+    /// A move was pushed since the last tick.
+    pub(crate) pushed: bool,
 }
 
 impl Kernel {
@@ -127,6 +134,9 @@ impl Kernel {
             undo: Vec::new(),
             scale,
             scaled,
+            smooth: None,
+            prog_end: pos,
+            pushed: false,
         })
     }
 
@@ -136,7 +146,8 @@ impl Kernel {
     }
 
     /// Queues a move; refused (before any motion) when its path leaves a soft limit, it lacks a
-    /// feed, it is malformed or the queue is full.
+    /// feed, it is malformed or the queue is full. Under smoothing a short line may be held back
+    /// until the points after it are known (it counts against the window meanwhile).
     pub fn push(&mut self, m: Move) -> Result<(), MotionError> {
         let m = if self.scaled {
             m.scaled(&self.scale)
@@ -144,7 +155,7 @@ impl Kernel {
             m
         };
         let n = self.cfg.axes.len();
-        if self.moves >= self.cfg.window {
+        if self.moves + self.held() >= self.cfg.window {
             return Err(MotionError::QueueFull { tag: m.tag });
         }
         if m.end.len() != n || m.end.iter().any(|v| !v.is_finite()) {
@@ -153,6 +164,55 @@ impl Kernel {
                 what: format!("{} finite end coordinates expected", n),
             });
         }
+        self.pushed = true;
+        let end = vector(&m.end);
+        let tol = self.cfg.tolerance_mm;
+        let Some(sm) = self.smooth.as_mut() else {
+            self.prog_end = end;
+            return self.enqueue(m);
+        };
+        sm.push(m, &self.prog_end, tol);
+        self.prog_end = end;
+        self.drain()
+    }
+
+    /// Moves held by the smoother.
+    fn held(&self) -> usize {
+        self.smooth.as_ref().map_or(0, Smoother::held)
+    }
+
+    /// Queues the moves the smoother has made ready.
+    fn drain(&mut self) -> Result<(), MotionError> {
+        while let Some(m) = self.smooth.as_mut().and_then(Smoother::pop) {
+            self.enqueue(m)?;
+        }
+        Ok(())
+    }
+
+    /// Switches tolerance-band smoothing of short lines on or off for the moves pushed from now
+    /// on (off: the held moves are queued at once).
+    pub fn set_smoothing(&mut self, on: bool) -> Result<(), MotionError> {
+        match (on, self.smooth.is_some()) {
+            (true, false) => self.smooth = Some(Smoother::default()),
+            (false, true) => {
+                if let Some(sm) = self.smooth.as_mut() {
+                    sm.flush();
+                }
+                self.drain()?;
+                self.smooth = None;
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+
+    /// Smoothing is on.
+    pub fn smoothing(&self) -> bool {
+        self.smooth.is_some()
+    }
+
+    /// Queues a move (already in slide units, checked for its axis count).
+    fn enqueue(&mut self, m: Move) -> Result<(), MotionError> {
         let end = vector(&m.end);
         let seg = plan::segment(&m, &self.end, &end)?;
         let share = seg.as_ref().map_or(0.0, |s| {
@@ -210,6 +270,7 @@ impl Kernel {
             &self.cfg.acc,
             self.cfg.tick_s,
             true,
+            plan::CENTRIPETAL_SHARE,
         );
         let len = seg.len;
         let mut piece = Piece {
@@ -230,7 +291,15 @@ impl Kernel {
             corner: None,
             reserve: true,
             kink_start: false,
+            crit_start: f64::INFINITY,
+            a_cap: f64::INFINITY,
         };
+        // Complex speed: R236 is the path acceleration under smooth connection.
+        if self.smooth.is_some() && motion == Motion::Feed && self.cfg.complex.smooth_accel > 0.0 {
+            piece.a_cap = self.cfg.complex.smooth_accel;
+            piece.dynm.a = piece.dynm.a.min(piece.a_cap);
+            piece.base.1 = piece.dynm.a;
+        }
         if matches!(motion, Motion::Dwell(_)) {
             piece.exact = true;
         }
@@ -259,6 +328,7 @@ impl Kernel {
         let executing = self.exec.is_some() && n == 1;
         let (dt, law, acc) = (self.cfg.tick_s, self.law, self.cfg.acc);
         let pcts = (self.feed_pct, self.rapid_pct);
+        let complex = self.smooth.is_some();
         let Some(prev) = self.q.back_mut() else {
             return 0;
         };
@@ -270,6 +340,25 @@ impl Kernel {
             return n - 1;
         }
         let theta = turn_angle(&prev.seg.tangent(true), &next.seg.tangent(false));
+        // Complex speed under contour control (MEFI appendix A6): a joint sharper than R39 is
+        // the end of smoothness (a stop); otherwise the accuracy and dynamic criteria cap it,
+        // and a line shorter than R386 keeps its joint speeds inside.
+        let mut crit = f64::INFINITY;
+        if complex && prev.motion == Motion::Feed && next.motion == Motion::Feed {
+            let cs = &self.cfg.complex;
+            if theta > cs.angle {
+                prev.v_junction = 0.0;
+                if !executing {
+                    plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
+                }
+                return n - 1;
+            }
+            crit = cs.joint_speed(theta, prev.len_orig, next.len_orig, dt);
+            next.crit_start = crit;
+            if prev.len_orig < cs.raise_len && !executing {
+                prev.feed = prev.feed.min(prev.crit_start.max(crit));
+            }
+        }
         let lines = matches!(prev.seg.shape, Shape::Line { .. })
             && matches!(next.seg.shape, Shape::Line { .. });
         if lines
@@ -281,8 +370,16 @@ impl Kernel {
             prev.v_junction = f64::INFINITY;
             plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
             // Both ends of the blend are tangent: no kink reserve.
-            let (v_hard, dynm, axis) =
-                plan::dynamics(&self.cfg.axes, &arc, false, prev.dynm.law, &acc, dt, false);
+            let (v_hard, dynm, axis) = plan::dynamics(
+                &self.cfg.axes,
+                &arc,
+                false,
+                prev.dynm.law,
+                &acc,
+                dt,
+                false,
+                plan::BLEND_CENTRIPETAL_SHARE,
+            );
             let len = arc.len;
             let mut piece = Piece {
                 seg: arc,
@@ -302,12 +399,18 @@ impl Kernel {
                 corner: Some(corner),
                 reserve: false,
                 kink_start: false,
+                crit_start: f64::INFINITY,
+                a_cap: prev.a_cap,
             };
+            piece.dynm.a = piece.dynm.a.min(piece.a_cap);
+            piece.base.1 = piece.dynm.a;
+            // Complex speed: the joint criteria cap the corner.
+            piece.feed = piece.feed.min(crit);
             plan::tune(&mut piece, self.feed_pct, self.rapid_pct, false);
             self.q.push_back(piece);
             return n - 1;
         }
-        prev.v_junction = plan::kink_cap(&self.cfg.axes, theta, dt, law, &acc);
+        prev.v_junction = plan::kink_cap(&self.cfg.axes, theta, dt, law, &acc).min(crit);
         if prev.v_junction.is_finite() {
             next.kink_start = true;
         } else if !executing {
@@ -350,7 +453,7 @@ impl Kernel {
 
     /// Free look-ahead slots (blocks).
     pub fn space(&self) -> usize {
-        self.cfg.window.saturating_sub(self.moves)
+        self.cfg.window.saturating_sub(self.moves + self.held())
     }
 
     /// Feed override, percent (0–255); ramped within the limits from the current tick. An
@@ -501,7 +604,7 @@ impl Kernel {
 
     /// Queue empty and at rest.
     pub fn is_idle(&self) -> bool {
-        self.q.is_empty() && self.exec.is_none() && self.v == 0.0
+        self.q.is_empty() && self.exec.is_none() && self.v == 0.0 && self.held() == 0
     }
 
     fn halting(&self) -> bool {
@@ -526,6 +629,10 @@ impl Kernel {
 
     fn clear_after_abort(&mut self) {
         self.q.clear();
+        if self.smooth.is_some() {
+            self.smooth = Some(Smoother::default());
+        }
+        self.prog_end = self.pos;
         self.moves = 0;
         self.exec = None;
         self.end = self.pos;
@@ -562,6 +669,16 @@ impl Kernel {
     /// Advances one interpolation tick and returns its set points.
     pub fn tick(&mut self) -> &Tick {
         self.out.finished.clear();
+        // Nothing pushed since the last tick though there was room: the program has ended or
+        // its blocks come slower than they run; the held moves go to the queue.
+        if !std::mem::take(&mut self.pushed) && self.held() > 0 && self.space() > 0 {
+            if let Some(sm) = self.smooth.as_mut() {
+                sm.flush();
+            }
+            if let Err(e) = self.drain() {
+                self.fault = Some(e);
+            }
+        }
         let mut left = self.cfg.tick_s;
         loop {
             if self.exec.is_none() {

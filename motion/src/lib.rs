@@ -14,12 +14,18 @@
 //!
 //! A piece's speed cap is the programmed feed × override (rapids: the axes' rapid speeds ×
 //! rapid override), capped by every axis's speed over its largest share of the direction and,
-//! on arcs, by 70 % of every axis's acceleration as centripetal acceleration. Its tangential
+//! on arcs, by 70 % of every axis's acceleration as centripetal acceleration (80 % on corner
+//! blends). Its tangential
 //! acceleration is what is left of 98 % of every axis's limit over its share. A backward pass
-//! over the look-ahead window (default 256 blocks) gives every piece the highest end speed from
+//! over the look-ahead window (default 500 blocks) gives every piece the highest end speed from
 //! which the rest of the queue, ending at rest, can still be met; the piece being entered is then
 //! profiled in closed form (speed up to a peak, cruise, change to its end speed), sampled at the
 //! tick, and many pieces may be consumed within one tick.
+//!
+//! Under contour control ([`Kernel::set_smoothing`]: Fanuc G05.1 Q1 / G08 P1, MEFI G23) runs of
+//! short lines are smoothed within half the tolerance before planning ([`smooth`]) and the joint
+//! speeds follow the MEFI manual's complex speed ([`complex`]: R39 stop, accuracy and dynamic
+//! criteria, R386, R236); the axes' limits still hold at every tick.
 //!
 //! # Acceleration laws (ACC `lin_s, nonlin_s, min_exp, max_exp`)
 //! Every velocity change starts and ends at zero path acceleration; a deceleration is the time
@@ -42,6 +48,8 @@
 //! instant of zero acceleration (inside a cruise or at the boundary of a change).
 
 pub mod bound;
+pub mod cam;
+pub mod complex;
 pub mod config;
 mod emergency;
 pub mod geom;
@@ -52,6 +60,7 @@ pub mod plan;
 pub mod profile;
 pub mod ptp;
 pub mod samples;
+pub mod smooth;
 mod thread;
 
 pub use config::{AccParams, AxisLimits, Config, ConfigError, Law, config_from_axcfil};

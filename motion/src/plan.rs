@@ -13,6 +13,9 @@ use crate::profile::Dyn;
 
 /// Share of an axis's acceleration available to centripetal acceleration on arcs.
 pub const CENTRIPETAL_SHARE: f64 = 0.7;
+/// The same on corner blends: short arcs between lines (a chord polygon's corners), whose speed
+/// changes mostly happen on the lines around them.
+pub const BLEND_CENTRIPETAL_SHARE: f64 = 0.8;
 /// Share of an axis's acceleration (and jerk) reserved for the direction change at an unblended
 /// junction between pieces whose tangents differ slightly (kept by the pieces on either side of
 /// such a kink, and by a piece whose end junction is not known yet).
@@ -86,6 +89,10 @@ pub struct Piece {
     pub reserve: bool,
     /// Its start is an unblended kink (the reserve stays).
     pub kink_start: bool,
+    /// Complex speed: the joint speed the criteria allow at its start (infinite: none).
+    pub crit_start: f64,
+    /// Complex speed: the path acceleration under smooth connection (R236; infinite: none).
+    pub a_cap: f64,
 }
 
 /// Recomputes a piece's dynamics without the kink reserve once both its junctions are known to
@@ -107,15 +114,21 @@ pub fn relax(p: &mut Piece, axes: &[AxisLimits], acc: &AccParams, dt: f64, pcts:
             }
         }
         if amin.is_finite() {
-            p.dynm.a = amin;
-            p.base.1 = amin;
+            p.dynm.a = amin.min(p.a_cap);
+            p.base.1 = p.dynm.a;
         }
         return;
     }
-    let (v_hard, dynm, axis) = dynamics(axes, &p.seg, rapid, p.dynm.law, acc, dt, false);
+    let share = if p.corner.is_some() {
+        BLEND_CENTRIPETAL_SHARE
+    } else {
+        CENTRIPETAL_SHARE
+    };
+    let (v_hard, dynm, axis) = dynamics(axes, &p.seg, rapid, p.dynm.law, acc, dt, false, share);
     p.v_hard = v_hard;
-    p.base = (v_hard, dynm.a);
+    p.base = (v_hard, dynm.a.min(p.a_cap));
     p.dynm = dynm;
+    p.dynm.a = p.base.1;
     p.axis = axis;
     tune(p, pcts.0, pcts.1, false);
 }
@@ -134,7 +147,9 @@ pub fn axis_vaj(ax: &AxisLimits, rapid: bool, law: Law, acc: &AccParams) -> (f64
 }
 
 /// The speed cap and path dynamics of `seg` for these axes; `reserve`: keep [`KINK_SHARE`] of
-/// every axis's acceleration for a kink at either end.
+/// every axis's acceleration for a kink at either end; `centripetal`: the share of every axis's
+/// acceleration the centripetal acceleration may take.
+#[allow(clippy::too_many_arguments)]
 pub fn dynamics(
     axes: &[AxisLimits],
     seg: &Seg,
@@ -143,6 +158,7 @@ pub fn dynamics(
     acc: &AccParams,
     dt: f64,
     reserve: bool,
+    centripetal: f64,
 ) -> (f64, Dyn, [Vector; 3]) {
     let keep = if reserve { 1.0 - KINK_SHARE } else { 1.0 };
     let mut share = seg.max_share();
@@ -167,7 +183,7 @@ pub fn dynamics(
             jmin = jmin.min(tangent * j / share[i]);
         }
         if curv[i] > 0.0 {
-            v_hard = v_hard.min((CENTRIPETAL_SHARE * a / curv[i]).sqrt());
+            v_hard = v_hard.min((centripetal * a / curv[i]).sqrt());
             if j.is_finite() {
                 v_hard = v_hard.min((JERK_STEP * j * dt / curv[i]).sqrt());
                 v_hard = v_hard.min((JERK_ROTATION * j / (curv[i] * kappa)).dcbrt());
@@ -249,7 +265,7 @@ pub fn tune(p: &mut Piece, feed_pct: u16, rapid_pct: u16, raise_only: bool) {
         }
     }
     if a.is_finite() && a > 0.0 && a > a_base {
-        p.dynm.a = a;
+        p.dynm.a = a.min(p.a_cap);
         p.v_hard = c;
     } else if raise_only {
         p.dynm.a = a_base;

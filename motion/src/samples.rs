@@ -7,7 +7,7 @@ use crate::moves::{Move, Path};
 use detmath::Det as _;
 
 /// The benchmark mill the samples are measured on: each axis 100 mm/s and 1000 mm/s²
-/// (rapids alike, no jerk limit), a 1 ms tick, tolerance 0.01 mm, linear law, a 256-block window.
+/// (rapids alike, no jerk limit), a 1 ms tick, tolerance 0.01 mm, linear law, a 500-block window.
 pub fn mill() -> Config {
     let ax = |name| AxisLimits {
         name,
@@ -26,15 +26,27 @@ pub fn mill() -> Config {
         tick_s: 0.001,
         tolerance_mm: 0.01,
         law: Law::Linear,
-        window: 256,
+        window: 500,
         acc: AccParams::default(),
+        complex: crate::complex::ComplexSpeed::default(),
     }
 }
 
 /// Runs `moves` from `start` on `cfg` until the kernel is idle, feeding the queue as it empties;
 /// the number of ticks (the motion time in ticks), or the first error as text.
 pub fn ticks_to_idle(cfg: Config, moves: &[Move], start: [f64; 3]) -> Result<u64, String> {
+    ticks_to_idle_with(cfg, moves, start, false)
+}
+
+/// [`ticks_to_idle`] with tolerance-band smoothing on or off ([`crate::smooth`]).
+pub fn ticks_to_idle_with(
+    cfg: Config,
+    moves: &[Move],
+    start: [f64; 3],
+    smooth: bool,
+) -> Result<u64, String> {
     let mut k = Kernel::new(cfg, &start).map_err(|e| e.to_string())?;
+    k.set_smoothing(smooth).map_err(|e| e.to_string())?;
     let (mut next, mut n) = (0, 0);
     loop {
         while next < moves.len() && k.space() > 0 {

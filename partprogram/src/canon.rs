@@ -158,6 +158,9 @@ pub struct BlockModal {
     pub length: u8,
     /// The H register of G43/G44 (0: none).
     pub h: i64,
+    /// Contour control for short blocks (the motion kernel's tolerance-band smoothing and
+    /// complex speed): Fanuc `G05.1 Q1` / `G08 P1` until `Q0` / `P0`, MEFI `G23`.
+    pub contour: bool,
 }
 
 impl Default for BlockModal {
@@ -172,6 +175,7 @@ impl Default for BlockModal {
             d: 0,
             length: 0,
             h: 0,
+            contour: false,
         }
     }
 }

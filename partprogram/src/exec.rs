@@ -382,6 +382,7 @@ impl<'p> Exec<'p> {
             d: self.modal.d,
             length: 0,
             h: 0,
+            contour: self.modal.smooth,
         }
     }
 

@@ -83,6 +83,8 @@ struct Ex<'p> {
     exact_once: bool,
     /// `G64 P<tol>` blending tolerance (mm) until G61 or a G64 without P.
     tolerance: Option<f64>,
+    /// AI contour control (`G05.1 Q1` or `G08 P1`) until `G05.1 Q0` or `G08 P0`.
+    contour: bool,
     /// Macro B variables.
     vars: macros::VarTable,
     /// External work offset (`#5201`+), added to every work system.
@@ -162,6 +164,7 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         exact_modal: false,
         exact_once: false,
         tolerance: None,
+        contour: false,
         vars: macros::VarTable::default(),
         ext: [0.0; 6],
         last_m: None,
@@ -362,6 +365,7 @@ impl Ex<'_> {
                 None => 49,
             },
             h: self.tlo_h,
+            contour: self.contour,
         }
     }
 
@@ -524,6 +528,28 @@ impl Ex<'_> {
                 520 => g52 = true,
                 120 | 130 => pocket = Some(g),
                 71 => cyl_cmd = true,
+                // AI contour control: G05.1 Q1/Q0 (AICC), G08 P1/P0 (AI look-ahead).
+                51 | 80 => {
+                    let (word, name) = if g == 51 {
+                        ('Q', "G05.1")
+                    } else {
+                        ('P', "G08")
+                    };
+                    self.contour = match num(word) {
+                        Some(v) if v == 1.0 => true,
+                        Some(v) if v == 0.0 => false,
+                        other => {
+                            let got = other.map_or("none".to_string(), |v| v.to_string());
+                            return Err(run_err(
+                                b,
+                                codes::RUN_BAD_G,
+                                format!(
+                                    "{name} takes {word}1 (contour control on) or {word}0 (off), found {word} {got}"
+                                ),
+                            ));
+                        }
+                    };
+                }
                 g => {
                     return Err(run_err(
                         b,
@@ -606,7 +632,8 @@ impl Ex<'_> {
                 None
             },
             pocket: pocket.is_some() && !g10 && !non_motion,
-            p_value: g154 || gs.contains(&640),
+            p_value: g154 || gs.contains(&640) || gs.contains(&80),
+            q_value: gs.contains(&51),
             cycle: self
                 .cycle
                 .filter(|_| !g10 && !non_motion && pocket.is_none() && (new_cycle || any)),

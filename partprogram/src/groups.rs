@@ -49,8 +49,8 @@ pub fn fanuc_m_group(m: i64) -> Option<u8> {
 
 /// The G group of a Fanuc/HAAS G code (code × 10 + sub-code, so G7.1 is 71 and G1 is 10), or None.
 pub fn fanuc_g_group(g10: u16) -> Option<u8> {
-    // Sub-codes exist only for G7.1: every other code is a whole number.
-    if !g10.is_multiple_of(10) && g10 != 71 {
+    // Sub-codes exist only for G7.1 and G5.1: every other code is a whole number.
+    if !g10.is_multiple_of(10) && g10 != 71 && g10 != 51 {
         return None;
     }
     Some(match g10 {
@@ -67,7 +67,8 @@ pub fn fanuc_g_group(g10: u16) -> Option<u8> {
         71 => 16,
         690 => 17,
         500 => 11,
-        40 | 90 | 120 | 130 | 280 | 520 | 530 | 920 | 100 | 1000 => 0,
+        // G05.1 (AI contour control) and G08 (AI look-ahead): group 0, Q/P switch them.
+        40 | 51 | 80 | 90 | 120 | 130 | 280 | 520 | 530 | 920 | 100 | 1000 => 0,
         610 | 640 => 15,
         960 | 970 => 13,
         _ => return None,

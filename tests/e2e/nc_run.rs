@@ -4,6 +4,8 @@
 use std::path::PathBuf;
 use std::process::Command;
 
+use detmath::Det as _;
+
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
 }
@@ -212,8 +214,102 @@ fn trajectory_header_states_the_limits_used() {
     assert_eq!(
         head.lines().next(),
         Some(
-            "{\"tick_s\":0.002,\"axes\":[\"X\",\"Y\",\"Z\"],\"limits\":{\"X\":{\"v\":250.0,\"a\":450.0,\"j\":810.0},\"Y\":{\"v\":250.0,\"a\":450.0,\"j\":810.0},\"Z\":{\"v\":200.0,\"a\":300.0,\"j\":450.0}},\"tolerance_mm\":0.01,\"law\":\"s\"}"
+            "{\"tick_s\":0.002,\"axes\":[\"X\",\"Y\",\"Z\"],\"limits\":{\"X\":{\"v\":250.0,\"a\":450.0,\"j\":810.0},\"Y\":{\"v\":250.0,\"a\":450.0,\"j\":810.0},\"Z\":{\"v\":200.0,\"a\":300.0,\"j\":450.0}},\"tolerance_mm\":0.01,\"law\":\"s\",\"contour\":{\"blocks\":0,\"smoothing\":\"off\",\"shift_mm\":0.005,\"blend_mm\":0.005,\"max_len_mm\":2.0,\"max_turn_deg\":20.0,\"complex_speed\":\"R39 60°, R384 10 µm, R385 10000 mm/s², R386 0 mm, R236 the axes'\"}}"
         )
+    );
+}
+
+/// A Fanuc chord circle (r 20 mm, 0.08 mm chords, coordinates rounded to 0.001 mm, F6000):
+/// `G05.1 Q1` puts its chords under contour control (smoothing and complex speed), which the
+/// summary and the trajectory header say; the run stays within the limits and the tolerance and
+/// is faster than the same program without it.
+#[test]
+fn g05_1_q1_smooths_a_rounded_chord_circle_and_says_so() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut body = String::from("G01 X20. Y0. F6000\n");
+    let n = 1571;
+    for k in 1..=n {
+        let a = std::f64::consts::TAU * k as f64 / n as f64;
+        let (x, y) = (20.0 * a.dcos(), 20.0 * a.dsin());
+        body.push_str(&format!("X{:.3} Y{:.3}\n", x, y));
+    }
+    let run = |on: bool| {
+        let prog = dir.path().join(if on { "O1.nc" } else { "O2.nc" });
+        let head = if on {
+            "O1\nG21 G90 G17 G05.1 Q1\n"
+        } else {
+            "O2\nG21 G90 G17\n"
+        };
+        std::fs::write(&prog, format!("{head}{body}M30\n")).expect("write");
+        let traj = dir.path().join(if on { "on.jsonl" } else { "off.jsonl" });
+        let out = ncplc(&[
+            "nc",
+            "run",
+            "plc-programs/mill",
+            prog.to_str().expect("utf-8"),
+            "--dialect",
+            "fanuc",
+            "--soft-limits",
+            "off",
+            "--trajectory",
+            traj.to_str().expect("utf-8"),
+        ]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let head = std::fs::read_to_string(&traj).expect("trajectory");
+        let head: serde_json::Value =
+            serde_json::from_str(head.lines().next().expect("header")).expect("json");
+        let s = text(&out.stdout);
+        let secs: f64 = s
+            .split("motion time: ")
+            .nth(1)
+            .and_then(|x| x.split(' ').next())
+            .and_then(|x| x.parse().ok())
+            .expect("motion time");
+        let dev: f64 = s
+            .split("path deviation: max ")
+            .nth(1)
+            .and_then(|x| x.split(' ').next())
+            .and_then(|x| x.parse().ok())
+            .expect("deviation");
+        assert!(dev <= 0.01, "deviation {dev}: {s}");
+        (s, head, secs)
+    };
+    let (s_on, h_on, t_on) = run(true);
+    let (s_off, h_off, t_off) = run(false);
+    // After G05.1 Q1: the G01 to the start, the 1571 chords and the M30 record.
+    assert!(
+        s_on.contains("contour control: 1573 blocks; lines ≤ 2 mm smoothed within 0.005 mm"),
+        "{s_on}"
+    );
+    assert_eq!(h_on["contour"]["blocks"], 1573);
+    assert_eq!(h_on["contour"]["smoothing"], "tolerance band");
+    assert!(s_off.contains("contour control: off"), "{s_off}");
+    assert_eq!(h_off["contour"]["blocks"], 0);
+    assert!(t_on < t_off, "{t_on} s with G05.1 Q1, {t_off} s without");
+}
+
+/// A complex-speed constant out of range in nc/CONSTANTS stops `nc run` (exit 2, as other machine-file errors) with the file and line.
+#[test]
+fn a_complex_speed_constant_out_of_range_is_refused_with_its_line() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let m = dir.path().join("mill");
+    let copy = Command::new("cp")
+        .args(["-r", "plc-programs/mill", m.to_str().expect("utf-8")])
+        .current_dir(repo())
+        .status()
+        .expect("cp");
+    assert!(copy.success());
+    std::fs::write(
+        m.join("nc").join("CONSTANTS"),
+        "R39: 00060.000\nR385: 9.0000000\n",
+    )
+    .expect("write");
+    let out = ncplc(&["nc", "run", m.to_str().expect("utf-8"), "CONTOUR"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stdout));
+    let e = text(&out.stderr);
+    assert!(
+        e.contains("CONSTANTS: line 2: R385: 90000000 is out of range (decades 1–7 an acceleration of 1…9999999 mm/s², decade 8 0…4)"),
+        "{e}"
     );
 }
 

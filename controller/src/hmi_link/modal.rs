@@ -205,6 +205,7 @@ mod tests {
             d: 7,
             length: 43,
             h: 2,
+            contour: false,
         };
         let mut m = ModalTracker::default();
         assert_eq!(

@@ -34,8 +34,9 @@ pub fn mill(law: Law) -> Config {
         tick_s: 0.001,
         tolerance_mm: 0.01,
         law,
-        window: 256,
+        window: 500,
         acc,
+        complex: motion::complex::ComplexSpeed::default(),
     }
 }
 
@@ -93,7 +94,19 @@ pub struct Run {
 
 /// Pushes `moves` (keeping the queue full), applies `cmds` at their ticks and runs to idle.
 pub fn run(cfg: &Config, start: &[f64], moves: &[Move], cmds: &[(usize, Cmd)]) -> Run {
+    run_with(cfg, start, moves, cmds, false)
+}
+
+/// [`run`] with tolerance-band smoothing on or off.
+pub fn run_with(
+    cfg: &Config,
+    start: &[f64],
+    moves: &[Move],
+    cmds: &[(usize, Cmd)],
+    smooth: bool,
+) -> Run {
     let mut k = Kernel::new(cfg.clone(), start).expect("config");
+    k.set_smoothing(smooth).expect("smoothing");
     let mut mon = Monitor::new(cfg, start, cfg.law);
     let mut next = 0;
     let mut points = Vec::new();

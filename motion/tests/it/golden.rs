@@ -190,7 +190,7 @@ fn abort_stops_in_the_minimum_distance_and_clears_the_queue() {
         assert!(n < 1000);
     }
     assert!((k.position()[0] - at - 1e4 / 2000.0).abs() < 1e-9);
-    assert_eq!(k.space(), 256);
+    assert_eq!(k.space(), 500);
     let stop = k.position().to_vec();
     k.push(line(3, [0.0, 0.0, 0.0], 6000.0))
         .expect("push after abort");

@@ -1,6 +1,7 @@
 //! The integration tests of crate `motion`, one test binary: each module was a separate
 //! `tests/*.rs` binary before (issue 24: one link instead of one per file).
 
+mod cam;
 mod common;
 mod golden;
 mod props;

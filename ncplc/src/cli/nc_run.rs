@@ -71,6 +71,16 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
         cfg.tolerance_mm = t;
     }
     cfg.law = law;
+    // Complex speed: R39, R384, R385, R386, R236 from nc/CONSTANTS (the manual's defaults).
+    let constants = super::nc::constants_file(&a.common.machine);
+    match std::fs::read_to_string(&constants) {
+        Ok(text) => {
+            cfg.complex = motion::complex::from_constants(&text)
+                .map_err(|e| format!("{}: {e}", constants.display()))?;
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(format!("{}: {e}", constants.display())),
+    }
     if !soft {
         for ax in &mut cfg.axes {
             ax.soft_min = None;
@@ -89,6 +99,8 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
         }
     };
     let names = cfg.axis_names();
+    // Blocks under contour control (Fanuc G05.1 Q1 / G08 P1, MEFI G23): smoothed within the band.
+    let contour = blocks.iter().filter(|c| c.modal.contour).count();
     let start = vec![0.0; names.len()];
     let mut kernel = Kernel::new(cfg.clone(), &start).map_err(|e| e.to_string())?;
     kernel.set_feed_override(a.feed_override);
@@ -98,7 +110,7 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
             let f = std::fs::File::create(p)
                 .map_err(|e| format!("cannot create {}: {e}", p.display()))?;
             let mut w = std::io::BufWriter::new(f);
-            writeln!(w, "{}", header(&cfg, law)).map_err(|e| e.to_string())?;
+            writeln!(w, "{}", header(&cfg, law, contour)).map_err(|e| e.to_string())?;
             Some((w, p.clone()))
         }
         None => None,
@@ -118,8 +130,10 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
     loop {
         while next < blocks.len() && kernel.space() > 0 {
             let c = &blocks[next];
-            let m = Move::from_canon(next as u64, c, &names)
-                .and_then(|m| kernel.push(m.clone()).map(|()| m));
+            let m = Move::from_canon(next as u64, c, &names).and_then(|m| {
+                kernel.set_smoothing(c.modal.contour)?;
+                kernel.push(m.clone()).map(|()| m)
+            });
             match m {
                 Ok(m) => monitor.push(&m),
                 Err(e) => {
@@ -165,6 +179,7 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
             law,
             a.feed_override,
             blocks.len(),
+            contour,
             ticks,
             monitor.report()
         )
@@ -180,7 +195,7 @@ fn num(v: f64, scale: f64) -> String {
 }
 
 /// The trajectory header line.
-fn header(cfg: &Config, law: Law) -> String {
+fn header(cfg: &Config, law: Law, contour: usize) -> String {
     let axes: Vec<String> = cfg.axes.iter().map(|a| format!("\"{}\"", a.name)).collect();
     let limits: Vec<String> = cfg
         .axes
@@ -201,12 +216,13 @@ fn header(cfg: &Config, law: Law) -> String {
         })
         .collect();
     format!(
-        "{{\"tick_s\":{},\"axes\":[{}],\"limits\":{{{}}},\"tolerance_mm\":{},\"law\":\"{}\"}}",
+        "{{\"tick_s\":{},\"axes\":[{}],\"limits\":{{{}}},\"tolerance_mm\":{},\"law\":\"{}\",\"contour\":{}}}",
         num(cfg.tick_s, 1e9),
         axes.join(","),
         limits.join(","),
         num(cfg.tolerance_mm, 1e9),
-        law.name()
+        law.name(),
+        motion::smooth::header_json(cfg.tolerance_mm, contour, &cfg.complex)
     )
 }
 
@@ -226,13 +242,15 @@ fn summary(
     law: Law,
     ovr: u16,
     blocks: usize,
+    contour: usize,
     ticks: u64,
     r: &motion::monitor::Report,
 ) -> String {
     let mut s = format!(
-        "{name}: {blocks} blocks, law {}, tolerance {} mm, override {ovr} %\n",
+        "{name}: {blocks} blocks, law {}, tolerance {} mm, override {ovr} %\n{}\n",
         law.name(),
-        cfg.tolerance_mm
+        cfg.tolerance_mm,
+        motion::smooth::summary_line(cfg.tolerance_mm, contour, &cfg.complex)
     );
     s.push_str(&format!(
         "motion time: {:.3} s ({ticks} ticks of {} ms)\n",

@@ -1,5 +1,6 @@
 //! No silent word: every address of a Fanuc/HAAS block must be consumed by what the block does in
 //! the current modal state, otherwise the block is refused with an error located at the word.
+//! (G05.1 takes Q and G08 takes P: contour control on or off.)
 //!
 //! Axis words, F, S, T, D and H are always consumed (positions or modal settings). The others only
 //! in the functions that define them (HAAS spec §6): I/J/K in an arc of their plane or a G12/G13
@@ -23,8 +24,10 @@ pub(super) struct Uses {
     pub g10: Option<i64>,
     /// G12/G13 in the block.
     pub pocket: bool,
-    /// G64 or G154 in the block (P is their value).
+    /// G64, G154 or G08 in the block (P is their value).
     pub p_value: bool,
+    /// G05.1 in the block (Q is its value).
+    pub q_value: bool,
     /// A canned cycle runs in this block (×10 code).
     pub cycle: Option<u16>,
     /// G28, G52, G53 or G92 (no arc, no cycle).
@@ -75,7 +78,7 @@ impl Ex<'_> {
                         || u.ret
                         || matches!(u.cycle, Some(820 | 890))
                 }
-                'Q' => u.pocket || matches!(u.cycle, Some(730 | 830)),
+                'Q' => u.pocket || u.q_value || matches!(u.cycle, Some(730 | 830)),
                 'L' => u.call || u.g10.is_some() || u.pocket || u.cycle.is_some(),
                 _ => false,
             };

@@ -84,3 +84,63 @@ fn mefi_g98_and_g24_ramp_to_a_stop_and_g23_connects_smoothly() {
         ]
     );
 }
+
+fn contour(src: &str, m: &MachineSpec) -> Vec<(f64, bool)> {
+    run(m, src, PlanOptions::default())
+        .blocks
+        .iter()
+        .map(|c| (end(c, 'X'), c.modal.contour))
+        .collect()
+}
+
+#[test]
+fn fanuc_g05_1_q1_and_g08_p1_switch_contour_control_on_until_q0_or_p0() {
+    let src = "O1\nG21 G90 G01 X1. F100\nG05.1 Q1\nX2.\nX3.\nG05.1 Q0\nX4.\nG08 P1\nX5.\nG08 P0 X6.\nM30\n";
+    assert_eq!(
+        contour(src, &haas()),
+        vec![
+            (1.0, false),
+            (2.0, true),
+            (3.0, true),
+            (4.0, false),
+            (5.0, true),
+            (6.0, false),
+            (6.0, false),
+        ]
+    );
+}
+
+#[test]
+fn mefi_g23_is_contour_control_and_g24_g98_end_it() {
+    let src = "%1\nN1 G90 G01 X1000 F100\nN2 G23 X2000\nN3 X3000\nN4 G24 X4000\nN5 G23 X5000\nN6 G98 X6000\nN7 M30\n";
+    let got: Vec<bool> = contour(src, &mill()).into_iter().map(|(_, c)| c).collect();
+    assert_eq!(got, vec![false, true, true, false, true, false, false]);
+}
+
+#[test]
+fn a_g05_1_or_g08_with_another_q_or_p_is_a_located_error() {
+    for (src, want) in [
+        (
+            "O1\nG01 X1. F100\nG05.1 Q2\nM30\n",
+            "G05.1 takes Q1 (contour control on) or Q0 (off), found Q 2",
+        ),
+        (
+            "O1\nG01 X1. F100\nG05.1\nM30\n",
+            "G05.1 takes Q1 (contour control on) or Q0 (off), found Q none",
+        ),
+        (
+            "O1\nG01 X1. F100\nG08 P3\nM30\n",
+            "G08 takes P1 (contour control on) or P0 (off), found P 3",
+        ),
+    ] {
+        let (prog, diags) = partprogram::compile(&haas(), "test", src);
+        assert!(diags.is_empty(), "{diags:#?}");
+        let prog = prog.expect("compiles");
+        let Err((_, d)) = partprogram::plan(&prog, PlanOptions::default()) else {
+            panic!("{src}: planned")
+        };
+        assert_eq!(d.code, 2507, "{src}");
+        assert_eq!(d.line, 3, "{src}");
+        assert_eq!(d.message, want);
+    }
+}
