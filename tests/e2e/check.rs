@@ -464,6 +464,33 @@ fn nc_dialect_and_constants_are_checked() {
     let (code, lines) = json_check(&[&dir.path().display().to_string()]);
     assert_eq!(code, Some(1));
     let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [
+            (
+                3620,
+                "nc/DIALECT".to_string(),
+                2,
+                3,
+                "unknown dialect `fanuk` (use mefi or fanuc)".to_string()
+            ),
+            (
+                3621,
+                "nc/CONSTANTS".to_string(),
+                2,
+                1,
+                "expected `R<n>: <value>`, found `R329 1000000`".to_string()
+            ),
+            (
+                3621,
+                "nc/CONSTANTS".to_string(),
+                4,
+                1,
+                "expected `R<n>: <value>`, found `R341: x`".to_string()
+            ),
+        ]
+    );
+}
 
 /// `check` validates `[[canopen.drive]]` entries against the machine's AXCFIL axes (issue 21):
 /// the mill's X, Y, Z and S are valid, an axis it lacks and a spindle in `csp` are located errors.
@@ -498,26 +525,6 @@ fn check_validates_the_drive_entries_against_axcfil() {
         got,
         [
             (
-                3620,
-                "nc/DIALECT".to_string(),
-                2,
-                3,
-                "unknown dialect `fanuk` (use mefi or fanuc)".to_string()
-            ),
-            (
-                3621,
-                "nc/CONSTANTS".to_string(),
-                2,
-                1,
-                "expected `R<n>: <value>`, found `R329 1000000`".to_string()
-            ),
-            (
-                3621,
-                "nc/CONSTANTS".to_string(),
-                4,
-                1,
-                "expected `R<n>: <value>`, found `R341: x`".to_string()
-
                 3070,
                 io_toml(),
                 138,

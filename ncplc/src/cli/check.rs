@@ -100,7 +100,7 @@ pub fn check_io_map(
         // No IOCFIL (its own error is reported): check the map without connector rules.
         None => fieldbus::DeclaredConnectors::default(),
     };
-    let axes = crate::machine_facts::declared_axes(machine);
+    let axes = runtime::machine_facts::declared_axes(machine);
     let (map, mut diags) = fieldbus::load_map_with_axes(machine_dir, &declared, Some(&axes));
     let text = std::fs::read_to_string(&path).unwrap_or_default();
     if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {

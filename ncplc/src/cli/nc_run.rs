@@ -72,7 +72,7 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
     }
     cfg.law = law;
     // Complex speed: R39, R384, R385, R386, R236 from nc/CONSTANTS (the manual's defaults).
-    let constants = super::nc::constants_file(&a.common.machine);
+    let constants = sim::machine_view::constants_file(&a.common.machine);
     match std::fs::read_to_string(&constants) {
         Ok(text) => {
             cfg.complex = motion::complex::from_constants(&text)
