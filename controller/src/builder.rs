@@ -325,8 +325,8 @@ impl Builder {
             &checked.machine,
             inputs,
         )
-            .map(Some)
-            .map_err(BuildError::Start)
+        .map(Some)
+        .map_err(BuildError::Start)
     }
 
     /// Connects the recording: the trace (with a part run's header) and the axis positions.

@@ -575,4 +575,3 @@ fn interface_toml_unknown_table_is_a_located_error() {
     );
     assert!(got[0].4.contains("unknown field `signl`"), "{got:?}");
 }
-

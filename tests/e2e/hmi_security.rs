@@ -147,6 +147,9 @@ fn the_four_attacks_of_the_issue_are_refused_before_any_handler_runs() {
     // The same force from the page's own origin with the token is executed.
     let r = raw(&hmi.addr, "POST", "/api/force", &own, force);
     assert_eq!(r.status, 200, "{}", r.body);
+    // The reply names the tick that applied it; the snapshot the API reads shows it from then on.
+    let applied = r.json()["tick"].as_u64().expect("tick");
+    hmi.wait_tick(applied + 3);
     assert_eq!(forced(&hmi, "I0A3"), true);
     hmi.stop();
 }

@@ -462,8 +462,8 @@ mod tests {
         assert_eq!(
             &lines[1..],
             [
-                r#"{"t":4,"cmd":[{"process":1,"command":"hold"}]}"#,
-                r#"{"t":9,"in":{"I0A3":1},"cmd":[{"process":1,"command":"mode","mode":"MDI"},{"process":1,"command":"mdi","line":"G00 X-30"}]}"#
+                r#"{"t":4,"cmd":[{"process":1,"command":"hold","role":"operator"}]}"#,
+                r#"{"t":9,"in":{"I0A3":1},"cmd":[{"process":1,"command":"mode","mode":"MDI","role":"operator"},{"process":1,"command":"mdi","line":"G00 X-30","role":"operator"}]}"#
             ]
         );
         assert_eq!(super::super::text::parse(&text).expect("parse"), trace);

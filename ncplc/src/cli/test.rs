@@ -17,8 +17,8 @@ use controller::Controller;
 use controller::replayer::Replayer;
 use runtime::compiled::EngineKind;
 use runtime::replay::ReplayOptions;
-use trace::Trace;
 pub use shard::{Shard, ShardError};
+use trace::Trace;
 
 /// Arguments of `ncplc test`.
 #[derive(Debug, clap::Args)]
