@@ -1,4 +1,4 @@
-//! End-to-end tests of the conventions every subcommand shares (`runtime/src/cli/output.rs`):
+//! End-to-end tests of the conventions every subcommand shares (`ncplc/src/cli/output.rs`):
 //! exit codes, stdout for results and stderr for diagnostics, clap-checked value enums, a quiet
 //! SIGPIPE, paths as the user can open them, colour, file modes, the text form of `nc plan`,
 //! `--modbus-hmi`, and `<MACHINE>` in every usage line.
