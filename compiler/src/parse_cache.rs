@@ -161,7 +161,8 @@ fn segments<'t, 'a>(text: &str, tokens: &'t [Spanned<'a>]) -> Vec<&'t [Spanned<'
         lines += 1;
         let line_text = text.get(tokens[line_start].0..t.2).unwrap_or("");
         line_start = i + 1;
-        let cut = lines >= MAX_LINES || (lines >= MIN_LINES && fnv(line_text) % CUT_EVERY == 0);
+        let cut =
+            lines >= MAX_LINES || (lines >= MIN_LINES && fnv(line_text).is_multiple_of(CUT_EVERY));
         if cut {
             out.push(&tokens[seg_start..=i]);
             seg_start = i + 1;

@@ -536,8 +536,8 @@ impl Ex<'_> {
                         ('P', "G08")
                     };
                     self.contour = match num(word) {
-                        Some(v) if v == 1.0 => true,
-                        Some(v) if v == 0.0 => false,
+                        Some(1.0) => true,
+                        Some(0.0) => false,
                         other => {
                             let got = other.map_or("none".to_string(), |v| v.to_string());
                             return Err(run_err(
