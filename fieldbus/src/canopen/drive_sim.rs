@@ -18,7 +18,6 @@
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::Duration;
 
 use super::drive::cia402::{self, State};
 use super::transport::CanBus;
@@ -392,7 +391,7 @@ impl Cia402Node {
     /// Spawns the drive on the current tokio runtime.
     pub fn spawn<B: CanBus>(bus: B, node_id: u8) -> Cia402Node {
         let state = Arc::new(Mutex::new(DriveSimState::new(node_id)));
-        let task = tokio::spawn(run(bus, node_id, state.clone()));
+        let task = tokio::spawn(super::sim_node::run(bus, node_id, state.clone()));
         Cia402Node {
             node_id,
             state,
@@ -419,42 +418,15 @@ impl Drop for Cia402Node {
     }
 }
 
-async fn run<B: CanBus>(mut bus: B, id: u8, state: Arc<Mutex<DriveSimState>>) {
-    if bus
-        .send(&CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]))
-        .await
-        .is_err()
-    {
-        return;
+impl super::sim_node::SimNode for DriveSimState {
+    fn heartbeat_ms(&self) -> u16 {
+        self.heartbeat_ms
     }
-    let mut next_hb = tokio::time::Instant::now();
-    loop {
-        let hb_ms = lock(&state).heartbeat_ms;
-        let wait = if hb_ms == 0 {
-            Duration::from_secs(3600)
-        } else {
-            next_hb.saturating_duration_since(tokio::time::Instant::now())
-        };
-        let replies = tokio::select! {
-            m = bus.recv() => match m {
-                Ok(m) => handle(&mut lock(&state), id, &m),
-                Err(_) => return,
-            },
-            () = tokio::time::sleep(wait) => {
-                let s = lock(&state);
-                next_hb = tokio::time::Instant::now() + Duration::from_millis(u64::from(s.heartbeat_ms.max(1)));
-                if s.silent || s.heartbeat_stopped || s.heartbeat_ms == 0 {
-                    Vec::new()
-                } else {
-                    vec![CanMsg::new(cob::HEARTBEAT + u16::from(id), &[s.nmt])]
-                }
-            }
-        };
-        for r in replies {
-            if bus.send(&r).await.is_err() {
-                return;
-            }
-        }
+    fn heartbeat_state(&self) -> Option<u8> {
+        (!self.silent && !self.heartbeat_stopped).then_some(self.nmt)
+    }
+    fn handle(&mut self, id: u8, m: &CanMsg) -> Vec<CanMsg> {
+        handle(self, id, m)
     }
 }
 

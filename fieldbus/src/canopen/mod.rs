@@ -14,6 +14,7 @@ pub mod drive_sim;
 pub mod master;
 pub mod node_sim;
 pub mod sdo;
+pub mod sim_node;
 pub mod socketcan_bus;
 pub mod transport;
 pub mod virtual_bus;

@@ -8,7 +8,6 @@
 //! (read-only), `6200h` sub 1..16 the output bytes.
 
 use std::sync::{Arc, Mutex, MutexGuard};
-use std::time::Duration;
 
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
@@ -55,7 +54,7 @@ impl Cia401Node {
             nmt: nmt::PRE_OPERATIONAL,
             ..NodeState::default()
         }));
-        let task = tokio::spawn(run(bus, node_id, state.clone()));
+        let task = tokio::spawn(super::sim_node::run(bus, node_id, state.clone()));
         Cia401Node {
             node_id,
             state,
@@ -82,43 +81,19 @@ impl Drop for Cia401Node {
     }
 }
 
-async fn run<B: CanBus>(mut bus: B, id: u8, state: Arc<Mutex<NodeState>>) {
-    if bus
-        .send(&CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]))
-        .await
-        .is_err()
-    {
-        return;
+impl super::sim_node::SimNode for NodeState {
+    fn heartbeat_ms(&self) -> u16 {
+        self.heartbeat_ms
     }
-    let mut next_hb = tokio::time::Instant::now();
-    loop {
-        let hb_ms = lock(&state).heartbeat_ms;
-        let wait = if hb_ms == 0 {
-            Duration::from_secs(3600)
-        } else {
-            next_hb.saturating_duration_since(tokio::time::Instant::now())
-        };
-        let replies = tokio::select! {
-            m = bus.recv() => match m {
-                Ok(m) => handle(&state, id, &m),
-                Err(_) => return,
-            },
-            () = tokio::time::sleep(wait) => {
-                let s = lock(&state);
-                next_hb = tokio::time::Instant::now() + Duration::from_millis(u64::from(s.heartbeat_ms.max(1)));
-                if s.silent || s.heartbeat_ms == 0 { Vec::new() } else { vec![CanMsg::new(cob::HEARTBEAT + u16::from(id), &[s.nmt])] }
-            }
-        };
-        for r in replies {
-            if bus.send(&r).await.is_err() {
-                return;
-            }
-        }
+    fn heartbeat_state(&self) -> Option<u8> {
+        (!self.silent).then_some(self.nmt)
+    }
+    fn handle(&mut self, id: u8, m: &CanMsg) -> Vec<CanMsg> {
+        handle(self, id, m)
     }
 }
 
-fn handle(state: &Mutex<NodeState>, id: u8, m: &CanMsg) -> Vec<CanMsg> {
-    let mut s = lock(state);
+fn handle(s: &mut NodeState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
     if s.silent || m.extended || m.rtr {
         return Vec::new();
     }
