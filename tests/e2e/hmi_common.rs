@@ -182,15 +182,20 @@ pub fn raw(addr: &str, method: &str, path: &str, headers: &str, body: Option<&st
     } else {
         format!("Host: {addr}\r\n")
     };
-    write!(
-        s,
+    let request = format!(
         "{method} {path} HTTP/1.1\r\n{host}Connection: close\r\n{headers}Content-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
         body.len()
-    )
-    .expect("send");
+    );
+    // One write; a server that refuses a large body may answer and close after the headers, so a
+    // failed send only counts when no answer came.
+    let sent = s.write_all(request.as_bytes());
     let mut resp = Vec::new();
-    // A server that refuses a large body may close before reading it all.
     let _ = s.read_to_end(&mut resp);
+    if resp.is_empty()
+        && let Err(e) = sent
+    {
+        panic!("send: {e:?}");
+    }
     let resp = String::from_utf8_lossy(&resp).into_owned();
     let status = resp
         .split(' ')
