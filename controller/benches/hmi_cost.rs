@@ -3,32 +3,21 @@
 //! and a WebSocket client pulling the live image at 20 Hz. With the HMI, every tick services the
 //! request channel and samples the tool path, and every second tick publishes a snapshot (the
 //! 40 Hz publish rate of a real-time run at the lathe's 10 ms tick is one every 2.5 ticks: this is
-//! the dearer bound). The client runs on its own thread, as a browser's server task would.
+//! the dearer bound). The client runs on its own thread, as a browser's server task would. Every
+//! controller is built as `ncplc run plc-programs/lathe --program PART1 --virtual-time [--hmi]`.
 
 mod common;
 
 use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::path::PathBuf;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-use controller::machine::Machine;
+use controller::{Controller, Quiet};
 use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
-use runtime::scheduler::Scheduler;
 
 const TICKS: u64 = 2_000;
-
-fn lathe() -> Machine {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../plc-programs/lathe");
-    Machine::open(&dir, None).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// The lathe with PART1 selected in AUTO (its part script presses START at tick 10).
-fn part_scheduler(m: &Machine, text: &str) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
-    common::part_scheduler(m, "PART1", text, |io| Box::new(io))
-}
 
 /// A WebSocket client that reads whatever arrived every 50 ms (20 Hz) until `stop`.
 fn client(addr: std::net::SocketAddr, stop: Arc<AtomicBool>) -> std::thread::JoinHandle<u64> {
@@ -56,26 +45,36 @@ fn client(addr: std::net::SocketAddr, stop: Arc<AtomicBool>) -> std::thread::Joi
     })
 }
 
+/// `n` ticks of `c`, publishing the HMI's frame every `publish_every` ticks (0: at its own rate).
+fn ticks(c: &mut Controller, n: u64, publish_every: u64) {
+    for _ in 0..n {
+        c.step(&mut Quiet);
+        if publish_every > 0 && c.scheduler().tick_count() % publish_every == 0 {
+            c.publish_hmi();
+        }
+    }
+}
+
 fn bench(c: &mut Criterion) {
-    let m = lathe();
-    let source = m.read_source().unwrap_or_else(|e| panic!("{e}"));
-    let text = std::fs::read_to_string(m.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
+    let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let lathe = common::machine_dir("lathe");
+    let with_hmi =
+        || common::part_controller(&lathe, "PART1", Some(common::bench_hmi(tmp.path())), None);
     let mut g = c.benchmark_group("hmi_cost");
     g.sample_size(10)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(8));
     g.bench_function("lathe_part1_2000_ticks_without_hmi", |b| {
         b.iter_batched(
-            || part_scheduler(&m, &text).0,
-            |mut s| {
-                s.run(Some(TICKS), |_| true);
-                s.tick_count()
+            || common::part_controller(&lathe, "PART1", None, None),
+            |mut c| {
+                ticks(&mut c, TICKS, 0);
+                c.scheduler().tick_count()
             },
             BatchSize::PerIteration,
         )
     });
-    // One server for every iteration of the HMI variant: each iteration wires a fresh scheduler's
-    // kernel into a fresh link (a link starts its own server; the old ones stay idle).
+    // Each iteration builds a controller with its own HMI server (the old ones stop with it).
     for (name, publish_every) in [
         ("lathe_part1_2000_ticks_with_hmi_and_a_20hz_client", 2),
         (
@@ -87,19 +86,13 @@ fn bench(c: &mut Criterion) {
             b.iter_custom(|iters| {
                 let mut total = Duration::ZERO;
                 for _ in 0..iters {
-                    let (mut s, cnc) = part_scheduler(&m, &text);
-                    let mut link = common::hmi_link(&m, &source, &text, cnc);
+                    let mut c = with_hmi();
+                    let addr = c.hmi_addr().unwrap_or_else(|| panic!("no HMI"));
                     let stop = Arc::new(AtomicBool::new(false));
-                    let reader = client(link.running.addr, Arc::clone(&stop));
+                    let reader = client(addr, Arc::clone(&stop));
                     std::thread::sleep(Duration::from_millis(100));
                     let t = Instant::now();
-                    s.run(Some(TICKS), |s| {
-                        link.service(s);
-                        if publish_every > 0 && s.tick_count() % publish_every == 0 {
-                            link.publish(s);
-                        }
-                        true
-                    });
+                    ticks(&mut c, TICKS, publish_every);
                     total += t.elapsed();
                     stop.store(true, Ordering::Relaxed);
                     let got = reader.join().unwrap_or(0);
@@ -112,13 +105,9 @@ fn bench(c: &mut Criterion) {
     // The scan thread's part of one published snapshot alone, on the lathe 1,000 ticks into
     // PART1 (the kernel moving, a tool path sampled).
     g.bench_function("publish_one_snapshot_scan_thread_part", |b| {
-        let (mut s, cnc) = part_scheduler(&m, &text);
-        let mut link = common::hmi_link(&m, &source, &text, cnc);
-        s.run(Some(1_000), |s| {
-            link.service(s);
-            true
-        });
-        b.iter(|| link.publish(&s))
+        let mut c = with_hmi();
+        ticks(&mut c, 1_000, 0);
+        b.iter(|| c.publish_hmi())
     });
     g.finish();
 }

@@ -1,26 +1,16 @@
 //! Part runs (issue 11 targets): a 10-minute mill part through kernel + logic + plant in virtual
 //! time (target ≤ 1 s), and the kernel's cost per logic tick (one process, the lathe part;
-//! target p99 ≤ 20 µs), printed as p50/p99/max beside criterion's mean.
+//! target p99 ≤ 20 µs), printed as p50/p99/max beside criterion's mean. Both controllers are built
+//! as `ncplc run … --program … --until-end --virtual-time` builds them.
 
-use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 use std::time::Instant;
 
 mod common;
 
-use packets::PacketIo;
-
-use controller::machine::Machine;
+use controller::{Controller, Quiet};
 use criterion::{Criterion, criterion_group, criterion_main};
-use runtime::scheduler::Scheduler;
-use sim::kernel::KernelIo;
-
-fn machine(name: &str) -> Machine {
-    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../plc-programs")
-        .join(name);
-    Machine::open(&dir, None).unwrap_or_else(|e| panic!("{e}"))
-}
+use packets::PacketIo;
 
 /// The mill's square 25 times: about 10 minutes of machining.
 fn long_mill_program() -> String {
@@ -43,55 +33,42 @@ fn long_mill_program() -> String {
     s
 }
 
-/// A scheduler running `text` on `m` (AUTO selected; the part script presses START).
-fn part_scheduler(
-    m: &Machine,
-    text: &str,
-    timed: Option<Arc<Mutex<Vec<u64>>>>,
-) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
-    common::part_scheduler(m, "bench", text, |io| match timed {
-        Some(times) => Box::new(Timed { inner: io, times }),
-        None => Box::new(io),
-    })
-}
-
-fn ended(cnc: &std::sync::Mutex<cnc::Cnc>) -> bool {
-    cnc.lock()
-        .map(|c| c.processes()[0].counters().ended >= 1)
-        .unwrap_or(true)
+/// Runs `c` to the end of its part (at most 200,000 ticks) and returns the ticks run.
+fn run_to_end(mut c: Controller) -> u64 {
+    c.run(&mut Quiet);
+    let ticks = c.scheduler().tick_count();
+    assert!(ticks < 200_000, "the part did not end");
+    ticks
 }
 
 fn bench(c: &mut Criterion) {
-    let mill = machine("mill");
-    let text = long_mill_program();
-    let (mut s, cnc) = part_scheduler(&mill, &text, None);
-    s.run(Some(200_000), |_| !ended(&cnc));
-    let ticks = s.tick_count();
+    let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let mill = common::machine_with_program("mill", tmp.path(), "BENCH", &long_mill_program());
+    let ticks = run_to_end(common::part_controller(&mill, "BENCH", None, None));
     eprintln!(
-        "long mill part: {ticks} ticks = {:.1} s machine time",
-        ticks as f64 * f64::from(mill.config.tick_ms) / 1000.0
+        "long mill part: {ticks} ticks = {:.1} s machine time (10 ms tick)",
+        ticks as f64 * 10.0 / 1000.0
     );
     let mut g = c.benchmark_group("part_run");
     g.sample_size(10);
     g.bench_function("mill_10min_part_kernel_logic_plant", |b| {
-        b.iter(|| {
-            let (mut s, cnc) = part_scheduler(&mill, &text, None);
-            s.run(Some(200_000), |_| !ended(&cnc));
-            assert!(ended(&cnc));
-            s.tick_count()
-        })
+        b.iter(|| run_to_end(common::part_controller(&mill, "BENCH", None, None)))
     });
     g.finish();
 
-    // The kernel's cost per logic tick: `latch_inputs` of the kernel I/O (the part script's
+    // The kernel's cost per logic tick: `latch_inputs` of the part run's I/O (the part script's
     // inputs, then `Cnc::step`: 5 interpolation ticks, drives, spindle, handshakes) over the
     // lathe part, timed per tick.
-    let lathe = machine("lathe");
-    let part =
-        std::fs::read_to_string(lathe.dir.join("nc/PART1")).unwrap_or_else(|e| panic!("{e}"));
     let times = Arc::new(Mutex::new(Vec::new()));
-    let (mut s, cnc) = part_scheduler(&lathe, &part, Some(Arc::clone(&times)));
-    s.run(Some(20_000), |_| !ended(&cnc));
+    let timed = Arc::clone(&times);
+    let wrap: controller::WrapIo = Box::new(move |inner| {
+        Box::new(Timed {
+            inner,
+            times: timed,
+        })
+    });
+    let lathe = common::machine_dir("lathe");
+    run_to_end(common::part_controller(&lathe, "PART1", None, Some(wrap)));
     let mut times = times.lock().map(|v| v.clone()).unwrap_or_default();
     times.sort_unstable();
     let q = |f: f64| times[((times.len() - 1) as f64 * f) as usize] as f64 / 1000.0;
@@ -106,7 +83,7 @@ fn bench(c: &mut Criterion) {
 
 /// Times every `latch_inputs` of the wrapped I/O.
 struct Timed {
-    inner: KernelIo,
+    inner: Box<dyn PacketIo>,
     times: Arc<Mutex<Vec<u64>>>,
 }
 
@@ -127,6 +104,9 @@ impl PacketIo for Timed {
     }
     fn take_alarms(&mut self) -> Vec<packets::IoAlarm> {
         self.inner.take_alarms()
+    }
+    fn safe_state(&mut self) {
+        self.inner.safe_state();
     }
 }
 

@@ -58,7 +58,11 @@ pub struct Builder {
     servers: Vec<Box<dyn Server>>,
     clock: Clock,
     scan: Scan,
+    wrap_io: Option<WrapIo>,
 }
+
+/// A decorator put around the opened I/O (benches time `latch_inputs` through it).
+pub type WrapIo = Box<dyn FnOnce(Box<dyn PacketIo>) -> Box<dyn PacketIo> + Send>;
 
 /// What validation found usable: the machine, its PLC source and the HMI token.
 struct Checked {
@@ -93,6 +97,7 @@ impl Controller {
             servers: Vec::new(),
             clock: Clock::Real { spin_us: 0 },
             scan: Scan::default(),
+            wrap_io: None,
         }
     }
 }
@@ -158,6 +163,13 @@ impl Builder {
         self
     }
 
+    /// Puts `wrap` around the I/O once it is open (a part run's kernel I/O included), before the
+    /// scheduler takes it: a timing shim for benches, a fault injector for tests.
+    pub fn wrap_io(mut self, wrap: WrapIo) -> Builder {
+        self.wrap_io = Some(wrap);
+        self
+    }
+
     fn virtual_time(&self) -> bool {
         self.clock == Clock::Virtual
     }
@@ -208,7 +220,10 @@ impl Builder {
         let flow_wanted = Arc::new(AtomicBool::new(self.engine.flow));
         let (first, compile, variant) =
             machine.compile_fns(self.engine.kind, tick_ms, Arc::clone(&flow_wanted));
-        let (loaded, opened) = self.compile_and_open(&checked, tick_ms, &first)?;
+        let (loaded, mut opened) = self.compile_and_open(&checked, tick_ms, &first)?;
+        if let Some(wrap) = self.wrap_io.take() {
+            opened.io = wrap(opened.io);
+        }
         let meta = loaded.meta.clone();
         let retain_path = self.retain_path(machine);
         let mut image = Image::new(meta.image_len(), &machine.config.t_init);

@@ -111,6 +111,23 @@ impl Controller {
         &self.p.sched
     }
 
+    /// Where the web HMI listens, if it runs.
+    pub fn hmi_addr(&self) -> Option<std::net::SocketAddr> {
+        self.p.hmi.as_ref().map(|h| h.running.addr)
+    }
+
+    /// Publishes the web HMI's frame now ([`Controller::step`] publishes at the HMI's own rate;
+    /// benches publish at a rate of theirs). False without an HMI.
+    pub fn publish_hmi(&mut self) -> bool {
+        match &mut self.p.hmi {
+            Some(h) => {
+                h.publish(&self.p.sched);
+                true
+            }
+            None => false,
+        }
+    }
+
     /// The part run, if any.
     pub fn part(&self) -> Option<&PartRun> {
         self.p.part.as_ref()

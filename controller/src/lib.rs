@@ -35,5 +35,5 @@ pub mod retained;
 pub mod servers;
 pub mod settings;
 
-pub use builder::{BuildError, Builder};
-pub use control::{Controller, Ending, Observer};
+pub use builder::{BuildError, Builder, WrapIo};
+pub use control::{Controller, Ending, Observer, Quiet};

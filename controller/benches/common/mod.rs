@@ -1,98 +1,87 @@
-//! Shared by the part-run benchmarks: a scheduler running a planned partprogram on a machine's
-//! CNC kernel, logic and plant in virtual time.
+//! Shared by the part-run benchmarks: a controller built as `ncplc run <machine> --program NAME
+//! --until-end --virtual-time --no-watch` builds it, through [`Controller::builder`].
 
-use std::sync::{Arc, Mutex};
+use std::path::{Path, PathBuf};
 
-use cnc::{Command, Mode};
-use controller::machine::Machine;
-use controller::part_run::make_interp;
-use packets::PacketIo;
-use runtime::clock::VirtualClock;
-use runtime::compiled::EngineKind;
-use runtime::image::Image;
-use runtime::machine_facts::Facts;
-use runtime::scheduler::{Scheduler, Settings};
-use sim::kernel::{KernelIo, KernelSetup};
-use sim::part::plan_text;
-
-/// A scheduler running `text` (named `name`) on `m` with AUTO selected (the part script presses
-/// START); `wrap` may put the kernel I/O inside another `PacketIo`.
-pub fn part_scheduler(
-    m: &Machine,
-    name: &str,
-    text: &str,
-    wrap: impl FnOnce(KernelIo) -> Box<dyn PacketIo>,
-) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
-    let blocks = plan_text(&m.dir, name, text, None, false).unwrap_or_else(|e| panic!("{e}"));
-    let facts = Facts::load(&m.dir).unwrap_or_else(|e| panic!("{e}"));
-    let axcfil = &facts.machine.axcfil;
-    let interp = |cfg: &cnc::ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
-    let setup = KernelSetup {
-        axcfil,
-        iocfil: facts.machine.iocfil.as_ref(),
-        interface: &m.interface,
-        a_inputs: &m.config.a_inputs,
-        tick_ms: m.config.tick_ms,
-        make_interp: &interp,
-    };
-    let (io, cnc) = KernelIo::new(&setup, m.script.clone()).unwrap_or_else(|e| panic!("{e}"));
-    {
-        let mut c = cnc.lock().unwrap_or_else(|e| panic!("{e}"));
-        let p = c.process_mut(1).unwrap_or_else(|e| panic!("{e}"));
-        p.load(name, blocks).unwrap_or_else(|e| panic!("{e}"));
-        p.command(Command::SetMode(Mode::Auto));
-    }
-    let compile = m.compile_fn(EngineKind::Jit, m.config.tick_ms);
-    let loaded = compile(&m.read_source().unwrap_or_else(|e| panic!("{e}")))
-        .unwrap_or_else(|e| panic!("{e}"));
-    let mut image = Image::new(loaded.meta.image_len(), &m.config.t_init);
-    loaded.meta.init_image(image.bytes_mut());
-    let settings = Settings {
-        tick_ns: u64::from(m.config.tick_ms) * 1_000_000,
-        overrun_limit: 0,
-    };
-    let s = Scheduler::new(
-        image,
-        loaded,
-        wrap(io),
-        Box::new(VirtualClock::new()),
-        settings,
-    );
-    (s, cnc)
-}
+use controller::settings::{Clock, Hmi, Part, PartSpec, Scan};
+use controller::{Controller, WrapIo};
 
 /// The session token of the HMI benches' server (a viewer: the benches only watch).
 #[allow(dead_code)]
 pub const BENCH_TOKEN: &str = "bench-token-0123456789";
 
-/// The HMI benches' link: an HMI server on an ephemeral loopback port over the CNC kernel `cnc`
-/// running `text` as PART1 on `m` (PLC source `source`).
-#[allow(dead_code)] // the part-run benches include this module without serving an HMI
-pub fn hmi_link(
-    m: &Machine,
-    source: &[u8],
-    text: &str,
-    cnc: Arc<Mutex<cnc::Cnc>>,
-) -> controller::hmi_link::HmiLink {
-    use controller::hmi_link::image_cnc::ImageCnc;
-    use controller::hmi_link::kernel_cnc::KernelCnc;
-    let image = ImageCnc::new(&m.interface, &[1], None);
-    let kernel = KernelCnc::new(cnc, image, &[("PART1".into(), text.to_string())]);
-    let config = hmi::ServerConfig {
+/// A bundled machine's directory.
+pub fn machine_dir(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../plc-programs")
+        .join(name)
+}
+
+/// A copy of the bundled machine `name` in `into`, with `text` as its partprogram `program`.
+#[allow(dead_code)] // only the part bench runs a program of its own
+pub fn machine_with_program(name: &str, into: &Path, program: &str, text: &str) -> PathBuf {
+    let dir = into.join(name);
+    copy_dir(&machine_dir(name), &dir);
+    std::fs::write(dir.join("nc").join(program), text).unwrap_or_else(|e| panic!("{e}"));
+    dir
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap_or_else(|e| panic!("{}: {e}", to.display()));
+    for entry in std::fs::read_dir(from).unwrap_or_else(|e| panic!("{}: {e}", from.display())) {
+        let entry = entry.unwrap_or_else(|e| panic!("{e}"));
+        let target = to.join(entry.file_name());
+        if entry.path().is_dir() {
+            copy_dir(&entry.path(), &target);
+        } else {
+            std::fs::copy(entry.path(), &target).unwrap_or_else(|e| panic!("{e}"));
+        }
+    }
+}
+
+/// The web HMI of the benches: an ephemeral loopback port, one viewer token (from a file in `tmp`).
+#[allow(dead_code)] // the part bench serves no HMI
+pub fn bench_hmi(tmp: &Path) -> Hmi {
+    let tokens = tmp.join("hmi-tokens");
+    std::fs::write(&tokens, format!("viewer {BENCH_TOKEN}\n")).unwrap_or_else(|e| panic!("{e}"));
+    Hmi {
         addr: "127.0.0.1:0".parse().unwrap_or_else(|e| panic!("{e}")),
-        tokens: hmi::Tokens::single(BENCH_TOKEN.into(), hmi::Role::Viewer),
         readonly: false,
+        token_file: Some(tokens),
         allow_hosts: Vec::new(),
         allow_origins: Vec::new(),
         tls: None,
         limits: hmi::security::limits::Limits::default(),
+    }
+}
+
+/// The controller of `ncplc run DIR --program PROGRAM --until-end --virtual-time --no-watch`
+/// (JIT), with the web HMI `hmi` and `wrap` around its I/O.
+pub fn part_controller(
+    dir: &Path,
+    program: &str,
+    hmi: Option<Hmi>,
+    wrap: Option<WrapIo>,
+) -> Controller {
+    let part = Part {
+        spec: PartSpec {
+            program: Some(PathBuf::from(program)),
+            process: 1,
+            ..PartSpec::default()
+        },
+        trajectory: None,
+        until_end: true,
     };
-    controller::hmi_link::HmiLink::start(
-        config,
-        controller::hmi_link::catalog::build(m, source),
-        Box::new(kernel),
-        m.config.tick_ms,
-        None,
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
+    let mut builder = Controller::builder(dir)
+        .part(Some(part))
+        .hmi(hmi)
+        .clock(Clock::Virtual)
+        .scan(Scan {
+            watch: false,
+            ..Scan::default()
+        });
+    if let Some(wrap) = wrap {
+        builder = builder.wrap_io(wrap);
+    }
+    builder.build().unwrap_or_else(|e| panic!("{e}"))
 }
