@@ -13,10 +13,12 @@ use crate::lexer::{self, LexErrorKind, Spanned, Tok};
 use crate::parse_cache::{ParseCache, Parsed};
 use crate::sema::codes;
 
-lalrpop_util::lalrpop_mod!(
-    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
-    grammar
-);
+/// The LALRPOP parser, generated from `src/grammar.lalrpop` into `src/grammar.rs` by
+/// `scripts/gen-parsers.sh` and committed (a test checks the grammar's hash in its header).
+#[rustfmt::skip]
+#[path = "grammar.rs"]
+#[allow(clippy::all, clippy::unwrap_used, unused, missing_docs, unused_qualifications)]
+mod grammar;
 
 /// Parses decoded source `text` of `file`; diagnostics are located (line and column filled in).
 pub fn parse(file: &str, text: &str) -> (Program, Vec<Diagnostic>) {

@@ -13,10 +13,12 @@ use crate::codes;
 use crate::lexer::{LexErrorKind, Lexer, Lit, Tok};
 use crate::machine::Dialect;
 
-lalrpop_util::lalrpop_mod!(
-    #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs)]
-    grammar
-);
+/// The LALRPOP parser, generated from `src/grammar.lalrpop` into `src/grammar.rs` by
+/// `scripts/gen-parsers.sh` and committed (a test checks the grammar's hash in its header).
+#[rustfmt::skip]
+#[path = "grammar.rs"]
+#[allow(clippy::all, clippy::unwrap_used, unused, missing_docs, unused_qualifications)]
+mod grammar;
 
 /// Largest magnitude of a stored parameter count (±69999.999).
 pub const R_MAX: i64 = 69_999_999;
