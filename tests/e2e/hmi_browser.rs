@@ -1,68 +1,19 @@
-//! The web HMI in a real browser (Debian `chromium` + `chromium-driver`, driven by fantoccini):
+//! The web HMI in a real browser (Debian `chromium`, driven over the DevTools protocol: `cdp`):
 //! the pages load without errors, a signal the sim changes changes on the page, a force set from
 //! the page reaches the image and the recorded trace, the timing diagram draws; on the Machine
 //! page of a part run, START moves the DRO and advances the block, FEED HOLD brings the path speed
 //! to 0 and stops the DRO, RESET returns to the first block. A failing step
-//! leaves a screenshot in `target/browser-failures/`. Without `/usr/bin/chromedriver` the test is
+//! leaves a screenshot in `target/browser-failures/`. Without `/usr/bin/chromium` the test is
 //! skipped with a loud message, except under `CI=true`, where it fails.
 //! `HMI_SCREENSHOTS=DIR` keeps a screenshot of every page.
 
 use crate::hmi_common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use fantoccini::{Client, ClientBuilder, Locator};
+use crate::cdp::{Browser, CHROMIUM};
 use hmi_common::{Hmi, operator_lathe, root};
-
-const CHROMEDRIVER: &str = "/usr/bin/chromedriver";
-
-/// Kills chromedriver when the test ends, however it ends.
-struct Driver(Child);
-
-impl Drop for Driver {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
-
-fn free_port() -> u16 {
-    std::net::TcpListener::bind("127.0.0.1:0")
-        .and_then(|l| l.local_addr())
-        .map(|a| a.port())
-        .expect("a free port")
-}
-
-async fn browser() -> (Driver, Client) {
-    let port = free_port();
-    let driver = Driver(
-        Command::new(CHROMEDRIVER)
-            .arg(format!("--port={port}"))
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("chromedriver starts"),
-    );
-    let caps = serde_json::json!({"goog:chromeOptions": {"args": [
-        "--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
-        "--disable-background-networking", "--disable-component-update", "--disable-sync",
-        "--no-first-run", "--window-size=1280,900"]}});
-    let caps = caps.as_object().cloned().unwrap_or_default();
-    let deadline = Instant::now() + Duration::from_secs(30);
-    loop {
-        match ClientBuilder::new(hyper_util::client::legacy::connect::HttpConnector::new())
-            .capabilities(caps.clone())
-            .connect(&format!("http://127.0.0.1:{port}"))
-            .await
-        {
-            Ok(c) => return (driver, c),
-            Err(e) if Instant::now() > deadline => panic!("no WebDriver session: {e}"),
-            Err(_) => tokio::time::sleep(Duration::from_millis(100)).await,
-        }
-    }
-}
 
 /// Polls `probe` every 50 ms until it returns `Some` or `secs` pass.
 async fn until<T, F, Fut>(what: &str, secs: u64, mut probe: F) -> Result<T, String>
@@ -82,42 +33,30 @@ where
     }
 }
 
-async fn js(c: &Client, script: &str) -> Result<serde_json::Value, String> {
-    c.execute(script, vec![])
-        .await
-        .map_err(|e| format!("{script}: {e}"))
+async fn js(c: &Browser, script: &str) -> Result<serde_json::Value, String> {
+    c.js(script).await
 }
 
-async fn text(c: &Client, css: &str) -> Option<String> {
-    c.find(Locator::Css(css)).await.ok()?.text().await.ok()
+async fn text(c: &Browser, css: &str) -> Option<String> {
+    c.text(css).await
 }
 
-async fn shot(c: &Client, dir: &Path, name: &str) {
+async fn shot(c: &Browser, dir: &Path, name: &str) {
     if let Ok(png) = c.screenshot().await {
         let _ = std::fs::create_dir_all(dir);
         let _ = std::fs::write(dir.join(format!("{name}.png")), png);
     }
 }
 
-async fn search(c: &Client, q: &str) -> Result<(), String> {
-    let el = c
-        .find(Locator::Id("search"))
-        .await
-        .map_err(|e| e.to_string())?;
-    el.clear().await.map_err(|e| e.to_string())?;
-    el.send_keys(q).await.map_err(|e| e.to_string())
+async fn search(c: &Browser, q: &str) -> Result<(), String> {
+    c.type_into("#search", q).await
 }
 
-async fn page(c: &Client, name: &str) -> Result<(), String> {
-    c.find(Locator::Css(&format!("nav button[data-page={name}]")))
-        .await
-        .map_err(|e| e.to_string())?
-        .click()
-        .await
-        .map_err(|e| e.to_string())
+async fn page(c: &Browser, name: &str) -> Result<(), String> {
+    c.click(&format!("nav button[data-page={name}]")).await
 }
 
-async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
+async fn steps(c: &Browser, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
     open_with_token(c, hmi).await?;
     until("the first live frame", 20, || async {
         text(c, "#status").await.filter(|t| t.starts_with("tick"))
@@ -137,18 +76,8 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
     // Force LUBE_LAMP (U5A2) from the page; the image shows it forced.
     search(c, "U5A2").await?;
     let row = "tr[data-signal=U5A2]";
-    let input = c
-        .find(Locator::Css(&format!("{row} input")))
-        .await
-        .map_err(|e| e.to_string())?;
-    input.clear().await.map_err(|e| e.to_string())?;
-    input.send_keys("1").await.map_err(|e| e.to_string())?;
-    c.find(Locator::Css(&format!("{row} button.force")))
-        .await
-        .map_err(|e| e.to_string())?
-        .click()
-        .await
-        .map_err(|e| e.to_string())?;
+    c.type_into(&format!("{row} input"), "1").await?;
+    c.click(&format!("{row} button.force")).await?;
     until("U5A2 forced in the image", 10, || async {
         let v: serde_json::Value =
             serde_json::from_str(&hmi.http("GET", "/api/signal/U5A2", None).1).ok()?;
@@ -247,11 +176,11 @@ async fn steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String>
 
 /// True when the browser is there; otherwise says so loudly (and fails under `CI=true`).
 fn have_browser() -> bool {
-    if Path::new(CHROMEDRIVER).exists() {
+    if Path::new(CHROMIUM).exists() {
         return true;
     }
-    let msg = "!!! SKIPPED: the browser tests need Debian chromium and chromium-driver \
-               (apt-get install -y --no-install-recommends chromium chromium-driver) !!!";
+    let msg = "!!! SKIPPED: the browser tests need Debian chromium \
+               (apt-get install -y --no-install-recommends chromium) !!!";
     assert!(std::env::var("CI").as_deref() != Ok("true"), "{msg}");
     eprintln!("{msg}");
     false
@@ -259,13 +188,12 @@ fn have_browser() -> bool {
 
 /// Opens the start URL (`/?token=…`): the server answers with the session cookie and sends the
 /// browser to `/`, which then works with the cookie alone (the address no longer shows the token).
-async fn open_with_token(c: &Client, hmi: &Hmi) -> Result<(), String> {
+async fn open_with_token(c: &Browser, hmi: &Hmi) -> Result<(), String> {
     let token = hmi.token.as_deref().ok_or("the start URL has no token")?;
     c.goto(&format!("http://{}/?token={token}", hmi.addr))
-        .await
-        .map_err(|e| e.to_string())?;
-    let url = c.current_url().await.map_err(|e| e.to_string())?;
-    if url.as_str() != format!("http://{}/", hmi.addr) {
+        .await?;
+    let url = c.url().await?;
+    if url != format!("http://{}/", hmi.addr) {
         return Err(format!("the start URL did not lead to / but to {url}"));
     }
     // The cookie is HttpOnly: the page's scripts do not see it.
@@ -281,24 +209,24 @@ async fn open_with_token(c: &Client, hmi: &Hmi) -> Result<(), String> {
 async fn in_browser<F>(hmi: Hmi, name: &str, steps: F)
 where
     F: for<'a> FnOnce(
-        &'a Client,
+        &'a Browser,
         &'a Hmi,
         Option<&'a Path>,
     ) -> std::pin::Pin<
         Box<dyn std::future::Future<Output = Result<(), String>> + 'a>,
     >,
 {
-    let (_driver, client) = browser().await;
+    let client = Browser::launch().await.expect("Chromium starts");
     let keep = std::env::var_os("HMI_SCREENSHOTS").map(PathBuf::from);
     let result = steps(&client, &hmi, keep.as_deref()).await;
     if let Err(e) = &result {
         let failures = root().join("target/browser-failures");
         shot(&client, &failures, name).await;
-        let _ = client.close().await;
+        drop(client);
         hmi.stop();
         panic!("{e} (screenshot: {}/{name}.png)", failures.display());
     }
-    let _ = client.close().await;
+    drop(client);
     hmi.stop();
 }
 
@@ -323,7 +251,7 @@ async fn the_pages_show_live_values_and_a_force_from_the_page_reaches_the_image_
 
 /// The DRO's command column of axes X and Z as the page shows them (read in one script: the
 /// table's rows are replaced whenever a value changes).
-async fn dro(c: &Client) -> Option<(String, String)> {
+async fn dro(c: &Browser) -> Option<(String, String)> {
     let v = js(
         c,
         "const t = a => document.querySelector('#proc-1 tr[data-axis=' + a + '] td.cmd'); \
@@ -334,22 +262,17 @@ async fn dro(c: &Client) -> Option<(String, String)> {
     Some((v[0].as_str()?.to_string(), v[1].as_str()?.to_string()))
 }
 
-async fn click(c: &Client, css: &str) -> Result<(), String> {
-    c.find(Locator::Css(css))
-        .await
-        .map_err(|e| format!("{css}: {e}"))?
-        .click()
-        .await
-        .map_err(|e| format!("{css}: {e}"))
+async fn click(c: &Browser, css: &str) -> Result<(), String> {
+    c.click(css).await
 }
 
 /// The block's N number as the page shows it (`N40 (4)`).
-async fn block_n(c: &Client) -> Option<u64> {
+async fn block_n(c: &Browser) -> Option<u64> {
     let t = text(c, "#proc-1 .block").await?;
     t.strip_prefix('N')?.split(' ').next()?.parse().ok()
 }
 
-async fn machine_steps(c: &Client, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
+async fn machine_steps(c: &Browser, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
     open_with_token(c, hmi).await?;
     page(c, "machine").await?;
     until("PART1 selected, idle", 20, || async {

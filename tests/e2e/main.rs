@@ -10,6 +10,7 @@
 //! HTTP client) are the shared test kit.
 
 mod build;
+mod cdp;
 mod check;
 mod cli;
 mod docs;
