@@ -35,16 +35,19 @@ type Socket = WebSocketStream<MaybeTlsStream<TcpStream>>;
 
 /// A headless Chromium and its one page.
 pub struct Browser {
-    child: Child,
+    _child: Killed,
     _profile: tempfile::TempDir,
     socket: Mutex<Socket>,
     next_id: AtomicU64,
 }
 
-impl Drop for Browser {
+/// The browser process, killed when this drops (also when [`Browser::launch`] fails half-way).
+struct Killed(Child);
+
+impl Drop for Killed {
     fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
+        let _ = self.0.kill();
+        let _ = self.0.wait();
     }
 }
 
@@ -52,32 +55,34 @@ impl Browser {
     /// Starts Chromium (1280×900, headless) and attaches to its page.
     pub async fn launch() -> Result<Browser, String> {
         let profile = tempfile::tempdir().map_err(|e| e.to_string())?;
-        let child = Command::new(CHROMIUM)
-            .args([
-                "--headless=new",
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-dev-shm-usage",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-                "--no-first-run",
-                "--window-size=1280,900",
-                "--remote-debugging-port=0",
-            ])
-            .arg(format!("--user-data-dir={}", profile.path().display()))
-            .arg("about:blank")
-            .stdout(Stdio::null())
-            .stderr(Stdio::null())
-            .spawn()
-            .map_err(|e| format!("{CHROMIUM}: {e}"))?;
+        let child = Killed(
+            Command::new(CHROMIUM)
+                .args([
+                    "--headless=new",
+                    "--no-sandbox",
+                    "--disable-gpu",
+                    "--disable-dev-shm-usage",
+                    "--disable-background-networking",
+                    "--disable-component-update",
+                    "--disable-sync",
+                    "--no-first-run",
+                    "--window-size=1280,900",
+                    "--remote-debugging-port=0",
+                ])
+                .arg(format!("--user-data-dir={}", profile.path().display()))
+                .arg("about:blank")
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .map_err(|e| format!("{CHROMIUM}: {e}"))?,
+        );
         let port = devtools_port(profile.path()).await?;
         let page = page_socket_url(port).await?;
         let (socket, _) = tokio_tungstenite::connect_async(page.as_str())
             .await
             .map_err(|e| format!("CDP {page}: {e}"))?;
         Ok(Browser {
-            child,
+            _child: child,
             _profile: profile,
             socket: Mutex::new(socket),
             next_id: AtomicU64::new(1),
