@@ -14,7 +14,7 @@ use crate::lexer::{LexErrorKind, Lexer, Lit, Tok};
 use crate::machine::Dialect;
 
 /// The LALRPOP parser, generated from `src/grammar.lalrpop` into `src/grammar.rs` by
-/// `scripts/gen-parsers.sh` and committed (a test checks the grammar's hash in its header).
+/// `scripts/gen-parsers.sh` and committed (the e2e test `generated_parsers` checks the grammar's hash in its header).
 #[rustfmt::skip]
 #[path = "grammar.rs"]
 #[allow(clippy::all, clippy::unwrap_used, unused, missing_docs, unused_qualifications)]

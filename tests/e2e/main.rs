@@ -15,6 +15,7 @@ mod check;
 mod cli;
 mod docs;
 mod e2e_common;
+mod generated_parsers;
 mod hmi;
 mod hmi_browser;
 mod hmi_cnc;

@@ -12,7 +12,6 @@ mod front_parallel;
 mod front_programs;
 mod front_seeds;
 mod front_sema;
-mod generated_parser;
 mod golden_ir;
 mod golden_source;
 mod jit_code_cache;

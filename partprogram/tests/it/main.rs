@@ -10,7 +10,6 @@ mod differential;
 mod examples;
 mod fanuc_classes;
 mod fanuc_programs;
-mod generated_parser;
 mod gouge;
 mod lathe_cycles;
 mod macro_b;
