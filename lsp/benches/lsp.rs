@@ -130,12 +130,12 @@ fn bench(c: &mut Criterion) {
     let big = compiler::synth::synthetic_program(10_000);
     let mut large = Case::new(big.clone(), ") * 3", big_ctx());
     let mut small = Case::new(lathe(), "FOV = 10", lathe_ctx());
-    let (reused, parsed) = {
-        large.edit();
-        large.doc.parse_counts()
-    };
+    large.edit();
+    let (reused, parsed) = large.doc.parse_counts();
+    let (replayed, checked) = large.doc.check_counts();
     eprintln!(
-        "10k program: a one-character edit reuses {reused} parsed segments and parses {parsed}"
+        "10k program: a one-character edit reuses {reused} parsed segments and parses {parsed}; \
+         replays {replayed} statement checks and checks {checked}"
     );
     percentiles(
         "diagnostics after a one-character edit, 10k statements",

@@ -1,6 +1,6 @@
-//! One open document and its analysis: the text as the editor has it, the compile of it against
-//! its machine (the same [`compiler::compile_incremental`] path that gives `ncplc build`'s
-//! diagnostics, reusing the parsed segments of the previous version) and the [`Index`] of names.
+//! One open document and its analysis: the text as the editor has it, its diagnostics against
+//! its machine ([`compiler::diagnose_incremental`]: `ncplc build`'s front end reusing the parsed
+//! segments and the statement checks of the previous version) and the [`Index`] of names.
 //!
 //! Invariant: [`Document::analysis`] always describes the current text; an edit only marks it
 //! stale, and it is recomputed on the next use (the server's debounce decides when that is for
@@ -15,6 +15,7 @@
 use std::sync::{Arc, Mutex, OnceLock, mpsc};
 
 use compiler::parse_cache::ParseCache;
+use compiler::sema::memo::CheckCache;
 use lsp_types::{DiagnosticSeverity, NumberOrString, TextDocumentContentChangeEvent};
 
 use crate::index::Index;
@@ -56,6 +57,7 @@ pub struct Document {
     /// The machine it is checked against.
     pub machine: Arc<Machine>,
     cache: ParseCache,
+    checks: CheckCache,
     /// The compile of the current text, before its index is built.
     checked: Option<Checked>,
     analysis: Option<Analysis>,
@@ -97,6 +99,7 @@ impl Document {
             version,
             machine,
             cache: ParseCache::new(),
+            checks: CheckCache::new(),
             checked: None,
             analysis: None,
         }
@@ -159,19 +162,19 @@ impl Document {
         }
     }
 
-    /// Compiles the current text (reusing the parse cache).
+    /// Checks the current text (reusing the parse and check caches).
     fn check(&mut self) -> Checked {
         let text = self.text.as_str();
         let base = if text.starts_with('\u{FEFF}') { 3 } else { 0 };
-        let (c, ast) = compiler::compile_incremental(
+        let (diagnostics, ast) = compiler::diagnose_incremental(
             &self.file_name,
             text,
             &self.machine.ctx,
             &mut self.cache,
+            &mut self.checks,
         );
-        drop_elsewhere(c.program);
         Checked {
-            diagnostics: c.diagnostics,
+            diagnostics,
             ast,
             base,
         }
@@ -197,6 +200,11 @@ impl Document {
     /// Segments of the last parse reused and parsed (for tests and benchmarks).
     pub fn parse_counts(&self) -> (usize, usize) {
         (self.cache.reused, self.cache.parsed)
+    }
+
+    /// Statements of the last check replayed and checked (for tests and benchmarks).
+    pub fn check_counts(&self) -> (usize, usize) {
+        (self.checks.reused, self.checks.checked)
     }
 }
 
