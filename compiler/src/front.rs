@@ -59,23 +59,6 @@ pub fn compile_with_threads(
     check_parsed(file_name, text, &ast, diagnostics, ctx, start)
 }
 
-/// [`compile`] of an editor's text (already decoded) reusing the parsed segments of earlier
-/// versions that `cache` holds ([`parser::parse_cached`]); the compilation is exactly
-/// [`compile`]'s. Also returns the syntax tree, for the editor's index of names.
-pub fn compile_incremental(
-    file_name: &str,
-    text: &str,
-    ctx: &MachineContext,
-    cache: &mut ParseCache,
-) -> (Compilation, ast::Program) {
-    let start = Instant::now();
-    // What `decode_source` does to valid UTF-8: the byte-order mark is not part of the program.
-    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text).to_string();
-    let (ast, diagnostics) = parser::parse_cached(file_name, &text, cache);
-    let c = check_parsed(file_name, text, &ast, diagnostics, ctx, start);
-    (c, ast)
-}
-
 /// The diagnostics of [`compile`] for an editor's text, without building the program: reuses
 /// the parsed segments `parse` holds ([`parser::parse_cached`]) and the checks of unchanged
 /// statements `check` holds ([`sema::memo`]). Exactly [`compile`]'s diagnostics, except that the
