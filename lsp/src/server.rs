@@ -3,8 +3,10 @@
 //!
 //! Diagnostics of an edit are published when no further edit of that document arrived for the
 //! debounce time (`initializationOptions.debounceMs`, default [`DEBOUNCE_MS`]); a request on an
-//! edited document analyses its current text at once. A request the server cannot decode gets an
-//! `InvalidParams` error and the server goes on; nothing a client sends ends the loop but `exit`.
+//! edited document analyses its current text at once. Inlay hints show a running controller's
+//! power flow when `initializationOptions.hmi` names its HMI ([`crate::flow`]). A request the
+//! server cannot decode gets an `InvalidParams` error and the server goes on; nothing a client
+//! sends ends the loop but `exit`.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -29,7 +31,7 @@ use crate::index::Index;
 use crate::machine::Machine;
 use crate::navigate::{self, Target};
 use crate::text::Text;
-use crate::{complete, format, hover, tokens, uri};
+use crate::{complete, flow, format, hover, tokens, uri};
 
 /// Default debounce of diagnostics after an edit, in milliseconds.
 pub const DEBOUNCE_MS: u64 = 150;
@@ -79,6 +81,7 @@ pub fn capabilities() -> ServerCapabilities {
             work_done_progress_options: Default::default(),
         })),
         document_formatting_provider: Some(OneOf::Left(true)),
+        inlay_hint_provider: Some(OneOf::Left(true)),
         semantic_tokens_provider: Some(SemanticTokensServerCapabilities::SemanticTokensOptions(
             SemanticTokensOptions {
                 legend: tokens::legend(),
@@ -100,6 +103,15 @@ pub fn serve(conn: &Connection) -> Result<(), ServerError> {
         .as_ref()
         .and_then(|o| o.get("debounceMs")?.as_u64())
         .unwrap_or(DEBOUNCE_MS);
+    // The power flow's source: a running `ncplc run --hmi … --hmi-flow` (its start URL).
+    let hmi = init
+        .initialization_options
+        .as_ref()
+        .and_then(|o| o.get("hmi"))
+        .map(|v| match v.as_str() {
+            Some(url) => flow::Hmi::from_url(url),
+            None => Err(flow::FlowError::Url(v.to_string())),
+        });
     let mut s = Server {
         conn,
         docs: HashMap::new(),
@@ -107,6 +119,7 @@ pub fn serve(conn: &Connection) -> Result<(), ServerError> {
         machines: HashMap::new(),
         debounce: Duration::from_millis(debounce),
         told: false,
+        hmi,
     };
     s.run()
 }
@@ -121,6 +134,8 @@ struct Server<'c> {
     debounce: Duration,
     /// The "no machine context" note was shown.
     told: bool,
+    /// Where inlay hints read the power flow (`initializationOptions.hmi`), if anywhere.
+    hmi: Option<Result<flow::Hmi, flow::FlowError>>,
 }
 
 /// A request's failure: code and message.
@@ -404,6 +419,26 @@ impl Server<'_> {
                     changes: Some(HashMap::from([(u, edits)])),
                     ..WorkspaceEdit::default()
                 })
+            }
+            r::InlayHintRequest::METHOD => {
+                let p: lsp_types::InlayHintParams = params(req.params)?;
+                let Some(hmi) = &self.hmi else {
+                    return json(Vec::<lsp_types::InlayHint>::new());
+                };
+                let failed = |e: &flow::FlowError| (ErrorCode::RequestFailed, e.to_string());
+                let running = hmi
+                    .as_ref()
+                    .map_err(failed)?
+                    .read()
+                    .map_err(|e| failed(&e))?;
+                let doc = self.doc(&p.text_document.uri)?;
+                json(flow::hints(
+                    &doc.text,
+                    &running.source,
+                    &running.flow,
+                    p.range.start.line,
+                    p.range.end.line,
+                ))
             }
             r::Formatting::METHOD => {
                 let p: lsp_types::DocumentFormattingParams = params(req.params)?;
