@@ -4,9 +4,10 @@
 //! Diagnostics of an edit are published when no further edit of that document arrived for the
 //! debounce time (`initializationOptions.debounceMs`, default [`DEBOUNCE_MS`]); a request on an
 //! edited document analyses its current text at once. Inlay hints show a running controller's
-//! power flow when `initializationOptions.hmi` names its HMI ([`crate::flow`]). A request the
-//! server cannot decode gets an `InvalidParams` error and the server goes on; nothing a client
-//! sends ends the loop but `exit`.
+//! power flow when `initializationOptions.hmi` names its HMI ([`crate::flow`]), and the client is
+//! asked every [`FLOW_REFRESH`] to fetch them again when it can be. A request the server cannot
+//! decode gets an `InvalidParams` error and the server goes on; nothing a client sends ends the
+//! loop but `exit`.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -35,6 +36,9 @@ use crate::{complete, flow, format, hover, tokens, uri};
 
 /// Default debounce of diagnostics after an edit, in milliseconds.
 pub const DEBOUNCE_MS: u64 = 150;
+
+/// How often the client is asked to fetch the inlay hints again while a power flow is read.
+pub const FLOW_REFRESH: Duration = Duration::from_secs(1);
 
 /// Why the server stopped abnormally.
 #[derive(Debug, thiserror::Error)]
@@ -112,6 +116,14 @@ pub fn serve(conn: &Connection) -> Result<(), ServerError> {
             Some(url) => flow::Hmi::from_url(url),
             None => Err(flow::FlowError::Url(v.to_string())),
         });
+    // Live power flow: the client re-asks for inlay hints when told to, if it can be told.
+    let refresh = matches!(hmi, Some(Ok(_)))
+        && init
+            .capabilities
+            .workspace
+            .as_ref()
+            .and_then(|w| w.inlay_hint.as_ref()?.refresh_support)
+            .unwrap_or(false);
     let mut s = Server {
         conn,
         docs: HashMap::new(),
@@ -120,6 +132,8 @@ pub fn serve(conn: &Connection) -> Result<(), ServerError> {
         debounce: Duration::from_millis(debounce),
         told: false,
         hmi,
+        refresh: refresh.then(Instant::now),
+        refreshes: 0,
     };
     s.run()
 }
@@ -136,6 +150,10 @@ struct Server<'c> {
     told: bool,
     /// Where inlay hints read the power flow (`initializationOptions.hmi`), if anywhere.
     hmi: Option<Result<flow::Hmi, flow::FlowError>>,
+    /// When the client is next asked to refresh its inlay hints (power flow read, client able).
+    refresh: Option<Instant>,
+    /// Refresh requests sent (their ids).
+    refreshes: u64,
 }
 
 /// A request's failure: code and message.
@@ -144,7 +162,16 @@ type Failure = (ErrorCode, String);
 impl Server<'_> {
     fn run(&mut self) -> Result<(), ServerError> {
         loop {
-            let next = self.pending.values().min().copied();
+            self.refresh_due()?;
+            let refresh = self.refresh.filter(|_| !self.docs.is_empty());
+            let next = self
+                .pending
+                .values()
+                .min()
+                .copied()
+                .into_iter()
+                .chain(refresh)
+                .min();
             let msg = match next {
                 Some(when) => {
                     let wait = when.saturating_duration_since(Instant::now());
@@ -188,6 +215,21 @@ impl Server<'_> {
         self.send(Message::Notification(Notification::new(
             N::METHOD.to_string(),
             params,
+        )))
+    }
+
+    /// Asks the client to fetch the inlay hints (the power flow) again when it is time.
+    fn refresh_due(&mut self) -> Result<(), ServerError> {
+        let now = Instant::now();
+        if self.docs.is_empty() || self.refresh.is_none_or(|at| at > now) {
+            return Ok(());
+        }
+        self.refresh = Some(now + FLOW_REFRESH);
+        self.refreshes += 1;
+        self.send(Message::Request(Request::new(
+            format!("flow-refresh-{}", self.refreshes).into(),
+            r::InlayHintRefreshRequest::METHOD.to_string(),
+            serde_json::Value::Null,
         )))
     }
 

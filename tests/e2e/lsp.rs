@@ -45,11 +45,11 @@ struct Client {
 
 impl Client {
     fn start() -> Client {
-        Client::start_with(json!({"debounceMs": 0}))
+        Client::start_with(json!({"debounceMs": 0}), json!({}))
     }
 
-    /// A server started with these `initializationOptions`.
-    fn start_with(options: Value) -> Client {
+    /// A server started with these `initializationOptions` and client capabilities.
+    fn start_with(options: Value, capabilities: Value) -> Client {
         let mut child = Command::new(env!("CARGO_BIN_EXE_ncplc"))
             .arg("lsp")
             .stdin(Stdio::piped())
@@ -96,7 +96,7 @@ impl Client {
         };
         let r = c.request(
             "initialize",
-            json!({"capabilities": {}, "initializationOptions": options}),
+            json!({"capabilities": capabilities, "initializationOptions": options}),
         );
         assert_eq!(r["result"]["capabilities"]["hoverProvider"], json!(true));
         assert_eq!(r["result"]["capabilities"]["textDocumentSync"], json!(2));
@@ -566,7 +566,8 @@ fn ncplc_fmt_rewrites_checks_and_refuses_legacy_encodings() {
 }
 
 /// The power flow of a running `ncplc run --hmi … --hmi-flow` of the lathe as inlay hints on its
-/// program, at the end of each statement's line; none on a text that is not the running program.
+/// program, at the end of each statement's line, refreshed by the client when the server asks; none
+/// on a text that is not the running program.
 #[test]
 fn inlay_hints_show_the_power_flow_of_the_running_lathe() {
     let machine = root().join("plc-programs/lathe");
@@ -577,7 +578,10 @@ fn inlay_hints_show_the_power_flow_of_the_running_lathe() {
         hmi.addr,
         hmi.token.clone().unwrap_or_default()
     );
-    let mut c = Client::start_with(json!({"debounceMs": 0, "hmi": url}));
+    let mut c = Client::start_with(
+        json!({"debounceMs": 0, "hmi": url}),
+        json!({"workspace": {"inlayHint": {"refreshSupport": true}}}),
+    );
     let path = machine.join("MP0/PLCPRG");
     let text = std::fs::read_to_string(&path).expect("the lathe program");
     let u = uri(&path);
@@ -614,6 +618,26 @@ fn inlay_hints_show_the_power_flow_of_the_running_lathe() {
         );
         std::thread::sleep(Duration::from_millis(50));
     }
+    // The client can refresh: the server asks it to, about every second, for live values.
+    let start = Instant::now();
+    let ask = loop {
+        if let Some(i) = c
+            .notes
+            .iter()
+            .position(|m| m["method"] == json!("workspace/inlayHint/refresh"))
+        {
+            break c.notes.remove(i);
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "no refresh request in 10 s"
+        );
+        let m = c.recv();
+        c.notes.push(m);
+    };
+    assert_eq!(ask["params"], Value::Null);
+    let id = ask["id"].clone();
+    c.send(json!({"jsonrpc": "2.0", "id": id, "result": null}));
     // Edited, the text is no longer the program that runs: no hints.
     c.notify(
         "textDocument/didChange",
