@@ -9,6 +9,7 @@ use diag::Diagnostic;
 
 use crate::context::MachineContext;
 use crate::parse_cache::ParseCache;
+use crate::sema::memo::CheckCache;
 use crate::{ast, ir, lexer, lower, parser, sema};
 
 /// Numbers for the one-line build summary.
@@ -58,21 +59,74 @@ pub fn compile_with_threads(
     check_parsed(file_name, text, &ast, diagnostics, ctx, start)
 }
 
-/// [`compile`] of an editor's text (already decoded) reusing the parsed segments of earlier
-/// versions that `cache` holds ([`parser::parse_cached`]); the compilation is exactly
-/// [`compile`]'s. Also returns the syntax tree, for the editor's index of names.
-pub fn compile_incremental(
+/// The diagnostics of [`compile`] for an editor's text, without building the program: reuses
+/// the parsed segments `parse` holds ([`parser::parse_cached`]) and the checks of unchanged
+/// statements `check` holds ([`sema::memo`]). Exactly [`compile`]'s diagnostics, except that the
+/// lowering's own error ([`sema::codes::LOWERING`], an internal compiler error for a program
+/// that passed every check) cannot appear: no program is lowered. Also returns the syntax tree.
+pub fn diagnose_incremental(
     file_name: &str,
     text: &str,
     ctx: &MachineContext,
-    cache: &mut ParseCache,
-) -> (Compilation, ast::Program) {
-    let start = Instant::now();
-    // What `decode_source` does to valid UTF-8: the byte-order mark is not part of the program.
-    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text).to_string();
-    let (ast, diagnostics) = parser::parse_cached(file_name, &text, cache);
-    let c = check_parsed(file_name, text, &ast, diagnostics, ctx, start);
-    (c, ast)
+    parse: &mut ParseCache,
+    check: &mut CheckCache,
+) -> (Vec<Diagnostic>, ast::Program) {
+    let text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
+    let (ast, mut diagnostics) = parser::parse_cached(file_name, text, parse);
+    if parser::stopped_early(&diagnostics) {
+        stop_first(&mut diagnostics);
+        return (diagnostics, ast);
+    }
+    let (counts, sema_diags) = sema::memo::check_incremental(file_name, text, &ast, ctx, check);
+    add_sema(&mut diagnostics, sema_diags);
+    if let Some(c) = counts.filter(|_| !diag::has_errors(&diagnostics))
+        && c.statements == 0
+        && c.symbolic_names == 0
+    {
+        diagnostics.push(empty_program(file_name, text));
+    }
+    diagnostics.sort_by_key(|d| (d.line, d.column));
+    (diagnostics, ast)
+}
+
+/// Puts the reason a file was read only in part first.
+fn stop_first(diagnostics: &mut [Diagnostic]) {
+    // The stop comes first: it is the cause, and the per-file cap of the CLI would hide it
+    // behind the errors of the lines read (random text has several per line).
+    diagnostics.sort_by_key(|d| {
+        (
+            !matches!(d.code, sema::codes::NOT_TEXT | sema::codes::GAVE_UP),
+            d.line,
+            d.column,
+        )
+    });
+}
+
+/// Appends sema's diagnostics to the parser's.
+fn add_sema(diagnostics: &mut Vec<Diagnostic>, mut sema_diags: Vec<Diagnostic>) {
+    if diag::has_errors(diagnostics) {
+        // Usage is not known after a syntax error: the lines that would use or write a name may
+        // be the ones the parser could not read, so "never used/written" would mislead.
+        sema_diags.retain(|d| !sema::codes::is_usage_warning(d.code));
+    }
+    diagnostics.append(&mut sema_diags);
+}
+
+/// The warning for a program without statements or names.
+fn empty_program(file_name: &str, text: &str) -> Diagnostic {
+    let what = if text.trim().is_empty() {
+        "is empty"
+    } else {
+        "has no statements"
+    };
+    diag::Diagnostic::warning(
+        sema::codes::EMPTY_PROGRAM,
+        file_name,
+        0..0,
+        format!("the PLC program {what}: every output stays 0"),
+    )
+    .with_hint("write statements such as `U4A0 = I0A0 * I0A1`; plc-programs/mill/MP0/PLCPRG is a complete example")
+    .locate(text)
 }
 
 /// Checks and lowers a parsed program (the part of a compile after the parser).
@@ -85,15 +139,7 @@ fn check_parsed(
     start: Instant,
 ) -> Compilation {
     if parser::stopped_early(&diagnostics) {
-        // The stop comes first: it is the cause, and the per-file cap of the CLI would hide it
-        // behind the errors of the lines read (random text has several per line).
-        diagnostics.sort_by_key(|d| {
-            (
-                !matches!(d.code, sema::codes::NOT_TEXT | sema::codes::GAVE_UP),
-                d.line,
-                d.column,
-            )
-        });
+        stop_first(&mut diagnostics);
         // A file read only in part (not text, or not a PLC program) is not checked further:
         // its names and signals would only add follow-on errors.
         let stats = CompileStats {
@@ -107,33 +153,14 @@ fn check_parsed(
             text,
         };
     }
-    let (checked, mut sema_diags) = sema::check(file_name, &text, ast, ctx);
-    if diag::has_errors(&diagnostics) {
-        // Usage is not known after a syntax error: the lines that would use or write a name may
-        // be the ones the parser could not read, so "never used/written" would mislead.
-        sema_diags.retain(|d| !sema::codes::is_usage_warning(d.code));
-    }
-    diagnostics.append(&mut sema_diags);
+    let (checked, sema_diags) = sema::check(file_name, &text, ast, ctx);
+    add_sema(&mut diagnostics, sema_diags);
     let mut stats = CompileStats::default();
     let mut program = None;
     // A program with syntax errors is never handed out, even if the recovered lines check.
     if let Some(checked) = checked.filter(|_| !diag::has_errors(&diagnostics)) {
         if checked.statements == 0 && checked.symbolic_names == 0 {
-            let what = if text.trim().is_empty() {
-                "is empty"
-            } else {
-                "has no statements"
-            };
-            diagnostics.push(
-                diag::Diagnostic::warning(
-                    sema::codes::EMPTY_PROGRAM,
-                    file_name,
-                    0..0,
-                    format!("the PLC program {what}: every output stays 0"),
-                )
-                .with_hint("write statements such as `U4A0 = I0A0 * I0A1`; plc-programs/mill/MP0/PLCPRG is a complete example")
-                .locate(&text),
-            );
+            diagnostics.push(empty_program(file_name, &text));
         }
         stats.statements = checked.statements;
         stats.symbolic_names = checked.symbolic_names;

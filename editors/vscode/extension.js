@@ -17,7 +17,10 @@ function activate(context) {
     { run, debug: run },
     {
       documentSelector: [{ language: 'ncplc-plc' }],
-      initializationOptions: { debounceMs: config.get('debounceMs', 150) },
+      initializationOptions: {
+        debounceMs: config.get('debounceMs', 150),
+        ...(config.get('hmi', '') ? { hmi: config.get('hmi', '') } : {}),
+      },
     }
   );
   context.subscriptions.push({ dispose: () => client && client.stop() });

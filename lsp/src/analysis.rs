@@ -1,15 +1,21 @@
-//! One open document and its analysis: the text as the editor has it, the compile of it against
-//! its machine (the same [`compiler::compile_incremental`] path that gives `ncplc build`'s
-//! diagnostics, reusing the parsed segments of the previous version) and the [`Index`] of names.
+//! One open document and its analysis: the text as the editor has it, its diagnostics against
+//! its machine ([`compiler::diagnose_incremental`]: `ncplc build`'s front end reusing the parsed
+//! segments and the statement checks of the previous version) and the [`Index`] of names.
 //!
 //! Invariant: [`Document::analysis`] always describes the current text; an edit only marks it
 //! stale, and it is recomputed on the next use (the server's debounce decides when that is for
 //! diagnostics; a hover or completion after an edit recomputes at once). No text can make any of
 //! this panic or loop: the compiler's front end is total and bounded, and every offset is clamped.
+//!
+//! Per keystroke only the compile runs: the diagnostics of an edit need no [`Index`], so it is
+//! built from the kept syntax tree when a request first needs it, and a superseded version's
+//! syntax tree and index are dropped on a helper thread ([`drop_elsewhere`]), not on the path of
+//! the next diagnostics.
 
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, OnceLock, mpsc};
 
 use compiler::parse_cache::ParseCache;
+use compiler::sema::memo::CheckCache;
 use lsp_types::{DiagnosticSeverity, NumberOrString, TextDocumentContentChangeEvent};
 
 use crate::index::Index;
@@ -51,7 +57,37 @@ pub struct Document {
     /// The machine it is checked against.
     pub machine: Arc<Machine>,
     cache: ParseCache,
+    checks: CheckCache,
+    /// The compile of the current text, before its index is built.
+    checked: Option<Checked>,
     analysis: Option<Analysis>,
+}
+
+/// The compile of one version: diagnostics and the syntax tree the [`Index`] is built from.
+#[derive(Debug)]
+struct Checked {
+    diagnostics: Vec<diag::Diagnostic>,
+    ast: compiler::ast::Program,
+    base: usize,
+}
+
+/// Drops `value` on the one helper thread kept for this (inline when it cannot be started):
+/// freeing the 10,000-statement program's syntax tree takes milliseconds nobody waits for.
+pub fn drop_elsewhere<T: Send + 'static>(value: T) {
+    type Garbage = Box<dyn Send>;
+    static BIN: OnceLock<Option<Mutex<mpsc::Sender<Garbage>>>> = OnceLock::new();
+    let bin = BIN.get_or_init(|| {
+        let (tx, rx) = mpsc::channel::<Garbage>();
+        std::thread::Builder::new()
+            .name("plc-lsp-drop".into())
+            .spawn(move || rx.into_iter().for_each(drop))
+            .ok()
+            .map(|_| Mutex::new(tx))
+    });
+    // A failed send hands the value back inside the error, which drops it here.
+    if let Some(tx) = bin.as_ref().and_then(|m| m.lock().ok()) {
+        let _ = tx.send(Box::new(value));
+    }
 }
 
 impl Document {
@@ -63,6 +99,8 @@ impl Document {
             version,
             machine,
             cache: ParseCache::new(),
+            checks: CheckCache::new(),
+            checked: None,
             analysis: None,
         }
     }
@@ -73,12 +111,20 @@ impl Document {
             self.text.apply(c);
         }
         self.version = version;
-        self.analysis = None;
+        let old = (self.checked.take(), self.analysis.take());
+        if old.0.is_some() || old.1.is_some() {
+            drop_elsewhere(old);
+        }
     }
 
-    /// True when the analysis is not of the current text.
+    /// True when neither the diagnostics nor the analysis are of the current text.
     pub fn is_stale(&self) -> bool {
-        self.analysis.is_none()
+        self.analysis.is_none() && self.checked.is_none()
+    }
+
+    /// True when the index of the current text has been built (a request needed it).
+    pub fn has_index(&self) -> bool {
+        self.analysis.is_some()
     }
 
     /// The analysis of the current text (computed now when stale).
@@ -100,31 +146,54 @@ impl Document {
         (a, &self.text, &self.machine)
     }
 
+    /// The analysis of the current text: its compile (done now unless the diagnostics already
+    /// did it) and the index of its syntax tree.
     fn analyse(&mut self) -> Analysis {
+        let c = match self.checked.take() {
+            Some(c) => c,
+            None => self.check(),
+        };
+        let index = Index::new(&c.ast, &self.machine.ctx);
+        drop_elsewhere(c.ast);
+        Analysis {
+            diagnostics: c.diagnostics,
+            index,
+            base: c.base,
+        }
+    }
+
+    /// Checks the current text (reusing the parse and check caches).
+    fn check(&mut self) -> Checked {
         let text = self.text.as_str();
         let base = if text.starts_with('\u{FEFF}') { 3 } else { 0 };
-        let (c, ast) = compiler::compile_incremental(
+        let (diagnostics, ast) = compiler::diagnose_incremental(
             &self.file_name,
             text,
             &self.machine.ctx,
             &mut self.cache,
+            &mut self.checks,
         );
-        Analysis {
-            diagnostics: c.diagnostics,
-            index: Index::new(&ast, &self.machine.ctx),
+        Checked {
+            diagnostics,
+            ast,
             base,
         }
     }
 
-    /// The analysis's diagnostics for `textDocument/publishDiagnostics`.
+    /// The current text's diagnostics for `textDocument/publishDiagnostics` (compiles it when
+    /// stale, without building the index).
     pub fn lsp_diagnostics(&mut self) -> Vec<lsp_types::Diagnostic> {
-        self.analysis();
-        let Some(a) = self.analysis.as_ref() else {
-            return Vec::new();
+        if self.analysis.is_none() && self.checked.is_none() {
+            self.checked = Some(self.check());
+        }
+        let (diagnostics, base) = match (&self.analysis, &self.checked) {
+            (Some(a), _) => (&a.diagnostics, a.base),
+            (None, Some(c)) => (&c.diagnostics, c.base),
+            (None, None) => return Vec::new(),
         };
-        a.diagnostics
+        diagnostics
             .iter()
-            .map(|d| to_lsp(d, &self.text, a))
+            .map(|d| to_lsp(d, &self.text, base))
             .collect()
     }
 
@@ -132,18 +201,24 @@ impl Document {
     pub fn parse_counts(&self) -> (usize, usize) {
         (self.cache.reused, self.cache.parsed)
     }
+
+    /// Statements of the last check replayed and checked (for tests and benchmarks).
+    pub fn check_counts(&self) -> (usize, usize) {
+        (self.checks.reused, self.checks.checked)
+    }
 }
 
 /// One compiler diagnostic as an LSP diagnostic: the code as a number, the hint after the message
 /// as `ncplc build` prints it (`help: …`).
-pub fn to_lsp(d: &diag::Diagnostic, text: &Text, a: &Analysis) -> lsp_types::Diagnostic {
+/// `base` is [`Analysis::base`].
+pub fn to_lsp(d: &diag::Diagnostic, text: &Text, base: usize) -> lsp_types::Diagnostic {
     let message = if d.hint.is_empty() {
         d.message.clone()
     } else {
         format!("{}\nhelp: {}", d.message, d.hint)
     };
     lsp_types::Diagnostic {
-        range: text.range(a.to_doc(&d.span)),
+        range: text.range(d.span.start + base..d.span.end + base),
         severity: Some(if d.is_error() {
             DiagnosticSeverity::ERROR
         } else {
@@ -155,5 +230,52 @@ pub fn to_lsp(d: &diag::Diagnostic, text: &Text, a: &Analysis) -> lsp_types::Dia
         source: Some("ncplc".to_string()),
         message,
         ..lsp_types::Diagnostic::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use lsp_types::{Position, Range};
+
+    fn doc(text: &str) -> Document {
+        let machine = Arc::new(Machine {
+            dir: None,
+            ctx: crate::machine::language_only(),
+            plc_source: None,
+            iocfil: None,
+            note: None,
+        });
+        Document::new("PLCPRG".into(), text.into(), 0, machine)
+    }
+
+    #[test]
+    fn diagnostics_need_no_index_and_requests_build_it_once() {
+        let mut d = doc("DEF A = I0A1\nU4A0 = A * B\n");
+        let diags = d.lsp_diagnostics();
+        // `B` is undefined at line 2, column 12 (0-based 1:11 in LSP terms).
+        assert_eq!(diags.len(), 1);
+        assert_eq!(
+            diags[0].range,
+            Range::new(Position::new(1, 11), Position::new(1, 12))
+        );
+        assert!(!d.has_index() && !d.is_stale());
+        let refs = d.analysis().index.refs.len();
+        assert!(d.has_index());
+        // A, I0A1 on line 1; U4A0, A, B on line 2.
+        assert_eq!(refs, 5);
+        // The diagnostics now come from the analysis, unchanged.
+        assert_eq!(d.lsp_diagnostics(), diags);
+        d.edit(
+            1,
+            &[TextDocumentContentChangeEvent {
+                range: Some(Range::new(Position::new(1, 11), Position::new(1, 12))),
+                range_length: None,
+                text: "A".into(),
+            }],
+        );
+        assert!(d.is_stale() && !d.has_index());
+        assert_eq!(d.lsp_diagnostics(), Vec::new());
+        assert!(!d.has_index());
     }
 }

@@ -1,16 +1,17 @@
 //! The PLC language server (`ncplc lsp`) and formatter (`ncplc fmt`): diagnostics as you type
 //! with the codes, messages and hints of `ncplc build`, hover, go to definition, references,
-//! completion, rename, formatting, document and workspace symbols and semantic tokens, over
-//! stdio with lsp-server (docs/editor.md).
+//! completion, rename, formatting, document and workspace symbols, semantic tokens and a running
+//! controller's power flow as inlay hints, over stdio with lsp-server (docs/editor.md).
 //!
-//! Layers: [`text`] (positions and edits) → [`analysis`] (one document: its compile through
-//! `compiler::compile_incremental` and its [`index`]) → the features ([`hover`], [`navigate`],
-//! [`complete`], [`tokens`], [`format`]) → [`server`] (the protocol loop, debouncing). Nothing
+//! Layers: [`text`] (positions and edits) → [`analysis`] (one document: its diagnostics through
+//! `compiler::diagnose_incremental` and its [`index`]) → the features ([`hover`], [`navigate`],
+//! [`complete`], [`tokens`], [`format`], [`flow`]) → [`server`] (the protocol loop, debouncing). Nothing
 //! here depends on the runtime; the `ncplc` binary only calls [`serve_stdio`] and
 //! [`format::run_cli`].
 
 pub mod analysis;
 pub mod complete;
+pub mod flow;
 pub mod format;
 pub mod hover;
 pub mod index;

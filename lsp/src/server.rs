@@ -3,8 +3,11 @@
 //!
 //! Diagnostics of an edit are published when no further edit of that document arrived for the
 //! debounce time (`initializationOptions.debounceMs`, default [`DEBOUNCE_MS`]); a request on an
-//! edited document analyses its current text at once. A request the server cannot decode gets an
-//! `InvalidParams` error and the server goes on; nothing a client sends ends the loop but `exit`.
+//! edited document analyses its current text at once. Inlay hints show a running controller's
+//! power flow when `initializationOptions.hmi` names its HMI ([`crate::flow`]), and the client is
+//! asked every [`FLOW_REFRESH`] to fetch them again when it can be. A request the server cannot
+//! decode gets an `InvalidParams` error and the server goes on; nothing a client sends ends the
+//! loop but `exit`.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -29,10 +32,13 @@ use crate::index::Index;
 use crate::machine::Machine;
 use crate::navigate::{self, Target};
 use crate::text::Text;
-use crate::{complete, format, hover, tokens, uri};
+use crate::{complete, flow, format, hover, tokens, uri};
 
 /// Default debounce of diagnostics after an edit, in milliseconds.
 pub const DEBOUNCE_MS: u64 = 150;
+
+/// How often the client is asked to fetch the inlay hints again while a power flow is read.
+pub const FLOW_REFRESH: Duration = Duration::from_secs(1);
 
 /// Why the server stopped abnormally.
 #[derive(Debug, thiserror::Error)]
@@ -79,6 +85,7 @@ pub fn capabilities() -> ServerCapabilities {
             work_done_progress_options: Default::default(),
         })),
         document_formatting_provider: Some(OneOf::Left(true)),
+        inlay_hint_provider: Some(OneOf::Left(true)),
         semantic_tokens_provider: Some(SemanticTokensServerCapabilities::SemanticTokensOptions(
             SemanticTokensOptions {
                 legend: tokens::legend(),
@@ -100,6 +107,23 @@ pub fn serve(conn: &Connection) -> Result<(), ServerError> {
         .as_ref()
         .and_then(|o| o.get("debounceMs")?.as_u64())
         .unwrap_or(DEBOUNCE_MS);
+    // The power flow's source: a running `ncplc run --hmi … --hmi-flow` (its start URL).
+    let hmi = init
+        .initialization_options
+        .as_ref()
+        .and_then(|o| o.get("hmi"))
+        .map(|v| match v.as_str() {
+            Some(url) => flow::Hmi::from_url(url),
+            None => Err(flow::FlowError::Url(v.to_string())),
+        });
+    // Live power flow: the client re-asks for inlay hints when told to, if it can be told.
+    let refresh = matches!(hmi, Some(Ok(_)))
+        && init
+            .capabilities
+            .workspace
+            .as_ref()
+            .and_then(|w| w.inlay_hint.as_ref()?.refresh_support)
+            .unwrap_or(false);
     let mut s = Server {
         conn,
         docs: HashMap::new(),
@@ -107,6 +131,9 @@ pub fn serve(conn: &Connection) -> Result<(), ServerError> {
         machines: HashMap::new(),
         debounce: Duration::from_millis(debounce),
         told: false,
+        hmi,
+        refresh: refresh.then(Instant::now),
+        refreshes: 0,
     };
     s.run()
 }
@@ -121,6 +148,12 @@ struct Server<'c> {
     debounce: Duration,
     /// The "no machine context" note was shown.
     told: bool,
+    /// Where inlay hints read the power flow (`initializationOptions.hmi`), if anywhere.
+    hmi: Option<Result<flow::Hmi, flow::FlowError>>,
+    /// When the client is next asked to refresh its inlay hints (power flow read, client able).
+    refresh: Option<Instant>,
+    /// Refresh requests sent (their ids).
+    refreshes: u64,
 }
 
 /// A request's failure: code and message.
@@ -129,7 +162,16 @@ type Failure = (ErrorCode, String);
 impl Server<'_> {
     fn run(&mut self) -> Result<(), ServerError> {
         loop {
-            let next = self.pending.values().min().copied();
+            self.refresh_due()?;
+            let refresh = self.refresh.filter(|_| !self.docs.is_empty());
+            let next = self
+                .pending
+                .values()
+                .min()
+                .copied()
+                .into_iter()
+                .chain(refresh)
+                .min();
             let msg = match next {
                 Some(when) => {
                     let wait = when.saturating_duration_since(Instant::now());
@@ -173,6 +215,21 @@ impl Server<'_> {
         self.send(Message::Notification(Notification::new(
             N::METHOD.to_string(),
             params,
+        )))
+    }
+
+    /// Asks the client to fetch the inlay hints (the power flow) again when it is time.
+    fn refresh_due(&mut self) -> Result<(), ServerError> {
+        let now = Instant::now();
+        if self.docs.is_empty() || self.refresh.is_none_or(|at| at > now) {
+            return Ok(());
+        }
+        self.refresh = Some(now + FLOW_REFRESH);
+        self.refreshes += 1;
+        self.send(Message::Request(Request::new(
+            format!("flow-refresh-{}", self.refreshes).into(),
+            r::InlayHintRefreshRequest::METHOD.to_string(),
+            serde_json::Value::Null,
         )))
     }
 
@@ -404,6 +461,26 @@ impl Server<'_> {
                     changes: Some(HashMap::from([(u, edits)])),
                     ..WorkspaceEdit::default()
                 })
+            }
+            r::InlayHintRequest::METHOD => {
+                let p: lsp_types::InlayHintParams = params(req.params)?;
+                let Some(hmi) = &self.hmi else {
+                    return json(Vec::<lsp_types::InlayHint>::new());
+                };
+                let failed = |e: &flow::FlowError| (ErrorCode::RequestFailed, e.to_string());
+                let running = hmi
+                    .as_ref()
+                    .map_err(failed)?
+                    .read()
+                    .map_err(|e| failed(&e))?;
+                let doc = self.doc(&p.text_document.uri)?;
+                json(flow::hints(
+                    &doc.text,
+                    &running.source,
+                    &running.flow,
+                    p.range.start.line,
+                    p.range.end.line,
+                ))
             }
             r::Formatting::METHOD => {
                 let p: lsp_types::DocumentFormattingParams = params(req.params)?;

@@ -3,7 +3,8 @@
 //! references, highlights, completion, rename, formatting and symbols on the bundled machines,
 //! with exact expected results; and every diagnostic `ncplc build` gives on a corpus of broken
 //! programs (tests/lsp-corpus) must come from the server at the same place with the same code,
-//! message and hint. Also `ncplc fmt` as a CLI.
+//! message and hint. Also `ncplc fmt` as a CLI, and the power flow of a running `ncplc run --hmi`
+//! as inlay hints.
 
 use std::io::{BufRead, BufReader, Read, Write};
 use std::path::{Path, PathBuf};
@@ -44,6 +45,11 @@ struct Client {
 
 impl Client {
     fn start() -> Client {
+        Client::start_with(json!({"debounceMs": 0}), json!({}))
+    }
+
+    /// A server started with these `initializationOptions` and client capabilities.
+    fn start_with(options: Value, capabilities: Value) -> Client {
         let mut child = Command::new(env!("CARGO_BIN_EXE_ncplc"))
             .arg("lsp")
             .stdin(Stdio::piped())
@@ -90,7 +96,7 @@ impl Client {
         };
         let r = c.request(
             "initialize",
-            json!({"capabilities": {}, "initializationOptions": {"debounceMs": 0}}),
+            json!({"capabilities": capabilities, "initializationOptions": options}),
         );
         assert_eq!(r["result"]["capabilities"]["hoverProvider"], json!(true));
         assert_eq!(r["result"]["capabilities"]["textDocumentSync"], json!(2));
@@ -557,4 +563,89 @@ fn ncplc_fmt_rewrites_checks_and_refuses_legacy_encodings() {
         std::fs::read(&p).expect("read"),
         b"U4A0 = I0A0 ; \xe0\xa0\n".to_vec()
     );
+}
+
+/// The power flow of a running `ncplc run --hmi … --hmi-flow` of the lathe as inlay hints on its
+/// program, at the end of each statement's line, refreshed by the client when the server asks; none
+/// on a text that is not the running program.
+#[test]
+fn inlay_hints_show_the_power_flow_of_the_running_lathe() {
+    let machine = root().join("plc-programs/lathe");
+    let hmi = crate::hmi_common::Hmi::start(&machine, &["--hmi-flow"]);
+    hmi.wait_tick(20);
+    let url = format!(
+        "http://{}/?token={}",
+        hmi.addr,
+        hmi.token.clone().unwrap_or_default()
+    );
+    let mut c = Client::start_with(
+        json!({"debounceMs": 0, "hmi": url}),
+        json!({"workspace": {"inlayHint": {"refreshSupport": true}}}),
+    );
+    let path = machine.join("MP0/PLCPRG");
+    let text = std::fs::read_to_string(&path).expect("the lathe program");
+    let u = uri(&path);
+    c.open(&u, &text);
+    let n = u32::try_from(text.lines().count()).expect("lines");
+    let all = json!({"textDocument": {"uri": u}, "range": range(0, 0, n, 0)});
+    // CHAIN_OK = ESTOP_PB_OK * OVERTRAVEL_OK (line 62) computes 1 while the sim closes the chain.
+    let line62 = text.lines().nth(61).expect("line 62");
+    let end = u32::try_from(line62.encode_utf16().count()).expect("short");
+    let start = Instant::now();
+    loop {
+        let hints = c.request("textDocument/inlayHint", all.clone())["result"].clone();
+        let h = hints.as_array().and_then(|h| {
+            h.iter()
+                .find(|h| h["position"]["line"] == json!(61))
+                .cloned()
+        });
+        if let Some(h) = h.filter(|h| h["label"] == json!("= 1")) {
+            assert_eq!(h["position"], json!({"line": 61, "character": end}));
+            assert_eq!(h["paddingLeft"], json!(true));
+            // One hint per line at most.
+            let lines: Vec<&Value> = hints
+                .as_array()
+                .map(|h| h.iter().map(|h| &h["position"]["line"]).collect())
+                .unwrap_or_default();
+            let mut dedup = lines.clone();
+            dedup.dedup();
+            assert_eq!(lines, dedup);
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "no `= 1` hint on line 62 in 30 s: {hints}"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    // The client can refresh: the server asks it to, about every second, for live values.
+    let start = Instant::now();
+    let ask = loop {
+        if let Some(i) = c
+            .notes
+            .iter()
+            .position(|m| m["method"] == json!("workspace/inlayHint/refresh"))
+        {
+            break c.notes.remove(i);
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(10),
+            "no refresh request in 10 s"
+        );
+        let m = c.recv();
+        c.notes.push(m);
+    };
+    assert_eq!(ask["params"], Value::Null);
+    let id = ask["id"].clone();
+    c.send(json!({"jsonrpc": "2.0", "id": id, "result": null}));
+    // Edited, the text is no longer the program that runs: no hints.
+    c.notify(
+        "textDocument/didChange",
+        json!({"textDocument": {"uri": u, "version": 2},
+               "contentChanges": [{"range": range(0, 0, 0, 0), "text": "; edited\n"}]}),
+    );
+    let hints = c.request("textDocument/inlayHint", all)["result"].clone();
+    assert_eq!(hints, json!([]));
+    c.stop();
+    hmi.stop();
 }

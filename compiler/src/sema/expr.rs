@@ -6,6 +6,7 @@
 //! on numbers. Inline timers become a [`ir::Stmt::Timer`] in `pending` (emitted before the
 //! statement) plus a read of their Q.
 
+use super::memo;
 use super::signals::{Access, check_signal};
 use super::symbols::{FUNCTIONS, const_lit};
 use super::types::{Lit, LitError, common, lit_value, type_by_name, widens};
@@ -140,6 +141,9 @@ impl Checker<'_> {
             ExprKind::Pulse(n) => {
                 let n = self.pulse_number(*n, &e.span)?;
                 self.pulses_read.entry(n).or_insert_with(|| e.span.clone());
+                if let Some(r) = &mut self.rec {
+                    r.events.push(memo::Event::PulseRead(n, e.span.clone()));
+                }
                 Some(Val::Typed(ir::Expr::Pulse(self.builder.pulse(n)), Ty::Bool))
             }
             ExprKind::Name(n) => self.name_value(n, &e.span),
@@ -226,7 +230,7 @@ impl Checker<'_> {
             }
             return None;
         };
-        self.syms[i].read = true;
+        self.mark_read(i);
         Some(match self.syms[i].kind {
             SymKind::Place { place, ty, .. } => Val::Typed(ir::Expr::Load(place), ty),
             SymKind::Var { id, ty } => Val::Typed(ir::Expr::Load(ir::Place::Var(id)), ty),
@@ -240,7 +244,7 @@ impl Checker<'_> {
         let kind = match &base.kind {
             ExprKind::Name(n) => match self.lookup(n) {
                 Some(i) => {
-                    self.syms[i].read = true;
+                    self.mark_read(i);
                     Some(self.syms[i].kind.clone())
                 }
                 None => return self.name_value(n, &base.span),

@@ -10,6 +10,7 @@
 mod calls;
 pub mod codes;
 mod expr;
+pub mod memo;
 pub mod signals;
 mod stmt;
 mod symbols;
@@ -127,6 +128,8 @@ pub(crate) struct Checker<'a> {
     /// "Did you mean" searches still allowed: each scans every name, so only the first
     /// [`SUGGESTIONS`] undefined names get one (bounded work on any input).
     pub suggestions_left: usize,
+    /// What the statement being checked does, when [`memo`] is recording it.
+    pub rec: Option<memo::Recording>,
 }
 
 /// Undefined names per check that get a "did you mean" search.
@@ -136,6 +139,10 @@ impl<'a> Checker<'a> {
     /// `hint` prefixed with "did you mean `X`? " for the defined, predeclared or function name
     /// nearest to the undefined `name`.
     pub(crate) fn suggest_name(&mut self, name: &str, hint: String) -> String {
+        if let Some(r) = &mut self.rec {
+            // The hint depends on the budget and the names entered so far: not memoizable.
+            r.volatile = true;
+        }
         if self.suggestions_left == 0 {
             return hint;
         }
@@ -168,6 +175,7 @@ impl<'a> Checker<'a> {
             suggestions_left: SUGGESTIONS,
             failed: HashSet::new(),
             lines: crate::lexer::LineIndex::new(text),
+            rec: None,
         }
     }
 
@@ -221,6 +229,23 @@ impl<'a> Checker<'a> {
         });
         self.by_name.insert(name.to_string(), i);
         Some(i)
+    }
+
+    /// Marks symbol `i` read (recorded for [`memo`]).
+    pub fn mark_read(&mut self, i: usize) {
+        self.syms[i].read = true;
+        if let Some(r) = &mut self.rec {
+            r.events.push(memo::Event::Read(self.syms[i].name.clone()));
+        }
+    }
+
+    /// Marks symbol `i` written (recorded for [`memo`]).
+    pub fn mark_written(&mut self, i: usize) {
+        self.syms[i].written = true;
+        if let Some(r) = &mut self.rec {
+            r.events
+                .push(memo::Event::Written(self.syms[i].name.clone()));
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 use packets::{Dir, Packet, Signal};
 
 use super::signals::{Access, check_signal};
-use super::{Checker, Driven, SymKind, codes};
+use super::{Checker, Driven, SymKind, codes, memo};
 use crate::ast::{AssignKind, Expr, Span, Stmt, StmtKind, Target, TargetKind};
 use crate::ir::{self, CounterId, CounterKind, Place, PulseId, TimerId, Ty};
 
@@ -32,7 +32,7 @@ impl Checker<'_> {
         out
     }
 
-    fn stmt(&mut self, s: &Stmt, out: &mut Vec<ir::Stmt>) {
+    pub(crate) fn stmt(&mut self, s: &Stmt, out: &mut Vec<ir::Stmt>) {
         self.pending.clear();
         match &s.kind {
             StmtKind::Alias { .. } | StmtKind::Var { .. } | StmtKind::Error => {}
@@ -131,6 +131,9 @@ impl Checker<'_> {
                 }
                 self.drive(Driven::Pulse(n), &target.span, &format!("P{n}"));
                 self.pulses_set.insert(n);
+                if let Some(r) = &mut self.rec {
+                    r.events.push(memo::Event::PulseSet(n));
+                }
                 let input = self.expr_to(value, Ty::Bool)?;
                 Some(ir::Stmt::Pulse { pulse, input })
             }
@@ -171,7 +174,20 @@ impl Checker<'_> {
     }
 
     /// Records that `key` is driven here; a second driver is an error.
-    fn drive(&mut self, key: Driven, span: &Span, what: &str) {
+    pub(crate) fn drive(&mut self, key: Driven, span: &Span, what: &str) {
+        // The error depends on the other statements: recorded as the drive, never as its error.
+        self.flush_recorded_diags();
+        if let Some(r) = &mut self.rec {
+            r.events
+                .push(memo::Event::Drive(key, span.clone(), what.to_string()));
+        }
+        self.drive_now(key, span, what);
+        if let Some(r) = &mut self.rec {
+            r.flushed = self.diags.len();
+        }
+    }
+
+    fn drive_now(&mut self, key: Driven, span: &Span, what: &str) {
         if let Some(first) = self.driven.get(&key) {
             let at = self.position(first.start);
             self.error(codes::DRIVEN_TWICE, span, format!("{what} is already driven at {at}"), "a one-shot, timer or counter input has exactly one assignment; combine the conditions with + (OR)");
@@ -303,7 +319,7 @@ impl Checker<'_> {
             }
             return None;
         };
-        self.syms[i].written = true;
+        self.mark_written(i);
         if self.syms[i].cnc_writes {
             self.warning(
                 codes::WRITE_I_PREFIX,

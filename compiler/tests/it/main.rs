@@ -7,6 +7,7 @@ mod differential_source;
 mod front_bounded;
 mod front_cache;
 mod front_fuzz;
+mod front_incremental;
 mod front_lowering;
 mod front_parallel;
 mod front_programs;
