@@ -1,12 +1,13 @@
 //! A diagnostic sink with a cap: it counts every diagnostic pushed into it but stores at most `max`
-//! of them (issue 23, item 4), so a reader of an error-dense file of any size keeps a constant
-//! number of diagnostics in memory. `ncplc check --max-errors N` sets the cap.
+//! of each file (issue 23, item 4), so a reader of an error-dense file of any size keeps a constant
+//! number of diagnostics in memory. `ncplc check|nc check --max-errors N` sets the cap.
 //!
-//! **Invariant:** the stored diagnostics are exactly the first `max` of the stable order by
-//! `(span.start, code)` of everything pushed (ties in push order), the order the machine loader
-//! sorts a file's diagnostics in; so what is printed with a cap is what sorting every diagnostic
-//! and cutting the list after `max` printed before. `max == 0` stores everything. The sink holds at
-//! most `max` diagnostics at any moment (pushing the one too many drops the largest).
+//! **Invariant:** the stored diagnostics of a file are exactly the first `max` of the stable order
+//! by `(span.start, code)` of everything pushed for it (ties in push order), the order the machine
+//! loader sorts a file's diagnostics in; so what is printed with a cap is what sorting every
+//! diagnostic and cutting each file's list after `max` printed before. `max == 0` stores
+//! everything. The sink holds at most `max` diagnostics per file at any moment (pushing the one too
+//! many drops the largest).
 
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
@@ -40,14 +41,15 @@ impl Ord for Entry {
     }
 }
 
-/// Collects diagnostics, storing at most `max` (0: all) and counting the rest per file.
+/// Collects diagnostics, storing at most `max` per file (0: all) and counting the rest per file.
 #[derive(Debug, Default)]
 pub struct Sink {
     max: usize,
     pushed: u64,
     errors: usize,
     warnings: usize,
-    kept: BinaryHeap<Entry>,
+    /// Per file (a handful), the stored diagnostics.
+    kept: Vec<(String, BinaryHeap<Entry>)>,
     dropped: Vec<Hidden>,
 }
 
@@ -65,7 +67,7 @@ impl Sink {
         Sink::new(0)
     }
 
-    /// Counts `d` and stores it unless `max` smaller ones are stored already.
+    /// Counts `d` and stores it unless `max` smaller ones of its file are stored already.
     pub fn push(&mut self, d: Diagnostic) {
         if d.is_error() {
             self.errors += 1;
@@ -74,13 +76,30 @@ impl Sink {
         }
         let key = (d.span.start, d.code, self.pushed);
         self.pushed += 1;
-        self.kept.push(Entry { key, diagnostic: d });
+        let i = match self.kept.iter().position(|(f, _)| *f == d.file) {
+            Some(i) => i,
+            None => {
+                self.kept.push((d.file.clone(), BinaryHeap::new()));
+                self.kept.len() - 1
+            }
+        };
+        let heap = &mut self.kept[i].1;
+        heap.push(Entry { key, diagnostic: d });
         if self.max > 0
-            && self.kept.len() > self.max
-            && let Some(out) = self.kept.pop()
+            && heap.len() > self.max
+            && let Some(out) = heap.pop()
         {
             self.drop_one(&out.diagnostic);
         }
+    }
+
+    /// Counts diagnostics another sink counted but did not store (its [`Sink::finish`]).
+    pub fn count_hidden(&mut self, hidden: &[Hidden]) {
+        for h in hidden {
+            self.errors += h.errors;
+            self.warnings += h.warnings;
+        }
+        merge_hidden(&mut self.dropped, hidden);
     }
 
     fn drop_one(&mut self, d: &Diagnostic) {
@@ -127,15 +146,19 @@ impl Sink {
         self.errors > 0
     }
 
-    /// Diagnostics stored now (at most the cap).
+    /// Diagnostics stored now (at most the cap per file).
     pub fn stored(&self) -> usize {
-        self.kept.len()
+        self.kept.iter().map(|(_, h)| h.len()).sum()
     }
 
     /// The stored diagnostics in push order and, per file in order of the first dropped one,
     /// how many were counted but not stored.
     pub fn finish(self) -> (Vec<Diagnostic>, Vec<Hidden>) {
-        let mut kept = self.kept.into_vec();
+        let mut kept: Vec<Entry> = self
+            .kept
+            .into_iter()
+            .flat_map(|(_, h)| h.into_vec())
+            .collect();
         kept.sort_by_key(|e| e.key.2);
         (
             kept.into_iter().map(|e| e.diagnostic).collect(),
@@ -218,6 +241,43 @@ mod tests {
         let mut kept = s.into_vec();
         kept.sort_by_key(|d| (d.span.start, d.code));
         assert_eq!(kept, sorted[..40]);
+    }
+
+    #[test]
+    fn the_cap_is_per_file_and_hidden_counts_of_another_sink_add_up() {
+        let mut s = Sink::new(2);
+        for i in 0..5 {
+            s.push(err(i, 1));
+            s.push(Diagnostic::error(1, "G", i..i + 1, "g"));
+        }
+        assert_eq!((s.stored(), s.errors()), (4, 10));
+        s.count_hidden(&[Hidden {
+            file: "G".into(),
+            errors: 7,
+            warnings: 2,
+        }]);
+        assert_eq!((s.errors(), s.warnings()), (17, 2));
+        let (kept, hidden) = s.finish();
+        let got: Vec<(&str, usize)> = kept
+            .iter()
+            .map(|d| (d.file.as_str(), d.span.start))
+            .collect();
+        assert_eq!(got, [("F", 0), ("G", 0), ("F", 1), ("G", 1)]);
+        assert_eq!(
+            hidden,
+            [
+                Hidden {
+                    file: "F".into(),
+                    errors: 3,
+                    warnings: 0
+                },
+                Hidden {
+                    file: "G".into(),
+                    errors: 10,
+                    warnings: 2
+                }
+            ]
+        );
     }
 
     #[test]
