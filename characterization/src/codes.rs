@@ -404,3 +404,7 @@ pub const NOT_TEXT: u32 = 970;
 pub const GAVE_UP: u32 = 971;
 /// Project 972: the file is empty or holds only comments (not validated further).
 pub const EMPTY_FILE: u32 = 972;
+/// Project 973: more records than any valid file has ([`crate::reader::MAX_RECORDS`]; reading stops).
+pub const TOO_MANY_RECORDS: u32 = 973;
+/// Project 974: a file larger than [`crate::reader::MAX_BYTES`] (read that far, then abandoned).
+pub const TOO_LARGE: u32 = 974;

@@ -24,4 +24,4 @@ pub mod pgcfil;
 pub mod reader;
 pub mod values;
 
-pub use machine::{Machine, MachineLoad, MachinePaths, load_machine};
+pub use machine::{Machine, MachineLoad, MachinePaths, load_machine, load_machine_capped};

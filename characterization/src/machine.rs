@@ -11,7 +11,7 @@
 
 use std::path::{Path, PathBuf};
 
-use diag::{Diagnostic, Sources};
+use diag::{Diagnostic, Hidden, Sink, Sources};
 use serde::{Deserialize, Serialize};
 
 use crate::axcfil::{self, Axcfil, FileRef};
@@ -61,8 +61,11 @@ pub struct Machine {
 pub struct MachineLoad {
     /// The machine, `None` when FCRSYS or AXCFIL could not be read at all.
     pub machine: Option<Machine>,
-    /// Diagnostics of all files, FCRSYS first, each file's in source order.
+    /// Diagnostics of all files, FCRSYS first, each file's in source order (with
+    /// [`load_machine_capped`], at most its `max` per file).
     pub diagnostics: Vec<Diagnostic>,
+    /// Per file, the diagnostics [`load_machine_capped`] counted but did not keep.
+    pub hidden: Vec<Hidden>,
     /// The decoded text of every file read, by diagnostic file name.
     pub sources: Sources,
     /// PGCFIL as read by the common grammar (for its validator).
@@ -74,7 +77,7 @@ pub struct MachineLoad {
 impl MachineLoad {
     /// True when any diagnostic is an error.
     pub fn has_errors(&self) -> bool {
-        diag::has_errors(&self.diagnostics)
+        diag::has_errors(&self.diagnostics) || self.hidden.iter().any(|h| h.errors > 0)
     }
 }
 
@@ -89,20 +92,25 @@ pub fn display_name(dir: &Path, path: &Path) -> String {
 
 struct Loader<'a> {
     dir: &'a Path,
+    /// Diagnostics kept per file (0: all).
+    max: usize,
     diagnostics: Vec<Diagnostic>,
+    hidden: Vec<Hidden>,
     sources: Sources,
 }
 
 impl Loader<'_> {
     /// Reads `path` with `grammar`; reports 902 (`missing_code` when given) if it cannot be read.
-    fn read(&mut self, path: &Path, grammar: Grammar) -> Option<(ParsedFile, Vec<Diagnostic>)> {
+    /// The file's diagnostics go into a sink of `max`; its text goes to the sources (a copy, or
+    /// moved when the file is abandoned: use [`Loader::keep_text`] for a file not kept).
+    fn read(&mut self, path: &Path, grammar: Grammar) -> Option<(ParsedFile, Sink)> {
         let name = display_name(self.dir, path);
-        match std::fs::read(path) {
-            Ok(bytes) => {
-                let (file, diags) = reader::read_with(&name, &bytes, grammar);
-                self.sources.add(name, file.text.clone());
+        let mut diags = Sink::new(self.max);
+        match reader::read_path(path, &name, grammar, &mut diags) {
+            Ok(file) => {
                 if file.abandoned {
                     // Not a characterization file: validating it would only add follow-on errors.
+                    self.sources.add(name, file.text);
                     self.add(diags);
                     return None;
                 }
@@ -125,17 +133,34 @@ impl Loader<'_> {
         }
     }
 
-    fn add(&mut self, mut diags: Vec<Diagnostic>) {
-        diags.sort_by_key(|d| (d.span.start, d.code));
-        self.diagnostics.extend(diags);
+    /// Moves the text of a file that is not kept into the sources (no copy of a large file).
+    fn keep_text(&mut self, file: ParsedFile) {
+        self.sources.add(file.name, file.text);
+    }
+
+    /// Adds a file's diagnostics in source order, and what its sink only counted.
+    fn add(&mut self, diags: Sink) {
+        let (mut kept, dropped) = diags.finish();
+        kept.sort_by_key(|d| (d.span.start, d.code));
+        self.diagnostics.extend(kept);
+        diag::merge_hidden(&mut self.hidden, &dropped);
     }
 }
 
 /// Loads the machine in `dir`: FCRSYS, then AXCFIL, PGCFIL and IOCFIL; never panics.
 pub fn load_machine(dir: &Path) -> MachineLoad {
+    load_machine_capped(dir, 0)
+}
+
+/// [`load_machine`] keeping at most `max` diagnostics per characterization file (0: all), the
+/// first in source order, and counting the rest in [`MachineLoad::hidden`]: the memory a file's
+/// diagnostics take is bounded whatever their number (`ncplc check --max-errors`).
+pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
     let mut l = Loader {
         dir,
+        max,
         diagnostics: Vec::new(),
+        hidden: Vec::new(),
         sources: Sources::new(),
     };
     let fcrsys_path = dir.join("FCRSYS");
@@ -145,16 +170,18 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
         return MachineLoad {
             machine: None,
             diagnostics: l.diagnostics,
+            hidden: l.hidden,
             sources: l.sources,
             pgcfil_file,
             iocfil_file,
         };
     };
+    l.sources.add(fc_file.name.clone(), fc_file.text.clone());
     let (fcrsys, d) = fcrsys::validate(&fc_file);
     fc_diags.extend(d);
     let mp0 = fcrsys.mp_dir(dir, 0).unwrap_or_else(|| dir.join("MP0"));
     let ctx = crate::values::Ctx::new(&fc_file).in_section(2);
-    let resolve = |logical: &str, diags: &mut Vec<Diagnostic>| -> Option<PathBuf> {
+    let resolve = |logical: &str, diags: &mut Sink| -> Option<PathBuf> {
         let path = fcrsys.resolve(dir, logical)?;
         if !path.is_file() {
             let span = fcrsys.binding(logical).map_or(0..0, |b| b.span.clone());
@@ -205,9 +232,9 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
         let side = |f: &FileRef| -> Option<Vec<u8>> {
             std::fs::read(fcrsys.mp_dir(dir, f.mp)?.join(&f.file)).ok()
         };
-        let (model, d) = axcfil::validate_with(&file, &side, true);
-        diags.extend(d);
+        let model = axcfil::validate_into(&file, &side, true, &mut diags);
         l.add(diags);
+        l.keep_text(file);
         axcfil = Some(model);
     }
     let mut pgcfil = None;
@@ -220,6 +247,7 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
             diags.extend(pgcfil::check_against(&model, &file, ax));
         }
         l.add(diags);
+        l.sources.add(file.name.clone(), file.text.clone());
         pgcfil = Some(model);
         pgcfil_file = Some(file);
     }
@@ -233,6 +261,7 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
             diags.extend(iocfil::check_against(&model, &file, ax));
         }
         l.add(diags);
+        l.sources.add(file.name.clone(), file.text.clone());
         iocfil = Some(model);
         iocfil_file = Some(file);
     }
@@ -255,6 +284,7 @@ pub fn load_machine(dir: &Path) -> MachineLoad {
     MachineLoad {
         machine,
         diagnostics: l.diagnostics,
+        hidden: l.hidden,
         sources: l.sources,
         pgcfil_file,
         iocfil_file,

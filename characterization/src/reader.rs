@@ -24,7 +24,7 @@
 
 use std::ops::Range;
 
-use diag::{Diagnostic, LineIndex};
+use diag::{Diagnostic, LineIndex, Sink};
 use serde::{Deserialize, Serialize};
 
 use crate::codes;
@@ -164,25 +164,100 @@ pub fn read(name: &str, bytes: &[u8]) -> (ParsedFile, Vec<Diagnostic>) {
 /// or a file of another kind then costs a few dozen diagnostics, not one per line.
 pub const MAX_BAD_LINES: usize = 50;
 
+/// Records a file may hold: at the next one the reader stops (error 973, the file is not
+/// validated), so the records kept of any file are bounded whatever its size (issue 23).
+pub const MAX_RECORDS: usize = 250_000;
+
 /// Reads a file with the given grammar; never panics, whatever the bytes. A file with a NUL byte
-/// (error 970) or with [`MAX_BAD_LINES`] bad lines in a row (error 971) is read no further and
-/// comes back [`ParsedFile::abandoned`], as does an empty or comment-only file (error 972, one
+/// (error 970), with [`MAX_BAD_LINES`] bad lines in a row (error 971) or with more than
+/// [`MAX_RECORDS`] records (error 973) is read no further (its text kept up to the line reading
+/// stopped at) and comes back [`ParsedFile::abandoned`], as does an empty or comment-only file (error 972, one
 /// error instead of the missing sections and every cross-file rule that follows from them).
 pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec<Diagnostic>) {
     let nul = bytes.iter().position(|&b| b == 0);
     let text = decode(&bytes[..nul.unwrap_or(bytes.len())]);
+    let mut diags = Sink::unbounded();
+    let file = read_text(name, text, nul, grammar, &mut diags);
+    (file, diags.into_vec())
+}
+
+/// [`read_with`] of bytes the caller gives up (valid UTF-8 becomes the text without a copy), its
+/// diagnostics pushed into `diags`, a sink that may store only the first of them.
+pub fn read_into(name: &str, mut bytes: Vec<u8>, grammar: Grammar, diags: &mut Sink) -> ParsedFile {
+    let nul = bytes.iter().position(|&b| b == 0);
+    bytes.truncate(nul.unwrap_or(bytes.len()));
+    let text = match String::from_utf8(bytes) {
+        Ok(text) => text,
+        Err(e) => decode(e.as_bytes()),
+    };
+    read_text(name, text, nul, grammar, diags)
+}
+
+/// Bytes of a file the reader reads at most: the rest is not read (error 974), so a file of any
+/// size costs at most this much text. No valid characterization file comes near it.
+pub const MAX_BYTES: usize = 16 << 20;
+
+/// Reads the file at `path` as [`read_into`] does, but at most [`MAX_BYTES`] of it (up to the
+/// last line end within them): a longer file is read that far and then abandoned with error 974,
+/// unless the reader stopped before (970, 971, 973).
+pub fn read_path(
+    path: &std::path::Path,
+    name: &str,
+    grammar: Grammar,
+    diags: &mut Sink,
+) -> std::io::Result<ParsedFile> {
+    use std::io::Read as _;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?
+        .take(MAX_BYTES as u64 + 1)
+        .read_to_end(&mut bytes)?;
+    if bytes.len() <= MAX_BYTES {
+        return Ok(read_into(name, bytes, grammar, diags));
+    }
+    let cut = bytes[..MAX_BYTES]
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    bytes.truncate(cut);
+    let mut file = read_into(name, bytes, grammar, diags);
+    if !file.abandoned {
+        let end = file.text.len();
+        diags.push(
+            Diagnostic::error(
+                codes::TOO_LARGE,
+                name,
+                end..end,
+                format!("{name} is larger than {} MiB; reading stopped here", MAX_BYTES >> 20),
+            )
+            .with_hint("no characterization file of a valid machine comes near this size; is this the right file?")
+            .locate_in(&file.text, &file.lines),
+        );
+        file.abandoned = true;
+    }
+    Ok(file)
+}
+
+fn read_text(
+    name: &str,
+    text: String,
+    nul: Option<usize>,
+    grammar: Grammar,
+    diags: &mut Sink,
+) -> ParsedFile {
     let lines = LineIndex::new(&text);
     let mut reader = Reader {
         name,
         text: &text,
         lines: &lines,
         grammar,
-        diags: Vec::new(),
+        diags,
         sections: Vec::new(),
+        records: 0,
         header: None,
         end_marker: None,
         stray_reported: false,
         abandoned: false,
+        stop: None,
     };
     reader.run();
     let blank = |l: &str| {
@@ -217,14 +292,22 @@ pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec
         reader.abandoned = true;
     }
     let Reader {
-        diags,
         sections,
         header,
         end_marker,
         abandoned,
+        stop,
         ..
     } = reader;
-    let file = ParsedFile {
+    let (mut text, mut lines) = (text, lines);
+    if let Some(end) = stop {
+        // Nothing after the line reading stopped at is reported: keeping it would only hold the
+        // memory of a file of any size (issue 23).
+        text.truncate(end);
+        text.shrink_to_fit();
+        lines = LineIndex::new(&text);
+    }
+    ParsedFile {
         name: name.to_string(),
         text,
         sections,
@@ -232,8 +315,7 @@ pub fn read_with(name: &str, bytes: &[u8], grammar: Grammar) -> (ParsedFile, Vec
         end_marker,
         lines,
         abandoned,
-    };
-    (file, diags)
+    }
 }
 
 struct Reader<'a> {
@@ -241,12 +323,16 @@ struct Reader<'a> {
     text: &'a str,
     lines: &'a LineIndex,
     grammar: Grammar,
-    diags: Vec<Diagnostic>,
+    diags: &'a mut Sink,
     sections: Vec<Section>,
+    /// Records stored so far (at most [`MAX_RECORDS`]).
+    records: usize,
     header: Option<Param>,
     end_marker: Option<Range<usize>>,
     stray_reported: bool,
     abandoned: bool,
+    /// The end of the line reading stopped at (971, 973).
+    stop: Option<usize>,
 }
 
 impl Reader<'_> {
@@ -268,6 +354,10 @@ impl Reader<'_> {
             let end = text[start..].find('\n').map_or(text.len(), |i| start + i);
             let before = self.diags.len();
             let neutral = self.line(start, end);
+            if self.abandoned {
+                self.stop = Some((end + 1).min(text.len()));
+                return;
+            }
             if self.diags.len() > before {
                 bad_run += 1;
             } else if !neutral {
@@ -284,6 +374,7 @@ impl Reader<'_> {
                     "is this the right file? A characterization file is `*<n>` section markers, `NAME=p1,p2,…` records and `;` comments",
                 );
                 self.abandoned = true;
+                self.stop = Some((end + 1).min(text.len()));
                 return;
             }
             start = end + 1;
@@ -456,8 +547,25 @@ impl Reader<'_> {
         } else {
             self.functional_record(at, code)
         };
-        if let (Some(record), Some(section)) = (record, self.sections.last_mut()) {
-            section.records.push(record);
+        if let (Some(mut record), Some(_)) = (record, self.sections.last()) {
+            if self.records == MAX_RECORDS {
+                self.error(
+                    codes::TOO_MANY_RECORDS,
+                    at..at + code.len(),
+                    format!(
+                        "{} has more than {MAX_RECORDS} records; reading stopped here",
+                        self.name
+                    ),
+                    "no characterization file of a valid machine comes near this size (5 processes of 16 axes with two 1000-point compensation tables each are 160,000 records); is this the right file?",
+                );
+                self.abandoned = true;
+                return;
+            }
+            self.records += 1;
+            record.params.shrink_to_fit();
+            if let Some(section) = self.sections.last_mut() {
+                section.records.push(record);
+            }
         }
     }
 

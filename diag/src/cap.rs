@@ -95,20 +95,47 @@ pub fn cap_per_file(diagnostics: &[Diagnostic], max: usize) -> (Vec<&Diagnostic>
 /// [`crate::render_human`] of at most `max` diagnostics per file (0: all), each file's overflow as
 /// one [`Hidden::line`]; the summary line still counts every diagnostic.
 pub fn render_human_capped(diagnostics: &[Diagnostic], sources: &Sources, max: usize) -> String {
-    let (shown, hidden) = cap_per_file(diagnostics, max);
+    render_human_capped_with(diagnostics, &[], sources, max)
+}
+
+/// [`render_human_capped`] of the diagnostics a [`crate::Sink`] stored, with `dropped`, what it
+/// only counted, added to the note lines and to the summary.
+pub fn render_human_capped_with(
+    diagnostics: &[Diagnostic],
+    dropped: &[Hidden],
+    sources: &Sources,
+    max: usize,
+) -> String {
+    let (shown, mut hidden) = cap_per_file(diagnostics, max);
+    crate::sink::merge_hidden(&mut hidden, dropped);
     let shown: Vec<Diagnostic> = shown.into_iter().cloned().collect();
     let mut text = crate::render_body(&shown, sources);
     for h in &hidden {
         text.push_str(&h.line());
         text.push('\n');
     }
-    text.push_str(&crate::summary(diagnostics));
+    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    let warnings = diagnostics.len() - errors;
+    let (more_e, more_w) = dropped
+        .iter()
+        .fold((0, 0), |(e, w), h| (e + h.errors, w + h.warnings));
+    text.push_str(&crate::summary_counts(errors + more_e, warnings + more_w));
     text
 }
 
 /// One JSON line per shown diagnostic, then one [`Hidden::to_json_line`] per capped file.
 pub fn json_lines_capped(diagnostics: &[Diagnostic], max: usize) -> String {
-    let (shown, hidden) = cap_per_file(diagnostics, max);
+    json_lines_capped_with(diagnostics, &[], max)
+}
+
+/// [`json_lines_capped`] with `dropped`, what a [`crate::Sink`] only counted, in the notes.
+pub fn json_lines_capped_with(
+    diagnostics: &[Diagnostic],
+    dropped: &[Hidden],
+    max: usize,
+) -> String {
+    let (shown, mut hidden) = cap_per_file(diagnostics, max);
+    crate::sink::merge_hidden(&mut hidden, dropped);
     let mut text = String::new();
     for d in shown {
         text.push_str(&d.to_json_line());

@@ -31,11 +31,16 @@ use serde::{Deserialize, Serialize};
 mod cap;
 mod lines;
 mod random_text;
+mod sink;
 mod suggest;
 
-pub use cap::{DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, render_human_capped};
+pub use cap::{
+    DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, json_lines_capped_with,
+    render_human_capped, render_human_capped_with,
+};
 pub use lines::{Indexed, LineIndex};
 pub use random_text::random_text;
+pub use sink::{Sink, merge_hidden};
 pub use suggest::{did_you_mean, nearest};
 
 /// How serious a diagnostic is: errors fail a check or a build, warnings do not.
@@ -261,11 +266,15 @@ pub fn render_human(diagnostics: &[Diagnostic], sources: &Sources) -> String {
 
 /// The summary line `2 errors, 1 warning` (empty when there are no diagnostics).
 fn summary(diagnostics: &[Diagnostic]) -> String {
-    if diagnostics.is_empty() {
+    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    summary_counts(errors, diagnostics.len() - errors)
+}
+
+/// The summary line for `errors` and `warnings` (empty when both are 0).
+fn summary_counts(errors: usize, warnings: usize) -> String {
+    if errors + warnings == 0 {
         return String::new();
     }
-    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
-    let warnings = diagnostics.len() - errors;
     format!(
         "{}, {}\n",
         plural(errors, "error"),

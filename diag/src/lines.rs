@@ -11,8 +11,11 @@ pub const CHUNK: usize = 256;
 /// Line starts and character-count checkpoints of one text, for fast line/column lookups.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
 pub struct LineIndex {
-    /// Byte offset of the start of every line (the first is 0).
-    starts: Vec<usize>,
+    /// Byte offset of the start of every line (the first is 0), for texts below 4 GiB: half
+    /// the memory of `usize` offsets (a 50 MB file of short lines has millions of lines).
+    starts: Vec<u32>,
+    /// The same for a text of 4 GiB or more (then `starts` is empty).
+    wide: Vec<usize>,
     /// Number of characters before byte `i * CHUNK`, for every `i`.
     chars: Vec<usize>,
 }
@@ -26,8 +29,21 @@ impl LineIndex {
     /// Indexes `text` in one pass.
     pub fn new(text: &str) -> Self {
         let bytes = text.as_bytes();
-        let mut starts = vec![0];
-        starts.extend(memchr_newlines(bytes));
+        // Counted first, so that the line starts take exactly their size (no doubling slack).
+        let lines = 1 + bytes.iter().filter(|&&b| b == b'\n').count();
+        let (mut starts, mut wide) = (Vec::new(), Vec::new());
+        match u32::try_from(bytes.len()) {
+            Ok(_) => {
+                starts.reserve_exact(lines);
+                starts.push(0);
+                starts.extend(memchr_newlines(bytes).map(|i| i as u32));
+            }
+            Err(_) => {
+                wide.reserve_exact(lines);
+                wide.push(0);
+                wide.extend(memchr_newlines(bytes));
+            }
+        }
         let mut chars = Vec::with_capacity(bytes.len() / CHUNK + 1);
         let mut count = 0;
         for chunk in bytes.chunks(CHUNK) {
@@ -35,12 +51,16 @@ impl LineIndex {
             count += chunk.iter().filter(|&&b| starts_char(b)).count();
         }
         chars.push(count);
-        LineIndex { starts, chars }
+        LineIndex {
+            starts,
+            wide,
+            chars,
+        }
     }
 
     /// Number of lines of the indexed text (a text without `\n` has one).
     pub fn lines(&self) -> usize {
-        self.starts.len()
+        self.starts.len().max(self.wide.len())
     }
 
     /// Characters of `text` before byte `offset` (`offset <= text.len()`).
@@ -57,7 +77,7 @@ impl LineIndex {
     /// 1-based line and column (in characters) of byte `offset` of `text` (the text this index was
     /// built from), exactly as [`crate::line_column`] gives them.
     pub fn line_column(&self, text: &str, offset: usize) -> (u32, u32) {
-        if self.starts.is_empty() {
+        if self.lines() == 0 {
             // A default (never built) index: fall back to scanning.
             return crate::scan_line_column(text, offset);
         }
@@ -65,8 +85,17 @@ impl LineIndex {
         while !text.is_char_boundary(offset) {
             offset -= 1;
         }
-        let line = self.starts.partition_point(|&s| s <= offset).max(1);
-        let start = self.starts[line - 1].min(offset);
+        let (line, start) = if self.wide.is_empty() {
+            let line = self
+                .starts
+                .partition_point(|&s| s as usize <= offset)
+                .max(1);
+            (line, self.starts[line - 1] as usize)
+        } else {
+            let line = self.wide.partition_point(|&s| s <= offset).max(1);
+            (line, self.wide[line - 1])
+        };
+        let start = start.min(offset);
         let column = self.chars_before(text, offset) - self.chars_before(text, start) + 1;
         (
             u32::try_from(line).unwrap_or(u32::MAX),

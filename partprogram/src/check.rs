@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use diag::Diagnostic;
+use diag::Sink;
 
 use crate::ast::Val;
 use crate::codes;
@@ -15,7 +15,7 @@ fn is_axis(machine: &MachineSpec, a: char) -> bool {
 }
 
 /// Static checks of one MEFI block.
-pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>) {
+pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Sink) {
     let b = &prog.blocks[bi];
     let f = &prog.files[b.file];
     let (file, src) = (f.name.as_str(), f.text.as_str());
@@ -101,7 +101,7 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Vec<Diagnostic>
             }
         };
         let int = lit_int(&lit);
-        let count_range = |lo: i64, hi: i64, what: &str, diags: &mut Vec<Diagnostic>| match int {
+        let count_range = |lo: i64, hi: i64, what: &str, diags: &mut Sink| match int {
             Some(v) if (lo..=hi).contains(&v) && !lit.negative => Some(v),
             Some(_) => {
                 diags.push(err(

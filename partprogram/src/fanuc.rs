@@ -12,7 +12,7 @@
 
 use std::collections::HashMap;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use crate::ast::{Block, ParsedFile, Val};
 use crate::codes;
@@ -37,7 +37,7 @@ fn push_unit(
     blocks: Vec<Block>,
     kind: UnitKind,
     number: u32,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut Sink,
 ) {
     let start = prog.blocks.len();
     let unit = prog.units.len();
@@ -86,7 +86,7 @@ fn push_file(
     file: usize,
     parsed: ParsedFile,
     first: Option<(UnitKind, u32)>,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut Sink,
 ) {
     let mut blocks = parsed.blocks;
     let mut rest = Vec::new();
@@ -108,7 +108,7 @@ fn push_file(
 }
 
 /// Registers the next unit as program O`num`; a number already loaded keeps its first program.
-fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Vec<Diagnostic>) {
+fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Sink) {
     let unit = prog.units.len();
     if prog.library.contains_key(&num)
         || (prog.units.first().is_some_and(|u| u.l == num && num != 0))
@@ -131,7 +131,7 @@ fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Vec<Diagnosti
 
 /// Builds the units of a Fanuc main file (its main program and every further `O<n>` program of the
 /// file) and loads the `O<n>` programs of the macro folder for M98.
-pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Vec<Diagnostic>) {
+pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Sink) {
     let number = parsed.number.unwrap_or(0);
     push_file(prog, 0, parsed, Some((UnitKind::Main, number)), diags);
     let dir = prog.machine.macro_dir.clone();
@@ -177,7 +177,7 @@ fn lit(v: &Val) -> Option<f64> {
 }
 
 /// Static checks of a Fanuc program.
-pub fn check(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
+pub fn check(prog: &mut Program, diags: &mut Sink) {
     let axes = prog.machine.axes();
     // On a lathe H is the incremental C address, not a length register.
     let lathe = !axes.contains(&'Y');

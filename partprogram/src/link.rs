@@ -1,14 +1,14 @@
 //! Linking: resolves literal jump and call targets, detects unbounded recursion in the static call
 //! graph and checks the M functions of every reachable unit against IOCFIL section 2.
 
-use diag::Diagnostic;
+use diag::Sink;
 
 use crate::ast::Val;
 use crate::codes;
 use crate::program::{Program, UnitKind, err, lit_int};
 
 /// Resolves literal jump and call targets and detects recursion.
-pub(crate) fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
+pub(crate) fn link(prog: &mut Program, diags: &mut Sink) {
     let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
     for (bi, b) in prog.blocks.iter().enumerate() {
         let f = &prog.files[b.file];

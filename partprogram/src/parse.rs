@@ -5,7 +5,7 @@
 //! MEFI file that starts with `$PC` is a fixed-cycle file. Problems become located diagnostics; the
 //! parser never panics and always returns what it could read.
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 use lalrpop_util::ParseError;
 
 use crate::ast::{Block, Decl, Item, ParsedFile, Val, Word};
@@ -39,14 +39,38 @@ fn parse_with(
     src: &str,
     require_header: bool,
 ) -> (ParsedFile, Vec<Diagnostic>) {
-    let (out, diags) = parse_unlocated(dialect, file, src, require_header);
+    let mut sink = Sink::unbounded();
+    let out = parse_unlocated(dialect, file, src, require_header, &mut Out(&mut sink));
     // Located in one pass at the end: scanning the text per diagnostic is quadratic (issue 12).
     let lines = diag::LineIndex::new(src);
-    let diags = diags
+    let diags = sink
+        .into_vec()
         .into_iter()
         .map(|d| d.locate_in(src, &lines))
         .collect();
     (out, diags)
+}
+
+/// [`parse`] with the diagnostics pushed into `diags` (a sink that may store only the first of
+/// them), marked to be located by [`crate::program::compile`] once it knows which it keeps.
+pub(crate) fn parse_into(dialect: Dialect, file: &str, src: &str, diags: &mut Sink) -> ParsedFile {
+    parse_unlocated(dialect, file, src, true, &mut Out(diags))
+}
+
+/// Where the parser's diagnostics go: a sink, each marked to be located at the end (locating only
+/// the ones kept).
+struct Out<'a>(&'a mut Sink);
+
+impl Out<'_> {
+    fn push(&mut self, d: Diagnostic) {
+        self.0.push(crate::program::to_locate(d));
+    }
+
+    fn extend(&mut self, ds: impl IntoIterator<Item = Diagnostic>) {
+        for d in ds {
+            self.push(d);
+        }
+    }
 }
 
 /// [`parse_with`] with line and column of the diagnostics not yet filled in.
@@ -55,8 +79,8 @@ fn parse_unlocated(
     file: &str,
     src: &str,
     require_header: bool,
-) -> (ParsedFile, Vec<Diagnostic>) {
-    let mut diags = Vec::new();
+    diags: &mut Out,
+) -> ParsedFile {
     let mut out = ParsedFile::default();
     let start = match dialect {
         Dialect::Mefi => {
@@ -72,7 +96,7 @@ fn parse_unlocated(
                         Diagnostic::error(codes::HEADER, file, 0..0, "the partprogram is empty")
                             .with_hint("a MEFI partprogram is `%<number>` on its first line, then blocks such as `N1 G0 X0 Y0`, ended by a block with M02 or M30"),
                     );
-                    return (out, diags);
+                    return out;
                 }
                 (None, None) => {
                     diags.push(
@@ -84,7 +108,7 @@ fn parse_unlocated(
                         )
                         .with_hint("start the program with `%<number>` (1..999999)"),
                     );
-                    return (out, diags);
+                    return out;
                 }
             }
         }
@@ -144,10 +168,10 @@ fn parse_unlocated(
         }
     };
     match dialect {
-        Dialect::Mefi => group_mefi(file, src, &items, &mut out, &mut diags, require_header),
-        Dialect::Fanuc => group_fanuc(file, &items, macro_blocks, &mut out, &mut diags),
+        Dialect::Mefi => group_mefi(file, src, &items, &mut out, diags, require_header),
+        Dialect::Fanuc => group_fanuc(file, &items, macro_blocks, &mut out, diags),
     }
-    (out, diags)
+    out
 }
 
 fn parse_error(
@@ -249,13 +273,7 @@ fn uint_of(src: &str, span: &std::ops::Range<usize>) -> Option<u64> {
     t.parse().ok()
 }
 
-fn decl(
-    file: &str,
-    p: Lit,
-    v: Lit,
-    span: std::ops::Range<usize>,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<Decl> {
+fn decl(file: &str, p: Lit, v: Lit, span: std::ops::Range<usize>, diags: &mut Out) -> Option<Decl> {
     if p.point || p.signed || !(0..=95).contains(&p.int) {
         diags.push(
             Diagnostic::error(
@@ -295,7 +313,7 @@ fn group_mefi(
     src: &str,
     items: &[Item],
     out: &mut ParsedFile,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut Out,
     require_header: bool,
 ) {
     let mut cur: Option<Block> = None;
@@ -449,7 +467,7 @@ fn group_mefi(
     }
 }
 
-fn no_block(file: &str, sp: std::ops::Range<usize>, diags: &mut Vec<Diagnostic>) {
+fn no_block(file: &str, sp: std::ops::Range<usize>, diags: &mut Out) {
     diags.push(
         Diagnostic::error(codes::NO_BLOCK_NUMBER, file, sp, "word outside a block")
             .with_hint("every block starts with its number `N<n>`"),
@@ -476,7 +494,7 @@ fn group_fanuc(
     items: &[Item],
     macro_blocks: Vec<Block>,
     out: &mut ParsedFile,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut Out,
 ) {
     let mut macros = macro_blocks.into_iter().peekable();
     let mut cur = Block::default();

@@ -9,13 +9,12 @@
 use std::collections::HashMap;
 use std::path::Path;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Hidden, Sink};
 
 use crate::ast::{Block, Decl, ParsedFile, Val, Word};
 use crate::codes;
 use crate::lexer::Lit;
 use crate::machine::{Dialect, MachineSpec};
-use crate::parse::parse;
 
 /// What a program unit is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -179,6 +178,19 @@ fn locate_pending(files: &[SourceFile], diags: &mut [Diagnostic]) {
 /// Compiles the main file `name` (text `src`) for `machine`, loading library units from
 /// `machine.macro_dir`. Returns the program (None when errors prevent running it) and diagnostics.
 pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>, Vec<Diagnostic>) {
+    let (prog, diags, _) = compile_capped(machine, name, src, 0);
+    (prog, diags)
+}
+
+/// [`compile`] keeping at most `max` diagnostics per file (0: all), the first in source order,
+/// and counting the others (the returned [`Hidden`] per file): the memory an error-dense program's
+/// diagnostics take is bounded whatever their number (`ncplc nc check --max-errors`, issue 23).
+pub fn compile_capped(
+    machine: &MachineSpec,
+    name: &str,
+    src: &str,
+    max: usize,
+) -> (Option<Program>, Vec<Diagnostic>, Vec<Hidden>) {
     let mut prog = Program {
         dialect: machine.dialect,
         number: None,
@@ -194,22 +206,23 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
         native: None,
         macro_native: None,
     };
-    let mut diags = Vec::new();
-    let (parsed, d) = parse(machine.dialect, name, src);
-    diags.extend(d);
+    let mut sink = Sink::new(max);
+    let parsed = crate::parse::parse_into(machine.dialect, name, src, &mut sink);
     prog.number = parsed.number;
     if machine.dialect == Dialect::Fanuc {
-        crate::fanuc::build_units(&mut prog, parsed, &mut diags);
-        crate::fanuc::check(&mut prog, &mut diags);
-        crate::macro_b::flow::link(&mut prog, &mut diags);
+        crate::fanuc::build_units(&mut prog, parsed, &mut sink);
+        crate::fanuc::check(&mut prog, &mut sink);
+        crate::macro_b::flow::link(&mut prog, &mut sink);
     } else {
-        build_main_units(&mut prog, 0, parsed, &mut diags);
-        load_library(&mut prog, &machine.macro_dir, &mut diags);
+        build_main_units(&mut prog, 0, parsed, &mut sink);
+        load_library(&mut prog, &machine.macro_dir, &mut sink);
         for b in 0..prog.blocks.len() {
-            crate::check::check_block(&prog, b, &mut diags);
+            crate::check::check_block(&prog, b, &mut sink);
         }
-        crate::link::link(&mut prog, &mut diags);
+        crate::link::link(&mut prog, &mut sink);
     }
+    let failed = sink.has_errors();
+    let (mut diags, hidden) = sink.finish();
     locate_pending(&prog.files, &mut diags);
     diags.sort_by(|a, b| {
         (a.file != name, &a.file, a.line, a.column).cmp(&(
@@ -219,8 +232,8 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
             b.column,
         ))
     });
-    if diag::has_errors(&diags) {
-        return (None, diags);
+    if failed {
+        return (None, diags, hidden);
     }
     if machine.dialect == Dialect::Fanuc {
         match crate::macro_b::native::compile(&prog) {
@@ -249,7 +262,7 @@ pub fn compile(machine: &MachineSpec, name: &str, src: &str) -> (Option<Program>
             )),
         }
     }
-    (Some(prog), diags)
+    (Some(prog), diags, hidden)
 }
 
 fn g_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
@@ -303,12 +316,7 @@ fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
 
 /// Splits a parsed MEFI file into units. `file` 0 is the main file (main program + subprograms);
 /// other files are library files (units only).
-fn build_main_units(
-    prog: &mut Program,
-    file: usize,
-    parsed: ParsedFile,
-    diags: &mut Vec<Diagnostic>,
-) {
+fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: &mut Sink) {
     let (fname, src) = (prog.files[file].name.clone(), prog.files[file].text.clone());
     let library = file != 0;
     let mut cur: Option<usize> = None;
@@ -468,7 +476,7 @@ fn build_main_units(
 }
 
 /// Loads every macro file `L<n>` and every `$PC` cycle file of `dir`.
-fn load_library(prog: &mut Program, dir: &Path, diags: &mut Vec<Diagnostic>) {
+fn load_library(prog: &mut Program, dir: &Path, diags: &mut Sink) {
     if dir.as_os_str().is_empty() {
         return;
     }

@@ -49,7 +49,10 @@ impl Facts {
         if !dir.is_dir() {
             return Err(MachineError::NotADirectory(dir.to_path_buf()));
         }
-        let mut load = characterization::load_machine(dir);
+        // The report prints at most the default cap per file: keeping more would only cost memory
+        // (an error-dense file of any size is refused in bounded memory, issue 23).
+        let max = diag::DEFAULT_MAX_PER_FILE;
+        let mut load = characterization::load_machine_capped(dir, max);
         let shown = dir.display().to_string();
         if load.has_errors() || load.machine.is_none() {
             crate::render::relocate(&mut load, dir);
@@ -59,9 +62,23 @@ impl Facts {
                 .filter(|d| d.is_error())
                 .cloned()
                 .collect();
+            let hidden: Vec<diag::Hidden> = load
+                .hidden
+                .iter()
+                .filter(|h| h.errors > 0)
+                .map(|h| diag::Hidden {
+                    warnings: 0,
+                    ..h.clone()
+                })
+                .collect();
             return Err(MachineError::Invalid {
                 dir: shown,
-                report: crate::render::render_diagnostics(&errors, &load.sources),
+                report: crate::render::render_diagnostics_capped_with(
+                    &errors,
+                    &hidden,
+                    &load.sources,
+                    max,
+                ),
             });
         }
         match load.machine {

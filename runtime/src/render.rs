@@ -48,7 +48,18 @@ pub fn render_diagnostics_capped(
     sources: &diag::Sources,
     max: usize,
 ) -> String {
-    let text = diag::render_human_capped(diagnostics, sources, max);
+    render_diagnostics_capped_with(diagnostics, &[], sources, max)
+}
+
+/// [`render_diagnostics_capped`] with `hidden`, what a capped load only counted, in the notes
+/// and the summary.
+pub fn render_diagnostics_capped_with(
+    diagnostics: &[diag::Diagnostic],
+    hidden: &[diag::Hidden],
+    sources: &diag::Sources,
+    max: usize,
+) -> String {
+    let text = diag::render_human_capped_with(diagnostics, hidden, sources, max);
     if colored() { colorize(&text) } else { text }
 }
 
@@ -146,6 +157,9 @@ pub fn relocate(load: &mut characterization::MachineLoad, dir: &std::path::Path)
             .entry(std::mem::take(&mut d.file))
             .or_insert_with_key(|old| shown(old));
         d.file.clone_from(new);
+    }
+    for h in &mut load.hidden {
+        h.file = shown(&h.file);
     }
     let mut sources = diag::Sources::new();
     for name in load.sources.names() {

@@ -301,6 +301,40 @@ fn max_errors_caps_the_diagnostics_of_a_file() {
     assert_eq!(lines.len(), 51);
 }
 
+/// An error-dense AXCFIL (`tests/gen/error_dense.py`'s pairs `NAS=X` / `QZQ<n>=1`, three errors
+/// each) is rejected with every error counted but only `--max-errors` of them kept (issue 23).
+#[test]
+fn an_error_dense_axcfil_is_counted_exactly_and_capped() {
+    let dir = copy_machine("lathe");
+    let ax = dir.path().join("MP0/AXCFIL");
+    let mut text = std::fs::read(&ax).expect("read");
+    for i in 0..20_000 {
+        text.extend_from_slice(format!("NAS=X\nQZQ{}=1\n", i % 10).as_bytes());
+    }
+    std::fs::write(&ax, text).expect("write");
+    let d = dir.path().display().to_string();
+    let out = ncplc(&["check", &d, "--max-errors", "3", "--color", "never"]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        text.ends_with(&format!(
+            "note: 59997 more errors in {d}/MP0/AXCFIL (--max-errors 0 shows all)\n60000 errors, 0 warnings\n"
+        )),
+        "{text}"
+    );
+    let (_, lines) = json_check(&[&d, "--max-errors", "3"]);
+    let codes: Vec<u64> = lines[..3]
+        .iter()
+        .filter_map(|l| l["code"].as_u64())
+        .collect();
+    assert_eq!(codes, [173, 175, 6]);
+    assert_eq!(
+        lines[3].to_string(),
+        r#"{"file":"MP0/AXCFIL","more_errors":59997,"more_warnings":0}"#
+    );
+    assert_eq!(lines.len(), 4);
+}
+
 /// An empty AXCFIL is one error saying so (972), not missing sections and the cross-file rules of
 /// PGCFIL and IOCFIL against NBP=0 and TIM=0 (12 errors before).
 #[test]

@@ -6,7 +6,8 @@ Usage: tests/gen/error_dense.py MACHINE_COPY [MEGABYTES] [SEED]
 Overwrites, in the machine directory MACHINE_COPY (a copy of plc-programs/lathe):
   MP0/AXCFIL       its own records, then valid and unknown records alternating (`NAS=X` /
                    `QZQ<n>=1`) in section 3 up to MEGABYTES
-  nc/DENSE.nc      a partprogram alternating a valid block and a block with an unknown address
+  nc/DENSE.nc      a partprogram alternating two lines of words (`G01 X.. F100.`, `G01 Q..`);
+                   they carry no `N`, so in MEFI every word is error 2004 (outside a block)
   MP0/PLCPRG.dense the PLC program followed by lines alternating a valid and an undefined name
 Each file is MEGABYTES (default 50) long; the same SEED (default 1) gives the same bytes.
 Measure with `/usr/bin/time -v ncplc check MACHINE_COPY --max-errors 100` (AXCFIL),

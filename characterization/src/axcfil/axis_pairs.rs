@@ -2,7 +2,7 @@
 //! master (SKW), handwheel/correction axes (HWC), and the kind and letters of the interpolator
 //! the axis is in.
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use super::model::{Axis, Process};
 use crate::codes;
@@ -12,7 +12,7 @@ use crate::values::Ctx;
 const SLAVE_KEYS: [&str; 8] = ["NAS", "TPA", "NTC", "GAS", "PAS", "MCZ", "MFC", "SKW"];
 
 /// Checks axis `index` of process `p` against the other axes of the process.
-pub fn check(ctx: &Ctx, p: &Process, index: usize, axis: &Axis, diags: &mut Vec<Diagnostic>) {
+pub fn check(ctx: &Ctx, p: &Process, index: usize, axis: &Axis, diags: &mut Sink) {
     // Diagnostics about section-1 records (the interpolator) carry section 1.
     let s1 = ctx.in_section(1);
     let mut later: Vec<Diagnostic> = Vec::new();

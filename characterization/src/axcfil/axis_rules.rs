@@ -1,21 +1,14 @@
 //! The rules of one section-2 axis subsection: mandatory instructions, type-dependent presence
 //! and absence (Table 4.1 codes), instruction order, slave/master and switched-axis pairs.
 
-use diag::Diagnostic;
+use diag::Sink;
 
 use super::model::{Axcfil, Axis, Process};
 use crate::codes;
 use crate::values::Ctx;
 
 /// Checks axis `index` of process `p`.
-pub fn check(
-    ctx: &Ctx,
-    model: &Axcfil,
-    p: &Process,
-    index: usize,
-    axis: &Axis,
-    diags: &mut Vec<Diagnostic>,
-) {
+pub fn check(ctx: &Ctx, model: &Axcfil, p: &Process, index: usize, axis: &Axis, diags: &mut Sink) {
     let mut err = |code: u32, span: std::ops::Range<usize>, msg: String, hint: &str| {
         diags.push(ctx.error(code, span, msg, hint))
     };

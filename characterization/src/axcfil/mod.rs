@@ -19,7 +19,7 @@ pub use model::*;
 pub use section1::decode_extension;
 pub use section3::point_number;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use crate::codes;
 use crate::reader::{ParsedFile, Record, check_section_count};
@@ -39,35 +39,42 @@ pub fn validate_with(
     side: SideFiles,
     check_side: bool,
 ) -> (Axcfil, Vec<Diagnostic>) {
+    let mut diags = Sink::unbounded();
+    let model = validate_into(file, side, check_side, &mut diags);
+    (model, diags.into_vec())
+}
+
+/// [`validate_with`] into `diags`, a sink that may store only the first of them (`--max-errors`).
+pub fn validate_into(
+    file: &ParsedFile,
+    side: SideFiles,
+    check_side: bool,
+    diags: &mut Sink,
+) -> Axcfil {
     let mut model = Axcfil::default();
-    let mut diags = check_section_count(file, 3, 3);
+    diags.extend(check_section_count(file, 3, 3));
     let ctx = Ctx::new(file);
     for section in &file.sections {
         let c = ctx.in_section(section.number);
         match section.number {
-            1 => section1::read(c, section, &mut model, &mut diags),
-            2 => section2::read(c, section, &mut model, &mut diags),
-            3 => section3::read(c, section, &mut model, &mut diags),
+            1 => section1::read(c, section, &mut model, diags),
+            2 => section2::read(c, section, &mut model, diags),
+            3 => section3::read(c, section, &mut model, diags),
             _ => {}
         }
     }
     if file.section(1).is_none() && !file.sections.is_empty() {
         // Section 1 is missing altogether: check_section_count reported it.
     }
-    rules::check(file, &model, &mut diags);
+    rules::check(file, &model, diags);
     if check_side {
-        side_files(file, &mut model, side, &mut diags);
+        side_files(file, &mut model, side, diags);
     }
-    (model, diags)
+    model
 }
 
 /// Reads `PRO=n` (errors 10/11, 13/14, 187, 184); `None` when unusable.
-pub(crate) fn pro_number(
-    ctx: &Ctx,
-    r: &Record,
-    nbp: u32,
-    diags: &mut Vec<Diagnostic>,
-) -> Option<u32> {
+pub(crate) fn pro_number(ctx: &Ctx, r: &Record, nbp: u32, diags: &mut Sink) -> Option<u32> {
     if let Err(d) = ctx.arity(r, 1, 1) {
         diags.push(d);
         return None;
@@ -104,7 +111,7 @@ pub(crate) fn pro_number(
 }
 
 /// FTP (errors 213, 214) and FEG (943) side files.
-fn side_files(file: &ParsedFile, model: &mut Axcfil, side: SideFiles, diags: &mut Vec<Diagnostic>) {
+fn side_files(file: &ParsedFile, model: &mut Axcfil, side: SideFiles, diags: &mut Sink) {
     let ctx = Ctx::new(file);
     for p in &mut model.processes {
         let c2 = ctx.in_section(2).in_process(Some(p.number));

@@ -2,7 +2,7 @@
 //! order and type rules of each axis (section 2), slave/master and switched pairs, and the
 //! numeric rules of the compensation tables (section 3).
 
-use diag::Diagnostic;
+use diag::Sink;
 
 use super::model::{Axcfil, Axis, Process};
 use crate::codes;
@@ -13,7 +13,7 @@ use crate::values::Ctx;
 const CONTINUOUS_LETTERS: &str = "ABCDXYZUVWPQ";
 
 /// Applies every cross-record rule; `file` gives the section spans for whole-section problems.
-pub fn check(file: &ParsedFile, model: &Axcfil, diags: &mut Vec<Diagnostic>) {
+pub fn check(file: &ParsedFile, model: &Axcfil, diags: &mut Sink) {
     let base = Ctx::new(file);
     let s1 = base.in_section(1);
     let s1_span = file.section(1).map_or(file.end_span(), |s| s.span.clone());
@@ -51,7 +51,7 @@ fn section1(
     model: &Axcfil,
     p: &Process,
     servo: &mut Option<(u32, u32)>,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut Sink,
 ) {
     if p.interpolators.is_empty() {
         diags.push(ctx.error(
@@ -183,7 +183,7 @@ fn section2(
     section_span: &std::ops::Range<usize>,
     model: &Axcfil,
     p: &Process,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut Sink,
 ) {
     let Some(cas) = &p.cas else { return };
     for a in &cas.axes {
@@ -273,7 +273,7 @@ fn section2(
     }
 }
 
-fn section3(ctx: &Ctx, model: &Axcfil, p: &Process, diags: &mut Vec<Diagnostic>) {
+fn section3(ctx: &Ctx, model: &Axcfil, p: &Process, diags: &mut Sink) {
     let servo = p.cas.as_ref().map_or(0, |c| c.servo_tick);
     for t in &p.compensation {
         let Some(axis) = p.axis(t.axis) else {
@@ -373,12 +373,7 @@ fn section3(ctx: &Ctx, model: &Axcfil, p: &Process, diags: &mut Vec<Diagnostic>)
 }
 
 /// Error 114: at most 17 axes in all, at most 8 continuous coordinate axes without virtual ones.
-fn axis_table(
-    ctx: &Ctx,
-    span: &std::ops::Range<usize>,
-    model: &Axcfil,
-    diags: &mut Vec<Diagnostic>,
-) {
+fn axis_table(ctx: &Ctx, span: &std::ops::Range<usize>, model: &Axcfil, diags: &mut Sink) {
     let all: usize = model
         .processes
         .iter()

@@ -3,7 +3,7 @@
 //! Only what one record can tell is checked here; rules that relate several records (ticks,
 //! interpolator membership, CAS order) are in [`super::rules`].
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use super::model::{Acc, Axcfil, Cas, Common, Extension, Interpolator, Process};
 use crate::codes;
@@ -29,7 +29,7 @@ pub fn decode_extension(raw: u32) -> Option<Extension> {
 }
 
 /// Reads section 1 into `model`; appends problems to `diags`.
-pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Vec<Diagnostic>) {
+pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Sink) {
     let mut s = State {
         ctx,
         model,
@@ -60,7 +60,7 @@ pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Vec<Dia
 struct State<'a, 'm> {
     ctx: Ctx<'a>,
     model: &'m mut Axcfil,
-    diags: &'m mut Vec<Diagnostic>,
+    diags: &'m mut Sink,
     current: Option<usize>,
     tim_seen: bool,
     nbp_seen: bool,

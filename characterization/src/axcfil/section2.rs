@@ -5,7 +5,7 @@
 //! need nothing but the record). Rules between instructions of one axis or between axes are in
 //! [`super::rules`].
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 use packets::{Packet, Signal};
 
 use super::model::{Axcfil, Axis, Cam, Frc, Gas, Pair, Pom, Skw, Zone};
@@ -20,7 +20,7 @@ mod special;
 pub use forms::file_ref;
 
 /// Reads section 2 into the processes of `model`.
-pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Vec<Diagnostic>) {
+pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Sink) {
     let mut s = State {
         ctx,
         ecdf: model.extension.ecdf,
@@ -38,7 +38,7 @@ struct State<'a, 'm> {
     ctx: Ctx<'a>,
     ecdf: bool,
     model: &'m mut Axcfil,
-    diags: &'m mut Vec<Diagnostic>,
+    diags: &'m mut Sink,
     process: Option<usize>,
     seen: Vec<u32>,
 }
@@ -47,7 +47,7 @@ struct State<'a, 'm> {
 struct Parse<'c, 'd> {
     ctx: Ctx<'c>,
     ecdf: bool,
-    diags: &'d mut Vec<Diagnostic>,
+    diags: &'d mut Sink,
 }
 
 impl<'a> State<'a, '_> {

@@ -3,7 +3,7 @@
 //! The tables are collected per process. Numeric rules that need section-2 data (formulas 4.13 to
 //! 4.15, rotary pitch) are checked in [`super::rules`].
 
-use diag::Diagnostic;
+use diag::Sink;
 
 use super::model::{Axcfil, Compensation};
 use crate::codes;
@@ -11,7 +11,7 @@ use crate::reader::{Record, Section};
 use crate::values::{self, Ctx};
 
 /// Reads section 3 into the processes of `model`.
-pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Vec<Diagnostic>) {
+pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Sink) {
     let mut process: Option<usize> = None;
     let mut seen = Vec::new();
     for r in &section.records {
@@ -78,7 +78,7 @@ pub fn read(ctx: Ctx, section: &Section, model: &mut Axcfil, diags: &mut Vec<Dia
 }
 
 /// Checks the table just completed (the last one of `tables`): at least 2 points unless in a file.
-fn finish(ctx: &Ctx, tables: Option<&Vec<Compensation>>, diags: &mut Vec<Diagnostic>) {
+fn finish(ctx: &Ctx, tables: Option<&Vec<Compensation>>, diags: &mut Sink) {
     let Some(t) = tables.and_then(|t| t.last()) else {
         return;
     };
@@ -108,7 +108,7 @@ fn finish(ctx: &Ctx, tables: Option<&Vec<Compensation>>, diags: &mut Vec<Diagnos
     }
 }
 
-fn letter(ctx: &Ctx, r: &Record, i: usize, diags: &mut Vec<Diagnostic>) -> Option<char> {
+fn letter(ctx: &Ctx, r: &Record, i: usize, diags: &mut Sink) -> Option<char> {
     let p = r.param(i)?;
     match values::ascii(ctx, p) {
         Ok(Some(s)) if s.len() == 1 => s.chars().next(),
@@ -138,7 +138,7 @@ pub fn point_number(text: &str) -> Option<u32> {
         .then(|| digits.parse().ok())?
 }
 
-fn record(ctx: &Ctx, r: &Record, tables: &mut Vec<Compensation>, diags: &mut Vec<Diagnostic>) {
+fn record(ctx: &Ctx, r: &Record, tables: &mut Vec<Compensation>, diags: &mut Sink) {
     let key = r.key.as_str();
     match key {
         "NAS" | "NAC" => {

@@ -4,6 +4,7 @@
 mod axcfil_errors;
 mod axcfil_examples;
 mod axcfil_proptest;
+mod bounded_memory;
 mod bounded_work;
 mod iocfil_errors;
 mod iocfil_examples;

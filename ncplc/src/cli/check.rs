@@ -74,10 +74,13 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
             }
             format!("{}: no problems found\n", files.join(", "))
         }
-        Format::Human => {
-            super::output::render_diagnostics_capped(&load.diagnostics, &load.sources, max_errors)
-        }
-        Format::Json => diag::json_lines_capped(&load.diagnostics, max_errors),
+        Format::Human => super::output::render_diagnostics_capped_with(
+            &load.diagnostics,
+            &load.hidden,
+            &load.sources,
+            max_errors,
+        ),
+        Format::Json => diag::json_lines_capped_with(&load.diagnostics, &load.hidden, max_errors),
     }
 }
 
@@ -142,7 +145,9 @@ pub fn run(args: Args) -> ExitCode {
             args.machine_dir.display()
         ));
     }
-    let mut load = characterization::load_machine(&args.machine_dir);
+    // Each characterization file keeps at most `--max-errors` diagnostics in memory and counts
+    // the rest: an error-dense file of any size is rejected in bounded memory (issue 23).
+    let mut load = characterization::load_machine_capped(&args.machine_dir, args.max_errors);
     if let Some(machine) = load.machine.clone() {
         let map = runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         let map_ok = !diag::has_errors(&map);

@@ -205,15 +205,29 @@ pub fn print_diags(
     json: bool,
     max_errors: usize,
 ) {
-    if diags.is_empty() {
+    print_diags_with(diags, &[], sources, json, max_errors);
+}
+
+/// [`print_diags`] with `hidden`, what a capped compile counted but did not keep.
+fn print_diags_with(
+    diags: &[diag::Diagnostic],
+    hidden: &[diag::Hidden],
+    sources: &diag::Sources,
+    json: bool,
+    max_errors: usize,
+) {
+    if diags.is_empty() && hidden.is_empty() {
         return;
     }
     if json {
-        eprint!("{}", diag::json_lines_capped(diags, max_errors));
+        eprint!(
+            "{}",
+            diag::json_lines_capped_with(diags, hidden, max_errors)
+        );
     } else {
         eprint!(
             "{}",
-            super::output::render_diagnostics_capped(diags, sources, max_errors)
+            super::output::render_diagnostics_capped_with(diags, hidden, sources, max_errors)
         );
     }
 }
@@ -224,7 +238,9 @@ pub fn print_diags(
 pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode> {
     let path = program_path(&common.machine, &common.program);
     let text = match std::fs::read(&path) {
-        Ok(b) => String::from_utf8_lossy(&b).into_owned(),
+        // Valid UTF-8 becomes the text without a copy (a 50 MB program is 50 MB once).
+        Ok(b) => String::from_utf8(b)
+            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
         Err(e) => {
             eprintln!("ncplc nc: cannot read {}: {e}", path.display());
             return Err(ExitCode::from(2));
@@ -241,9 +257,10 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
     let name = super::output::user_path(&path).display().to_string();
     let mut kor = load_corrections(&common.machine, common.kor.as_deref(), &mut spec);
     kor.extend(load_machine_macro_vars(&common.machine, &mut spec));
-    let (prog, diags) = partprogram::compile(&spec, &name, &text);
+    // At most `--max-errors` diagnostics per file are kept, the rest counted (issue 23).
+    let (prog, diags, hidden) = partprogram::compile_capped(&spec, &name, &text, common.max_errors);
     let mut sources = diag::Sources::new();
-    sources.add(name.clone(), text.clone());
+    sources.add(name.clone(), text);
     let mut kor_failed = false;
     let mut diags = diags;
     for (kname, ktext, kdiags) in kor.into_iter().rev() {
@@ -252,11 +269,12 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
         diags.splice(0..0, kdiags);
     }
     if let Some(p) = &prog {
-        for f in &p.files {
+        // The main file is in the sources already.
+        for f in p.files.iter().filter(|f| f.name != name) {
             sources.add(f.name.clone(), f.text.clone());
         }
     }
-    print_diags(&diags, &sources, json, common.max_errors);
+    print_diags_with(&diags, &hidden, &sources, json, common.max_errors);
     match prog.filter(|_| !kor_failed) {
         Some(prog) => Ok(Compiled {
             name,

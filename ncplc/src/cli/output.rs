@@ -22,7 +22,8 @@ pub const USAGE: u8 = 2;
 pub const EXIT_CODES_HELP: &str = "Exit codes: 0 ok; 1 problems found in the input (errors, a diverging replay, a tripped run); 2 usage or environment error (bad arguments, missing machine directory or file).\nOutput: results (--dump, --emit, plan blocks, trace text, --stats) on stdout; diagnostics (any --format), progress and summaries on stderr.";
 
 pub use runtime::render::{
-    Color, colored, colorize, relocate, render_diagnostics, render_diagnostics_capped, user_path,
+    Color, colored, colorize, relocate, render_diagnostics, render_diagnostics_capped,
+    render_diagnostics_capped_with, user_path,
 };
 
 static STARTED: OnceLock<Instant> = OnceLock::new();

@@ -3,7 +3,7 @@
 //! loops may not overlap), literal `GOTO n` targets must be block numbers of the unit, and `G65 P`
 //! must name a loaded program. Pairs and targets are stored in [`CBlock::jump`].
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use super::{Expr, Stmt};
 use crate::codes;
@@ -23,7 +23,7 @@ pub fn literal_target(e: &Expr) -> Option<f64> {
 }
 
 /// Checks and links the macro blocks of `prog`.
-pub fn link(prog: &mut Program, diags: &mut Vec<Diagnostic>) {
+pub fn link(prog: &mut Program, diags: &mut Sink) {
     let mut links: Vec<(usize, usize)> = Vec::new();
     for u in 0..prog.units.len() {
         let unit = &prog.units[u];

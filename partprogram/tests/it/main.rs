@@ -2,6 +2,7 @@
 //! `tests/*.rs` binary before (issue 24: one link instead of one per file).
 
 mod arith_ops;
+mod bounded_memory;
 mod common;
 mod conformance;
 mod corrections;
