@@ -13,6 +13,7 @@ mod build;
 mod check;
 mod cli;
 mod docs;
+mod drives;
 mod e2e_common;
 mod hmi;
 mod hmi_browser;
