@@ -278,3 +278,65 @@ fn simulate_hooks_need_the_virtual_bus_and_a_whole_fault() {
         "{r}"
     );
 }
+
+/// RESET (the PLC's ERS) after a drive fault: the kernel resets, the drive gets a fault reset
+/// (the rising edge of controlword bit 7) and, with the machine on again, walks back to
+/// *Operation enabled*.
+#[test]
+fn reset_clears_a_drive_fault_and_the_drive_enables_again() {
+    let _serial = e2e_common::serial();
+    let m = lathe_with_hooks("X", "{ fault_at_sync = 1000, fault_code = 0x5530 }");
+    // A panel RESET button on I1A1 drives ERS; the operator presses it at tick 300.
+    let prg = m.path().join("MP0/PLCPRG");
+    let source = std::fs::read_to_string(&prg).expect("PLCPRG");
+    let source = source.replacen(
+        "\n$\n",
+        "\nERS = I1A1                ; panel RESET button\n$\n",
+        1,
+    );
+    std::fs::write(&prg, source).expect("write");
+    let sim = m.path().join("sim.toml");
+    let mut script = std::fs::read_to_string(&sim).expect("sim.toml");
+    script += "\n[[part.at]]\ntick = 300\nset = { I1A1 = 1 }\n[[part.at]]\ntick = 303\nset = { I1A1 = 0 }\n";
+    std::fs::write(&sim, script).expect("write");
+    let (out, trace, _) = run_part(m.path(), &["--ticks", "400"]);
+    assert!(out.contains("drive fault on axis X (node 3)"), "{out}");
+    // ERS rises in scan 300; the kernel resets at tick 301 and orders the fault reset with tick
+    // 301's SYNCs; their answers (no fault, the drive enabled again) come at tick 302.
+    let cleared = trace.lines().skip(1).find_map(|l| {
+        let rec: serde_json::Value = serde_json::from_str(l).expect("json");
+        let t = rec["t"].as_u64().expect("t");
+        let x = rec.get("drives")?.get(0)?.clone();
+        (t > 200 && x.get("fault").is_none()).then_some((t, x, rec))
+    });
+    let (t, x, rec) = cleared.expect("the fault clears");
+    assert_eq!(t, 302, "{rec}");
+    assert!(
+        x["values"]
+            .as_array()
+            .expect("values")
+            .iter()
+            .all(|v| !v.is_null()),
+        "{rec}"
+    );
+    // Out of Fault into Ready to switch on (the machine was still off in tick 301)...
+    assert_eq!(
+        x["statusword"].as_u64().map(|w| w & 0x6F),
+        Some(0x21),
+        "{rec}"
+    );
+    // ...then, the machine on again, Operation enabled with tick 302's SYNCs.
+    let enabled = trace.lines().skip(1).find_map(|l| {
+        let rec: serde_json::Value = serde_json::from_str(l).expect("json");
+        (rec["t"].as_u64() == Some(303)).then(|| rec["drives"][0]["statusword"].as_u64())
+    });
+    assert_eq!(enabled.flatten().map(|w| w & 0x6F), Some(0x27), "{trace}");
+    // The alarm is gone (ALARM, I1K4) and the machine is on again (CONP, I0K2).
+    let alarm_off = trace.lines().skip(1).any(|l| {
+        let rec: serde_json::Value = serde_json::from_str(l).expect("json");
+        rec["t"].as_u64() == Some(301) && rec["in"]["I1K4"] == 0
+    });
+    assert!(alarm_off, "{trace}");
+    let replay = ncplc(&["replay", s(m.path()), s(&m.path().join("run.jsonl"))]);
+    assert!(replay.status.success(), "{}", text(&replay));
+}
