@@ -5,8 +5,9 @@
 //! what the master sends as the target of that tick's SYNC) and takes the drive's actual
 //! position from the feedback the caller installed before the step ([`Process::bus_feedback`]).
 //! The master answers a logic tick's SYNCs after the scan published, so the feedback a step
-//! takes is the answer to the *previous* logic tick's set points: the following-error monitor
-//! pairs each answer with the set point it answers (kept from the previous step, with its
+//! takes is the answer to an earlier logic tick's set points (the previous one's, or older when
+//! the master is late in real time; the caller says which): the following-error monitor
+//! pairs each answer with the set point it answers (kept for a few steps, with its
 //! feed-forward state), and the axis's actual position (DRO, summary, trace) is the drive's
 //! last healthy one. An interpolation tick without a healthy answer (faulted, silent, no answer
 //! yet) leaves the actual position where it was and is not checked: nothing from such a drive
@@ -17,17 +18,24 @@
 //! Invariant: a process without a bus behaves exactly as before (no field of this module is
 //! read on its path).
 
+use std::collections::VecDeque;
+
 use crate::process::Process;
+
+/// How many earlier steps' set points a bus axis keeps for pairing answers with them.
+const HISTORY: usize = 4;
 
 /// One bus axis's exchange.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub(crate) struct BusAxis {
     /// This step's set points, one per interpolation tick.
     set_points: Vec<f64>,
-    /// The previous step's set points, which `feedback` answers.
-    answered: Vec<f64>,
-    /// The drive's answers to the previous step's SYNCs (`None`: no healthy answer).
+    /// The set points of the last [`HISTORY`] steps, newest last.
+    history: VecDeque<Vec<f64>>,
+    /// The drive's answers (`None`: no healthy answer).
     feedback: Vec<Option<f64>>,
+    /// Which step's set points `feedback` answers: 1 = the previous step's.
+    age: usize,
 }
 
 /// The bus side of a process.
@@ -37,8 +45,8 @@ pub(crate) struct Bus {
     axes: Vec<Option<BusAxis>>,
     /// The spindle's drive.
     spindle: Option<BusAxis>,
-    /// Feed-forward on per interpolation tick of the previous step.
-    answered_vff: Vec<bool>,
+    /// Feed-forward per interpolation tick of the last [`HISTORY`] steps, newest last.
+    vff_history: VecDeque<Vec<bool>>,
     /// This step's feed-forward per interpolation tick.
     vff: Vec<bool>,
     /// A RESET was applied in this step (the drives get a fault reset).
@@ -104,13 +112,15 @@ impl Process {
     }
 
     /// Installs the drive's answers for axis `axis` (`S`: the spindle, in revolutions per
-    /// second) to the previous step's SYNCs, for the next step; false when the axis is not on
-    /// the bus.
-    pub fn bus_feedback(&mut self, axis: char, values: &[Option<f64>]) -> bool {
+    /// second), for the next step: the answers to the SYNCs of the set points of `age` steps
+    /// before it (1: the previous step's; in real time a late master makes it 2 or more); false
+    /// when the axis is not on the bus.
+    pub fn bus_feedback(&mut self, axis: char, values: &[Option<f64>], age: usize) -> bool {
         match self.bus_axis_mut(axis) {
             Some(b) => {
                 b.feedback.clear();
                 b.feedback.extend_from_slice(values);
+                b.age = age;
                 true
             }
             None => false,
@@ -157,16 +167,14 @@ impl Process {
         bus.axes.get_mut(i?).and_then(Option::as_mut)
     }
 
-    /// Start of a step's interpolation: this step's set points begin empty, the last ones become
-    /// the answered ones.
+    /// Start of a step's interpolation: the last step's set points go into the history, this
+    /// step's begin empty (the oldest history's buffer is reused: no allocation once full).
     pub(crate) fn bus_begin(&mut self) {
         let Some(bus) = self.bus.as_mut() else { return };
         for b in bus.axes.iter_mut().flatten().chain(bus.spindle.as_mut()) {
-            std::mem::swap(&mut b.answered, &mut b.set_points);
-            b.set_points.clear();
+            push_history(&mut b.history, &mut b.set_points);
         }
-        std::mem::swap(&mut bus.answered_vff, &mut bus.vff);
-        bus.vff.clear();
+        push_history(&mut bus.vff_history, &mut bus.vff);
     }
 
     /// Interpolation tick `k`: records axis `i`'s set point `sp` and returns the drive's answer
@@ -181,10 +189,11 @@ impl Process {
         let bus = self.bus.as_mut()?;
         let b = bus.axes.get_mut(i)?.as_mut()?;
         b.set_points.push(sp);
-        let answer = match (b.answered.get(k), b.feedback.get(k).copied().flatten()) {
-            (Some(&cmd), Some(actual)) => {
-                Some((cmd, actual, bus.answered_vff.get(k) == Some(&true)))
-            }
+        let older = |len: usize| len.checked_sub(b.age.max(1));
+        let answered = older(b.history.len()).and_then(|j| b.history.get(j)?.get(k));
+        let vff = older(bus.vff_history.len()).and_then(|j| bus.vff_history.get(j)?.get(k));
+        let answer = match (answered, b.feedback.get(k).copied().flatten()) {
+            (Some(&cmd), Some(actual)) => Some((cmd, actual, vff == Some(&true))),
             _ => None,
         };
         if let Some(c) = bus.checks.get_mut(i) {
@@ -202,4 +211,16 @@ impl Process {
             b.set_points.push(v);
         }
     }
+}
+
+/// Moves `current` to the end of `history` (at most [`HISTORY`] long) and leaves it empty.
+fn push_history<T>(history: &mut VecDeque<Vec<T>>, current: &mut Vec<T>) {
+    let mut recycled = if history.len() >= HISTORY {
+        history.pop_front().unwrap_or_default()
+    } else {
+        Vec::new()
+    };
+    recycled.clear();
+    std::mem::swap(&mut recycled, current);
+    history.push_back(recycled);
 }

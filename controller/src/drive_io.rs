@@ -104,14 +104,22 @@ pub fn attach(cnc: &mut Cnc, drives: &[HeaderDrive]) -> Result<(), String> {
     Ok(())
 }
 
-/// The master's answers as trace samples, in drive order.
-fn samples_of(answers: &DriveAnswers, drives: &[HeaderDrive], out: &mut Vec<DriveSample>) {
+/// The master's answers as trace samples, in drive order; `published` is the number of orders
+/// the scan has published (the answers to the last ones are 1 tick old).
+fn samples_of(
+    answers: &DriveAnswers,
+    published: u64,
+    drives: &[HeaderDrive],
+    out: &mut Vec<DriveSample>,
+) {
     out.clear();
+    let age = u32::try_from((published + 1).saturating_sub(answers.seq)).unwrap_or(u32::MAX);
     for (d, a) in drives.iter().zip(&answers.drives) {
         out.push(DriveSample {
             axis: d.axis,
             values: a.values.iter().map(|v| v.map(f64::to_bits)).collect(),
             statusword: a.statusword,
+            age,
             fault: a.fault.map(fault_record),
         });
     }
@@ -164,7 +172,7 @@ pub fn apply_feedback(
         };
         values.clear();
         values.extend(s.values.iter().map(|v| v.map(f64::from_bits)));
-        p.bus_feedback(s.axis.axis, &values);
+        p.bus_feedback(s.axis.axis, &values, s.age as usize);
         let new = match (&s.fault, &*last) {
             (Some(f), Some(l)) => f.cause != l.cause,
             (Some(_), None) => true,
@@ -186,7 +194,8 @@ impl PacketIo for DriveIo {
         self.canopen.latch_inputs(tick, packets);
         let mut samples = self.samples.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(d) = self.canopen.drives() {
-            samples_of(d.answers(), &self.drives, &mut samples);
+            let published = d.published();
+            samples_of(d.answers(), published, &self.drives, &mut samples);
         }
         apply_feedback(&mut lock(&self.cnc), &samples, &mut self.faults);
         drop(samples);

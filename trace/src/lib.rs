@@ -79,9 +79,22 @@ pub struct DriveSample {
     pub values: Vec<Option<u64>>,
     /// The statusword of the last answer (`6041h`).
     pub statusword: u16,
+    /// Whose set points the answers answer: those of `age` ticks before (1, the previous
+    /// tick's, is the rule and is not written; a late master in real time makes it more).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub age: u32,
     /// The drive's fault, while it has one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<DriveFaultRecord>,
+}
+
+fn one() -> u32 {
+    1
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_one(v: &u32) -> bool {
+    *v == 1
 }
 
 /// A drive fault as a trace records it.

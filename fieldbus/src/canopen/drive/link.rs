@@ -307,6 +307,11 @@ impl ScanDrives {
         true
     }
 
+    /// How many orders the scan has published (the `seq` of the last ones).
+    pub fn published(&self) -> u64 {
+        self.seq
+    }
+
     /// The latest answers.
     pub fn answers(&mut self) -> &DriveAnswers {
         self.answers.read().0
