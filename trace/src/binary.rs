@@ -448,6 +448,61 @@ mod tests {
     }
 
     #[test]
+    fn drive_feedback_survives_both_forms() {
+        use crate::{DriveFaultRecord, DriveSample, HeaderDrive};
+        let x = AxisId {
+            process: 1,
+            axis: 'X',
+        };
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![TickRecord {
+                t: 200,
+                drives: vec![DriveSample {
+                    axis: x,
+                    values: vec![Some(1.5f64.to_bits()), None],
+                    statusword: 0x0208,
+                    age: 2,
+                    fault: Some(DriveFaultRecord {
+                        node: 3,
+                        code: 0x5530,
+                        cause: "drive".into(),
+                    }),
+                }],
+                ..TickRecord::default()
+            }],
+            part: Some(PartHeader {
+                kernel: "cnc 0.1.0".into(),
+                process: 1,
+                drives: vec![HeaderDrive { axis: x, node: 3 }],
+                ..PartHeader::default()
+            }),
+        };
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        let lines: Vec<&str> = std::str::from_utf8(&text).expect("utf8").lines().collect();
+        assert_eq!(
+            lines,
+            [
+                r#"{"format":"ncplc-trace","version":1,"tick_ms":10,"part":{"kernel":"cnc 0.1.0","process":1,"drives":[{"axis":{"process":1,"axis":"X"},"node":3}]}}"#,
+                r#"{"t":200,"drives":[{"axis":{"process":1,"axis":"X"},"values":[4609434218613702656,null],"statusword":520,"age":2,"fault":{"node":3,"code":21808,"cause":"drive"}}]}"#
+            ]
+        );
+        assert_eq!(super::super::text::parse(&text).expect("parse"), trace);
+        // age 1 is the rule and is not written.
+        let mut one = trace.clone();
+        one.ticks[0].drives[0].age = 1;
+        let mut text = Vec::new();
+        one.write_text(&mut text).expect("text");
+        assert!(!String::from_utf8_lossy(&text).contains("age"));
+        assert_eq!(super::super::text::parse(&text).expect("parse"), one);
+    }
+
+    #[test]
     fn operator_commands_survive_both_forms() {
         let cmd = |command| OperatorCommand {
             process: 1,

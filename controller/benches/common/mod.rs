@@ -17,11 +17,22 @@ use sim::part::plan_text;
 
 /// A scheduler running `text` (named `name`) on `m` with AUTO selected (the part script presses
 /// START); `wrap` may put the kernel I/O inside another `PacketIo`.
+#[allow(dead_code)] // the drives bench wraps the kernel itself
 pub fn part_scheduler(
     m: &Machine,
     name: &str,
     text: &str,
     wrap: impl FnOnce(KernelIo) -> Box<dyn PacketIo>,
+) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
+    part_scheduler_with(m, name, text, |io, _| wrap(io))
+}
+
+/// [`part_scheduler`], `wrap` also given the kernel.
+pub fn part_scheduler_with(
+    m: &Machine,
+    name: &str,
+    text: &str,
+    wrap: impl FnOnce(KernelIo, Arc<Mutex<cnc::Cnc>>) -> Box<dyn PacketIo>,
 ) -> (Scheduler, Arc<Mutex<cnc::Cnc>>) {
     let blocks = plan_text(&m.dir, name, text, None, false).unwrap_or_else(|e| panic!("{e}"));
     let facts = Facts::load(&m.dir).unwrap_or_else(|e| panic!("{e}"));
@@ -54,7 +65,7 @@ pub fn part_scheduler(
     let s = Scheduler::new(
         image,
         loaded,
-        wrap(io),
+        wrap(io, Arc::clone(&cnc)),
         Box::new(VirtualClock::new()),
         settings,
     );
