@@ -14,6 +14,7 @@
 //! [`plant`], [`status`], [`interp`] (the interpolator as the kernel sees it).
 
 pub mod alt_feed;
+pub mod bus;
 pub mod config;
 pub mod correction;
 pub mod exec;

@@ -120,6 +120,16 @@ impl Drive {
         self.actual = command - error;
     }
 
+    /// One servo tick of an axis on a bus drive: the set point is `command`, the actual
+    /// position the drive's healthy answer (unchanged without one).
+    pub fn follow_bus(&mut self, command: f64, actual: Option<f64>) {
+        self.previous_actual = self.actual;
+        self.command = command;
+        if let Some(a) = actual {
+            self.actual = a;
+        }
+    }
+
     /// The set point of the last tick.
     pub fn command(&self) -> f64 {
         self.command

@@ -126,6 +126,8 @@ pub struct Process {
     pub(crate) manual_axes: Option<Vec<char>>,
     tick_out: TickOut,
     trajectory: Option<(u64, String)>,
+    /// Axes on bus drives ([`crate::bus`]); None: the plant moves every axis.
+    pub(crate) bus: Option<crate::bus::Bus>,
 }
 
 /// Settings shared by every process.
@@ -233,6 +235,7 @@ impl Process {
             queued_end: start.to_vec(),
             manual_axes: None,
             tick_out: TickOut::default(),
+            bus: None,
             trajectory: None,
         }
     }
@@ -381,6 +384,9 @@ impl Process {
         self.alarms.clear();
         self.fault = false;
         self.reset_pulse = true;
+        if let Some(b) = self.bus.as_mut() {
+            b.fault_reset = true;
+        }
         self.last_s = None;
         self.last_t = None;
         if self.estop_open {
@@ -410,6 +416,9 @@ impl Process {
 
     /// One logic tick (see the module docs for the order).
     pub fn step(&mut self, tick: u64, out: &[u8], image: &mut [u8]) {
+        if let Some(b) = self.bus.as_mut() {
+            b.fault_reset = false;
+        }
         self.read_plc(out);
         self.read_gear(out);
         while let Some(c) = self.commands.pop_front() {
@@ -566,7 +575,8 @@ impl Process {
         };
         let dt = self.cfg.int_tick_s;
         self.held = false;
-        for _ in 0..self.ticks_per_logic {
+        self.bus_begin();
+        for k in 0..self.ticks_per_logic {
             if self.spindle.is_some() {
                 // The law at the set points of the last tick (G96 follows the radius).
                 let vmax = self.range_vmax();
@@ -609,13 +619,19 @@ impl Process {
                 *t += 1;
             }
             let vff = crate::servo::vff_active(self.mode, self.uep, programmed);
-            for (i, (d, ff)) in self.drives.iter_mut().zip(&mut self.servo).enumerate() {
+            for i in 0..self.drives.len() {
                 let sp = pos.get(i).copied().unwrap_or(0.0);
+                if let Some(answer) = self.bus_axis_tick(i, k, sp) {
+                    self.drives[i].follow_bus(sp, answer.map(|(_, actual, _)| actual));
+                    continue;
+                }
+                let (d, ff) = (&mut self.drives[i], &mut self.servo[i]);
                 let g = self.cfg.axes[i].gains();
                 let w = ff.step(&g, vff, sp - d.command(), d.error(), dt);
                 d.tick(sp, w, dt);
             }
             self.check_following(vff, dt);
+            self.bus_tick_end(vff);
         }
     }
 
@@ -631,8 +647,14 @@ impl Process {
     /// process (machine off) with an alarm naming the axis, the limit and why it applies.
     fn check_following(&mut self, vff: bool, dt: f64) {
         let mut first = None;
-        for (d, m) in self.drives.iter().zip(&mut self.monitors) {
-            let e = m.check(d.command(), d.actual(), vff, dt);
+        for (i, (d, m)) in self.drives.iter().zip(&mut self.monitors).enumerate() {
+            // A bus axis: the drive's answer with the set point it answers, when healthy.
+            let (command, actual, vff) = match self.bus.as_ref().and_then(|b| b.check(i)) {
+                Some(Some(answer)) => answer,
+                Some(None) => continue,
+                None => (d.command(), d.actual(), vff),
+            };
+            let e = m.check(command, actual, vff, dt);
             first = first.or(e);
         }
         if let Some(e) = first

@@ -61,7 +61,7 @@ fn bench(c: &mut Criterion) {
     // lathe part, timed per tick.
     let times = Arc::new(Mutex::new(Vec::new()));
     let timed = Arc::clone(&times);
-    let wrap: controller::WrapIo = Box::new(move |inner| {
+    let wrap: controller::WrapIo = Box::new(move |inner, _cnc| {
         Box::new(Timed {
             inner,
             times: timed,

@@ -61,8 +61,12 @@ pub struct Builder {
     wrap_io: Option<WrapIo>,
 }
 
-/// A decorator put around the opened I/O (benches time `latch_inputs` through it).
-pub type WrapIo = Box<dyn FnOnce(Box<dyn PacketIo>) -> Box<dyn PacketIo> + Send>;
+/// A decorator put around the opened I/O, given a part run's CNC kernel when there is one (benches
+/// time `latch_inputs` through it, or put simulated drives between kernel and scan).
+pub type WrapIo = Box<
+    dyn FnOnce(Box<dyn PacketIo>, Option<Arc<std::sync::Mutex<cnc::Cnc>>>) -> Box<dyn PacketIo>
+        + Send,
+>;
 
 /// What validation found usable: the machine, its PLC source and the HMI token.
 struct Checked {
@@ -182,9 +186,10 @@ impl Builder {
         {
             errors.push(format!("error: --scan-cpu: {e}"));
         }
-        if self.part.is_some() && self.io.kind != IoKind::Sim {
-            errors
-                .push("error: --program and --mdi run on the simulated machine (--io sim)".into());
+        if self.part.is_some() && self.io.kind == IoKind::Modbus {
+            errors.push(
+                "error: --program and --mdi run on the simulated machine (--io sim) or on CiA 402 drives (--io canopen); Modbus TCP has no drives".into(),
+            );
         }
         let token = match self.hmi.as_ref().map(hmi_token).transpose() {
             Ok(t) => t,
@@ -222,7 +227,8 @@ impl Builder {
             machine.compile_fns(self.engine.kind, tick_ms, Arc::clone(&flow_wanted));
         let (loaded, mut opened) = self.compile_and_open(&checked, tick_ms, &first)?;
         if let Some(wrap) = self.wrap_io.take() {
-            opened.io = wrap(opened.io);
+            let cnc = opened.part.as_ref().map(PartRun::cnc);
+            opened.io = wrap(opened.io, cnc);
         }
         let meta = loaded.meta.clone();
         let retain_path = self.retain_path(machine);
@@ -372,6 +378,14 @@ impl Builder {
                     .unwrap_or_else(std::sync::PoisonError::into_inner);
                 crate::part_replay::axis_positions(&c, out);
             }));
+            if let Some(samples) = p.drive_samples.clone() {
+                sched.record_drives(Box::new(move |out| {
+                    let s = samples
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner);
+                    out.clone_from(&s);
+                }));
+            }
         }
         Ok(())
     }
@@ -451,9 +465,18 @@ impl IoPlan<'_> {
                 part: None,
             });
         };
-        let (io, mut run) =
-            crate::part_run::start(&part.spec, part.trajectory.as_deref(), machine, tick_ms)
-                .map_err(BuildError::Start)?;
+        let trajectory = part.trajectory.as_deref();
+        let (io, mut run) = match self.kind {
+            IoKind::Canopen => crate::part_run::start_on_drives(
+                &part.spec,
+                trajectory,
+                machine,
+                tick_ms,
+                self.virtual_time,
+            ),
+            _ => crate::part_run::start(&part.spec, trajectory, machine, tick_ms),
+        }
+        .map_err(BuildError::Start)?;
         let io = match self.modbus_hmi {
             Some(bind) => with_modbus_hmi(&machine.dir, declared, io, bind)
                 .map_err(|e| BuildError::Start(e.to_string()))?,
@@ -519,7 +542,7 @@ mod tests {
                     "error: --scan-cpu: CPU {cpus} does not exist: this machine has {cpus} CPU(s), numbered 0..{}",
                     cpus - 1
                 ),
-                "error: --program and --mdi run on the simulated machine (--io sim)".to_string(),
+                "error: --program and --mdi run on the simulated machine (--io sim) or on CiA 402 drives (--io canopen); Modbus TCP has no drives".to_string(),
                 "/nonexistent/ncplc-machine: not a machine directory".to_string(),
             ]
         );

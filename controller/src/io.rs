@@ -125,6 +125,11 @@ fn modbus_hmi(
     Ok(io)
 }
 
+/// The located diagnostics of io.toml, rendered with its lines (as text).
+pub(crate) fn render_map_error(machine_dir: &Path, diagnostics: Vec<diag::Diagnostic>) -> String {
+    map_error(machine_dir, diagnostics).to_string()
+}
+
 /// The located diagnostics of io.toml, rendered with its lines.
 fn map_error(machine_dir: &Path, diagnostics: Vec<diag::Diagnostic>) -> IoOpenError {
     let map = machine_dir.join("io.toml");

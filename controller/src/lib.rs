@@ -13,6 +13,7 @@
 //! | [`retained`] | PGCFIL OLD: restore at start, the writer thread, the final save |
 //! | [`replayer`] | a trace replay assembled from the machine (with the CNC kernel for part traces) |
 //! | [`machine`] | opening a machine directory: configuration, PLC source, sim script, interface map |
+//! | [`drive_io`] | a part run on CiA 402 drives: the CANopen master and the kernel behind one I/O |
 //! | [`io`] | the `--io` dispatch: sim, Modbus TCP, CANopen (drives on the fieldbus plug in here) |
 //! | [`part_run`] | the CNC kernel behind the simulated I/O and the operator of a part run |
 //! | [`part_replay`] | the part run's kernel, plant and operator driven by a replay |
@@ -25,6 +26,7 @@
 
 pub mod builder;
 pub mod control;
+pub mod drive_io;
 pub mod hmi_link;
 pub mod io;
 pub mod machine;

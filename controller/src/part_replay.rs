@@ -18,6 +18,8 @@ pub struct KernelReplay {
     cnc: Arc<Mutex<Cnc>>,
     run: PartRun,
     last_out: Vec<u8>,
+    /// Per drive of the header, the fault last seen (a new one raises its alarm).
+    faults: Vec<Option<trace::DriveFaultRecord>>,
 }
 
 impl KernelReplay {
@@ -52,10 +54,16 @@ impl KernelReplay {
                 kernel_version()
             );
         }
+        let cnc = run.cnc();
+        crate::drive_io::attach(
+            &mut cnc.lock().unwrap_or_else(PoisonError::into_inner),
+            &header.drives,
+        )?;
         Ok(KernelReplay {
-            cnc: run.cnc(),
+            cnc,
             run,
             last_out: vec![0; packets::PACKETS_LEN],
+            faults: vec![None; header.drives.len()],
         })
     }
 
@@ -143,6 +151,12 @@ impl ReplayKernel for KernelReplay {
 
     fn command(&mut self, _t: u64, c: &OperatorCommand) -> Result<(), String> {
         crate::hmi_link::kernel_cnc::apply_command(&mut self.lock(), c.process, &c.command)
+    }
+
+    fn drives(&mut self, _t: u64, feedback: &[trace::DriveSample]) {
+        let cnc = Arc::clone(&self.cnc);
+        let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
+        crate::drive_io::apply_feedback(&mut c, feedback, &mut self.faults);
     }
 }
 

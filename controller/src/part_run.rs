@@ -35,6 +35,10 @@ struct Other {
 /// A running part: the shared kernel and what the operator still has to do.
 pub struct PartRun {
     cnc: Arc<Mutex<Cnc>>,
+    /// The axes on CiA 402 drives (a run with `--io canopen`), for the trace header.
+    pub(crate) drives: Vec<trace::HeaderDrive>,
+    /// The drives' feedback the kernel took at the last latch, for the recording.
+    pub(crate) drive_samples: Option<crate::drive_io::Samples>,
     process: u8,
     part: Option<Part>,
     mdi: VecDeque<String>,
@@ -173,6 +177,43 @@ pub fn start(
     Ok((io, run))
 }
 
+/// [`start`] with the axes on the CiA 402 drives of io.toml (`--io canopen`): the CANopen master
+/// clocked by the kernel's interpolation tick (process 1's), in lock-step with the scan when
+/// `lockstep` (virtual time on the virtual bus).
+pub fn start_on_drives(
+    spec: &PartSpec,
+    trajectory: Option<&std::path::Path>,
+    machine: &Machine,
+    tick_ms: u32,
+    lockstep: bool,
+) -> Result<(Box<dyn PacketIo>, PartRun), String> {
+    let (kernel, mut run) = start(spec, trajectory, machine, tick_ms)?;
+    let cnc = run.cnc();
+    let (int_tick_s, syncs) = run
+        .lock()
+        .processes()
+        .first()
+        .map_or((f64::from(tick_ms) / 1000.0, 1), |p| p.interpolation());
+    let timing = fieldbus::canopen::drive::DriveTiming {
+        int_tick: std::time::Duration::from_secs_f64(int_tick_s),
+        syncs,
+        lockstep,
+    };
+    let declared = machine.declared_connectors();
+    let canopen = fieldbus::open_canopen(&machine.dir, &declared, timing)
+        .map_err(|d| crate::io::render_map_error(&machine.dir, d))?;
+    let io = crate::drive_io::DriveIo::new(canopen, kernel, cnc)?;
+    if io.drives().is_empty() {
+        return Err(format!(
+            "error: {}: a part run on --io canopen needs the axes on drives: io.toml has no [[canopen.drive]] (docs/drives.md)",
+            runtime::render::user_path(&machine.dir.join("io.toml")).display()
+        ));
+    }
+    run.drives = io.drives().to_vec();
+    run.drive_samples = Some(io.samples());
+    Ok((Box::new(io), run))
+}
+
 /// Builds the kernel I/O for a part run of `spec` and the part run that drives it.
 pub fn start_spec(
     args: &PartSpec,
@@ -207,6 +248,8 @@ pub fn start_spec(
     let run = PartRun {
         mdi_files,
         cnc,
+        drives: Vec::new(),
+        drive_samples: None,
         process: args.process,
         part,
         // The blocks run as one MDI program: planned together, they share their modal state; it
@@ -408,6 +451,7 @@ impl PartRun {
                 .map(|(file, crc32)| FileCrc { file, crc32 })
                 .collect(),
             macro_vars: self.vars_text.clone(),
+            drives: self.drives.clone(),
         }
     }
 

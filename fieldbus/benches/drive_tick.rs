@@ -25,6 +25,7 @@ fn bench(c: &mut Criterion) {
             },
             heartbeat: Duration::from_secs(3600),
             sdo: Vec::new(),
+            simulate: Default::default(),
         })
         .collect();
     let mut set = DriveSet::new(&drives, Duration::from_millis(1));

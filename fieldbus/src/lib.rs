@@ -156,16 +156,6 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
             Ok(Box::new(io))
         }
         IoKind::Canopen => {
-            if let Some(d) = map.canopen.as_ref().and_then(|c| c.drives.first()) {
-                return Err(whole_file(
-                    codes::DRIVES_NOT_DRIVEN,
-                    format!(
-                        "io.toml declares CiA 402 drives (axis {} on node {} first): drive entries are validated by `ncplc check` but not yet driven by `ncplc run`",
-                        d.axis, d.node_id
-                    ),
-                    "remove the [[canopen.drive]] tables to run the I/O nodes (docs/drives.md says what is wired)",
-                ));
-            }
             let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
                 return Err(whole_file(
                     codes::NO_DEVICES,
@@ -173,41 +163,91 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
                     "add a [canopen] table with [[canopen.node]] entries",
                 ));
             };
-            let io = start_canopen(cfg, &map.io_cpus).map_err(start_err)?;
+            let io = start_canopen(cfg, &map.io_cpus, None).map_err(start_err)?;
             Ok(Box::new(io))
         }
     }
 }
 
-/// Starts the CANopen master on the configured transport. The `virtual` transport also starts one
-/// simulated CiA 401 node per configured node on the same in-process bus (a demo without hardware).
+/// Reads and validates `<machine_dir>/io.toml` and starts its CANopen master with the CiA 402
+/// drives clocked by `timing` (a part run's kernel orders them through
+/// [`canopen::master::CanopenIo::drives`]).
+pub fn open_canopen(
+    machine_dir: &Path,
+    declared: &DeclaredConnectors,
+    timing: canopen::drive::DriveTiming,
+) -> Result<canopen::master::CanopenIo, Vec<Diagnostic>> {
+    let (map, diags) = load_map(machine_dir, declared);
+    let Some(map) = map else { return Err(diags) };
+    let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
+        return Err(whole_file(
+            codes::NO_DEVICES,
+            "io.toml defines no CANopen node".into(),
+            "add a [canopen] table with [[canopen.node]] entries",
+        ));
+    };
+    if timing.lockstep && cfg.transport != map::TransportConfig::Virtual {
+        return Err(whole_file(
+            codes::START,
+            "virtual time runs only on the virtual bus: real drives keep real time".into(),
+            "drop --virtual-time, or set [canopen] transport = \"virtual\" for simulated drives",
+        ));
+    }
+    start_canopen(cfg, &map.io_cpus, Some(timing)).map_err(|e| {
+        whole_file(
+            codes::START,
+            format!("the canopen driver cannot start: {e}"),
+            "check the drives and nodes in io.toml (docs/drives.md: start-up)",
+        )
+    })
+}
+
+/// Starts the CANopen master on the configured transport, with its CiA 402 drives clocked by
+/// `timing` (None: one SYNC per 10 ms tick; nothing orders them, so they stay disabled). The
+/// `virtual` transport also starts one simulated CiA 401 node per configured node and one
+/// simulated CiA 402 drive per drive on the same in-process bus (a machine without hardware).
 /// The master's threads are pinned to `io_cpus` (empty = unpinned).
 pub fn start_canopen(
     cfg: &map::CanopenConfig,
     io_cpus: &[usize],
+    timing: Option<canopen::drive::DriveTiming>,
 ) -> std::io::Result<canopen::master::CanopenIo> {
     use canopen::master::CanopenIo;
     match &cfg.transport {
         map::TransportConfig::Virtual => {
             let ids: Vec<u8> = cfg.nodes.iter().map(|n| n.node_id).collect();
-            CanopenIo::start_pinned(cfg, io_cpus, move || async move {
+            let drives: Vec<_> = cfg.drives.iter().map(|d| (d.node_id, d.simulate)).collect();
+            let lockstep = timing.is_some_and(|t| t.lockstep);
+            CanopenIo::start_with_drives(cfg, io_cpus, timing, move || async move {
                 let bus = canopen::virtual_bus::VirtualBus::new();
                 for id in ids {
                     // The node lives as long as the master's runtime.
                     std::mem::forget(canopen::node_sim::Cia401Node::spawn(bus.port(), id));
+                }
+                for (id, hooks) in drives {
+                    let node = canopen::drive_sim::Cia402Node::spawn(bus.port(), id);
+                    {
+                        let mut st = node.state();
+                        st.fault_at_sync = hooks.fault;
+                        st.heartbeat_stop_at_sync = hooks.heartbeat_stop;
+                        st.refuse_enable = hooks.refuse_enable;
+                        st.sync_heartbeat = lockstep;
+                    }
+                    // The drive lives as long as the master's runtime.
+                    std::mem::forget(node);
                 }
                 Ok(bus.port())
             })
         }
         map::TransportConfig::SocketCan { interface } => {
             let name = interface.clone();
-            CanopenIo::start_pinned(cfg, io_cpus, move || async move {
+            CanopenIo::start_with_drives(cfg, io_cpus, timing, move || async move {
                 canopen::socketcan_bus::SocketCanBus::open(&name)
             })
         }
         map::TransportConfig::Cannelloni { local, remote } => {
             let (l, r) = (*local, *remote);
-            CanopenIo::start_pinned(cfg, io_cpus, move || {
+            CanopenIo::start_with_drives(cfg, io_cpus, timing, move || {
                 canopen::cannelloni::UdpBus::bind(l, r)
             })
         }

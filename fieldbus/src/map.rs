@@ -241,6 +241,20 @@ pub struct CanDrive {
     pub heartbeat: Duration,
     /// Extra SDO writes after the standard configuration, before NMT start.
     pub sdo: Vec<SdoWrite>,
+    /// Test hooks of the simulated drive (`simulate = {…}`, `transport = "virtual"` only).
+    pub simulate: DriveSimHooks,
+}
+
+/// What a simulated drive on the virtual bus is told to do wrong (io.toml `simulate`), so that
+/// faults can be rehearsed through `ncplc run`.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DriveSimHooks {
+    /// Fault at this SYNC number with this `603Fh` code.
+    pub fault: Option<(u64, u16)>,
+    /// Stop the heartbeat at this SYNC number.
+    pub heartbeat_stop: Option<u64>,
+    /// Never reach *Operation enabled*.
+    pub refuse_enable: bool,
 }
 
 /// An axis the machine's AXCFIL declares, as the drive validation needs it.
@@ -433,6 +447,17 @@ pub(crate) struct RawCanDrive {
     pub heartbeat_ms: Option<Spanned<u64>>,
     #[serde(default)]
     pub sdo: Vec<Spanned<SdoWrite>>,
+    pub simulate: Option<Spanned<RawDriveSim>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawDriveSim {
+    pub fault_at_sync: Option<u64>,
+    pub fault_code: Option<u16>,
+    pub heartbeat_stop_at_sync: Option<u64>,
+    #[serde(default)]
+    pub refuse_enable: bool,
 }
 
 #[derive(Debug, Deserialize)]

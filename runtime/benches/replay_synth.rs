@@ -55,6 +55,7 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
             forced: Vec::new(),
             positions: Vec::new(),
             commands: Vec::new(),
+            drives: Vec::new(),
             t,
             inputs: vec![(s, u8::from(rnd(2) == 1))],
             outputs: Vec::new(),

@@ -35,6 +35,9 @@ pub trait ReplayKernel {
     fn positions(&mut self, out: &mut Vec<AxisValue>);
     /// Before tick `t`'s latch: an operator command the recorded run's kernel accepted here.
     fn command(&mut self, t: u64, c: &OperatorCommand) -> Result<(), String>;
+    /// Before tick `t`'s latch: the bus drives' feedback the recorded kernel took at this latch
+    /// (the last recorded one; a run without drives has none and never gets a call).
+    fn drives(&mut self, _t: u64, _feedback: &[trace::DriveSample]) {}
 }
 
 /// The result of a replay.
@@ -177,9 +180,14 @@ pub fn replay_driving(
     let mut next = trace.ticks.iter().peekable();
     let total = trace.len_ticks();
     let none: &[(packets::Signal, u8)] = &[];
+    let mut drives: Vec<trace::DriveSample> = Vec::new();
     let mut t = 0;
     while t < total {
         let rec = next.next_if(|r| r.t == t);
+        let recorded_drives = rec.map_or(&[][..], |r| r.drives.as_slice());
+        if !recorded_drives.is_empty() {
+            drives = recorded_drives.to_vec();
+        }
         let mut inputs = rec.map_or(none, |r| r.inputs.as_slice());
         let commands = rec.map_or(&[][..], |r| r.commands.as_slice());
         if let Some(k) = kernel.as_deref_mut() {
@@ -187,6 +195,9 @@ pub fn replay_driving(
                 if let Err(e) = k.command(t, c) {
                     refused.push(format!("tick {t}: {} refused: {e}", command_json(c)));
                 }
+            }
+            if !drives.is_empty() {
+                k.drives(t, &drives);
             }
             input_diff.before_latch(image.bytes());
             apply_masked(image.bytes_mut(), inputs, &mask);
@@ -231,6 +242,7 @@ pub fn replay_driving(
             || !forced.is_empty()
             || !pos.is_empty()
             || !commands.is_empty()
+            || !recorded_drives.is_empty()
             || t + 1 == total
         {
             actual.ticks.push(TickRecord {
@@ -240,6 +252,7 @@ pub fn replay_driving(
                 forced: forced.to_vec(),
                 positions: pos.clone(),
                 commands: commands.to_vec(),
+                drives: recorded_drives.to_vec(),
             });
         }
         let mut step = 1;

@@ -89,7 +89,11 @@ pub struct Scheduler {
     forces: Forces,
     forced_scratch: Vec<trace::SignalValue>,
     positions: Option<(PositionSource, PositionTracker)>,
+    drives: Option<(DriveSource, Vec<trace::DriveSample>)>,
 }
+
+/// Fills the bus drives' feedback the kernel took at this tick's latch (a part run on drives).
+pub type DriveSource = Box<dyn FnMut(&mut Vec<trace::DriveSample>) + Send>;
 
 impl Scheduler {
     /// A scheduler around `loaded`, starting from `image` (T set, retain restored by the caller).
@@ -127,6 +131,7 @@ impl Scheduler {
             forces: Forces::default(),
             forced_scratch: Vec::new(),
             positions: None,
+            drives: None,
         }
     }
 
@@ -139,6 +144,12 @@ impl Scheduler {
     /// its records; `source` lists them after the I/O latched the tick.
     pub fn record_positions(&mut self, source: PositionSource) {
         self.positions = Some((source, PositionTracker::default()));
+    }
+
+    /// With a recording: the bus drives' feedback of every tick where it differs from the last
+    /// recorded one (a part run on CiA 402 drives).
+    pub fn record_drives(&mut self, source: DriveSource) {
+        self.drives = Some((source, Vec::new()));
     }
 
     /// Takes new programs from `rx` at tick boundaries.
@@ -264,6 +275,7 @@ impl Scheduler {
             rec.positions.clear();
             rec.commands.clear();
             rec.commands.append(&mut self.commands);
+            rec.drives.clear();
         }
         self.io.latch_inputs(t, self.image.packets_mut());
         self.forces.apply_before(self.image.bytes_mut());
@@ -271,6 +283,14 @@ impl Scheduler {
             diff.after_latch(self.image.bytes(), &mut rec.inputs);
             if let Some((source, tracker)) = &mut self.positions {
                 tracker.diff(source, &mut rec.positions);
+            }
+            if let Some((source, last)) = &mut self.drives {
+                source(&mut rec.drives);
+                if rec.drives == *last {
+                    rec.drives.clear();
+                } else {
+                    last.clone_from(&rec.drives);
+                }
             }
         }
         if !self.tripped {
@@ -290,7 +310,8 @@ impl Scheduler {
                 && rec.outputs.is_empty()
                 && rec.forced.is_empty()
                 && rec.positions.is_empty()
-                && rec.commands.is_empty())
+                && rec.commands.is_empty()
+                && rec.drives.is_empty())
                 && let Err(e) = sink.record(rec)
             {
                 self.last_io_error = Some(e);

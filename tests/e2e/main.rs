@@ -14,6 +14,7 @@ mod cdp;
 mod check;
 mod cli;
 mod docs;
+mod drives;
 mod e2e_common;
 mod generated_parsers;
 mod hmi;

@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 use packets::{Dir, Packet, Signal};
 
 use super::{
-    AxisId, AxisValue, OperatorCommand, PartHeader, TickRecord, Trace, TraceError, TraceSink,
-    VERSION,
+    AxisId, AxisValue, DriveSample, OperatorCommand, PartHeader, TickRecord, Trace, TraceError,
+    TraceSink, VERSION,
 };
 
 /// The name in the header frame.
@@ -43,6 +43,8 @@ pub enum Frame {
     Positions(Vec<(u8, char, u64)>),
     /// The operator `commands` of the [`Frame::Tick`] that follows, as their JSON array.
     Commands(String),
+    /// The `drives` of the [`Frame::Tick`] that follows, as their JSON array.
+    Drives(String),
 }
 
 /// A [`TickRecord`] in compact form.
@@ -107,6 +109,7 @@ impl CompactTick {
             forced: Vec::new(),
             positions: Vec::new(),
             commands: Vec::new(),
+            drives: Vec::new(),
         })
     }
 }
@@ -181,6 +184,13 @@ impl<W: Write> TraceSink for BinaryWriter<W> {
             })?;
             write_frame(&mut self.out, &Frame::Commands(json))?;
         }
+        if !rec.drives.is_empty() {
+            let json = serde_json::to_string(&rec.drives).map_err(|e| TraceError::Binary {
+                frame: 0,
+                message: format!("cannot encode: {e}"),
+            })?;
+            write_frame(&mut self.out, &Frame::Drives(json))?;
+        }
         let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
         self.prev_t = rec.t;
         write_frame(&mut self.out, &frame)
@@ -244,7 +254,8 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
         | Frame::Forced(_)
         | Frame::Part(_)
         | Frame::Positions(_)
-        | Frame::Commands(_) => {
+        | Frame::Commands(_)
+        | Frame::Drives(_) => {
             return Err(bad(i, "the first frame must be the header".into()));
         }
     };
@@ -252,6 +263,7 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     let mut forced: Option<(usize, Vec<(u32, u8)>)> = None;
     let mut positions: Option<(usize, Vec<AxisValue>)> = None;
     let mut commands: Option<(usize, Vec<OperatorCommand>)> = None;
+    let mut drives: Option<(usize, Vec<DriveSample>)> = None;
     let mut part = None;
     for (i, raw) in frames {
         match decode_one(i, raw)? {
@@ -280,6 +292,14 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                     .map_err(|e| bad(i, format!("operator commands: {e}")))?;
                 commands = Some((i, list));
             }
+            Frame::Drives(json) => {
+                if drives.is_some() {
+                    return Err(bad(i, "two drive frames without a tick between".into()));
+                }
+                let list = serde_json::from_str(&json)
+                    .map_err(|e| bad(i, format!("drive feedback: {e}")))?;
+                drives = Some((i, list));
+            }
             Frame::Forced(list) => {
                 if forced.is_some() {
                     return Err(bad(i, "two forced frames without a tick between".into()));
@@ -304,6 +324,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 if let Some((_, list)) = commands.take() {
                     r.commands = list;
                 }
+                if let Some((_, list)) = drives.take() {
+                    r.drives = list;
+                }
                 if let Some(prev) = ticks.last()
                     && c.dt == 0
                 {
@@ -322,6 +345,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     }
     if let Some((i, _)) = commands {
         return Err(bad(i, "truncated: a command frame without its tick".into()));
+    }
+    if let Some((i, _)) = drives {
+        return Err(bad(i, "truncated: a drive frame without its tick".into()));
     }
     if let Some((i, _)) = positions {
         return Err(bad(
@@ -352,6 +378,7 @@ mod tests {
             ticks: vec![
                 TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     t: 0,
                     inputs: vec![(sig("W3K0"), 0)],
                     outputs: vec![(sig("U4A0"), 1)],
@@ -360,6 +387,7 @@ mod tests {
                 },
                 TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     t: 300,
                     inputs: vec![(sig("I0A0"), 1)],
                     outputs: vec![],
@@ -420,6 +448,61 @@ mod tests {
     }
 
     #[test]
+    fn drive_feedback_survives_both_forms() {
+        use crate::{DriveFaultRecord, DriveSample, HeaderDrive};
+        let x = AxisId {
+            process: 1,
+            axis: 'X',
+        };
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![TickRecord {
+                t: 200,
+                drives: vec![DriveSample {
+                    axis: x,
+                    values: vec![Some(1.5f64.to_bits()), None],
+                    statusword: 0x0208,
+                    age: 2,
+                    fault: Some(DriveFaultRecord {
+                        node: 3,
+                        code: 0x5530,
+                        cause: "drive".into(),
+                    }),
+                }],
+                ..TickRecord::default()
+            }],
+            part: Some(PartHeader {
+                kernel: "cnc 0.1.0".into(),
+                process: 1,
+                drives: vec![HeaderDrive { axis: x, node: 3 }],
+                ..PartHeader::default()
+            }),
+        };
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        let lines: Vec<&str> = std::str::from_utf8(&text).expect("utf8").lines().collect();
+        assert_eq!(
+            lines,
+            [
+                r#"{"format":"ncplc-trace","version":1,"tick_ms":10,"part":{"kernel":"cnc 0.1.0","process":1,"drives":[{"axis":{"process":1,"axis":"X"},"node":3}]}}"#,
+                r#"{"t":200,"drives":[{"axis":{"process":1,"axis":"X"},"values":[4609434218613702656,null],"statusword":520,"age":2,"fault":{"node":3,"code":21808,"cause":"drive"}}]}"#
+            ]
+        );
+        assert_eq!(super::super::text::parse(&text).expect("parse"), trace);
+        // age 1 is the rule and is not written.
+        let mut one = trace.clone();
+        one.ticks[0].drives[0].age = 1;
+        let mut text = Vec::new();
+        one.write_text(&mut text).expect("text");
+        assert!(!String::from_utf8_lossy(&text).contains("age"));
+        assert_eq!(super::super::text::parse(&text).expect("parse"), one);
+    }
+
+    #[test]
     fn operator_commands_survive_both_forms() {
         let cmd = |command| OperatorCommand {
             process: 1,
@@ -432,6 +515,7 @@ mod tests {
                 TickRecord {
                     t: 4,
                     commands: vec![cmd(hmi::Command::Hold)],
+                    drives: Vec::new(),
                     ..TickRecord::default()
                 },
                 TickRecord {
@@ -556,6 +640,7 @@ mod tests {
                 let forced = if i % 2 == 1 { outputs.clone() } else { Vec::new() };
                 ticks.push(TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     t,
                     inputs,
                     outputs,

@@ -194,6 +194,7 @@ mod tests {
         let mut c = Comparator::new(10);
         let exp = vec![TickRecord {
             commands: Vec::new(),
+            drives: Vec::new(),
             t: 2,
             inputs: vec![(sig("I0A0"), 1)],
             outputs: vec![(sig("U4A0"), 1)],
@@ -202,6 +203,7 @@ mod tests {
         }];
         let act = vec![TickRecord {
             commands: Vec::new(),
+            drives: Vec::new(),
             t: 3,
             inputs: vec![],
             outputs: vec![(sig("U4A0"), 1)],

@@ -62,6 +62,59 @@ pub struct TickRecord {
     /// boundary before this tick; a replay gives them to its kernel before the tick's latch.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub commands: Vec<OperatorCommand>,
+    /// The bus drives' feedback the kernel took at this tick's latch (a part run on CiA 402
+    /// drives), recorded when it differs from the last recorded one; a replay feeds the last
+    /// recorded feedback to its kernel instead of the bus.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drives: Vec<DriveSample>,
+}
+
+/// One bus drive's feedback for one logic tick: the answers to that tick's SYNCs.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DriveSample {
+    /// The axis (`S` for a spindle).
+    pub axis: AxisId,
+    /// Per interpolation tick, the drive's actual value as f64 bits (position for `csp`,
+    /// velocity for `csv`); `null` where the drive gave no healthy answer.
+    pub values: Vec<Option<u64>>,
+    /// The statusword of the last answer (`6041h`).
+    pub statusword: u16,
+    /// Whose set points the answers answer: those of `age` ticks before (1, the previous
+    /// tick's, is the rule and is not written; a late master in real time makes it more).
+    #[serde(default = "one", skip_serializing_if = "is_one")]
+    pub age: u32,
+    /// The drive's fault, while it has one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fault: Option<DriveFaultRecord>,
+}
+
+fn one() -> u32 {
+    1
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_one(v: &u32) -> bool {
+    *v == 1
+}
+
+/// A drive fault as a trace records it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DriveFaultRecord {
+    /// Node id.
+    pub node: u8,
+    /// The error code (`603Fh`, or the CiA 301 code of the master's own cause).
+    pub code: u16,
+    /// `drive`, `heartbeat`, `nmt` or `enable`.
+    pub cause: String,
+}
+
+/// A drive of a part run on the bus, as the trace header names it.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct HeaderDrive {
+    /// The axis (`S` for a spindle).
+    pub axis: AxisId,
+    /// Node id.
+    pub node: u8,
 }
 
 /// An operator command as a trace records it: `{"process":1,"command":"hold"}` (the body of
@@ -153,6 +206,10 @@ pub struct PartHeader {
     /// no file, every `#500`–`#999` null); a replay plans from this text, not the file.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub macro_vars: Option<String>,
+    /// The axes that ran on CiA 402 drives (`--io canopen` with `[[canopen.drive]]`); a replay
+    /// feeds their recorded feedback to the kernel.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drives: Vec<HeaderDrive>,
 }
 
 /// A file a part run read and its CRC-32.

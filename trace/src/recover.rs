@@ -116,6 +116,7 @@ mod tests {
             ticks: vec![
                 TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     forced: Vec::new(),
                     positions: Vec::new(),
                     t: 0,
@@ -124,6 +125,7 @@ mod tests {
                 },
                 TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     forced: Vec::new(),
                     positions: Vec::new(),
                     t: 7,

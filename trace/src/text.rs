@@ -84,6 +84,12 @@ pub fn format_record(r: &TickRecord, line: &mut String) {
         line.push_str(",\"cmd\":");
         line.push_str(&json);
     }
+    if !r.drives.is_empty()
+        && let Ok(json) = serde_json::to_string(&r.drives)
+    {
+        line.push_str(",\"drives\":");
+        line.push_str(&json);
+    }
     if !r.positions.is_empty() {
         line.push_str(",\"pos\":{");
         for (i, (a, bits)) in r.positions.iter().enumerate() {
@@ -181,10 +187,15 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
             return Err(err(n, format!("tick {t} does not follow tick {}", prev.t)));
         }
         for key in obj.keys() {
-            if !matches!(key.as_str(), "t" | "in" | "out" | "forced" | "pos" | "cmd") {
+            if !matches!(
+                key.as_str(),
+                "t" | "in" | "out" | "forced" | "pos" | "cmd" | "drives"
+            ) {
                 return Err(err(
                     n,
-                    format!("unknown key \"{key}\" (expected t, in, out, forced, pos, cmd)"),
+                    format!(
+                        "unknown key \"{key}\" (expected t, in, out, forced, pos, cmd, drives)"
+                    ),
                 ));
             }
         }
@@ -198,6 +209,12 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
                 serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"cmd\": {e}")))?
             }
         };
+        let drives = match obj.get("drives") {
+            None => Vec::new(),
+            Some(v) => {
+                serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"drives\": {e}")))?
+            }
+        };
         ticks.push(TickRecord {
             t,
             inputs,
@@ -205,6 +222,7 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
             forced,
             positions,
             commands,
+            drives,
         });
     }
     Ok(Trace {
@@ -270,6 +288,7 @@ mod tests {
             ticks: vec![
                 TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     t: 0,
                     inputs: vec![(sig("I0A5"), 1), (sig("W3K0"), 145)],
                     outputs: vec![(sig("U4A0"), 1)],
@@ -278,6 +297,7 @@ mod tests {
                 },
                 TickRecord {
                     commands: Vec::new(),
+                    drives: Vec::new(),
                     t: 7,
                     inputs: vec![],
                     outputs: vec![(sig("U4A0"), 0)],

@@ -69,17 +69,29 @@ pub struct DriveSimState {
     pub silent: bool,
     /// Hook: the drive stays *Switched on* when asked to enable operation.
     pub refuse_enable: bool,
+    /// Hook: at this SYNC number the drive faults with this code (as [`Self::inject_fault`]).
+    pub fault_at_sync: Option<(u64, u16)>,
+    /// Hook: from this SYNC number on no heartbeat is produced.
+    pub heartbeat_stop_at_sync: Option<u64>,
+    /// The heartbeat is produced on SYNCs (every `1017h` ms of interpolation periods) instead of
+    /// by the clock: the drive of a lock-step run in virtual time, where SYNCs come faster than
+    /// the wall clock.
+    pub sync_heartbeat: bool,
     /// Hook: writes to this object (index, sub-index) abort with this code.
     pub sdo_abort: Option<(u16, u8, u32)>,
     /// SYNCs received.
     pub syncs: u64,
-    /// Every (SYNC number, controlword, target) applied at a SYNC while operational.
+    /// Every (SYNC number, controlword, target) applied at a SYNC while operational (the first
+    /// [`APPLIED_CAP`]).
     pub applied: Vec<(u64, u16, i32)>,
     pending_fault: Option<u16>,
     pending_rpdo: Option<CanMsg>,
     history: VecDeque<i32>,
     exact_position: f64,
 }
+
+/// The most SYNCs [`DriveSimState::applied`] keeps (a long run's memory stays bounded).
+pub const APPLIED_CAP: usize = 100_000;
 
 /// One PDO's communication and mapping parameters.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -120,6 +132,9 @@ impl DriveSimState {
             heartbeat_stopped: false,
             silent: false,
             refuse_enable: false,
+            fault_at_sync: None,
+            heartbeat_stop_at_sync: None,
+            sync_heartbeat: false,
             sdo_abort: None,
             syncs: 0,
             applied: Vec::new(),
@@ -297,7 +312,26 @@ impl DriveSimState {
     /// One SYNC: the pending RPDO, the state machine, the axis model; the frames to send.
     fn on_sync(&mut self, id: u8) -> Vec<CanMsg> {
         self.syncs += 1;
+        if let Some((at, code)) = self.fault_at_sync
+            && at == self.syncs
+        {
+            self.pending_fault = Some(code);
+        }
+        if self.heartbeat_stop_at_sync == Some(self.syncs) {
+            self.heartbeat_stopped = true;
+        }
         let mut out = Vec::new();
+        if self.sync_heartbeat && self.heartbeat_ms > 0 && !self.silent && !self.heartbeat_stopped {
+            let period = self.period_s();
+            let every = if period > 0.0 {
+                ((f64::from(self.heartbeat_ms) / 1000.0 / period).round() as u64).max(1)
+            } else {
+                1
+            };
+            if self.syncs.is_multiple_of(every) {
+                out.push(CanMsg::new(cob::HEARTBEAT + u16::from(id), &[self.nmt]));
+            }
+        }
         if self.nmt != nmt::OPERATIONAL {
             return out;
         }
@@ -305,8 +339,10 @@ impl DriveSimState {
         if let Some(m) = self.pending_rpdo.take() {
             self.apply_rpdo(&m);
         }
-        self.applied
-            .push((self.syncs, self.controlword, self.target_position));
+        if self.applied.len() < APPLIED_CAP {
+            self.applied
+                .push((self.syncs, self.controlword, self.target_position));
+        }
         self.state = cia402::transition(self.state, self.controlword, last, self.refuse_enable);
         if let Some(code) = self.pending_fault.take() {
             self.state = State::Fault;
@@ -423,7 +459,7 @@ impl super::sim_node::SimNode for DriveSimState {
         self.heartbeat_ms
     }
     fn heartbeat_state(&self) -> Option<u8> {
-        (!self.silent && !self.heartbeat_stopped).then_some(self.nmt)
+        (!self.silent && !self.heartbeat_stopped && !self.sync_heartbeat).then_some(self.nmt)
     }
     fn handle(&mut self, id: u8, m: &CanMsg) -> Vec<CanMsg> {
         handle(self, id, m)

@@ -20,6 +20,8 @@ use packets::{IoAlarm, PacketIo};
 use tokio::sync::Notify;
 use tokio::time::Instant;
 
+use super::drive::link::{DriveTiming, MasterDrives, ScanDrives, link};
+use super::drive::{DriveSet, startup};
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
 use crate::exchange::{OutFrame, TripleReader, TripleWriter, triple};
@@ -63,6 +65,7 @@ pub struct CanopenIo {
     out_seq: u64,
     last_out: [u8; A_LEN],
     alarms: Vec<IoAlarm>,
+    drives: Option<ScanDrives>,
 }
 
 impl CanopenIo {
@@ -80,11 +83,30 @@ impl CanopenIo {
         CanopenIo::start_pinned(cfg, &[], connect)
     }
 
-    /// As [`CanopenIo::start`], the runtime's threads pinned to `io_cpus` (empty = unpinned; a
-    /// refusal by the kernel is warned about once and ignored).
+    /// As [`CanopenIo::start_pinned`], without CiA 402 drives (`cfg.drives` are not started).
     pub fn start_pinned<B, F>(
         cfg: &CanopenConfig,
         io_cpus: &[usize],
+        connect: impl FnOnce() -> F + Send + 'static,
+    ) -> std::io::Result<CanopenIo>
+    where
+        B: CanBus,
+        F: Future<Output = std::io::Result<B>> + Send + 'static,
+    {
+        let mut cfg = cfg.clone();
+        cfg.drives.clear();
+        CanopenIo::start_with_drives(&cfg, io_cpus, None, connect)
+    }
+
+    /// As [`CanopenIo::start`], the runtime's threads pinned to `io_cpus` (empty = unpinned; a
+    /// refusal by the kernel is warned about once and ignored), and the CiA 402 drives of
+    /// `cfg.drives` configured and started before the I/O nodes (all or none: a start-up
+    /// failure is the error, naming node, object and abort code), clocked by `timing` (default:
+    /// one SYNC per tick of 10 ms, not lock-step).
+    pub fn start_with_drives<B, F>(
+        cfg: &CanopenConfig,
+        io_cpus: &[usize],
+        timing: Option<DriveTiming>,
         connect: impl FnOnce() -> F + Send + 'static,
     ) -> std::io::Result<CanopenIo>
     where
@@ -101,12 +123,26 @@ impl CanopenIo {
             .build()?;
         // Not `block_on`: that panics when the caller is itself inside a tokio runtime.
         let (tx, rx) = std::sync::mpsc::channel();
-        runtime.spawn(async move {
-            let _ = tx.send(connect().await);
+        let timing = timing.unwrap_or(DriveTiming {
+            int_tick: Duration::from_millis(10),
+            syncs: 1,
+            lockstep: false,
         });
-        let bus = rx
+        let drive_cfg = cfg.drives.clone();
+        let sdo_timeout = cfg.sdo_timeout;
+        runtime.spawn(async move {
+            let _ = tx.send(connect_drives(connect, drive_cfg, timing, sdo_timeout).await);
+        });
+        let (bus, set) = rx
             .recv()
             .map_err(|_| std::io::Error::other("the CAN connect task ended"))??;
+        let (master_drives, scan_drives) = match set {
+            Some(set) => {
+                let (m, s) = link(set, &cfg.drives, timing);
+                (Some(m), Some(s))
+            }
+            None => (None, None),
+        };
         // Validation guarantees these; a hand-built config must not make the scan panic.
         let mut cfg = cfg.clone();
         for n in &mut cfg.nodes {
@@ -141,6 +177,7 @@ impl CanopenIo {
             data: [0; A_LEN],
             pending: Vec::new(),
             configured: false,
+            drives: master_drives,
         };
         runtime.spawn(master.run());
         let nodes = cfg
@@ -162,7 +199,13 @@ impl CanopenIo {
             out_seq: 0,
             last_out: [0; A_LEN],
             alarms: Vec::new(),
+            drives: scan_drives,
         })
+    }
+
+    /// The CiA 402 drives' scan side (orders for the next publish, the latest answers).
+    pub fn drives(&mut self) -> Option<&mut ScanDrives> {
+        self.drives.as_mut()
     }
 
     /// True while node `name` is operational and its heartbeat arrives (as of the last latch).
@@ -205,6 +248,18 @@ impl PacketIo for CanopenIo {
 
     fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
         self.threads.follow_scan();
+        if let Some(d) = &self.drives
+            && !d.wait(LOCKSTEP_LIMIT)
+        {
+            queue_alarm(
+                &mut self.alarms,
+                Some(IoAlarm {
+                    device: "canopen".into(),
+                    message: "the drives' answers did not come within 5 s (lock-step)".into(),
+                    cleared: false,
+                }),
+            );
+        }
         let (frame, _) = self.inputs.read();
         for (i, n) in self.nodes.iter_mut().enumerate() {
             let st = frame.nodes.get(i).copied().unwrap_or_default();
@@ -223,6 +278,9 @@ impl PacketIo for CanopenIo {
     }
 
     fn publish_outputs(&mut self, _tick: u64, packets: &[u8]) {
+        if let Some(d) = self.drives.as_mut() {
+            d.publish();
+        }
         self.hand_over(packets, false);
     }
 
@@ -270,6 +328,47 @@ struct Master<B> {
     pending: Vec<CanMsg>,
     /// False while the SDO configuration runs (boot-ups then must not start a node).
     configured: bool,
+    /// The CiA 402 drives, when io.toml has any.
+    drives: Option<MasterDrives>,
+}
+
+/// How long a lock-step scan waits for the drives' answers before it goes on with an alarm.
+const LOCKSTEP_LIMIT: Duration = Duration::from_secs(5);
+
+/// Connects the bus and starts the drives on it (all or none).
+async fn connect_drives<B, F>(
+    connect: impl FnOnce() -> F,
+    drives: Vec<crate::map::CanDrive>,
+    timing: DriveTiming,
+    sdo_timeout: Duration,
+) -> std::io::Result<(B, Option<DriveSet>)>
+where
+    B: CanBus,
+    F: Future<Output = std::io::Result<B>>,
+{
+    let mut bus = connect().await?;
+    if drives.is_empty() {
+        return Ok((bus, None));
+    }
+    let mut seen = Vec::new();
+    let statuswords = startup::start(
+        &mut bus,
+        &drives,
+        timing.int_tick,
+        sdo_timeout,
+        &mut |m: &CanMsg| {
+            seen.push(*m);
+        },
+    )
+    .await
+    .map_err(|e| std::io::Error::other(e.to_string()))?;
+    let mut set = DriveSet::new(&drives, timing.int_tick);
+    let now = Instant::now();
+    for m in &seen {
+        set.on_frame(m, now);
+    }
+    set.started(now, &statuswords);
+    Ok((bus, Some(set)))
 }
 
 impl<B: CanBus> Master<B> {
@@ -358,6 +457,9 @@ impl<B: CanBus> Master<B> {
         if m.extended || m.rtr {
             return;
         }
+        if let Some(d) = self.drives.as_mut() {
+            self.pending.extend(d.on_frame(m));
+        }
         let id = m.id as u16;
         for (i, node) in self.cfg.nodes.iter().enumerate() {
             let nid = node.node_id;
@@ -416,7 +518,20 @@ impl<B: CanBus> Master<B> {
             }
             self.acked.store(seq, Ordering::Release);
         }
-        let _ = self.bus.send(&CanMsg::new(cob::SYNC, &[])).await;
+        match self.drives.take() {
+            Some(mut d) => {
+                let mut other = Vec::new();
+                // A broken bus shows as missing answers (unhealthy feedback, then heartbeats).
+                let _ = d.tick(&mut self.bus, &mut other).await;
+                self.drives = Some(d);
+                for m in &other {
+                    self.on_frame(m);
+                }
+            }
+            None => {
+                let _ = self.bus.send(&CanMsg::new(cob::SYNC, &[])).await;
+            }
+        }
     }
 
     fn fault(&self, i: usize, now: Instant) -> Fault {

@@ -15,7 +15,7 @@ use std::ops::Range;
 use toml::Spanned;
 
 use super::{Ctx, codes};
-use crate::map::{CanDrive, DeclaredAxis, DriveMode, RawCanDrive};
+use crate::map::{CanDrive, DeclaredAxis, DriveMode, DriveSimHooks, RawCanDrive, RawDriveSim};
 
 /// TPA codes that error 226 forbids for an axis driven over CANopen, with their names.
 const FORBIDDEN_TPA: [(u32, &str); 5] = [
@@ -37,6 +37,7 @@ pub(super) fn drives(
     raw: &[Spanned<RawCanDrive>],
     io_nodes: &HashMap<u8, Range<usize>>,
     axes: Option<&[DeclaredAxis]>,
+    virtual_bus: bool,
 ) -> Vec<CanDrive> {
     let mut out = Vec::new();
     let mut nodes: HashMap<u8, Range<usize>> = HashMap::new();
@@ -87,9 +88,45 @@ pub(super) fn drives(
             mode,
             heartbeat: cx.ms(&r.heartbeat_ms, 100, "heartbeat_ms"),
             sdo: r.sdo.iter().map(|s| *s.get_ref()).collect(),
+            simulate: r
+                .simulate
+                .as_ref()
+                .map(|h| simulate(cx, h, virtual_bus))
+                .unwrap_or_default(),
         });
     }
     out
+}
+
+/// The simulated drive's test hooks: only on the virtual bus; a fault needs its SYNC and code.
+fn simulate(cx: &mut Ctx, h: &Spanned<RawDriveSim>, virtual_bus: bool) -> DriveSimHooks {
+    let r = h.get_ref();
+    if !virtual_bus {
+        cx.err(
+            codes::DRIVE_SIMULATE,
+            h.span(),
+            "`simulate` rehearses faults on simulated drives: it needs transport = \"virtual\"",
+            "remove it for a real bus",
+        );
+    }
+    let fault = match (r.fault_at_sync, r.fault_code) {
+        (Some(at), Some(code)) if at > 0 && code != 0 => Some((at, code)),
+        (None, None) => None,
+        _ => {
+            cx.err(
+                codes::DRIVE_SIMULATE,
+                h.span(),
+                "a simulated fault needs both fault_at_sync (≥ 1) and fault_code (not 0)",
+                "e.g. simulate = { fault_at_sync = 2000, fault_code = 0x5530 }",
+            );
+            None
+        }
+    };
+    DriveSimHooks {
+        fault,
+        heartbeat_stop: r.heartbeat_stop_at_sync,
+        refuse_enable: r.refuse_enable,
+    }
 }
 
 fn axis_name(cx: &mut Ctx, s: &Spanned<String>) -> Option<char> {

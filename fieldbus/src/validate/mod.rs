@@ -90,8 +90,8 @@ pub mod codes {
     pub const DRIVE_AXIS_TYPE: u32 = 3076;
     /// A drive failed its start-up (no answer or an SDO abort): no drive is enabled.
     pub const DRIVE_START: u32 = 3077;
-    /// `run` was given drive entries, which are validated but not yet driven by a run.
-    pub const DRIVES_NOT_DRIVEN: u32 = 3078;
+    /// A drive's `simulate` hooks are incomplete or not on the virtual bus.
+    pub const DRIVE_SIMULATE: u32 = 3078;
 }
 
 /// Default HMI server address.
@@ -298,7 +298,8 @@ pub fn parse_map_with_axes(
             }
         }
         let mut cfg = cfg;
-        cfg.drives = drives::drives(&mut cx, &c.get_ref().drive, &ids, axes);
+        let virtual_bus = cfg.transport == crate::map::TransportConfig::Virtual;
+        cfg.drives = drives::drives(&mut cx, &c.get_ref().drive, &ids, axes, virtual_bus);
         map.canopen = Some(cfg);
     }
 

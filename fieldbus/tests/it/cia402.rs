@@ -29,6 +29,7 @@ fn drive(axis: char, node_id: u8, mode: DriveMode, cpu: f64) -> CanDrive {
         // Long enough that a loaded test machine never loses a heartbeat by accident.
         heartbeat: Duration::from_millis(200),
         sdo: Vec::new(),
+        simulate: Default::default(),
     }
 }
 

@@ -76,6 +76,7 @@ fn valid_drive_entries_parse_as_written() {
                 mode: DriveMode::Csp,
                 heartbeat: Duration::from_millis(50),
                 sdo: vec![],
+                simulate: Default::default(),
             },
             CanDrive {
                 process: 1,
@@ -90,6 +91,7 @@ fn valid_drive_entries_parse_as_written() {
                     value: 100_000,
                     size: 4
                 }],
+                simulate: Default::default(),
             },
             CanDrive {
                 process: 1,
@@ -99,6 +101,7 @@ fn valid_drive_entries_parse_as_written() {
                 mode: DriveMode::Csv,
                 heartbeat: Duration::from_millis(100),
                 sdo: vec![],
+                simulate: Default::default(),
             },
         ]
     );
@@ -246,7 +249,7 @@ fn every_drive_error_is_located() {
                 codes::SYNTAX,
                 11,
                 1,
-                "unknown field `gain`, expected one of `axis`, `process`, `node_id`, `counts_per_unit`, `mode`, `heartbeat_ms`, `sdo`",
+                "unknown field `gain`, expected one of `axis`, `process`, `node_id`, `counts_per_unit`, `mode`, `heartbeat_ms`, `sdo`, `simulate`",
             )],
         ),
     ];
@@ -328,10 +331,8 @@ fn the_lathe_map_with_drives_for_x_z_and_s_validates_against_its_axcfil() {
         axes.iter().map(|a| (a.name, a.tpa)).collect::<Vec<_>>(),
         vec![('X', 0x41), ('Z', 0x1), ('S', 0x820)]
     );
-    let text = std::fs::read_to_string(dir.join("io.toml")).expect("io.toml")
-        + &entry("axis = \"X\"\nnode_id = 3\ncounts_per_unit = 10000\nmode = \"csp\"")
-        + &entry("axis = \"Z\"\nnode_id = 4\ncounts_per_unit = 10000\nmode = \"csp\"")
-        + &entry("axis = \"S\"\nnode_id = 5\ncounts_per_unit = 4096\nmode = \"csv\"");
+    // The bundled io.toml carries the drives of X, Z and the spindle.
+    let text = std::fs::read_to_string(dir.join("io.toml")).expect("io.toml");
     let declared = DeclaredConnectors {
         inputs: vec![0, 1],
         outputs: vec![4, 5],
@@ -349,7 +350,7 @@ fn the_lathe_map_with_drives_for_x_z_and_s_validates_against_its_axcfil() {
 }
 
 #[test]
-fn run_refuses_drive_entries_it_does_not_drive_yet() {
+fn a_plain_run_starts_the_drives_beside_the_io_nodes_and_keeps_them_disabled() {
     let text = format!(
         "{HEAD}{}",
         entry("axis = \"Z\"\nnode_id = 3\ncounts_per_unit = 1\nmode = \"csp\"")
@@ -360,13 +361,19 @@ fn run_refuses_drive_entries_it_does_not_drive_yet() {
         &DeclaredConnectors::default(),
         Some(&axes()),
     );
-    let Err(diags) = fieldbus::open_map(fieldbus::IoKind::Canopen, &map.expect("valid")) else {
-        panic!("run must not silently ignore the drives");
-    };
-    assert_eq!(diags.len(), 1);
-    assert_eq!(diags[0].code, codes::DRIVES_NOT_DRIVEN);
-    assert_eq!(
-        diags[0].message,
-        "io.toml declares CiA 402 drives (axis Z on node 3 first): drive entries are validated by `ncplc check` but not yet driven by `ncplc run`"
-    );
+    let cfg = map.expect("valid").canopen.expect("canopen");
+    let mut io = fieldbus::start_canopen(&cfg, &[], None).expect("the simulated drive starts");
+    let drives = io.drives().expect("the drive is started");
+    assert_eq!(drives.drives().len(), 1);
+    // Nothing orders it: after a tick it answers with its power stage off (Shutdown: Ready to
+    // switch on, statusword 0x0221).
+    let mut packets = vec![0u8; packets::PACKETS_LEN];
+    packets::PacketIo::publish_outputs(&mut io, 0, &packets);
+    std::thread::sleep(std::time::Duration::from_millis(50));
+    packets::PacketIo::latch_inputs(&mut io, 1, &mut packets);
+    let a = io.drives().expect("drives").answers().clone();
+    assert_eq!(a.seq, 1);
+    assert_eq!(a.drives[0].values, [Some(0.0)]);
+    assert_eq!(a.drives[0].statusword & 0x6F, 0x21);
+    assert_eq!(a.drives[0].fault, None);
 }

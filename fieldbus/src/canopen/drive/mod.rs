@@ -11,6 +11,7 @@
 //! to SYNC n.
 
 pub mod cia402;
+pub mod link;
 pub mod set;
 pub mod startup;
 
@@ -19,6 +20,7 @@ use std::io;
 use tokio::time::{Duration, Instant};
 
 pub use cia402::State;
+pub use link::{DriveAnswer, DriveAnswers, DriveOrder, DriveOrders, DriveTiming, ScanDrives};
 pub use set::{AxisId, DriveCommand, DriveFault, DriveFeedback, DriveSet, FaultCause};
 pub use startup::DriveStartError;
 

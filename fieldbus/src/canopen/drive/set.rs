@@ -429,6 +429,7 @@ mod tests {
             mode: DriveMode::Csp,
             heartbeat: Duration::from_millis(50),
             sdo: Vec::new(),
+            simulate: Default::default(),
         };
         let mut s = DriveSet::new(&[d], Duration::from_millis(10));
         let now = Instant::now();

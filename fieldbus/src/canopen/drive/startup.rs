@@ -246,6 +246,7 @@ mod tests {
             mode: DriveMode::Csv,
             heartbeat: Duration::from_millis(50),
             sdo: vec![w(0x2000, 1, 7, 1)],
+            simulate: Default::default(),
         };
         let c = configuration(&d, Duration::from_millis(4));
         assert_eq!(c[0], w(0x6060, 0, 9, 1));

@@ -1,0 +1,319 @@
+//! The drives inside the CANopen master task: one logic tick's orders in, one SYNC per
+//! interpolation tick on the bus, the drives' answers out.
+//!
+//! The scan (the CNC kernel's step) writes a [`DriveOrders`] per logic tick: per drive, the set
+//! points of the tick's interpolation ticks and the power request. When the scan publishes, the
+//! master task runs [`MasterDrives::tick`]: for each interpolation tick n it commands every drive
+//! with set point n, sends the RPDOs, then SYNC n, and waits for the drives' TPDOs (and a
+//! pending `603Fh` read) up to the answer timeout; the answers to the tick's SYNCs go back as one
+//! [`DriveAnswers`], which the scan takes at its next latch. In lock-step mode (virtual time on
+//! the virtual bus) the scan waits for those answers before it latches, so a run is a function
+//! of its inputs; in real time it never waits and takes the answers that are there.
+//!
+//! Invariants: the target in the RPDO before SYNC n is set point n of the orders being served;
+//! an answer that is not healthy (faulted, silent, not operational) is `None`, never a position.
+
+use std::io;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use tokio::time::{Duration, Instant};
+
+use super::set::{AxisId, DriveCommand, DriveFault, DriveSet};
+use crate::canopen::transport::CanBus;
+use crate::canopen::{CanMsg, cob};
+use crate::exchange::{TripleReader, TripleWriter, triple};
+use crate::map::{CanDrive, DriveMode};
+
+/// How the drives are clocked.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DriveTiming {
+    /// The interpolation tick: the SYNC period and `60C2h`.
+    pub int_tick: Duration,
+    /// SYNCs per logic tick (interpolation ticks per logic tick).
+    pub syncs: usize,
+    /// Lock-step: the scan waits for each tick's answers (virtual time on the virtual bus).
+    pub lockstep: bool,
+}
+
+/// What the scan orders one drive for the next logic tick.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DriveOrder {
+    /// The set point of each interpolation tick (axis units; a `csv` spindle: revolutions per
+    /// second); missing ones repeat the last.
+    pub set_points: Vec<f64>,
+    /// Power the drive.
+    pub enable: bool,
+    /// Quick stop.
+    pub quick_stop: bool,
+    /// Fault reset (a rising controlword bit 7).
+    pub fault_reset: bool,
+}
+
+/// One logic tick's orders, per drive in io.toml order.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DriveOrders {
+    /// The scan's publish count (0: nothing ordered yet).
+    pub seq: u64,
+    /// Per drive.
+    pub drives: Vec<DriveOrder>,
+}
+
+/// One drive's answers to a logic tick's SYNCs.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DriveAnswer {
+    /// Per SYNC: the actual value (position for `csp`, velocity for `csv`, axis units), `None`
+    /// without a healthy answer.
+    pub values: Vec<Option<f64>>,
+    /// The statusword of the last answer.
+    pub statusword: u16,
+    /// The drive's fault, while it has one.
+    pub fault: Option<DriveFault>,
+}
+
+/// The answers to one logic tick's orders.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct DriveAnswers {
+    /// The `seq` of the orders answered.
+    pub seq: u64,
+    /// Per drive, in io.toml order.
+    pub drives: Vec<DriveAnswer>,
+}
+
+/// The master task's half.
+pub(crate) struct MasterDrives {
+    set: DriveSet,
+    cfg: Vec<CanDrive>,
+    timing: DriveTiming,
+    answer_timeout: Duration,
+    orders: TripleReader<DriveOrders>,
+    answers: TripleWriter<DriveAnswers>,
+    done: Arc<AtomicU64>,
+    last_order: Vec<DriveOrder>,
+    /// In lock-step mode the drives' clock is the bus's: `base` + SYNCs sent × the
+    /// interpolation tick (the heartbeat consumer then counts SYNCs, not the wall clock, which a
+    /// run in virtual time outpaces).
+    base: Instant,
+    syncs_sent: u32,
+}
+
+/// The scan's half.
+pub struct ScanDrives {
+    cfg: Vec<CanDrive>,
+    orders: TripleWriter<DriveOrders>,
+    answers: TripleReader<DriveAnswers>,
+    done: Arc<AtomicU64>,
+    seq: u64,
+    lockstep: bool,
+}
+
+/// Both halves around a started [`DriveSet`].
+pub(crate) fn link(
+    set: DriveSet,
+    cfg: &[CanDrive],
+    timing: DriveTiming,
+) -> (MasterDrives, ScanDrives) {
+    let n = cfg.len();
+    let (otx, orx) = triple(DriveOrders {
+        seq: 0,
+        drives: vec![DriveOrder::default(); n],
+    });
+    let (atx, arx) = triple(DriveAnswers {
+        seq: 0,
+        drives: vec![DriveAnswer::default(); n],
+    });
+    let done = Arc::new(AtomicU64::new(0));
+    let answer_timeout = if timing.lockstep {
+        Duration::from_millis(100)
+    } else {
+        timing.int_tick / 2
+    };
+    (
+        MasterDrives {
+            set,
+            cfg: cfg.to_vec(),
+            timing,
+            answer_timeout,
+            orders: orx,
+            answers: atx,
+            done: done.clone(),
+            last_order: vec![DriveOrder::default(); n],
+            base: Instant::now(),
+            syncs_sent: 0,
+        },
+        ScanDrives {
+            cfg: cfg.to_vec(),
+            orders: otx,
+            answers: arx,
+            done,
+            seq: 0,
+            lockstep: timing.lockstep,
+        },
+    )
+}
+
+impl MasterDrives {
+    /// Passes a frame that arrived between ticks (heartbeat, EMCY) to the drives; returns the
+    /// frames to send (a `603Fh` read).
+    pub(crate) fn on_frame(&mut self, m: &CanMsg) -> Vec<CanMsg> {
+        let now = self.now();
+        self.set.on_frame(m, now)
+    }
+
+    /// The drives' clock: the wall clock, or in lock-step mode the bus's SYNC count.
+    fn now(&self) -> Instant {
+        if self.timing.lockstep {
+            self.base + self.timing.int_tick * self.syncs_sent
+        } else {
+            Instant::now()
+        }
+    }
+
+    /// One logic tick: the SYNCs of its interpolation ticks with the drives' RPDOs before each;
+    /// frames that are not the drives' go to `other`.
+    pub(crate) async fn tick<B: CanBus>(
+        &mut self,
+        bus: &mut B,
+        other: &mut Vec<CanMsg>,
+    ) -> io::Result<()> {
+        let (orders, _) = self.orders.read();
+        let seq = orders.seq;
+        if seq > 0 {
+            self.last_order.clone_from(&orders.drives);
+        }
+        let axes: Vec<AxisId> = self.set.axes().collect();
+        let syncs = self.timing.syncs.max(1);
+        let start = Instant::now();
+        let mut out = DriveAnswers {
+            seq,
+            drives: vec![DriveAnswer::default(); axes.len()],
+        };
+        for k in 0..syncs {
+            for (j, axis) in axes.iter().enumerate() {
+                let o = self.last_order.get(j).cloned().unwrap_or_default();
+                let held = self
+                    .set
+                    .feedback(*axis)
+                    .map_or(0.0, |f| match self.cfg[j].mode {
+                        DriveMode::Csp => f.position,
+                        DriveMode::Csv => 0.0,
+                    });
+                let set_point = o
+                    .set_points
+                    .get(k)
+                    .or(o.set_points.last())
+                    .copied()
+                    .unwrap_or(held);
+                self.set.command(
+                    *axis,
+                    DriveCommand {
+                        set_point,
+                        enable: o.enable,
+                        quick_stop: o.quick_stop,
+                        fault_reset: o.fault_reset,
+                    },
+                );
+            }
+            for m in self.set.rpdos(self.now()) {
+                bus.send(&m).await?;
+            }
+            bus.send(&CanMsg::new(cob::SYNC, &[])).await?;
+            self.syncs_sent = self.syncs_sent.saturating_add(1);
+            let deadline = Instant::now() + self.answer_timeout;
+            while !self.set.all_answered() || self.set.code_pending() {
+                let m = match tokio::time::timeout_at(deadline, bus.recv()).await {
+                    Err(_) => break,
+                    Ok(m) => m?,
+                };
+                if !self.ours(&m) {
+                    other.push(m);
+                }
+                let now = self.now();
+                for reply in self.set.on_frame(&m, now) {
+                    bus.send(&reply).await?;
+                }
+            }
+            let now = self.now();
+            self.set.after_sync(now);
+            for (j, axis) in axes.iter().enumerate() {
+                let Some(f) = self.set.feedback(*axis) else {
+                    continue;
+                };
+                let a = &mut out.drives[j];
+                let value = match self.cfg[j].mode {
+                    DriveMode::Csp => f.position,
+                    DriveMode::Csv => f.velocity,
+                };
+                a.values.push(f.healthy.then_some(value));
+                a.statusword = f.state.statusword();
+                a.fault = f.fault;
+            }
+            if !self.timing.lockstep && k + 1 < syncs {
+                let next = start + self.timing.int_tick * (k as u32 + 1);
+                tokio::time::sleep_until(next).await;
+            }
+        }
+        let buf = self.answers.buf();
+        *buf = out;
+        self.answers.publish();
+        self.done.store(seq, Ordering::Release);
+        Ok(())
+    }
+
+    /// True for a frame of one of the drives (TPDO1, EMCY, heartbeat, SDO answer).
+    fn ours(&self, m: &CanMsg) -> bool {
+        let id = m.id as u16;
+        self.cfg.iter().any(|d| {
+            let n = u16::from(d.node_id);
+            id == cob::tpdo(1, d.node_id)
+                || id == 0x080 + n
+                || id == cob::HEARTBEAT + n
+                || id == cob::SDO_TX + n
+        })
+    }
+}
+
+impl ScanDrives {
+    /// The drives, in io.toml order.
+    pub fn drives(&self) -> &[CanDrive] {
+        &self.cfg
+    }
+
+    /// The orders for the next publish (every drive's entry is the scan's to fill).
+    pub fn orders(&mut self) -> &mut Vec<DriveOrder> {
+        &mut self.orders.buf().drives
+    }
+
+    /// Hands the orders to the master (at the scan's publish).
+    pub(crate) fn publish(&mut self) {
+        self.seq += 1;
+        self.orders.buf().seq = self.seq;
+        self.orders.publish();
+    }
+
+    /// In lock-step mode, waits (at most `limit`) until the master answered the last published
+    /// orders; false when it did not in time.
+    pub(crate) fn wait(&self, limit: std::time::Duration) -> bool {
+        if !self.lockstep || self.seq == 0 {
+            return true;
+        }
+        let deadline = std::time::Instant::now() + limit;
+        while self.done.load(Ordering::Acquire) < self.seq {
+            if std::time::Instant::now() > deadline {
+                return false;
+            }
+            std::thread::sleep(std::time::Duration::from_micros(20));
+        }
+        true
+    }
+
+    /// How many orders the scan has published (the `seq` of the last ones).
+    pub fn published(&self) -> u64 {
+        self.seq
+    }
+
+    /// The latest answers.
+    pub fn answers(&mut self) -> &DriveAnswers {
+        self.answers.read().0
+    }
+}
