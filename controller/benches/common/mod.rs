@@ -26,7 +26,8 @@ pub fn part_scheduler(
     let blocks = plan_text(&m.dir, name, text, None, false).unwrap_or_else(|e| panic!("{e}"));
     let facts = Facts::load(&m.dir).unwrap_or_else(|e| panic!("{e}"));
     let axcfil = &facts.machine.axcfil;
-    let interp = |cfg: &cnc::ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
+    let complex = sim::machine_view::complex_speed(&m.dir).unwrap_or_else(|e| panic!("{e}"));
+    let interp = |cfg: &cnc::ProcessConfig, start: &[f64]| make_interp(axcfil, complex, cfg, start);
     let setup = KernelSetup {
         axcfil,
         iocfil: facts.machine.iocfil.as_ref(),
