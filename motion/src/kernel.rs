@@ -374,13 +374,14 @@ impl Kernel {
             return n - 1;
         }
         let theta = turn_angle(&prev.seg.tangent(true), &next.seg.tangent(false));
-        // Complex speed under contour control (MEFI appendix A6): a joint sharper than R39 is
-        // the end of smoothness (a stop); otherwise the accuracy and dynamic criteria cap it,
-        // and a line shorter than R386 keeps its joint speeds inside.
+        // Complex speed under contour control (MEFI appendix A6): a joint sharper than R39, or
+        // into a block shorter than R382, is the end of smoothness (a stop); otherwise the
+        // accuracy and dynamic criteria cap it, and a line shorter than R386 keeps its joint
+        // speeds inside.
         let mut crit = f64::INFINITY;
         if complex && prev.motion == Motion::Feed && next.motion == Motion::Feed {
             let cs = &self.cfg.complex;
-            if theta > cs.angle {
+            if theta > cs.angle || next.len_orig < cs.interrupt_len {
                 prev.v_junction = 0.0;
                 if !executing {
                     plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);
