@@ -42,7 +42,6 @@ impl MotionKernel {
         }
         // The process checks the active zone (LO1 or LO2 by ZONE2) and the CUB box itself
         // (`crate::zones`): the motion kernel's own LO1 check would refuse what LO2 allows.
-        let mut mc = mc;
         for a in &mut mc.axes {
             (a.soft_min, a.soft_max) = (None, None);
         }

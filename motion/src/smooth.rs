@@ -220,7 +220,8 @@ fn weighted_quadratic_at(
     // Cramer's rule for the intercept of [s0 s1 s2; s1 s2 s3; s2 s3 s4] c = b.
     let det = s0 * (s2 * s4 - s3 * s3) - s1 * (s1 * s4 - s3 * s2) + s2 * (s1 * s3 - s2 * s2);
     let scale = s0 * s2 * s4;
-    if !(det.abs() > 1e-12 * scale.abs()) {
+    // A NaN determinant is no fit either.
+    if det.abs().partial_cmp(&(1e-12 * scale.abs())) != Some(std::cmp::Ordering::Greater) {
         return None;
     }
     let c0 = (b0 * (s2 * s4 - s3 * s3) - b1 * (s1 * s4 - s2 * s3) + b2 * (s1 * s3 - s2 * s2)) / det;
