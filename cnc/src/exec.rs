@@ -11,8 +11,10 @@
 //! without one starts (the canonical blocks do not carry G27/G28, so continuous mode is the run of
 //! consecutive blocks with immediate functions).
 //!
-//! Look-ahead: while a block moves, the next block is queued in the interpolator when neither has
-//! functions or requests (so paths blend); any function is a sequence point, which also makes a
+//! Look-ahead: while a block moves, the following blocks are queued in the interpolator as long as
+//! it has room and neither they nor the block before them have functions or requests (so paths
+//! blend); the process runs the look-ahead again before every interpolation tick, so the window
+//! stays as full as `ncplc nc run` keeps it. Any function is a sequence point, which also makes a
 //! calculation-blocking function (`m_request` 04) wait for its FIN. In STEP mode every block ends
 //! with a stop.
 
@@ -242,20 +244,30 @@ impl Process {
         Some((groups, true))
     }
 
-    /// Queues following motion-only blocks behind the current one.
-    fn look_ahead(&mut self) {
+    /// Queues following motion-only blocks behind the current one, as long as the interpolator
+    /// has room (its look-ahead window). Where the run of such blocks ends (the program's end, a
+    /// block with functions or requests, STEP mode) the interpolator is told that nothing more
+    /// comes before the path stops ([`crate::interp::Interpolator::end_of_input`]).
+    pub(crate) fn look_ahead(&mut self) {
         if self.mode == Mode::Step || !self.pending_after.is_empty() {
+            self.end_of_input();
             return;
         }
         while let Some(&last) = self.in_motion.back() {
+            if self.interp.space() == 0 {
+                return;
+            }
             let cur = &self.program[last];
-            if self.requests(cur) != 0 || self.interp.space() == 0 || self.in_motion.len() >= 16 {
+            if self.requests(cur) != 0 {
+                self.end_of_input();
                 return;
             }
             let Some(next) = self.program.get(last + 1).cloned() else {
+                self.end_of_input();
                 return;
             };
             if !is_motion(&next) || !self.quiet(&next) {
+                self.end_of_input();
                 return;
             }
             let alt = crate::alt_feed::apply(&next, self.cfg.qfd, self.qckfd);
@@ -265,11 +277,23 @@ impl Process {
                     .push(last as u64 + 2, alt.as_ref().unwrap_or(&next))
                     .is_err()
             {
+                // Refused when it becomes the current block (with its alarm); what is queued
+                // runs to its end first.
+                self.end_of_input();
                 return;
             }
             self.queued_end = end_point(&self.cfg.axis_names(), &next, &self.queued_end);
             self.in_motion.push_back(last + 1);
             self.next = last + 1;
+        }
+    }
+
+    /// The interpolator's held blocks go to its queue; a block it then refuses stops the process
+    /// with an alarm naming it.
+    fn end_of_input(&mut self) {
+        if let Err(e) = self.interp.end_of_input() {
+            let block = self.block_label();
+            self.raise(format!("motion of {block}: {e}"), true);
         }
     }
 

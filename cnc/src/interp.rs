@@ -23,6 +23,12 @@ pub struct TickOut {
 pub trait Interpolator: Send {
     /// Queues the motion of a canonical block (rapid, line, arc or dwell) under `tag`.
     fn push(&mut self, tag: u64, block: &Canon) -> Result<(), String>;
+    /// Every block before the path stops is queued (the program ends, or the next block waits
+    /// for functions or is not run ahead): blocks the interpolator holds back to smooth them go
+    /// to its queue now.
+    fn end_of_input(&mut self) -> Result<(), String> {
+        Ok(())
+    }
     /// Free places in the queue.
     fn space(&self) -> usize;
     /// Feed override in percent.
@@ -63,8 +69,14 @@ pub trait Interpolator: Send {
     }
     /// The acceleration law from the PLC's ACC1/ACC2 bits: 0 linear, 1 S-shaped, 2 exponential.
     fn set_law(&mut self, _code: u8) {}
-    /// The trajectory header line (`ncplc nc run --trajectory` format), when it has one.
-    fn trajectory_header(&self) -> Option<String> {
+    /// The `ncplc nc run` summary line about contour control for a program with
+    /// `contour_blocks` blocks under it (None: none, or no such interpolator).
+    fn contour_summary(&self, _contour_blocks: usize) -> Option<String> {
+        None
+    }
+    /// The trajectory header line (`ncplc nc run --trajectory` format), when it has one;
+    /// `contour_blocks` is the number of the program's blocks under contour control.
+    fn trajectory_header(&self, _contour_blocks: usize) -> Option<String> {
         None
     }
 }

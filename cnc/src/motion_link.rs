@@ -1,5 +1,11 @@
-//! The `motion` crate's kernel as the process's [`Interpolator`]: its configuration from AXCFIL,
-//! canonical blocks turned into moves in the process's axis order.
+//! The `motion` crate's kernel as the process's [`Interpolator`]: its configuration from AXCFIL
+//! and the complex-speed constants (`nc/CONSTANTS`), canonical blocks turned into moves in the
+//! process's axis order.
+//!
+//! Contour control (Fanuc G05.1 Q1 / G08 P1, MEFI G23: `BlockModal::contour`) is switched on the
+//! kernel before each block is pushed, exactly as `ncplc nc run` does, so a part run plans and
+//! smooths a program as `nc run` does (the executor pushes blocks before every interpolation tick
+//! and calls [`Interpolator::end_of_input`] where `nc run` would push a block with functions).
 
 use partprogram::Canon;
 
@@ -15,15 +21,17 @@ pub struct MotionKernel {
 }
 
 impl MotionKernel {
-    /// The kernel of process `cfg.number` configured from AXCFIL, at rest at `start`; its axes must
-    /// be the process's coordinated axes in the same order.
+    /// The kernel of process `cfg.number` configured from AXCFIL and the complex-speed constants,
+    /// at rest at `start`; its axes must be the process's coordinated axes in the same order.
     pub fn new(
         axcfil: &characterization::axcfil::Axcfil,
         cfg: &ProcessConfig,
         start: &[f64],
+        complex: motion::complex::ComplexSpeed,
     ) -> Result<MotionKernel, String> {
-        let mc = motion::config_from_axcfil(axcfil, u32::from(cfg.number))
+        let mut mc = motion::config_from_axcfil(axcfil, u32::from(cfg.number))
             .map_err(|e| format!("motion configuration: {e}"))?;
+        mc.complex = complex;
         let axes = mc.axis_names();
         if axes != cfg.axis_names() {
             return Err(format!(
@@ -34,7 +42,6 @@ impl MotionKernel {
         }
         // The process checks the active zone (LO1 or LO2 by ZONE2) and the CUB box itself
         // (`crate::zones`): the motion kernel's own LO1 check would refuse what LO2 allows.
-        let mut mc = mc;
         for a in &mut mc.axes {
             (a.soft_min, a.soft_max) = (None, None);
         }
@@ -56,7 +63,13 @@ impl Interpolator for MotionKernel {
         let mut b = block.clone();
         b.end.retain(|(a, _)| self.axes.contains(a));
         let m = motion::Move::from_canon(tag, &b, &self.axes).map_err(|e| e.to_string())?;
+        self.kernel
+            .set_smoothing(block.modal.contour)
+            .map_err(|e| e.to_string())?;
         self.kernel.push(m).map_err(|e| e.to_string())
+    }
+    fn end_of_input(&mut self) -> Result<(), String> {
+        self.kernel.end_of_input().map_err(|e| e.to_string())
     }
     fn space(&self) -> usize {
         self.kernel.space()
@@ -116,7 +129,12 @@ impl Interpolator for MotionKernel {
             self.kernel.set_law(law);
         }
     }
-    fn trajectory_header(&self) -> Option<String> {
+    fn contour_summary(&self, contour_blocks: usize) -> Option<String> {
+        let c = self.kernel.config();
+        (contour_blocks > 0)
+            .then(|| motion::smooth::summary_line(c.tolerance_mm, contour_blocks, &c.complex))
+    }
+    fn trajectory_header(&self, contour_blocks: usize) -> Option<String> {
         let c = self.kernel.config();
         let num = |v: f64| partprogram::canon::num(v);
         let opt = |v: Option<f64>| v.map_or("null".to_string(), num);
@@ -135,12 +153,13 @@ impl Interpolator for MotionKernel {
             .collect();
         let axes: Vec<String> = self.axes.iter().map(|a| format!("\"{a}\"")).collect();
         Some(format!(
-            "{{\"tick_s\":{},\"axes\":[{}],\"limits\":{{{}}},\"tolerance_mm\":{},\"law\":\"{}\"}}",
+            "{{\"tick_s\":{},\"axes\":[{}],\"limits\":{{{}}},\"tolerance_mm\":{},\"law\":\"{}\",\"contour\":{}}}",
             num(c.tick_s),
             axes.join(","),
             limits.join(","),
             num(c.tolerance_mm),
-            c.law.name()
+            c.law.name(),
+            motion::smooth::header_json(c.tolerance_mm, contour_blocks, &c.complex)
         ))
     }
     fn set_position(&mut self, pos: &[f64]) -> Result<(), String> {

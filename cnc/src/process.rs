@@ -10,8 +10,9 @@
 //!    the law at the last set points ([`crate::spindle`]: G96 follows the radius), the drives
 //!    follow each set point with the velocity feed-forward of [`crate::servo`] (on for a
 //!    programmed move in MDI/AUTO/STEP while UEP = 0), [`crate::following`] checks each axis's
-//!    error against the SRV limit in force, DEN tags are collected; advance the executor again so
-//!    that the next block starts without a gap;
+//!    error against the SRV limit in force, DEN tags are collected; before each of these ticks the
+//!    executor's look-ahead queues what fits (as `ncplc nc run` does); advance the executor again
+//!    so that the next block starts without a gap;
 //! 5. write the CNC→PLC signals into `image`.
 
 use std::collections::VecDeque;
@@ -591,6 +592,15 @@ impl Process {
                 *top = top.max(sp.actual().abs());
                 self.interp.set_spindle_position(sp.position());
             }
+            // Blocks are queued before every interpolation tick, as `ncplc nc run` queues them:
+            // the same program gives the same look-ahead window and the same set points.
+            if self.run == Interp::Running
+                && self.on
+                && self.mode != Mode::Home
+                && self.phase == Phase::Motion
+            {
+                self.look_ahead();
+            }
             self.tick_out.finished.clear();
             self.interp.tick(&mut self.tick_out);
             // A programmed block's motion, including the tick in which the last one ends (the
@@ -800,10 +810,17 @@ impl Process {
     }
 
     /// Starts recording the trajectory; returns its header line (None: no interpolator header).
-    pub fn record_trajectory(&mut self) -> Option<String> {
-        let h = self.interp.trajectory_header()?;
+    /// `contour_blocks`: the program's blocks under contour control (for the header).
+    pub fn record_trajectory(&mut self, contour_blocks: usize) -> Option<String> {
+        let h = self.interp.trajectory_header(contour_blocks)?;
         self.trajectory = Some((0, String::new()));
         Some(h)
+    }
+
+    /// The summary line about contour control for a program with `contour_blocks` blocks under
+    /// it (None when it has none).
+    pub fn contour_summary(&self, contour_blocks: usize) -> Option<String> {
+        self.interp.contour_summary(contour_blocks)
     }
 
     /// The trajectory lines recorded since the last call (one per interpolation tick:

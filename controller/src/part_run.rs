@@ -91,10 +91,11 @@ fn mdi_program(dir: &std::path::Path, dialect: Option<&str>, text: &str) -> Stri
     program
 }
 
-/// The interpolator of a process: the `motion` crate's kernel (none for a process without
-/// coordinated axes).
+/// The interpolator of a process: the `motion` crate's kernel with the machine's complex-speed
+/// constants (none for a process without coordinated axes).
 pub fn make_interp(
     axcfil: &characterization::axcfil::Axcfil,
+    complex: motion::complex::ComplexSpeed,
     cfg: &ProcessConfig,
     start: &[f64],
 ) -> Result<Box<dyn Interpolator>, String> {
@@ -102,8 +103,13 @@ pub fn make_interp(
         return Ok(Box::new(cnc::interp::NoMotion));
     }
     Ok(Box::new(cnc::motion_link::MotionKernel::new(
-        axcfil, cfg, start,
+        axcfil, cfg, start, complex,
     )?))
+}
+
+/// The number of `blocks` under contour control (Fanuc G05.1 Q1 / G08 P1, MEFI G23).
+pub fn contour_blocks(blocks: &[partprogram::Canon]) -> usize {
+    blocks.iter().filter(|b| b.modal.contour).count()
 }
 
 /// What the operator of a part run does: the `ncplc run` options a replay needs too.
@@ -163,11 +169,12 @@ pub fn start(
     let (io, mut run) = start_spec(spec, machine, tick_ms)?;
     if let Some(path) = trajectory {
         use std::io::Write as _;
+        let contour = run.part.as_ref().map_or(0, |p| contour_blocks(&p.blocks));
         let header = run
             .lock()
             .process_mut(spec.process)
             .ok()
-            .and_then(|p| p.record_trajectory())
+            .and_then(|p| p.record_trajectory(contour))
             .ok_or_else(|| format!("error: process {} has no interpolated axes", spec.process))?;
         let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
         let mut w = std::io::BufWriter::new(file);
@@ -286,7 +293,8 @@ pub fn start_spec(
 fn kernel_io(machine: &Machine, tick_ms: u32) -> Result<(KernelIo, Arc<Mutex<Cnc>>), String> {
     let facts = Facts::load(&machine.dir).map_err(|e| e.to_string())?;
     let axcfil = &facts.machine.axcfil;
-    let interp = |cfg: &ProcessConfig, start: &[f64]| make_interp(axcfil, cfg, start);
+    let complex = sim::machine_view::complex_speed(&machine.dir)?;
+    let interp = |cfg: &ProcessConfig, start: &[f64]| make_interp(axcfil, complex, cfg, start);
     let setup = KernelSetup {
         axcfil: &facts.machine.axcfil,
         iocfil: facts.machine.iocfil.as_ref(),
@@ -704,6 +712,16 @@ impl PartRun {
                 part.hash,
                 part.blocks.len()
             ));
+            // Contour control: the `nc run` summary line, when the program uses it.
+            let contour = contour_blocks(&part.blocks);
+            if let Some(line) = c
+                .processes()
+                .iter()
+                .find(|p| p.number() == self.process)
+                .and_then(|p| p.contour_summary(contour))
+            {
+                s.push_str(&format!("{line}\n"));
+            }
         }
         let secs = |t: u64| t as f64 * f64::from(tick_ms) / 1000.0;
         match (self.started, self.finished) {

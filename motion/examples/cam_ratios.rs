@@ -11,6 +11,9 @@ fn run(p: &cam::CamProgram, smooth: bool) -> Result<(f64, f64), Box<dyn std::err
         while next < p.moves.len() && k.space() > 0 {
             k.push(p.moves[next].clone())?;
             next += 1;
+            if next == p.moves.len() {
+                k.end_of_input()?;
+            }
         }
         if next >= p.moves.len() && k.is_idle() {
             break;

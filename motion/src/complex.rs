@@ -11,6 +11,13 @@
 //! | R385 decade 8 | block-length correction of the dynamic criterion: reference 1, 0.5, 0.1, 0.05 mm (1–4); 0 off | – | 0 |
 //! | R386 | blocks shorter than this keep their joint speeds inside (no speed-up between); 0: every block may speed up | µm | 0 |
 //! | R236 | path acceleration under smooth connection; 0: the axes' (R52) | mm/s² | 0 |
+//! | R382 | a block shorter than this interrupts the smooth connection: the path stops at its start; 0 or negative ("a minus sign blocks the limit"): off | µm | 0 |
+//!
+//! R382 follows the seed (000:4612–4618): "if the block is shorter than the limit, the smooth
+//! connection is interrupted at this place". Which joint "this place" is, is not said; here it
+//! is the joint into the short block (reading uncertain). The manual's next constant joins blocks
+//! shorter than its limit with a neighbour; its number is lost in our copy (probably R383): a
+//! positive R383 is refused (not supported) rather than ignored.
 //!
 //! The manual does not give the block-length correction's formula; here the dynamic criterion
 //! of a block of length l is scaled by √(l / reference) (the centripetal speed over a chord
@@ -38,6 +45,8 @@ pub struct ComplexSpeed {
     pub raise_len: f64,
     /// R236: the path acceleration under smooth connection, mm/s² (0: the axes').
     pub smooth_accel: f64,
+    /// R382: a block shorter than this (mm) stops the path at its start (0: off).
+    pub interrupt_len: f64,
 }
 
 impl Default for ComplexSpeed {
@@ -51,6 +60,7 @@ impl Default for ComplexSpeed {
             dyn_ref_len: None,
             raise_len: 0.0,
             smooth_accel: 0.0,
+            interrupt_len: 0.0,
         }
     }
 }
@@ -116,6 +126,17 @@ impl ComplexSpeed {
                 }
                 self.smooth_accel = v as f64;
             }
+            382 => {
+                if !(-99_999_999..=99_999_999).contains(&v) {
+                    return Err(bad("−99999999…99999999 µm (negative or 0: off)"));
+                }
+                self.interrupt_len = v.max(0) as f64 / 1000.0;
+            }
+            383 if v > 0 => {
+                return Err(bad(
+                    "joining short blocks with a neighbour is not supported: 0 or negative (off)",
+                ));
+            }
             _ => {}
         }
         Ok(())
@@ -140,7 +161,7 @@ impl ComplexSpeed {
     /// The header/summary description: `R39 60°, R384 10 µm, R385 10000 mm/s², R386 0 mm, R236 axes`.
     pub fn describe(&self) -> String {
         format!(
-            "R39 {}°, R384 {} µm, R385 {} mm/s²{}, R386 {} mm, R236 {}",
+            "R39 {}°, R384 {} µm, R385 {} mm/s²{}, R386 {} mm, R236 {}{}",
             (self.angle.to_degrees() * 1000.0).round() / 1000.0,
             (self.accuracy_mm * 1000.0).round(),
             self.dynamic,
@@ -152,6 +173,11 @@ impl ComplexSpeed {
                 format!("{} mm/s²", self.smooth_accel)
             } else {
                 "the axes'".into()
+            },
+            if self.interrupt_len > 0.0 {
+                format!(", R382 {} mm", self.interrupt_len)
+            } else {
+                String::new()
             }
         )
     }
@@ -250,6 +276,17 @@ mod tests {
         assert!(c.set_constant(385, 5_0001000).is_err());
         assert!(c.set_constant(385, 0).is_err());
         assert!(c.set_constant(236, -1).is_err());
+        // R382 in µm; a minus sign blocks it; the joining constant (R383) is refused when on.
+        c.set_constant(382, 50).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(c.interrupt_len, 0.05);
+        assert!(c.describe().ends_with(", R382 0.05 mm"), "{}", c.describe());
+        c.set_constant(382, -50).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(c.interrupt_len, 0.0);
+        assert_eq!(c.set_constant(383, -10), Ok(()));
+        assert_eq!(
+            c.set_constant(383, 10).err().map(|e| e.to_string()),
+            Some("R383: 10 is out of range (joining short blocks with a neighbour is not supported: 0 or negative (off))".into())
+        );
         // Constants of other modules are left alone.
         assert_eq!(c.set_constant(329, 1_000_000), Ok(()));
     }

@@ -206,6 +206,40 @@ impl Kernel {
         Ok(())
     }
 
+    /// The caller has pushed every move that comes before the path stops (the program ends, or
+    /// the next block waits for functions): the moves the smoother holds are queued now, the
+    /// last one ending at its programmed point, and the path stops at the end of the last queued
+    /// move (as before a dwell or an aux record: that end is a known stop, so the move plans
+    /// without the kink reserve of an unknown junction). Idempotent. Callers that push at
+    /// another rhythm call it at the same point of the block sequence, so that their runs
+    /// smooth and plan alike (`ncplc nc run` and the `cnc` kernel's part runs).
+    pub fn end_of_input(&mut self) -> Result<(), MotionError> {
+        if self.held() > 0 {
+            if let Some(sm) = self.smooth.as_mut() {
+                sm.flush();
+            }
+            self.drain()?;
+        }
+        let n = self.q.len();
+        let executing = self.exec.is_some() && n == 1;
+        let (dt, acc, pcts) = (
+            self.cfg.tick_s,
+            self.cfg.acc,
+            (self.feed_pct, self.rapid_pct),
+        );
+        if let Some(last) = self.q.back_mut()
+            && !last.exact
+        {
+            last.exact = true;
+            last.v_junction = 0.0;
+            if !executing {
+                plan::relax(last, &self.cfg.axes, &acc, dt, pcts);
+            }
+            self.dirty_from = Some(self.dirty_from.map_or(n - 1, |d| d.min(n - 1)));
+        }
+        Ok(())
+    }
+
     /// Smoothing is on.
     pub fn smoothing(&self) -> bool {
         self.smooth.is_some()
@@ -340,13 +374,14 @@ impl Kernel {
             return n - 1;
         }
         let theta = turn_angle(&prev.seg.tangent(true), &next.seg.tangent(false));
-        // Complex speed under contour control (MEFI appendix A6): a joint sharper than R39 is
-        // the end of smoothness (a stop); otherwise the accuracy and dynamic criteria cap it,
-        // and a line shorter than R386 keeps its joint speeds inside.
+        // Complex speed under contour control (MEFI appendix A6): a joint sharper than R39, or
+        // into a block shorter than R382, is the end of smoothness (a stop); otherwise the
+        // accuracy and dynamic criteria cap it, and a line shorter than R386 keeps its joint
+        // speeds inside.
         let mut crit = f64::INFINITY;
         if complex && prev.motion == Motion::Feed && next.motion == Motion::Feed {
             let cs = &self.cfg.complex;
-            if theta > cs.angle {
+            if theta > cs.angle || next.len_orig < cs.interrupt_len {
                 prev.v_junction = 0.0;
                 if !executing {
                     plan::relax(prev, &self.cfg.axes, &acc, dt, pcts);

@@ -52,6 +52,9 @@ pub fn ticks_to_idle_with(
         while next < moves.len() && k.space() > 0 {
             k.push(moves[next].clone()).map_err(|e| e.to_string())?;
             next += 1;
+            if next == moves.len() {
+                k.end_of_input().map_err(|e| e.to_string())?;
+            }
         }
         if next >= moves.len() && k.is_idle() {
             return Ok(n);

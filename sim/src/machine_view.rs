@@ -47,6 +47,22 @@ pub fn constants_file(dir: &Path) -> PathBuf {
     dir.join("nc").join("CONSTANTS")
 }
 
+/// The motion kernel's complex-speed constants (R39, R384, R385, R386, R236) from
+/// [`constants_file`], the manual's defaults when it does not exist; an unreadable file or a value
+/// out of range is an error naming the file (and the line).
+pub fn complex_speed(dir: &Path) -> Result<motion::complex::ComplexSpeed, String> {
+    let path = constants_file(dir);
+    match std::fs::read_to_string(&path) {
+        Ok(text) => motion::complex::from_constants(&text)
+            .map_err(|e| format!("{}: {e}", runtime::render::user_path(&path).display())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Default::default()),
+        Err(e) => Err(format!(
+            "{}: {e}",
+            runtime::render::user_path(&path).display()
+        )),
+    }
+}
+
 /// The zero-offset table: `<dir>/MP0/TAB0.POS`.
 pub fn pos_file(dir: &Path) -> PathBuf {
     dir.join("MP0").join("TAB0.POS")

@@ -31,6 +31,7 @@ mod modbus_peer;
 mod nc;
 mod nc_run;
 mod part;
+mod part_contour;
 mod part_prop;
 mod part_replay;
 mod part_spindle;

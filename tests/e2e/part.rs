@@ -154,7 +154,8 @@ fn an_estop_during_the_part_exits_1_with_the_alarm() {
     );
 }
 
-/// `--trajectory` writes the `ncplc nc run` JSON Lines: the header with the planner's limits, then
+/// `--trajectory` writes the `ncplc nc run` JSON Lines: the header with the planner's limits and
+/// contour control (off: PART1 has no G23), then
 /// one line per 2 ms interpolation tick, ending at rest on the retract point.
 #[test]
 fn trajectory_of_the_lathe_part() {
@@ -167,7 +168,7 @@ fn trajectory_of_the_lathe_part() {
     let lines: Vec<&str> = text.lines().collect();
     assert_eq!(
         lines[0],
-        r#"{"tick_s":0.002,"axes":["X","Z"],"limits":{"X":{"v":166.666667,"a":200,"j":540},"Z":{"v":200,"a":200,"j":450}},"tolerance_mm":0.01,"law":"linear"}"#
+        r#"{"tick_s":0.002,"axes":["X","Z"],"limits":{"X":{"v":166.666667,"a":200,"j":540},"Z":{"v":200,"a":200,"j":450}},"tolerance_mm":0.01,"law":"linear","contour":{"blocks":0,"smoothing":"off","shift_mm":0.005,"blend_mm":0.005,"max_len_mm":2.0,"max_turn_deg":20.0,"complex_speed":"R39 60°, R384 10 µm, R385 10000 mm/s², R386 0 mm, R236 the axes'"}}"#
     );
     // 4252 logic ticks of 10 ms = 21 260 interpolation ticks.
     assert_eq!(lines.len(), 1 + 21_260);

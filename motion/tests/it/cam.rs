@@ -79,3 +79,40 @@ fn short_cam_programs_are_faster_than_linuxcnc() {
         assert!(t / lb < linuxcnc, "{}: {} ≥ {linuxcnc}", p.name, t / lb);
     }
 }
+
+/// R382 under contour control: a block (0.3 mm) shorter than it (0.5 mm) interrupts the smooth
+/// connection — the path stops at the block's start (within one tick's deceleration: at most a · Ts = 1 mm/s) —
+/// while without it the straight path keeps F through the short block; both within the limits.
+#[test]
+fn a_block_shorter_than_r382_stops_the_path_at_its_start() {
+    let moves = [
+        common::line(0, [5.0, 0.0, 0.0], 3000.0),
+        common::line(1, [5.3, 0.0, 0.0], 3000.0),
+        common::line(2, [10.0, 0.0, 0.0], 3000.0),
+    ];
+    let lowest_inside = |cfg: &motion::Config| {
+        let r = run_with(cfg, &[0.0; 3], &moves, &[], true);
+        assert_within(&r.report, cfg.tolerance_mm);
+        assert_eq!(r.finished, [0, 1, 2]);
+        // The speed between X2 and X8 (the ramps from and to rest are 1.25 mm long).
+        let lowest = r
+            .points
+            .windows(2)
+            .filter(|w| (2.0..8.0).contains(&w[0][0]))
+            .map(|w| (w[1][0] - w[0][0]) / 0.001)
+            .fold(f64::INFINITY, f64::min);
+        (lowest, r.points.len())
+    };
+    let mut cfg = mill(Law::Linear);
+    let (v_off, n_off) = lowest_inside(&cfg);
+    cfg.complex.set_constant(382, 500).expect("R382 500 µm");
+    let (v_on, n_on) = lowest_inside(&cfg);
+    assert!(v_off > 49.9, "without R382 the path keeps 50 mm/s: {v_off}");
+    assert!(v_on <= 1.0 + 1e-9, "with R382 the path stops at X5: {v_on}");
+    // The stop costs a ramp down and up of 50 ms each over 2.5 mm, which took 50 ms at F.
+    assert_eq!(
+        n_on,
+        n_off + 50,
+        "{n_on} ticks with the stop, {n_off} without"
+    );
+}

@@ -72,15 +72,7 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
     }
     cfg.law = law;
     // Complex speed: R39, R384, R385, R386, R236 from nc/CONSTANTS (the manual's defaults).
-    let constants = sim::machine_view::constants_file(&a.common.machine);
-    match std::fs::read_to_string(&constants) {
-        Ok(text) => {
-            cfg.complex = motion::complex::from_constants(&text)
-                .map_err(|e| format!("{}: {e}", constants.display()))?;
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(format!("{}: {e}", constants.display())),
-    }
+    cfg.complex = sim::machine_view::complex_speed(&a.common.machine)?;
     if !soft {
         for ax in &mut cfg.axes {
             ax.soft_min = None;
@@ -142,6 +134,14 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
                 }
             }
             next += 1;
+            // The last block is in: what the smoother holds goes to the queue now (as a part
+            // run does when its look-ahead meets the program's end or a block with functions).
+            if next == blocks.len()
+                && let Err(e) = kernel.end_of_input()
+            {
+                eprintln!("error: {}: {e}", compiled.name);
+                return Ok(ExitCode::from(1));
+            }
         }
         if next >= blocks.len() && kernel.is_idle() {
             break;
