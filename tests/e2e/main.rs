@@ -27,6 +27,7 @@ mod manual_limits;
 mod modbus_peer;
 mod nc;
 mod nc_run;
+mod opcua;
 mod part;
 mod part_prop;
 mod part_replay;
