@@ -48,15 +48,17 @@ impl Nodes {
     }
 }
 
-/// A value stamped with its tick's time (source) and the scan's copy (server).
+/// A value stamped with its tick's time (source) and the scan's copy (server). No picoseconds:
+/// the timestamps are whole µs, and asyncua 2.1 misreads a server timestamp that follows source
+/// picoseconds (it read 9999-12-31).
 pub fn stamped(v: Variant, source: DateTime, server: DateTime) -> DataValue {
     DataValue {
         value: Some(v),
         status: Some(StatusCode::Good),
         source_timestamp: Some(source),
-        source_picoseconds: Some(0),
+        source_picoseconds: None,
         server_timestamp: Some(server),
-        server_picoseconds: Some(0),
+        server_picoseconds: None,
     }
 }
 
@@ -271,5 +273,11 @@ mod tests {
         // 2026-01-01T00:00:00Z = 1767225600 s since the Unix epoch.
         let t = unix_time(1_767_225_600_000_000);
         assert_eq!(t.to_rfc3339(), "2026-01-01T00:00:00.000Z");
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| i64::try_from(d.as_micros()).unwrap_or(i64::MAX));
+        let secs = now / 1_000_000;
+        let back = unix_time(now).as_chrono().timestamp();
+        assert_eq!(back, secs);
     }
 }
