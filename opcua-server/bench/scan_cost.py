@@ -29,9 +29,15 @@ async def client(url, seconds, out):
     class H:
         def __init__(self):
             self.lat = []
+            self.seen = set()
 
         def datachange_notification(self, node, val, data):
             dv = data.monitored_item.Value
+            # The first notification of an item is its current value, stamped when it last
+            # changed (maybe seconds ago): not a latency.
+            if node.nodeid not in self.seen:
+                self.seen.add(node.nodeid)
+                return
             if dv.ServerTimestamp:
                 self.lat.append(time.time() - dv.ServerTimestamp.timestamp())
 

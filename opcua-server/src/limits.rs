@@ -45,5 +45,12 @@ impl Limits {
         l.operational.max_nodes_per_read = self.max_nodes_per_request;
         l.operational.max_nodes_per_write = self.max_nodes_per_request;
         l.operational.max_nodes_per_browse = self.max_nodes_per_request;
+        l.operational.max_monitored_items_per_call = self.max_monitored_items_per_sub;
+        // Arrays in a request may be as long as the largest request the limits allow (plus one,
+        // so that one item too many is refused with its status code, not a decoding error).
+        l.max_array_length = self
+            .max_nodes_per_request
+            .max(self.max_monitored_items_per_sub)
+            + 1;
     }
 }

@@ -505,3 +505,33 @@ fn an_asyncua_client_sees_the_lathe_as_an_opc_40501_machine_tool() {
         assert!(kinds.contains(k), "no {k} in {kinds:?}");
     }
 }
+
+/// The configured limits hold against an asyncua client that exceeds them, and the server goes on
+/// serving it: the 9th session, 5001 monitored items in one call and the 5001st of a
+/// subscription, a Read of 5001 nodes.
+#[test]
+fn the_server_holds_its_limits_against_an_asyncua_client() {
+    if !have_asyncua() {
+        return;
+    }
+    let _serial = serial();
+    let machine = lathe();
+    let (run, url) = opcua_run(machine.path(), &["--ticks", "100000"]);
+    let got = peer(&["limits", &url]);
+    drop(run);
+    for i in 1..=8 {
+        assert_eq!(got[format!("session{i}")], "Good", "{got}");
+    }
+    assert_eq!(got["session9"], "BadTooManySessions", "{got}");
+    assert_eq!(
+        got["items_5001_in_one_call"], "BadTooManyOperations",
+        "{got}"
+    );
+    assert_eq!(got["items_good"], 5000, "{got}");
+    assert_eq!(
+        got["items_refused"],
+        serde_json::json!(["BadTooManyMonitoredItems"])
+    );
+    assert_eq!(got["read_5001"], "BadTooManyOperations", "{got}");
+    assert_eq!(got["read_after"], "Good");
+}

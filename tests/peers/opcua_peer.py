@@ -144,6 +144,50 @@ async def model(url, name, seconds):
     print(json.dumps(out, default=str))
 
 
+async def limits(url):
+    """Past the server's limits (opcua-server/src/limits.rs): the 9th session, the 5001st monitored
+    item of a subscription, a Read of 5001 nodes; and the server still serves a client after it."""
+    out = {}
+    clients = []
+    for i in range(9):
+        c = Client(url, timeout=10)
+        try:
+            await c.connect()
+            clients.append(c)
+            out[f"session{i + 1}"] = "Good"
+        except ua.UaStatusCodeError as e:
+            out[f"session{i + 1}"] = ua.StatusCode(e.code).name
+    for c in clients[1:]:
+        await c.disconnect()
+    c = clients[0]
+    ns = await c.get_namespace_index(NS_SIGNALS)
+    tick = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:Tick"])
+    sub = await c.create_subscription(10, Collect())
+    try:
+        await sub.subscribe_data_change([tick] * 5001, queuesize=1, sampling_interval=10)
+        out["items_5001_in_one_call"] = "Good"
+    except ua.UaStatusCodeError as e:
+        out["items_5001_in_one_call"] = ua.StatusCode(e.code).name
+    res = await sub.subscribe_data_change([tick] * 5000, queuesize=1, sampling_interval=10)
+    codes = [r.name if isinstance(r, ua.StatusCode) else "Good" for r in res]
+    try:
+        more = await sub.subscribe_data_change([tick], queuesize=1, sampling_interval=10)
+        codes += [r.name if isinstance(r, ua.StatusCode) else "Good" for r in more]
+    except ua.UaStatusCodeError as e:
+        codes.append(ua.StatusCode(e.code).name)
+    out["items_good"] = codes.count("Good")
+    out["items_refused"] = sorted(set(x for x in codes if x != "Good"))
+    await sub.delete()
+    try:
+        await c.read_attributes([tick] * 5001)
+        out["read_5001"] = "Good"
+    except ua.UaStatusCodeError as e:
+        out["read_5001"] = ua.StatusCode(e.code).name
+    out["read_after"] = (await tick.read_data_value()).StatusCode.name
+    await c.disconnect()
+    print(json.dumps(out))
+
+
 APP_URI = "urn:ncplc:test-client"
 
 
@@ -224,6 +268,8 @@ def main():
     mode = sys.argv[1]
     if mode == "signals":
         asyncio.run(signals(sys.argv[2], float(sys.argv[3])))
+    elif mode == "limits":
+        asyncio.run(limits(sys.argv[2]))
     elif mode == "model":
         asyncio.run(model(sys.argv[2], sys.argv[3], float(sys.argv[4])))
     elif mode == "secure":
