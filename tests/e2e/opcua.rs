@@ -535,3 +535,57 @@ fn the_server_holds_its_limits_against_an_asyncua_client() {
     assert_eq!(got["read_5001"], "BadTooManyOperations", "{got}");
     assert_eq!(got["read_after"], "Good");
 }
+
+/// The runtime's alarms are events of `Notification/Messages`: a lathe whose logic never answers
+/// the M strobe (MFIN = 0) raises "not acknowledged" at the strobe timeout (6 s after the strobe
+/// of tick 10, so that the client has subscribed by then): an event of severity 700 stamped with
+/// its tick's time.
+#[test]
+fn alarms_reach_an_asyncua_client_as_events_of_the_messages_object() {
+    if !have_asyncua() {
+        return;
+    }
+    let _serial = serial();
+    let machine = lathe();
+    let prg = machine.path().join("MP0/PLCPRG");
+    let text = std::fs::read_to_string(&prg).expect("PLCPRG");
+    assert!(text.contains("MFIN = MSTB * M_DONE"));
+    std::fs::write(&prg, text.replace("MFIN = MSTB * M_DONE", "MFIN = 0")).expect("PLCPRG");
+    let sim = machine.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    assert!(text.contains("strobe_timeout_ms = 5000"));
+    std::fs::write(
+        &sim,
+        text.replace("strobe_timeout_ms = 5000", "strobe_timeout_ms = 6000"),
+    )
+    .expect("sim.toml");
+    let name = machine
+        .path()
+        .file_name()
+        .expect("name")
+        .to_string_lossy()
+        .into_owned();
+    let (run, url) = opcua_run(machine.path(), &["--ticks", "3000"]);
+    let got = peer(&["events", &url, &name, "9"]);
+    drop(run);
+    let t0 = got["tick"][0].as_i64().expect("tick");
+    let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    let events = got["events"].as_array().expect("events");
+    let raised: Vec<&Value> = events
+        .iter()
+        .filter(|e| {
+            e[0].as_str()
+                .is_some_and(|m| m.contains("not acknowledged (FIN) within the strobe timeout"))
+        })
+        .collect();
+    assert_eq!(raised.len(), 1, "{got}");
+    for e in raised {
+        assert_eq!(
+            e[0],
+            "cnc: M03 not acknowledged (FIN) within the strobe timeout"
+        );
+        assert_eq!(e[1], 700, "{e}");
+        let us = e[2].as_i64().expect("time") - origin;
+        assert_eq!(us % 10_000, 0, "an event off the tick grid: {e}");
+    }
+}

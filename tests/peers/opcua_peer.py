@@ -188,6 +188,26 @@ async def limits(url):
     print(json.dumps(out))
 
 
+async def events(url, name, seconds):
+    """The alarm events of Notification/Messages while SECONDS pass."""
+    out = {}
+    async with Client(url) as c:
+        ns = await c.get_namespace_index(NS_SIGNALS)
+        mt = await c.get_namespace_index("http://opcfoundation.org/UA/MachineTool/")
+        mach = await c.get_namespace_index("http://opcfoundation.org/UA/Machinery/")
+        m = await c.nodes.objects.get_child([f"{mach}:Machines", f"{ns}:{name}"])
+        messages = await m.get_child([f"{mt}:Notification", f"{mt}:Messages"])
+        tick = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:Tick"])
+        out["tick"] = stamp((await c.read_attributes([tick]))[0])
+        ev = Events()
+        sub = await c.create_subscription(10, ev)
+        await sub.subscribe_events(messages)
+        await asyncio.sleep(seconds)
+        await sub.delete()
+        out["events"] = ev.got
+    print(json.dumps(out))
+
+
 APP_URI = "urn:ncplc:test-client"
 
 
@@ -268,6 +288,8 @@ def main():
     mode = sys.argv[1]
     if mode == "signals":
         asyncio.run(signals(sys.argv[2], float(sys.argv[3])))
+    elif mode == "events":
+        asyncio.run(events(sys.argv[2], sys.argv[3], float(sys.argv[4])))
     elif mode == "limits":
         asyncio.run(limits(sys.argv[2]))
     elif mode == "model":
