@@ -3,7 +3,7 @@
 //! [`controller::servers::Server`].
 //!
 //! **Invariant:** the scan's side is [`handoff::ScanSide::after_tick`]: a copy of the packets into
-//! a triple buffer and a `try_recv` loop for accepted writes. The address space, its lock and
+//! a wait-free ring and a `try_recv` loop for accepted writes. The address space, its lock and
 //! every client request live on the server's own thread ([`server`]); the scan never waits.
 
 pub mod auth;

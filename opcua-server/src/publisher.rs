@@ -135,12 +135,12 @@ pub struct Publisher {
     pub origin: i64,
 }
 
-/// Runs until cancelled: every `tick_ms`, publishes the newest frame's changes and the alarms.
+/// Runs until cancelled: every `tick_ms`, publishes the alarms and every frame's changes in tick
+/// order (one `set_values`, one lock of the address space, per frame).
 pub async fn run(mut p: Publisher) {
     let mut every = tokio::time::interval(Duration::from_millis(u64::from(p.tick_ms.max(1))));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let mut prev: Option<Vec<u8>> = None;
-    let mut seen = 0u64;
     let mut events = 0u64;
     loop {
         every.tick().await;
@@ -164,11 +164,15 @@ pub async fn run(mut p: Publisher) {
             p.subs
                 .notify_events([(&evt as &dyn Event, &p.messages.0)].into_iter());
         }
-        let (frame, _) = p.side.frames.read();
-        if frame.seq == seen {
-            continue;
+        while let Ok(frame) = p.side.frames.pop() {
+            publish_frame(&mut p, &frame, &mut prev);
         }
-        seen = frame.seq;
+    }
+}
+
+/// Sets the values `frame` changed (against `prev`, then keeps `frame` as `prev`).
+fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
+    {
         let time = tick_time(p.origin, frame.tick, p.tick_ms);
         let server = unix_time(frame.wall_us);
         let mut values = changes(&p.nodes, prev.as_deref(), frame, time, server);
@@ -181,9 +185,9 @@ pub async fn run(mut p: Publisher) {
         // A failure names a node that is not there: the table and the space are built from the
         // same lists, so there is nothing to recover.
         let _ = p.nm.set_values(&p.subs, values.into_iter());
-        match &mut prev {
+        match prev {
             Some(v) => v.copy_from_slice(&frame.image),
-            None => prev = Some(frame.image.clone()),
+            None => *prev = Some(frame.image.to_vec()),
         }
     }
 }
@@ -245,11 +249,14 @@ mod tests {
         ];
         let nodes = Nodes::new(2, &table);
         let mut image = vec![0u8; packets::PACKETS_LEN];
-        let frame = |image: &[u8], tick| Frame {
-            seq: 1,
-            tick,
-            image: image.to_vec(),
-            wall_us: 0,
+        let frame = |image: &[u8], tick| {
+            let mut f = Frame {
+                tick,
+                image: [0; packets::PACKETS_LEN],
+                wall_us: 0,
+            };
+            f.image.copy_from_slice(image);
+            f
         };
         let t = tick_time(0, 7, 10);
         assert_eq!(t.checked_ticks(), 7 * 10 * 10_000);

@@ -162,16 +162,18 @@ async def limits(url):
     c = clients[0]
     ns = await c.get_namespace_index(NS_SIGNALS)
     tick = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:Tick"])
+    # A constant byte (packet T), so that 5000 items do not flood the client every tick.
+    const = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:T", f"{ns}:15", f"{ns}:W15T3"])
     sub = await c.create_subscription(10, Collect())
     try:
-        await sub.subscribe_data_change([tick] * 5001, queuesize=1, sampling_interval=10)
+        await sub.subscribe_data_change([const] * 5001, queuesize=1, sampling_interval=10)
         out["items_5001_in_one_call"] = "Good"
     except ua.UaStatusCodeError as e:
         out["items_5001_in_one_call"] = ua.StatusCode(e.code).name
-    res = await sub.subscribe_data_change([tick] * 5000, queuesize=1, sampling_interval=10)
+    res = await sub.subscribe_data_change([const] * 5000, queuesize=1, sampling_interval=10)
     codes = [r.name if isinstance(r, ua.StatusCode) else "Good" for r in res]
     try:
-        more = await sub.subscribe_data_change([tick], queuesize=1, sampling_interval=10)
+        more = await sub.subscribe_data_change([const], queuesize=1, sampling_interval=10)
         codes += [r.name if isinstance(r, ua.StatusCode) else "Good" for r in more]
     except ua.UaStatusCodeError as e:
         codes.append(ua.StatusCode(e.code).name)
