@@ -3,7 +3,7 @@
 //! users file, if any); anywhere else the endpoints are Basic256Sha256 Sign and SignAndEncrypt
 //! with the server certificate the stack creates on first start in `<machine>/opcua-pki/`, user
 //! name and password only (anonymous refused). Roles are the web HMI's: a viewer browses, reads
-//! and subscribes; an operator also calls the START/HOLD/RESET methods; an integrator also
+//! and subscribes; an operator also calls methods (none are offered yet); an integrator also
 //! writes inside the io.toml window.
 //!
 //! **Invariants:** anonymous sessions exist only on loopback, where they are integrators without a

@@ -1,5 +1,5 @@
 //! The OPC UA users file (`--opcua-users FILE`): one `ROLE USER PASSWORD` per line, roles as the
-//! web HMI's (`viewer`: browse, read, subscribe; `operator`: + the START/HOLD/RESET methods;
+//! web HMI's (`viewer`: browse, read, subscribe; `operator`: + methods, none offered yet;
 //! `integrator`: + writes in the io.toml window); blank lines and `#` lines are skipped.
 //!
 //! **Invariants:** a user appears once; a password has at least 8 characters and no spaces; a
