@@ -359,11 +359,40 @@ fn off_loopback_only_encrypted_sessions_of_known_users_get_in() {
     assert_eq!(got["integrator_sign"], "Good");
 }
 
-/// Without a users file a non-loopback bind is refused at start, and a bad users file is a
-/// located error.
+/// Without a users file a non-loopback bind is refused at start, a bad users file is a located
+/// error, and so are a busy port and a bad `[identification]` table.
 #[test]
-fn off_loopback_without_users_and_bad_users_files_are_refused_at_start() {
+fn bad_opcua_settings_are_refused_at_start_with_located_errors() {
     let machine = lathe();
+    let busy = std::net::TcpListener::bind("127.0.0.1:0").expect("a port");
+    let port = busy.local_addr().expect("addr").port();
+    let out = Ncplc::run(machine.path())
+        .args(["--ticks", "1", "--opcua", &format!("127.0.0.1:{port}")])
+        .output();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains(&format!("error: --opcua 127.0.0.1:{port}: cannot listen:")),
+        "{err}"
+    );
+    drop(busy);
+    let map_path = machine.path().join("io.toml");
+    let map = std::fs::read_to_string(&map_path).expect("io.toml");
+    std::fs::write(
+        &map_path,
+        format!("{map}\n[identification]\nmaker = \"x\"\n"),
+    )
+    .expect("io.toml");
+    let out = Ncplc::run(machine.path())
+        .args(["--ticks", "1", "--opcua", "127.0.0.1:0"])
+        .output();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("error[E3400]") && err.contains("unknown field `maker`"),
+        "{err}"
+    );
+    std::fs::write(&map_path, map).expect("io.toml");
     let out = Ncplc::run(machine.path())
         .args(["--ticks", "1", "--opcua", "0.0.0.0:0"])
         .output();
