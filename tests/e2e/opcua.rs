@@ -628,3 +628,27 @@ fn alarms_reach_an_asyncua_client_as_events_of_the_messages_object() {
         assert_eq!(us % 10_000, 0, "an event off the tick grid: {e}");
     }
 }
+
+/// `ncplc check` reports the OPC UA tables' errors of io.toml with their codes and lines.
+#[test]
+fn check_reports_the_opcua_tables_of_io_toml() {
+    let machine = lathe();
+    let map_path = machine.path().join("io.toml");
+    let map = std::fs::read_to_string(&map_path).expect("io.toml");
+    std::fs::write(
+        &map_path,
+        format!("{map}\n[[stacklight]]\ncolor = \"pink\"\nsignal = \"U5A1\"\n"),
+    )
+    .expect("io.toml");
+    let out = ncplc(&["check".as_ref(), machine.path().as_os_str()]);
+    assert_eq!(out.status.code(), Some(1));
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        all.contains("E3402") && all.contains("unknown stack-light colour `pink`"),
+        "{all}"
+    );
+}
