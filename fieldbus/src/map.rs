@@ -368,6 +368,13 @@ pub(crate) struct RawMap {
     pub modbus: Option<RawModbus>,
     pub canopen: Option<Spanned<RawCanopen>>,
     pub affinity: Option<Spanned<RawAffinity>>,
+    /// The OPC UA server's tables (`[identification]`, `[[stacklight]]`): validated by crate
+    /// `opcua-server` (docs/opcua.md), accepted here (serde reads them; nothing else does).
+    #[allow(dead_code)]
+    pub identification: Option<toml::Value>,
+    /// See `identification`.
+    #[allow(dead_code)]
+    pub stacklight: Option<toml::Value>,
     #[serde(default)]
     pub input: Vec<Spanned<RawMapping>>,
     #[serde(default)]

@@ -30,6 +30,7 @@ mod manual_limits;
 mod modbus_peer;
 mod nc;
 mod nc_run;
+mod opcua;
 mod part;
 mod part_contour;
 mod part_prop;

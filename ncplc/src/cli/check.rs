@@ -109,6 +109,12 @@ pub fn check_io_map(
     if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {
         diags.push(w);
     }
+    // The OPC UA server's tables, which the fieldbus reader accepts without looking inside.
+    if map.is_some()
+        && let Err(d) = opcua_server::config::parse("io.toml", &text)
+    {
+        diags.extend(d);
+    }
     sources.add("io.toml", text);
     diags
 }

@@ -72,6 +72,14 @@ pub struct Args {
     /// The web HMI.
     #[command(flatten)]
     pub hmi: super::hmi_args::HmiArgs,
+    /// Serve OPC UA (the signals and the Machine Tools model; docs/opcua.md) on
+    /// [opc.tcp://]IP:PORT (without a value: opc.tcp://127.0.0.1:4840; port 0 takes a free one).
+    #[arg(long, value_name = "ADDR:PORT", num_args = 0..=1, require_equals = false,
+          default_missing_value = opcua_server::DEFAULT_ENDPOINT, value_parser = parse_opcua)]
+    pub opcua: Option<std::net::SocketAddr>,
+    /// The OPC UA users file (`ROLE USER PASSWORD` lines; roles viewer, operator, integrator).
+    #[arg(long, value_name = "FILE", requires = "opcua")]
+    pub opcua_users: Option<PathBuf>,
     /// Run this partprogram on the CNC kernel (a name in <machine>/nc/, or a path), selected in
     /// AUTO; the cycle starts when the PLC raises START.
     #[arg(long)]
@@ -98,6 +106,11 @@ pub struct Args {
     /// exit 1 on an alarm that stops it.
     #[arg(long)]
     pub until_end: bool,
+}
+
+/// `--opcua`'s value.
+fn parse_opcua(text: &str) -> Result<std::net::SocketAddr, String> {
+    opcua_server::parse_endpoint(text).map_err(|e| e.to_string())
 }
 
 static STOP: AtomicBool = AtomicBool::new(false);
@@ -140,8 +153,21 @@ fn builder(args: &Args) -> controller::Builder {
             spin_us: args.spin_us,
         }
     };
-    Controller::builder(&args.machine)
-        .plc(args.plc.clone())
+    let b = Controller::builder(&args.machine);
+    let b = match args.opcua {
+        Some(addr) => b.server(Box::new(opcua_server::OpcuaServer::new(
+            opcua_server::Settings {
+                addr,
+                users: args.opcua_users.clone(),
+                program: args
+                    .program
+                    .as_ref()
+                    .and_then(|p| p.file_name().map(|n| n.to_string_lossy().into_owned())),
+            },
+        ))),
+        None => b,
+    };
+    b.plc(args.plc.clone())
         .engine(settings::Engine {
             kind: args.engine,
             flow: args.hmi.hmi_flow,

@@ -1,0 +1,134 @@
+//! The hand-over between the scan thread and the server: after every tick the scan pushes a
+//! [`Frame`] (the packets, the tick, the wall-clock time) into a wait-free SPSC ring (`rtrb`) and
+//! drains the clients' accepted writes with `try_recv`; the server's publisher pops every frame in
+//! order, so no tick's change is merged into the next one.
+//!
+//! **Invariant:** nothing on the scan's side takes a lock the server holds, allocates or waits: a
+//! copy of [`packets::PACKETS_LEN`] bytes into a ring slot and a `try_recv` loop. When the ring is
+//! full (the server fell [`RING`] ticks behind) the frame is dropped and counted; the next one the
+//! server gets still carries the whole image, so values stay right and only that tick's pulses can
+//! be missed.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, mpsc};
+
+use packets::Signal;
+use runtime::scheduler::Scheduler;
+
+/// Frames the ring holds (at a 10 ms tick: 2.56 s of server delay; 576 KiB).
+pub const RING: usize = 256;
+
+/// One published state of the packets.
+#[derive(Debug, Clone, Copy)]
+pub struct Frame {
+    /// The tick whose scan left this image (the trace's `t`: ticks run − 1).
+    pub tick: u64,
+    /// Packets A, K, N and T.
+    pub image: [u8; packets::PACKETS_LEN],
+    /// The wall-clock time of the copy, µs since the Unix epoch (the values' server timestamp:
+    /// a client's receive time minus it is the tick-to-client latency).
+    pub wall_us: i64,
+}
+
+/// A client's write the server accepted: applied once, before the next scan.
+pub type Write = (Signal, u8);
+
+/// An alarm raised (true) or cleared (false), its text and the tick it happened at.
+pub type AlarmNote = (bool, String, u64);
+
+/// The scan thread's half.
+pub struct ScanSide {
+    frames: rtrb::Producer<Frame>,
+    dropped: Arc<AtomicU64>,
+    writes: mpsc::Receiver<Write>,
+    /// Alarms for the `Messages` events.
+    pub alarms: mpsc::Sender<AlarmNote>,
+}
+
+/// The server's half: the frames in tick order and where accepted writes go.
+pub struct ServerSide {
+    /// The frames, oldest first.
+    pub frames: rtrb::Consumer<Frame>,
+    /// Frames the scan dropped because the ring was full.
+    pub dropped: Arc<AtomicU64>,
+    /// Accepted writes, for the scan.
+    pub writes: mpsc::Sender<Write>,
+    /// The alarms the scan saw.
+    pub alarms: mpsc::Receiver<AlarmNote>,
+}
+
+/// A connected pair of halves.
+pub fn pair() -> (ScanSide, ServerSide) {
+    let (producer, consumer) = rtrb::RingBuffer::new(RING);
+    let dropped = Arc::new(AtomicU64::new(0));
+    let (tx, rx) = mpsc::channel();
+    let (alarm_tx, alarm_rx) = mpsc::channel();
+    (
+        ScanSide {
+            frames: producer,
+            dropped: Arc::clone(&dropped),
+            writes: rx,
+            alarms: alarm_tx,
+        },
+        ServerSide {
+            frames: consumer,
+            dropped,
+            writes: tx,
+            alarms: alarm_rx,
+        },
+    )
+}
+
+impl ScanSide {
+    /// At a tick boundary: queues the accepted writes for the next scan (the scheduler applies
+    /// them after the input latch, where the trace records them), then publishes the image.
+    pub fn after_tick(&mut self, sched: &mut Scheduler) {
+        while let Ok((signal, value)) = self.writes.try_recv() {
+            sched.forces_mut().write_once(signal, value);
+        }
+        self.publish(sched.tick_count().saturating_sub(1), sched.image().bytes());
+    }
+
+    /// Copies `image`'s packets as the state after `tick` into the ring (dropped when full).
+    pub fn publish(&mut self, tick: u64, image: &[u8]) {
+        if self.frames.is_full() {
+            self.dropped.fetch_add(1, Ordering::Relaxed);
+            return;
+        }
+        let mut f = Frame {
+            tick,
+            image: [0; packets::PACKETS_LEN],
+            wall_us: std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(0, |d| i64::try_from(d.as_micros()).unwrap_or(i64::MAX)),
+        };
+        let n = packets::PACKETS_LEN.min(image.len());
+        f.image[..n].copy_from_slice(&image[..n]);
+        // Only this thread pushes, and the ring was not full: the push succeeds.
+        let _ = self.frames.push(f);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_arrive_in_order_and_a_full_ring_drops_and_counts() {
+        let (mut scan, mut server) = pair();
+        let mut image = vec![0u8; packets::PACKETS_LEN];
+        for t in 0..(RING as u64 + 3) {
+            image[0] = t as u8;
+            scan.publish(t, &image);
+        }
+        assert_eq!(server.dropped.load(Ordering::Relaxed), 3);
+        let got: Vec<(u64, u8)> = std::iter::from_fn(|| server.frames.pop().ok())
+            .map(|f| (f.tick, f.image[0]))
+            .collect();
+        assert_eq!(got.len(), RING);
+        assert_eq!(got[0], (0, 0));
+        assert_eq!(got[RING - 1], (RING as u64 - 1, (RING - 1) as u8));
+        scan.publish(99, &image);
+        assert_eq!(server.frames.pop().map(|f| f.tick).ok(), Some(99));
+    }
+}

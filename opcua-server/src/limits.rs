@@ -1,0 +1,56 @@
+//! What one OPC UA client may cost: sessions, subscriptions, monitored items, message and
+//! request sizes. Defaults sized for a cell's MES, SCADA and an engineering client at once;
+//! the stack answers past a limit with its status codes (`BadTooManySessions`,
+//! `BadTooManyMonitoredItems`, `BadTcpMessageTooLarge`, …), and the scan never notices.
+
+use opcua::server::ServerBuilder;
+
+/// The server's limits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Limits {
+    /// Sessions open at once.
+    pub max_sessions: usize,
+    /// Subscriptions per session.
+    pub max_subscriptions_per_session: usize,
+    /// Monitored items per subscription.
+    pub max_monitored_items_per_sub: usize,
+    /// Largest message (bytes), request or response.
+    pub max_message_size: usize,
+    /// Nodes per Read, Write or Browse request.
+    pub max_nodes_per_request: usize,
+}
+
+impl Default for Limits {
+    fn default() -> Limits {
+        Limits {
+            max_sessions: 8,
+            max_subscriptions_per_session: 4,
+            max_monitored_items_per_sub: 5000,
+            max_message_size: 4 << 20,
+            max_nodes_per_request: 5000,
+        }
+    }
+}
+
+impl Limits {
+    /// Puts the limits and the tick-rate subscription intervals into `builder`.
+    pub fn apply(&self, builder: &mut ServerBuilder, tick_ms: u32) {
+        let l = builder.limits_mut();
+        l.max_sessions = self.max_sessions;
+        l.max_message_size = self.max_message_size;
+        l.subscriptions.max_subscriptions_per_session = self.max_subscriptions_per_session;
+        l.subscriptions.max_monitored_items_per_sub = self.max_monitored_items_per_sub;
+        l.subscriptions.min_publishing_interval_ms = f64::from(tick_ms);
+        l.subscriptions.min_sampling_interval_ms = f64::from(tick_ms);
+        l.operational.max_nodes_per_read = self.max_nodes_per_request;
+        l.operational.max_nodes_per_write = self.max_nodes_per_request;
+        l.operational.max_nodes_per_browse = self.max_nodes_per_request;
+        l.operational.max_monitored_items_per_call = self.max_monitored_items_per_sub;
+        // Arrays in a request may be as long as the largest request the limits allow (plus one,
+        // so that one item too many is refused with its status code, not a decoding error).
+        l.max_array_length = self
+            .max_nodes_per_request
+            .max(self.max_monitored_items_per_sub)
+            + 1;
+    }
+}
