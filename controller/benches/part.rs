@@ -12,27 +12,6 @@ use controller::{Controller, Quiet};
 use criterion::{Criterion, criterion_group, criterion_main};
 use packets::PacketIo;
 
-/// The mill's square 25 times: about 10 minutes of machining.
-fn long_mill_program() -> String {
-    let mut s =
-        String::from("%3 \"Ten minutes of squares\nN10 T2 M06\nN20 G54 S2000 M03\nN30 M08\n");
-    s.push_str("N40 G00 X-100 Y-100 Z-50\nN50 G01 Z-60 F300\n");
-    let mut n = 60;
-    for _ in 0..25 {
-        for (x, y) in [(-160, -100), (-160, -160), (-100, -160), (-100, -100)] {
-            s.push_str(&format!("N{n} X{x} Y{y} F600\n"));
-            n += 10;
-        }
-    }
-    s.push_str(&format!(
-        "N{n} G00 Z-50\nN{} M09\nN{} M05\nN{} M30\n",
-        n + 10,
-        n + 20,
-        n + 30
-    ));
-    s
-}
-
 /// Runs `c` to the end of its part (at most 200,000 ticks) and returns the ticks run.
 fn run_to_end(mut c: Controller) -> u64 {
     c.run(&mut Quiet);
@@ -43,7 +22,8 @@ fn run_to_end(mut c: Controller) -> u64 {
 
 fn bench(c: &mut Criterion) {
     let tmp = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
-    let mill = common::machine_with_program("mill", tmp.path(), "BENCH", &long_mill_program());
+    let mill =
+        common::machine_with_program("mill", tmp.path(), "BENCH", &common::long_mill_program());
     let ticks = run_to_end(common::part_controller(&mill, "BENCH", None, None));
     eprintln!(
         "long mill part: {ticks} ticks = {:.1} s machine time (10 ms tick)",

@@ -99,6 +99,15 @@ impl Machine {
         })
     }
 
+    /// The machine's process numbers (1 alone when the interface map names no process).
+    pub fn process_numbers(&self) -> Vec<u8> {
+        if self.signals.processes.is_empty() {
+            vec![1]
+        } else {
+            self.signals.processes.iter().map(|p| p.process).collect()
+        }
+    }
+
     /// The packet-A connectors IOCFIL declares (the fieldbus I/O map must respect them).
     pub fn declared_connectors(&self) -> fieldbus::DeclaredConnectors {
         fieldbus::DeclaredConnectors {

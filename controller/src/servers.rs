@@ -69,16 +69,7 @@ pub fn start_hmi(
     machine: &Machine,
     inputs: HmiInputs<'_>,
 ) -> Result<HmiLink, String> {
-    let processes: Vec<u8> = if machine.signals.processes.is_empty() {
-        vec![1]
-    } else {
-        machine
-            .signals
-            .processes
-            .iter()
-            .map(|p| p.process)
-            .collect()
-    };
+    let processes = machine.process_numbers();
     let image = ImageCnc::new(&machine.interface, &processes, inputs.counts);
     let cnc: Box<dyn crate::hmi_link::Cnc> = match inputs.kernel {
         Some((k, sources)) => Box::new(KernelCnc::new(k, image, &sources)),

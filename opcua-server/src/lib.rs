@@ -72,16 +72,7 @@ fn model_inputs(
     tables: config::Tables,
     program: Option<String>,
 ) -> machine_tool::Inputs {
-    let processes: Vec<u8> = if machine.signals.processes.is_empty() {
-        vec![1]
-    } else {
-        machine
-            .signals
-            .processes
-            .iter()
-            .map(|p| p.process)
-            .collect()
-    };
+    let processes = machine.process_numbers();
     let role = |p: u8, r: &str| machine.interface.role(p, r).map(|s| s.signal);
     machine_tool::Inputs {
         name: machine.dir.file_name().map_or_else(

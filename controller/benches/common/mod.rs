@@ -85,3 +85,25 @@ pub fn part_controller(
     }
     builder.build().unwrap_or_else(|e| panic!("{e}"))
 }
+
+/// The mill's square 25 times: about 10 minutes of machining.
+#[allow(dead_code)] // the HMI benches run the lathe's PART1
+pub fn long_mill_program() -> String {
+    let mut s =
+        String::from("%3 \"Ten minutes of squares\nN10 T2 M06\nN20 G54 S2000 M03\nN30 M08\n");
+    s.push_str("N40 G00 X-100 Y-100 Z-50\nN50 G01 Z-60 F300\n");
+    let mut n = 60;
+    for _ in 0..25 {
+        for (x, y) in [(-160, -100), (-160, -160), (-100, -160), (-100, -100)] {
+            s.push_str(&format!("N{n} X{x} Y{y} F600\n"));
+            n += 10;
+        }
+    }
+    s.push_str(&format!(
+        "N{n} G00 Z-50\nN{} M09\nN{} M05\nN{} M30\n",
+        n + 10,
+        n + 20,
+        n + 30
+    ));
+    s
+}
