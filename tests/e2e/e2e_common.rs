@@ -161,3 +161,48 @@ pub fn serial() -> std::sync::MutexGuard<'static, ()> {
     RUNS.lock()
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
+
+/// A child process, killed however the test ends.
+pub struct Killed(pub std::process::Child);
+
+impl Drop for Killed {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+/// Spawns `c` with its stderr piped and waits at most `secs` for a stderr line that `find` turns
+/// into a value (a server's address, an endpoint); panics naming `what` and the lines seen.
+pub fn spawn_until(
+    c: &mut Command,
+    secs: u64,
+    what: &str,
+    find: impl Fn(&str) -> Option<String>,
+) -> (Killed, String) {
+    use std::io::BufRead as _;
+    use std::time::{Duration, Instant};
+    let mut run = c
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("ncplc runs");
+    let err = std::io::BufReader::new(run.stderr.take().expect("stderr"));
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in err.lines().map_while(Result::ok) {
+            let _ = tx.send(line);
+        }
+    });
+    let run = Killed(run);
+    let deadline = Instant::now() + Duration::from_secs(secs);
+    let mut said = Vec::new();
+    loop {
+        let line = rx
+            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
+            .unwrap_or_else(|_| panic!("no {what} in:\n{}", said.join("\n")));
+        if let Some(v) = find(&line) {
+            return (run, v);
+        }
+        said.push(line);
+    }
+}

@@ -15,12 +15,11 @@ use crate::e2e_common;
 
 use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Stdio};
 
 use crate::e2e_common::serial;
 
-use e2e_common::{Ncplc, copy_dir, ncplc, root};
+use e2e_common::{Killed, Ncplc, copy_dir, ncplc, root, spawn_until};
 use serde_json::Value;
 
 const PYTHON: &str = "/usr/bin/python3";
@@ -47,16 +46,6 @@ fn peer(args: &[&str]) -> Command {
     let mut c = Command::new(PYTHON);
     c.arg(root().join("tests/peers/modbus_peer.py")).args(args);
     c
-}
-
-/// Kills a child process however the test ends.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
 }
 
 /// A copy of the lathe whose io.toml points at `device` and whose HMI server is on a free port.
@@ -156,33 +145,16 @@ fn a_pymodbus_scada_client_reads_and_writes_the_simulated_lathe() {
     let _serial = serial();
     let machine = lathe("127.0.0.1:5020");
     let trace = machine.path().join("session.jsonl");
-    let mut run = run_args(
-        machine.path(),
-        &["--modbus-hmi", "127.0.0.1:0", "--ticks", "400", "--record"],
-    )
-    .arg(&trace)
-    .spawn()
-    .expect("ncplc runs");
-    // `--modbus-hmi 127.0.0.1:0`: the server prints the port it took.
-    let err = BufReader::new(run.stderr.take().expect("stderr"));
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in err.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let run = Killed(run);
-    let deadline = Instant::now() + Duration::from_secs(30);
-    let mut said = Vec::new();
-    let addr = loop {
-        let line = rx
-            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
-            .unwrap_or_else(|_| panic!("no HMI server address in:\n{}", said.join("\n")));
-        if let Some(a) = line.split("listening on ").nth(1) {
-            break a.split_whitespace().next().unwrap_or_default().to_string();
-        }
-        said.push(line);
-    };
+    let (run, addr) = spawn_until(
+        run_args(
+            machine.path(),
+            &["--modbus-hmi", "127.0.0.1:0", "--ticks", "400", "--record"],
+        )
+        .arg(&trace),
+        30,
+        "HMI server address",
+        listening_on,
+    );
     let (host, port) = addr.rsplit_once(':').expect("ADDR:PORT");
     let out = peer(&["client", host, port]).output().expect("python runs");
     assert!(
@@ -273,32 +245,18 @@ fn a_pymodbus_scada_client_reads_and_writes_the_simulated_lathe() {
 
 /// Starts `ncplc run --modbus-hmi 127.0.0.1:0` on `machine`; the run and the server's address.
 fn modbus_hmi(machine: &Path, extra: &[&str]) -> (Killed, String) {
-    let mut run = run_args(machine, &["--modbus-hmi", "127.0.0.1:0"])
-        .args(extra)
-        .spawn()
-        .expect("ncplc runs");
-    let err = BufReader::new(run.stderr.take().expect("stderr"));
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in err.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let run = Killed(run);
-    let deadline = Instant::now() + Duration::from_secs(30);
-    let mut said = Vec::new();
-    loop {
-        let line = rx
-            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
-            .unwrap_or_else(|_| panic!("no HMI server address in:\n{}", said.join("\n")));
-        if let Some(a) = line.split("listening on ").nth(1) {
-            return (
-                run,
-                a.split_whitespace().next().unwrap_or_default().to_string(),
-            );
-        }
-        said.push(line);
-    }
+    spawn_until(
+        run_args(machine, &["--modbus-hmi", "127.0.0.1:0"]).args(extra),
+        30,
+        "HMI server address",
+        listening_on,
+    )
+}
+
+/// The address in the Modbus HMI server's `… listening on ADDR` line.
+fn listening_on(line: &str) -> Option<String> {
+    let a = line.split("listening on ").nth(1)?;
+    Some(a.split_whitespace().next().unwrap_or_default().to_string())
 }
 
 /// pymodbus as a hostile client of the HMI server (issue 23): the per-connection rate, the unit

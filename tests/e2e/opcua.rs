@@ -9,15 +9,13 @@
 //! `CI=true`, where they fail (`.ci/run` installs it).
 
 use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader};
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
-use std::time::{Duration, Instant};
+use std::process::{Command, Stdio};
 
 use packets::Signal;
 use serde_json::Value;
 
-use crate::e2e_common::{Ncplc, copy_dir, ncplc, root, serial};
+use crate::e2e_common::{Killed, Ncplc, copy_dir, ncplc, root, serial, spawn_until};
 
 const PYTHON: &str = "python3";
 
@@ -35,16 +33,6 @@ fn have_asyncua() -> bool {
         eprintln!("SKIPPED: no asyncua for {PYTHON}; python3 -m pip install \"asyncua>=2.1,<2.2\"");
     }
     ok
-}
-
-/// Kills a child process however the test ends.
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
 }
 
 /// A copy of the lathe without its traces.
@@ -66,33 +54,11 @@ fn opcua_run(machine: &Path, extra: &[&str]) -> (Killed, String) {
 
 /// Spawns `c` (an `ncplc run … --opcua`); the run and the endpoint URL it printed.
 fn spawn_opcua(c: &mut Command) -> (Killed, String) {
-    let mut run = c
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .expect("ncplc runs");
-    let err = BufReader::new(run.stderr.take().expect("stderr"));
-    let (tx, rx) = std::sync::mpsc::channel();
-    std::thread::spawn(move || {
-        for line in err.lines().map_while(Result::ok) {
-            let _ = tx.send(line);
-        }
-    });
-    let run = Killed(run);
-    let deadline = Instant::now() + Duration::from_secs(60);
-    let mut said = Vec::new();
-    loop {
-        let line = rx
-            .recv_timeout(deadline.saturating_duration_since(Instant::now()))
-            .unwrap_or_else(|_| panic!("no OPC UA endpoint in:\n{}", said.join("\n")));
-        if let Some(url) = line.strip_prefix("opcua: ") {
-            return (
-                run,
-                url.split_whitespace().next().unwrap_or_default().into(),
-            );
-        }
-        said.push(line);
-    }
+    c.stdout(Stdio::null());
+    spawn_until(c, 60, "OPC UA endpoint", |line| {
+        let url = line.strip_prefix("opcua: ")?;
+        Some(url.split_whitespace().next().unwrap_or_default().into())
+    })
 }
 
 fn peer(args: &[&str]) -> Value {
