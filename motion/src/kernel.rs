@@ -715,6 +715,9 @@ impl Kernel {
             }
         }
         let mut left = self.cfg.tick_s;
+        // At most one restart from rest per tick (see below): a piece that cannot move at all
+        // (a zero override) must not spin inside one tick.
+        let mut restarted = false;
         loop {
             if self.exec.is_none() {
                 if self.abort && self.v == 0.0 {
@@ -801,6 +804,18 @@ impl Kernel {
                 if self.abort {
                     self.pos = front.seg.at(ex.s0 + ex.prof.dist);
                     self.clear_after_abort();
+                    break;
+                }
+                if !self.hold && !restarted {
+                    // Nothing asked for this stop: a profile replanned while it decelerated
+                    // (an override lowered under the S law) can end at rest short of the piece
+                    // end, and nothing would ever move the axes again. Go on from rest.
+                    let s0 = ex.s0 + ex.prof.dist;
+                    restarted = true;
+                    self.plan_front();
+                    let prof = self.profile(s0, 0.0);
+                    self.exec = Some(Exec { prof, t: 0.0, s0 });
+                    continue;
                 }
                 break;
             }

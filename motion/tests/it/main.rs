@@ -4,6 +4,7 @@
 mod cam;
 mod common;
 mod golden;
+mod override_stall;
 mod props;
 mod ruckig_peer;
 mod thread;
