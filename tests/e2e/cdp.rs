@@ -180,17 +180,28 @@ impl Browser {
     }
 
     /// Clicks the first element matching `css` with the mouse: pressed and released at its centre
-    /// (scrolled into view first), as a user's click.
+    /// (scrolled into view first), as a user's click. The point is taken only when the element
+    /// itself is what lies there (a page still laying out moves it): otherwise it is asked again
+    /// for up to 5 s.
     pub async fn click(&self, css: &str) -> Result<(), String> {
         let body = format!(
-            "const e = document.querySelector({}); if (!e) return null; \
+            "const e = document.querySelector({}); if (!e) return 'none'; \
              e.scrollIntoView({{block: 'center', inline: 'center'}}); \
-             const r = e.getBoundingClientRect(); return [r.left + r.width / 2, r.top + r.height / 2]",
+             const r = e.getBoundingClientRect(); const x = r.left + r.width / 2, y = r.top + r.height / 2; \
+             const at = document.elementFromPoint(x, y); \
+             return at && (at === e || e.contains(at)) ? [x, y] : 'covered'",
             js_str(css)
         );
-        let at = self.js(&body).await?;
-        let (Some(x), Some(y)) = (at[0].as_f64(), at[1].as_f64()) else {
-            return Err(format!("{css}: no such element"));
+        let deadline = Instant::now() + Duration::from_secs(5);
+        let (x, y) = loop {
+            let at = self.js(&body).await?;
+            if let (Some(x), Some(y)) = (at[0].as_f64(), at[1].as_f64()) {
+                break (x, y);
+            }
+            if Instant::now() > deadline {
+                return Err(format!("{css}: {at}"));
+            }
+            tokio::time::sleep(Duration::from_millis(50)).await;
         };
         for kind in ["mousePressed", "mouseReleased"] {
             self.call(

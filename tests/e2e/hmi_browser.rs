@@ -52,8 +52,19 @@ async fn search(c: &Browser, q: &str) -> Result<(), String> {
     c.type_into("#search", q).await
 }
 
+/// Opens the page `name` with a click on its tab, until the tab is the active one (while the page
+/// still lays out its header, a click can land on the neighbouring tab).
 async fn page(c: &Browser, name: &str) -> Result<(), String> {
-    c.click(&format!("nav button[data-page={name}]")).await
+    let tab = format!("nav button[data-page={name}]");
+    let active = format!("return document.querySelector('{tab}.active') !== null");
+    for _ in 0..20 {
+        c.click(&tab).await?;
+        if c.js(&active).await? == serde_json::Value::Bool(true) {
+            return Ok(());
+        }
+        tokio::time::sleep(Duration::from_millis(100)).await;
+    }
+    Err(format!("the {name} tab did not become active"))
 }
 
 async fn steps(c: &Browser, hmi: &Hmi, keep: Option<&Path>) -> Result<(), String> {
