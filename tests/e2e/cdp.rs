@@ -12,7 +12,7 @@
 //! longer than [`CALL_TIMEOUT`].
 
 use std::path::Path;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
@@ -25,6 +25,8 @@ use tokio::sync::Mutex;
 use tokio_tungstenite::tungstenite::Message;
 use tokio_tungstenite::{MaybeTlsStream, WebSocketStream};
 
+use crate::e2e_common::Killed;
+
 /// Debian's Chromium.
 pub const CHROMIUM: &str = "/usr/bin/chromium";
 
@@ -35,20 +37,11 @@ type Socket = WebSocketStream<MaybeTlsStream<TcpStream>>;
 
 /// A headless Chromium and its one page.
 pub struct Browser {
+    /// The browser process, killed when this drops (also when [`Browser::launch`] fails half-way).
     _child: Killed,
     _profile: tempfile::TempDir,
     socket: Mutex<Socket>,
     next_id: AtomicU64,
-}
-
-/// The browser process, killed when this drops (also when [`Browser::launch`] fails half-way).
-struct Killed(Child);
-
-impl Drop for Killed {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
 }
 
 impl Browser {
