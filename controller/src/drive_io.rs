@@ -4,14 +4,23 @@
 //! Per tick, in `latch_inputs(t)`: the master's inputs (packet A from the I/O nodes; in
 //! lock-step mode it first waits for the drives' answers to tick t−1's SYNCs), then the drives'
 //! answers become the kernel's feedback ([`apply_feedback`], shared with the replay: new faults
-//! raise their alarms), then the kernel steps behind `sim.toml`'s part script (panel and machine
-//! contacts written over the I/O nodes' inputs, as in a simulated part run), and its set points of
-//! the tick's interpolation ticks become the drives' orders, which `publish_outputs(t)` hands to
-//! the master with the outputs: one SYNC per interpolation tick, set point n in the RPDO before
+//! raise their alarms), then the kernel steps behind `sim.toml`'s part script, and its set points
+//! of the tick's interpolation ticks become the drives' orders, which `publish_outputs(t)` hands
+//! to the master with the outputs: one SYNC per interpolation tick, set point n in the RPDO before
 //! SYNC n. The feedback the kernel took is kept for the recording ([`DriveIo::samples`]).
 //!
-//! Invariant: the kernel sees only what the recording keeps (the samples), so a replay that
-//! feeds the recorded samples re-runs it exactly without the bus.
+//! **The simulated I/O nodes carry the script and the plant** (the `virtual` transport, whose
+//! nodes' terminals are wired to packet A: `fieldbus::canopen::sim_wiring`): the kernel steps on
+//! a scratch image whose wired input bytes are the nodes' input terminals; what the script and the
+//! plant leave there goes onto the terminals, and the scan reads it from the TPDOs of the tick's
+//! SYNCs at its next latch — one tick later, as on real wiring. The outputs the kernel and the
+//! script read (`publish_outputs(t)`, handed over at latch t+1) have their wired bytes from the
+//! nodes' output terminals, which the RPDOs of tick t set. On another transport the script's
+//! inputs are written over the nodes' inputs, as in a simulated part run.
+//!
+//! Invariant: the kernel sees only what the recording keeps (the samples; the wired inputs come
+//! from the recorded inputs, `PartHeader::bus_inputs`), so a replay that feeds the recorded samples
+//! re-runs it exactly without the bus.
 
 use std::sync::{Arc, Mutex, PoisonError};
 
@@ -32,6 +41,12 @@ pub struct DriveIo {
     drives: Vec<HeaderDrive>,
     faults: Vec<Option<DriveFaultRecord>>,
     samples: Samples,
+    /// Per packet byte: true where a simulated node's input terminal is wired.
+    wired: Vec<bool>,
+    /// The kernel's image of a tick on wired nodes.
+    scratch: Vec<u8>,
+    /// The scan's last published outputs, handed to the kernel at the next latch (wired nodes).
+    published: Option<Vec<u8>>,
 }
 
 impl DriveIo {
@@ -58,7 +73,19 @@ impl DriveIo {
             })
             .unwrap_or_default();
         attach(&mut lock(&cnc), &drives)?;
+        let mut wired = Vec::new();
+        if let Some(w) = canopen.sim_wiring() {
+            wired = vec![false; packets::PACKETS_LEN];
+            for r in w.input_bytes() {
+                if let Some(b) = wired.get_mut(r.start) {
+                    *b = true;
+                }
+            }
+        }
         Ok(DriveIo {
+            wired,
+            scratch: Vec::new(),
+            published: None,
             canopen,
             kernel,
             cnc,
@@ -71,6 +98,14 @@ impl DriveIo {
     /// The drives, as the trace header names them.
     pub fn drives(&self) -> &[HeaderDrive] {
         &self.drives
+    }
+
+    /// The packet-A input bytes the simulated I/O nodes carry (empty off the virtual transport).
+    pub fn bus_inputs(&self) -> Vec<u16> {
+        (0..self.wired.len())
+            .filter(|&i| self.wired[i])
+            .map(|i| i as u16)
+            .collect()
     }
 
     /// The feedback the kernel took at the last latch (shared with the recording).
@@ -199,7 +234,25 @@ impl PacketIo for DriveIo {
         }
         apply_feedback(&mut lock(&self.cnc), &samples, &mut self.faults);
         drop(samples);
-        self.kernel.latch_inputs(tick, packets);
+        match self.canopen.sim_wiring() {
+            Some(w) => {
+                if let Some(mut out) = self.published.take() {
+                    w.get_outputs(&mut out);
+                    self.kernel.publish_outputs(tick.saturating_sub(1), &out);
+                }
+                self.scratch.clear();
+                self.scratch.extend_from_slice(packets);
+                w.get_inputs(&mut self.scratch);
+                self.kernel.latch_inputs(tick, &mut self.scratch);
+                w.put_inputs(&self.scratch);
+                for (i, (dst, src)) in packets.iter_mut().zip(&self.scratch).enumerate() {
+                    if !self.wired.get(i).copied().unwrap_or(false) {
+                        *dst = *src;
+                    }
+                }
+            }
+            None => self.kernel.latch_inputs(tick, packets),
+        }
         let cnc = lock(&self.cnc);
         let Some(d) = self.canopen.drives() else {
             return;
@@ -224,7 +277,13 @@ impl PacketIo for DriveIo {
     }
 
     fn publish_outputs(&mut self, tick: u64, packets: &[u8]) {
-        self.kernel.publish_outputs(tick, packets);
+        if self.canopen.sim_wiring().is_some() {
+            let out = self.published.get_or_insert_with(Vec::new);
+            out.clear();
+            out.extend_from_slice(packets);
+        } else {
+            self.kernel.publish_outputs(tick, packets);
+        }
         self.canopen.publish_outputs(tick, packets);
     }
 

@@ -20,6 +20,10 @@ pub struct KernelReplay {
     last_out: Vec<u8>,
     /// Per drive of the header, the fault last seen (a new one raises its alarm).
     faults: Vec<Option<trace::DriveFaultRecord>>,
+    /// The packet-A input bytes that came over the bus (header `bus_inputs`): the recorded
+    /// inputs, never the kernel's writes.
+    bus_inputs: Vec<usize>,
+    kept: Vec<u8>,
 }
 
 impl KernelReplay {
@@ -64,6 +68,8 @@ impl KernelReplay {
             run,
             last_out: vec![0; packets::PACKETS_LEN],
             faults: vec![None; header.drives.len()],
+            bus_inputs: header.bus_inputs.iter().map(|&b| usize::from(b)).collect(),
+            kept: Vec::new(),
         })
     }
 
@@ -129,13 +135,30 @@ impl ReplayKernel for KernelReplay {
     fn written_mask(&self) -> Vec<u8> {
         let mut mask = vec![0; packets::PACKETS_LEN];
         self.lock().written_mask(&mut mask);
+        for &b in &self.bus_inputs {
+            if let Some(m) = mask.get_mut(b) {
+                *m = 0;
+            }
+        }
         mask
     }
 
     fn latch(&mut self, t: u64, packets: &mut [u8]) {
         let cnc = Arc::clone(&self.cnc);
         let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
+        self.kept.clear();
+        self.kept.extend(
+            self.bus_inputs
+                .iter()
+                .map(|&b| packets.get(b).copied().unwrap_or(0)),
+        );
         c.step(t, &self.last_out, packets);
+        // What the plant wrote there went onto the nodes' terminals; the scan read the bus.
+        for (&b, &v) in self.bus_inputs.iter().zip(&self.kept) {
+            if let Some(p) = packets.get_mut(b) {
+                *p = v;
+            }
+        }
     }
 
     fn publish(&mut self, t: u64, packets: &[u8]) {

@@ -37,6 +37,8 @@ pub struct PartRun {
     cnc: Arc<Mutex<Cnc>>,
     /// The axes on CiA 402 drives (a run with `--io canopen`), for the trace header.
     pub(crate) drives: Vec<trace::HeaderDrive>,
+    /// The packet-A input bytes the simulated I/O nodes carry (trace header `bus_inputs`).
+    pub(crate) bus_inputs: Vec<u16>,
     /// The drives' feedback the kernel took at the last latch, for the recording.
     pub(crate) drive_samples: Option<crate::drive_io::Samples>,
     process: u8,
@@ -217,6 +219,7 @@ pub fn start_on_drives(
         ));
     }
     run.drives = io.drives().to_vec();
+    run.bus_inputs = io.bus_inputs();
     run.drive_samples = Some(io.samples());
     Ok((Box::new(io), run))
 }
@@ -256,6 +259,7 @@ pub fn start_spec(
         mdi_files,
         cnc,
         drives: Vec::new(),
+        bus_inputs: Vec::new(),
         drive_samples: None,
         process: args.process,
         part,
@@ -460,6 +464,7 @@ impl PartRun {
                 .collect(),
             macro_vars: self.vars_text.clone(),
             drives: self.drives.clone(),
+            bus_inputs: self.bus_inputs.clone(),
         }
     }
 

@@ -194,6 +194,13 @@ pub fn open_canopen(
         ));
     }
     start_canopen(cfg, &map.io_cpus, Some(timing)).map_err(|e| {
+        // A drive that refused its start-up has its own code (3077), naming node, object, abort.
+        if let Some(d) = e
+            .get_ref()
+            .and_then(|i| i.downcast_ref::<canopen::drive::startup::DriveStartError>())
+        {
+            return vec![d.diagnostic()];
+        }
         whole_file(
             codes::START,
             format!("the canopen driver cannot start: {e}"),
@@ -205,7 +212,8 @@ pub fn open_canopen(
 /// Starts the CANopen master on the configured transport, with its CiA 402 drives clocked by
 /// `timing` (None: one SYNC per 10 ms tick; nothing orders them, so they stay disabled). The
 /// `virtual` transport also starts one simulated CiA 401 node per configured node and one
-/// simulated CiA 402 drive per drive on the same in-process bus (a machine without hardware).
+/// simulated CiA 402 drive per drive on the same in-process bus (a machine without hardware);
+/// the nodes' terminals are then wired to packet A ([`canopen::master::CanopenIo::sim_wiring`]).
 /// The master's threads are pinned to `io_cpus` (empty = unpinned).
 pub fn start_canopen(
     cfg: &map::CanopenConfig,
@@ -218,11 +226,28 @@ pub fn start_canopen(
             let ids: Vec<u8> = cfg.nodes.iter().map(|n| n.node_id).collect();
             let drives: Vec<_> = cfg.drives.iter().map(|d| (d.node_id, d.simulate)).collect();
             let lockstep = timing.is_some_and(|t| t.lockstep);
-            CanopenIo::start_with_drives(cfg, io_cpus, timing, move || async move {
+            // In lock-step the I/O nodes' heartbeat runs on the SYNCs, as the drives' does.
+            let period_us = match timing {
+                Some(t) if t.lockstep => {
+                    let p = canopen::master::sync_period(&t, !drives.is_empty());
+                    u32::try_from(p.as_micros()).unwrap_or(u32::MAX).max(1)
+                }
+                _ => 0,
+            };
+            let states: Vec<_> = ids
+                .iter()
+                .map(|&id| (id, canopen::node_sim::Cia401Node::new_state(period_us)))
+                .collect();
+            let spawned = states.clone();
+            let mut io = CanopenIo::start_with_drives(cfg, io_cpus, timing, move || async move {
                 let bus = canopen::virtual_bus::VirtualBus::new();
-                for id in ids {
+                for (id, state) in spawned {
                     // The node lives as long as the master's runtime.
-                    std::mem::forget(canopen::node_sim::Cia401Node::spawn(bus.port(), id));
+                    std::mem::forget(canopen::node_sim::Cia401Node::spawn_with(
+                        bus.port(),
+                        id,
+                        state,
+                    ));
                 }
                 for (id, hooks) in drives {
                     let node = canopen::drive_sim::Cia402Node::spawn(bus.port(), id);
@@ -231,13 +256,16 @@ pub fn start_canopen(
                         st.fault_at_sync = hooks.fault;
                         st.heartbeat_stop_at_sync = hooks.heartbeat_stop;
                         st.refuse_enable = hooks.refuse_enable;
+                        st.sdo_abort = hooks.sdo_abort;
                         st.sync_heartbeat = lockstep;
                     }
                     // The drive lives as long as the master's runtime.
                     std::mem::forget(node);
                 }
                 Ok(bus.port())
-            })
+            })?;
+            io.set_sim_wiring(canopen::sim_wiring::SimWiring::new(cfg, &states));
+            Ok(io)
         }
         map::TransportConfig::SocketCan { interface } => {
             let name = interface.clone();

@@ -255,6 +255,8 @@ pub struct DriveSimHooks {
     pub heartbeat_stop: Option<u64>,
     /// Never reach *Operation enabled*.
     pub refuse_enable: bool,
+    /// Abort every SDO write to this object (index, sub-index) with this abort code.
+    pub sdo_abort: Option<(u16, u8, u32)>,
 }
 
 /// An axis the machine's AXCFIL declares, as the drive validation needs it.
@@ -465,6 +467,15 @@ pub(crate) struct RawDriveSim {
     pub heartbeat_stop_at_sync: Option<u64>,
     #[serde(default)]
     pub refuse_enable: bool,
+    pub sdo_abort: Option<RawSdoAbort>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawSdoAbort {
+    pub index: u16,
+    pub subindex: u8,
+    pub code: u32,
 }
 
 #[derive(Debug, Deserialize)]

@@ -24,6 +24,7 @@ mod hmi_common;
 mod hmi_flow;
 mod hmi_security;
 mod io;
+mod ionode;
 mod lsp;
 mod macro_vars;
 mod manual_limits;

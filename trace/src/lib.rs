@@ -210,6 +210,11 @@ pub struct PartHeader {
     /// feeds their recorded feedback to the kernel.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub drives: Vec<HeaderDrive>,
+    /// The packet-A input bytes that reached the scan over the bus from simulated I/O nodes
+    /// carrying the part script and the plant (`--io canopen` on the virtual transport); a replay
+    /// takes them from the recorded inputs, not from its kernel.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub bus_inputs: Vec<u16>,
 }
 
 /// A file a part run read and its CRC-32.

@@ -8,6 +8,15 @@
 //! the input frame. The heartbeat consumer declares a node lost when no heartbeat arrived within its
 //! heartbeat time (checked at least every quarter of it), or when it reports a state other than
 //! operational once it has had that time to start; a node that boots again is started again.
+//! [`CanopenIo`] returns once the nodes are configured and started, so the first scan finds them
+//! operational.
+//!
+//! Lock-step mode (virtual time on the virtual bus, [`DriveTiming::lockstep`]): the master's clock
+//! is its SYNC count (each SYNC one period; the heartbeat consumer counts SYNCs, so a loaded machine
+//! cannot make a heartbeat late), and after each tick's SYNCs it waits for every node that is not
+//! lost to answer an SDO read of `1000h` — a node answers in order, so its TPDOs to those SYNCs
+//! have arrived before — and only then is the tick served: the scan's next latch waits for that,
+//! so the inputs it reads are the answers to the previous tick's last SYNC, every run alike.
 //!
 //! The scan side ([`CanopenIo`]) only touches lock-free buffers, exactly like the Modbus driver.
 
@@ -66,6 +75,10 @@ pub struct CanopenIo {
     last_out: [u8; A_LEN],
     alarms: Vec<IoAlarm>,
     drives: Option<ScanDrives>,
+    /// Lock-step: ticks requested by the scan, and ticks the master has served.
+    lockstep: Option<(Arc<AtomicU64>, Arc<AtomicU64>)>,
+    /// The simulated nodes' terminals (the `virtual` transport).
+    wiring: Option<super::sim_wiring::SimWiring>,
 }
 
 impl CanopenIo {
@@ -166,6 +179,9 @@ impl CanopenIo {
         });
         let wake = Arc::new(Notify::new());
         let acked = Arc::new(AtomicU64::new(0));
+        let requested = Arc::new(AtomicU64::new(0));
+        let served = Arc::new(AtomicU64::new(0));
+        let (ready_tx, ready_rx) = std::sync::mpsc::channel();
         let master = Master {
             cfg: cfg.clone(),
             bus,
@@ -178,8 +194,18 @@ impl CanopenIo {
             pending: Vec::new(),
             configured: false,
             drives: master_drives,
+            timing,
+            base: Instant::now(),
+            syncs_sent: 0,
+            requested: requested.clone(),
+            served: served.clone(),
+            ready: Some(ready_tx),
         };
         runtime.spawn(master.run());
+        // The nodes are configured and started before the first scan (bounded by the SDO
+        // timeouts of their transfers).
+        let writes: u32 = cfg.nodes.iter().map(|n| n.sdo.len() as u32 + 1).sum();
+        let _ = ready_rx.recv_timeout(cfg.sdo_timeout * writes + Duration::from_secs(1));
         let nodes = cfg
             .nodes
             .iter()
@@ -200,7 +226,19 @@ impl CanopenIo {
             last_out: [0; A_LEN],
             alarms: Vec::new(),
             drives: scan_drives,
+            lockstep: timing.lockstep.then_some((requested, served)),
+            wiring: None,
         })
+    }
+
+    /// Wires the simulated nodes' terminals (the `virtual` transport does).
+    pub fn set_sim_wiring(&mut self, wiring: super::sim_wiring::SimWiring) {
+        self.wiring = Some(wiring);
+    }
+
+    /// The simulated nodes' terminals, on the `virtual` transport.
+    pub fn sim_wiring(&self) -> Option<&super::sim_wiring::SimWiring> {
+        self.wiring.as_ref()
     }
 
     /// The CiA 402 drives' scan side (orders for the next publish, the latest answers).
@@ -213,6 +251,23 @@ impl CanopenIo {
         self.nodes
             .iter()
             .any(|n| n.cfg.name == name && n.health.healthy())
+    }
+
+    /// In lock-step mode, waits (at most `limit`) until the master served every tick the scan
+    /// requested; false when it did not in time.
+    fn wait_served(&self, limit: Duration) -> bool {
+        let Some((requested, served)) = &self.lockstep else {
+            return true;
+        };
+        let want = requested.load(Ordering::Acquire);
+        let deadline = std::time::Instant::now() + limit;
+        while served.load(Ordering::Acquire) < want {
+            if std::time::Instant::now() > deadline {
+                return false;
+            }
+            std::thread::sleep(Duration::from_micros(20));
+        }
+        true
     }
 
     fn hand_over(&mut self, packets: &[u8], force: bool) {
@@ -229,6 +284,9 @@ impl CanopenIo {
             self.outputs.publish();
         }
         // One SYNC per tick, whether or not the outputs changed.
+        if let Some((requested, _)) = &self.lockstep {
+            requested.fetch_add(1, Ordering::AcqRel);
+        }
         self.wake.notify_one();
     }
 }
@@ -248,14 +306,13 @@ impl PacketIo for CanopenIo {
 
     fn latch_inputs(&mut self, _tick: u64, packets: &mut [u8]) {
         self.threads.follow_scan();
-        if let Some(d) = &self.drives
-            && !d.wait(LOCKSTEP_LIMIT)
-        {
+        let drives_ok = self.drives.as_ref().is_none_or(|d| d.wait(LOCKSTEP_LIMIT));
+        if !(drives_ok && self.wait_served(LOCKSTEP_LIMIT)) {
             queue_alarm(
                 &mut self.alarms,
                 Some(IoAlarm {
                     device: "canopen".into(),
-                    message: "the drives' answers did not come within 5 s (lock-step)".into(),
+                    message: "the bus's answers did not come within 5 s (lock-step)".into(),
                     cleared: false,
                 }),
             );
@@ -330,6 +387,25 @@ struct Master<B> {
     configured: bool,
     /// The CiA 402 drives, when io.toml has any.
     drives: Option<MasterDrives>,
+    /// The SYNC period and count, and lock-step mode.
+    timing: DriveTiming,
+    /// Lock-step: the clock's origin; it advances one SYNC period per SYNC sent.
+    base: Instant,
+    syncs_sent: u32,
+    /// Ticks the scan requested (read when a tick starts) and the master served.
+    requested: Arc<AtomicU64>,
+    served: Arc<AtomicU64>,
+    /// Told once the nodes are configured and started.
+    ready: Option<std::sync::mpsc::Sender<()>>,
+}
+
+/// The time between two SYNCs: the interpolation tick with drives, else one logic tick.
+pub fn sync_period(timing: &DriveTiming, drives: bool) -> Duration {
+    if drives {
+        timing.int_tick
+    } else {
+        timing.int_tick * timing.syncs.max(1) as u32
+    }
 }
 
 /// How long a lock-step scan waits for the drives' answers before it goes on with an alarm.
@@ -361,7 +437,7 @@ where
         },
     )
     .await
-    .map_err(|e| std::io::Error::other(e.to_string()))?;
+    .map_err(std::io::Error::other)?;
     let mut set = DriveSet::new(&drives, timing.int_tick);
     let now = Instant::now();
     for m in &seen {
@@ -381,6 +457,9 @@ impl<B: CanBus> Master<B> {
             }
         }
         self.publish();
+        if let Some(r) = self.ready.take() {
+            let _ = r.send(());
+        }
         let check = self
             .cfg
             .nodes
@@ -450,7 +529,21 @@ impl<B: CanBus> Master<B> {
             .bus
             .send(&CanMsg::new(cob::NMT, &[nmt::CMD_START, id]))
             .await;
-        self.status[i].started = Some(Instant::now());
+        self.status[i].started = Some(self.now());
+    }
+
+    /// The master's clock: the wall clock, or in lock-step mode the SYNC count.
+    fn now(&self) -> Instant {
+        if self.timing.lockstep {
+            self.base + self.sync_period() * self.syncs_sent
+        } else {
+            Instant::now()
+        }
+    }
+
+    /// The time between two SYNCs: the interpolation tick with drives, else one logic tick.
+    fn sync_period(&self) -> Duration {
+        sync_period(&self.timing, self.drives.is_some())
     }
 
     fn on_frame(&mut self, m: &CanMsg) {
@@ -467,8 +560,9 @@ impl<B: CanBus> Master<B> {
                 let Some(&state) = m.payload().first() else {
                     continue;
                 };
+                let now = self.now();
                 let st = &mut self.status[i];
-                st.last_hb = Some(Instant::now());
+                st.last_hb = Some(now);
                 st.state = state;
                 if (state == nmt::BOOTUP || state == nmt::PRE_OPERATIONAL)
                     && !st.sdo_failed
@@ -477,7 +571,7 @@ impl<B: CanBus> Master<B> {
                     // The node (re)booted: start it again.
                     self.pending
                         .push(CanMsg::new(cob::NMT, &[nmt::CMD_START, nid]));
-                    st.started = Some(Instant::now());
+                    st.started = Some(now);
                 }
             }
             for map in &node.inputs {
@@ -493,6 +587,7 @@ impl<B: CanBus> Master<B> {
     }
 
     async fn on_tick(&mut self) {
+        let requested = self.requested.load(Ordering::Acquire);
         let (out, _) = self.outputs.read();
         let (seq, data) = (out.seq, out.data);
         if seq > 0 {
@@ -524,12 +619,41 @@ impl<B: CanBus> Master<B> {
                 // A broken bus shows as missing answers (unhealthy feedback, then heartbeats).
                 let _ = d.tick(&mut self.bus, &mut other).await;
                 self.drives = Some(d);
+                let n = self.timing.syncs.max(1);
+                self.syncs_sent = self.syncs_sent.saturating_add(n as u32);
                 for m in &other {
                     self.on_frame(m);
                 }
             }
             None => {
                 let _ = self.bus.send(&CanMsg::new(cob::SYNC, &[])).await;
+                self.syncs_sent = self.syncs_sent.saturating_add(1);
+            }
+        }
+        if self.timing.lockstep {
+            self.barrier().await;
+        }
+        self.publish();
+        self.served.store(requested, Ordering::Release);
+    }
+
+    /// Lock-step: waits until every node that is not lost has answered the tick's SYNCs (an SDO
+    /// read of `1000h`, answered after them), handling the frames that come meanwhile.
+    async fn barrier(&mut self) {
+        let now = self.now();
+        for i in 0..self.cfg.nodes.len() {
+            if self.status[i].sdo_failed || self.fault(i, now) == Fault::HeartbeatLost {
+                continue;
+            }
+            let mut seen = Vec::new();
+            let id = self.cfg.nodes[i].node_id;
+            let timeout = self.cfg.sdo_timeout;
+            let _ = sdo::upload(&mut self.bus, id, 0x1000, 0, timeout, &mut |m: &CanMsg| {
+                seen.push(*m)
+            })
+            .await;
+            for m in &seen {
+                self.on_frame(m);
             }
         }
     }
@@ -550,7 +674,7 @@ impl<B: CanBus> Master<B> {
     }
 
     fn publish(&mut self) {
-        let now = Instant::now();
+        let now = self.now();
         let faults: Vec<Fault> = (0..self.cfg.nodes.len())
             .map(|i| self.fault(i, now))
             .collect();

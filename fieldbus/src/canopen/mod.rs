@@ -4,7 +4,8 @@
 //! consumer, SDO configuration at start). The bus is reached through the [`transport::CanBus`] trait
 //! with three implementations: Linux SocketCAN ([`socketcan_bus`]), an in-process virtual bus
 //! ([`virtual_bus`]) and CAN over UDP in the cannelloni format ([`cannelloni`]). [`node_sim`] is a
-//! simulated CiA 401 node for tests and for the `virtual` transport. [`drive`] is the CiA 402 side
+//! simulated CiA 401 node for tests and for the `virtual` transport, [`sim_wiring`] its terminals
+//! wired to packet A for a simulated machine. [`drive`] is the CiA 402 side
 //! of the master (servo drives in cyclic synchronous position or velocity mode), [`drive_sim`] a
 //! simulated CiA 402 drive node.
 
@@ -15,6 +16,7 @@ pub mod master;
 pub mod node_sim;
 pub mod sdo;
 pub mod sim_node;
+pub mod sim_wiring;
 pub mod socketcan_bus;
 pub mod transport;
 pub mod virtual_bus;

@@ -6,6 +6,13 @@
 //! dictionary answers SDO expedited transfers: `1000h` device type (`000F0191h`: CiA 401 with
 //! digital inputs and outputs), `1017h` producer heartbeat time, `6000h` sub 1..16 the input bytes
 //! (read-only), `6200h` sub 1..16 the output bytes.
+//!
+//! Its heartbeat runs on the wall clock (the shared loop of `sim_node`), or, with
+//! [`NodeState::sync_period_us`] set (a lock-step run in virtual time), on the SYNCs it receives:
+//! the first SYNC and then every `1017h` ms worth of SYNC periods, so a loaded machine cannot make it
+//! late. Its physical inputs ([`NodeState::inputs`]) are what a test, or the part run's simulated
+//! machine (`controller::drive_io`), wires to its terminals; they reach the master with the TPDOs
+//! of the next SYNC.
 
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -33,6 +40,19 @@ pub struct NodeState {
     pub rpdos: u64,
     /// SYNCs received.
     pub syncs: u64,
+    /// The SYNC period in µs when the heartbeat is produced on SYNCs (lock-step runs in virtual
+    /// time); 0: the heartbeat runs on the wall clock.
+    pub sync_period_us: u32,
+    /// SYNCs counted by the SYNC heartbeat.
+    hb_syncs: u64,
+}
+
+impl NodeState {
+    /// SYNCs between two heartbeats produced on SYNCs (`1017h` rounded to whole SYNC periods).
+    pub fn heartbeat_every(&self) -> u64 {
+        let period = u64::from(self.sync_period_us.max(1));
+        ((u64::from(self.heartbeat_ms) * 1000 + period / 2) / period).max(1)
+    }
 }
 
 /// A running simulated node.
@@ -50,10 +70,21 @@ fn lock(s: &Mutex<NodeState>) -> MutexGuard<'_, NodeState> {
 impl Cia401Node {
     /// Spawns the node on the current tokio runtime.
     pub fn spawn<B: CanBus>(bus: B, node_id: u8) -> Cia401Node {
-        let state = Arc::new(Mutex::new(NodeState {
+        Cia401Node::spawn_with(bus, node_id, Cia401Node::new_state(0))
+    }
+
+    /// A fresh node's state (pre-operational); `sync_period_us` as [`NodeState::sync_period_us`].
+    pub fn new_state(sync_period_us: u32) -> Arc<Mutex<NodeState>> {
+        Arc::new(Mutex::new(NodeState {
             nmt: nmt::PRE_OPERATIONAL,
+            sync_period_us,
             ..NodeState::default()
-        }));
+        }))
+    }
+
+    /// Spawns the node on the current tokio runtime with a state the caller keeps (to wire its
+    /// terminals).
+    pub fn spawn_with<B: CanBus>(bus: B, node_id: u8, state: Arc<Mutex<NodeState>>) -> Cia401Node {
         let task = tokio::spawn(super::sim_node::run(bus, node_id, state.clone()));
         Cia401Node {
             node_id,
@@ -86,7 +117,7 @@ impl super::sim_node::SimNode for NodeState {
         self.heartbeat_ms
     }
     fn heartbeat_state(&self) -> Option<u8> {
-        (!self.silent).then_some(self.nmt)
+        (!self.silent && self.sync_period_us == 0).then_some(self.nmt)
     }
     fn handle(&mut self, id: u8, m: &CanMsg) -> Vec<CanMsg> {
         handle(self, id, m)
@@ -119,6 +150,12 @@ fn handle(s: &mut NodeState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
             s.outputs = s.pending;
             out.push(CanMsg::new(cob::tpdo(1, id), &s.inputs[..8]));
             out.push(CanMsg::new(cob::tpdo(2, id), &s.inputs[8..]));
+        }
+        if s.sync_period_us > 0 && s.heartbeat_ms > 0 {
+            if s.hb_syncs.is_multiple_of(s.heartbeat_every()) {
+                out.push(CanMsg::new(cob::HEARTBEAT + u16::from(id), &[s.nmt]));
+            }
+            s.hb_syncs += 1;
         }
     } else if (cob_id == cob::rpdo(1, id) || cob_id == cob::rpdo(2, id))
         && s.nmt == nmt::OPERATIONAL
