@@ -27,6 +27,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use cnc::Cnc;
 use fieldbus::canopen::drive::{DriveAnswers, DriveFault, FaultCause};
 use fieldbus::canopen::master::CanopenIo;
+use fieldbus::health::Fault;
 use packets::{IoAlarm, PacketIo};
 use trace::{AxisId, DriveFaultRecord, DriveSample, HeaderDrive};
 
@@ -47,6 +48,8 @@ pub struct DriveIo {
     scratch: Vec<u8>,
     /// The scan's last published outputs, handed to the kernel at the next latch (wired nodes).
     published: Option<Vec<u8>>,
+    /// The I/O nodes lost at the last latch (node ids).
+    nodes_lost: Vec<u8>,
 }
 
 impl DriveIo {
@@ -86,6 +89,7 @@ impl DriveIo {
             wired,
             scratch: Vec::new(),
             published: None,
+            nodes_lost: Vec::new(),
             canopen,
             kernel,
             cnc,
@@ -174,6 +178,43 @@ fn fault_record(f: DriveFault) -> DriveFaultRecord {
     }
 }
 
+/// The alarm text of a lost I/O node.
+pub fn node_lost_message(name: &str, node: u8, fault: Fault) -> String {
+    let why = match fault {
+        Fault::None => "no answer",
+        f => f.text(),
+    };
+    format!(
+        "I/O node {name} (node {node}) lost ({why}): its inputs read their fail values and its outputs are safe; machine off"
+    )
+}
+
+impl DriveIo {
+    /// A newly lost I/O node (the master's heartbeat consumer, as the fieldbus alarm says) is a
+    /// stopping alarm on every process, as a lost drive is on its own: the inputs the machine
+    /// runs on are gone.
+    fn watch_nodes(&mut self) {
+        let lost: Vec<(String, u8, Fault)> = self
+            .canopen
+            .lost_nodes()
+            .map(|(n, id, f)| (n.to_string(), id, f))
+            .collect();
+        let mut cnc = lock(&self.cnc);
+        for (name, id, fault) in &lost {
+            if self.nodes_lost.contains(id) {
+                continue;
+            }
+            let message = node_lost_message(name, *id, *fault);
+            for n in 1..=5u8 {
+                if let Ok(p) = cnc.process_mut(n) {
+                    p.drive_alarm(message.clone());
+                }
+            }
+        }
+        self.nodes_lost = lost.iter().map(|(_, id, _)| *id).collect();
+    }
+}
+
 /// The alarm text of a drive fault on `axis`.
 pub fn fault_message(axis: char, f: &DriveFaultRecord) -> String {
     let (node, code) = (f.node, f.code);
@@ -227,6 +268,7 @@ impl PacketIo for DriveIo {
 
     fn latch_inputs(&mut self, tick: u64, packets: &mut [u8]) {
         self.canopen.latch_inputs(tick, packets);
+        self.watch_nodes();
         let mut samples = self.samples.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(d) = self.canopen.drives() {
             let published = d.published();

@@ -223,7 +223,6 @@ pub fn start_canopen(
     use canopen::master::CanopenIo;
     match &cfg.transport {
         map::TransportConfig::Virtual => {
-            let ids: Vec<u8> = cfg.nodes.iter().map(|n| n.node_id).collect();
             let drives: Vec<_> = cfg.drives.iter().map(|d| (d.node_id, d.simulate)).collect();
             let lockstep = timing.is_some_and(|t| t.lockstep);
             // In lock-step the I/O nodes' heartbeat runs on the SYNCs, as the drives' does.
@@ -234,9 +233,17 @@ pub fn start_canopen(
                 }
                 _ => 0,
             };
-            let states: Vec<_> = ids
+            let states: Vec<_> = cfg
+                .nodes
                 .iter()
-                .map(|&id| (id, canopen::node_sim::Cia401Node::new_state(period_us)))
+                .map(|n| {
+                    let state = canopen::node_sim::Cia401Node::new_state(period_us);
+                    state
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .silent_at_sync = n.simulate.silent_at_sync;
+                    (n.node_id, state)
+                })
                 .collect();
             let spawned = states.clone();
             let mut io = CanopenIo::start_with_drives(cfg, io_cpus, timing, move || async move {

@@ -203,6 +203,15 @@ pub struct CanNode {
     pub inputs: Vec<PdoMapping>,
     /// Packet A → RPDO.
     pub outputs: Vec<PdoMapping>,
+    /// Test hooks of the simulated node (`simulate = {…}`, `transport = "virtual"` only).
+    pub simulate: NodeSimHooks,
+}
+
+/// What a simulated I/O node on the virtual bus is told to do wrong (io.toml `simulate`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct NodeSimHooks {
+    /// Fall silent (no answer, no heartbeat) from this SYNC number on.
+    pub silent_at_sync: Option<u64>,
 }
 
 /// The CiA 402 mode of operation a drive runs in (object `6060h`).
@@ -487,6 +496,13 @@ pub(crate) struct RawCanNode {
     pub healthy: Option<Spanned<String>>,
     #[serde(default)]
     pub sdo: Vec<Spanned<SdoWrite>>,
+    pub simulate: Option<Spanned<RawNodeSim>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RawNodeSim {
+    pub silent_at_sync: Option<u64>,
 }
 
 #[derive(Debug, Deserialize)]

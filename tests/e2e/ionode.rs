@@ -201,3 +201,60 @@ fn a_stalled_virtual_time_run_logs_no_heartbeat_loss() {
         "{r}"
     );
 }
+
+/// A silent I/O node (io.toml `simulate = { silent_at_sync = 1000 }`): its heartbeat comes every
+/// 20 SYNCs (40 ms of 2 ms periods) from SYNC 1, so the last one is SYNC 981 (tick 196, taken with
+/// its tick's five SYNCs: the clock reads SYNC 985); the consumer's 100 ms are 50 SYNCs, passed at
+/// the end of tick 207 (SYNC 1040). The scan takes the loss at tick 208: the node's inputs read
+/// their fail values (0), its healthy bit `I100K1` falls, and the stopping alarm naming the node
+/// switches the machine off (CONP `I0K2` 0, ALARM `I1K4` 1, CYCLE `I1K5` 0) in that tick.
+#[test]
+fn a_silent_io_node_is_a_stopping_alarm_naming_it_at_its_exact_tick() {
+    let _serial = e2e_common::serial();
+    let m = lathe_edited(
+        "[[canopen.node]]\nname = \"dio1\"\n",
+        "[[canopen.node]]\nname = \"dio1\"\nsimulate = { silent_at_sync = 1000 }\n",
+    );
+    let trace_path = m.path().join("run.jsonl");
+    let out = run_part(m.path(), &["--until-end", "--record", s(&trace_path)]);
+    let r = text(&out);
+    assert_ne!(out.status.code(), Some(0), "{r}");
+    assert!(
+        r.contains("alarm: process 1: I/O node dio1 (node 2) lost (heartbeat lost): its inputs read their fail values and its outputs are safe; machine off"),
+        "{r}"
+    );
+    assert!(r.contains("did not end"), "{r}");
+    let trace = std::fs::read_to_string(&trace_path).expect("trace");
+    assert_eq!(input_changes(&trace, "I100K1"), [(1, 1), (208, 0)]);
+    assert_eq!(input_changes(&trace, "I0A0"), [(1, 1), (208, 0)]);
+    assert_eq!(input_changes(&trace, "I0K2").last(), Some(&(208, 0)));
+    assert_eq!(input_changes(&trace, "I1K4").last(), Some(&(208, 1)));
+    assert_eq!(input_changes(&trace, "I1K5").last(), Some(&(208, 0)));
+}
+
+/// `simulate` on an I/O node rehearses faults on the virtual bus only: error 3078 elsewhere.
+#[test]
+fn node_simulate_hooks_need_the_virtual_bus() {
+    let m = lathe_edited(
+        "transport = \"virtual\"\n",
+        "transport = \"socketcan\"\ninterface = \"can0\"\n",
+    );
+    let io = m.path().join("io.toml");
+    let text0 = std::fs::read_to_string(&io).expect("io.toml");
+    let text0 = text0.replacen(
+        "[[canopen.node]]\nname = \"dio1\"\n",
+        "[[canopen.node]]\nname = \"dio1\"\nsimulate = { silent_at_sync = 10 }\n",
+        1,
+    );
+    std::fs::write(&io, text0).expect("write");
+    let out = ncplc(&["check", s(m.path())]);
+    let r = text(&out);
+    assert!(!out.status.success(), "{r}");
+    assert!(r.contains("error[E3078]"), "{r}");
+    assert!(
+        r.contains(
+            "`simulate` rehearses faults on simulated nodes: it needs transport = \"virtual\""
+        ),
+        "{r}"
+    );
+}

@@ -8,6 +8,8 @@
 //! the input frame. The heartbeat consumer declares a node lost when no heartbeat arrived within its
 //! heartbeat time (checked at least every quarter of it), or when it reports a state other than
 //! operational once it has had that time to start; a node that boots again is started again.
+//! While a node is lost the scan reads its inputs' fail values and the master sends it its
+//! outputs' safe values instead of the scan's; the scan's again once it answers.
 //! [`CanopenIo`] returns once the nodes are configured and started, so the first scan finds them
 //! operational.
 //!
@@ -60,6 +62,8 @@ struct CanIn {
 struct NodeSide {
     cfg: CanNode,
     health: Health,
+    /// The fault of the last latch.
+    fault: Fault,
 }
 
 /// The CANopen master driver (implements [`PacketIo`]).
@@ -212,6 +216,7 @@ impl CanopenIo {
             .map(|c| NodeSide {
                 cfg: c.clone(),
                 health: Health::new(&c.name, STALE_TICKS),
+                fault: Fault::None,
             })
             .collect();
         Ok(CanopenIo {
@@ -244,6 +249,15 @@ impl CanopenIo {
     /// The CiA 402 drives' scan side (orders for the next publish, the latest answers).
     pub fn drives(&mut self) -> Option<&mut ScanDrives> {
         self.drives.as_mut()
+    }
+
+    /// The I/O nodes lost as of the last latch: name, node id and the fault (`Fault::None` when
+    /// the scan found no fresh answer for too long).
+    pub fn lost_nodes(&self) -> impl Iterator<Item = (&str, u8, Fault)> + '_ {
+        self.nodes
+            .iter()
+            .filter(|n| n.health.lost())
+            .map(|n| (n.cfg.name.as_str(), n.cfg.node_id, n.fault))
     }
 
     /// True while node `name` is operational and its heartbeat arrives (as of the last latch).
@@ -320,6 +334,7 @@ impl PacketIo for CanopenIo {
         let (frame, _) = self.inputs.read();
         for (i, n) in self.nodes.iter_mut().enumerate() {
             let st = frame.nodes.get(i).copied().unwrap_or_default();
+            n.fault = st.fault;
             let inputs = n.cfg.inputs.iter().map(|m| (m.range, m.fail));
             let alarm = latch_device(
                 &mut n.health,
@@ -591,7 +606,11 @@ impl<B: CanBus> Master<B> {
         let (out, _) = self.outputs.read();
         let (seq, data) = (out.seq, out.data);
         if seq > 0 {
-            for node in &self.cfg.nodes {
+            let now = self.now();
+            let lost: Vec<bool> = (0..self.cfg.nodes.len())
+                .map(|i| self.fault(i, now) != Fault::None)
+                .collect();
+            for (node, lost) in self.cfg.nodes.iter().zip(lost) {
                 for pdo in 1..=4u8 {
                     let maps: Vec<_> = node.outputs.iter().filter(|m| m.pdo == pdo).collect();
                     if maps.is_empty() {
@@ -601,8 +620,12 @@ impl<B: CanBus> Master<B> {
                     let mut len = 0;
                     for m in maps {
                         let o = usize::from(m.offset);
-                        payload[o..o + m.range.len]
-                            .copy_from_slice(&data[m.range.start..m.range.end()]);
+                        // A lost node gets its outputs' safe values (as the safe state).
+                        match lost {
+                            true => payload[o..o + m.range.len].fill(m.fail),
+                            false => payload[o..o + m.range.len]
+                                .copy_from_slice(&data[m.range.start..m.range.end()]),
+                        }
                         len = len.max(o + m.range.len);
                     }
                     let _ = self

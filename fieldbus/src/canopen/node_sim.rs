@@ -36,6 +36,8 @@ pub struct NodeState {
     pub heartbeat_ms: u16,
     /// When true the node neither answers nor produces its heartbeat (a lost node).
     pub silent: bool,
+    /// Hook: the node falls silent at this SYNC number (counted from 1) and stays so.
+    pub silent_at_sync: Option<u64>,
     /// RPDOs received while operational.
     pub rpdos: u64,
     /// SYNCs received.
@@ -146,6 +148,10 @@ fn handle(s: &mut NodeState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
         }
     } else if cob_id == cob::SYNC {
         s.syncs += 1;
+        if s.silent_at_sync.is_some_and(|n| s.syncs >= n) {
+            s.silent = true;
+            return out;
+        }
         if s.nmt == nmt::OPERATIONAL {
             s.outputs = s.pending;
             out.push(CanMsg::new(cob::tpdo(1, id), &s.inputs[..8]));

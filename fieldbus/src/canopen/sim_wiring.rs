@@ -156,6 +156,7 @@ mod tests {
                     mapping(8, 1, 3, 0),
                 ],
                 outputs: vec![mapping(16, 2, 1, 4)],
+                simulate: Default::default(),
             }],
             drives: Vec::new(),
         };

@@ -256,6 +256,19 @@ pub(super) fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> Cano
             }
         };
         check_sdo_writes(cx, &r.sdo);
+        let simulate = r.simulate.as_ref().map_or_else(NodeSimHooks::default, |h| {
+            if kind != "virtual" {
+                cx.err(
+                    codes::DRIVE_SIMULATE,
+                    h.span(),
+                    "`simulate` rehearses faults on simulated nodes: it needs transport = \"virtual\"",
+                    "remove it for a real bus",
+                );
+            }
+            NodeSimHooks {
+                silent_at_sync: h.get_ref().silent_at_sync,
+            }
+        });
         nodes.push(CanNode {
             name: r.name.get_ref().clone(),
             node_id,
@@ -264,6 +277,7 @@ pub(super) fn canopen(cx: &mut Ctx, c: &RawCanopen, span: &Range<usize>) -> Cano
             sdo: r.sdo.iter().map(|s| *s.get_ref()).collect(),
             inputs: Vec::new(),
             outputs: Vec::new(),
+            simulate,
         });
     }
     CanopenConfig {

@@ -46,6 +46,7 @@ fn node_cfg(heartbeat_ms: u64, sdo: Vec<SdoWrite>) -> CanopenConfig {
                 offset: 0,
                 fail: 0,
             }],
+            simulate: Default::default(),
         }],
     }
 }
@@ -199,6 +200,68 @@ fn lost_node_raises_alarm_within_its_heartbeat_time_and_takes_fail_state() {
     .expect("back");
     assert!(alarms.iter().any(|a| a.cleared), "{alarms:?}");
     assert_eq!(image[0], 9);
+}
+
+/// A node whose heartbeat stops while it still listens: once lost, the master sends its outputs'
+/// safe values instead of the scan's (as the safe state does); when its heartbeat is back, the
+/// scan's outputs again.
+#[test]
+fn a_lost_node_gets_its_safe_outputs_until_it_answers_again() {
+    let rt = runtime();
+    let bus = VirtualBus::new();
+    let node = rt.block_on(async { Cia401Node::spawn(bus.port(), 2) });
+    let port = bus.port();
+    let mut cfg = node_cfg(60, heartbeat_20ms());
+    cfg.nodes[0].outputs[0].fail = 0xA5;
+    let mut io = CanopenIo::start(&cfg, || async { Ok(port) }).expect("master");
+    let mut image = vec![0u8; PACKETS_LEN];
+    image[16..20].copy_from_slice(&[1, 2, 4, 8]);
+    let mut alarms = Vec::new();
+    tick_until(
+        &mut io,
+        &mut image,
+        Duration::from_secs(5),
+        &mut alarms,
+        |_, io, _| io.is_healthy("dio1") && node.state().outputs[..4] == [1, 2, 4, 8],
+    )
+    .expect("running");
+    node.state().heartbeat_ms = 0;
+    tick_until(
+        &mut io,
+        &mut image,
+        Duration::from_secs(5),
+        &mut alarms,
+        |_, _, _| node.state().outputs[..4] == [0xA5; 4],
+    )
+    .expect("safe outputs");
+    let lost: Vec<_> = io
+        .lost_nodes()
+        .map(|(n, id, f)| (n.to_string(), id, f))
+        .collect();
+    assert_eq!(
+        lost,
+        [(
+            "dio1".to_string(),
+            2,
+            fieldbus::health::Fault::HeartbeatLost
+        )]
+    );
+    assert!(
+        alarms
+            .iter()
+            .any(|a| a.device == "dio1" && a.message == "heartbeat lost"),
+        "{alarms:?}"
+    );
+    node.state().heartbeat_ms = 20;
+    tick_until(
+        &mut io,
+        &mut image,
+        Duration::from_secs(5),
+        &mut alarms,
+        |_, io, _| io.is_healthy("dio1") && node.state().outputs[..4] == [1, 2, 4, 8],
+    )
+    .expect("back");
+    assert_eq!(io.lost_nodes().count(), 0);
 }
 
 #[test]
