@@ -104,6 +104,16 @@ impl DriveIo {
         &self.drives
     }
 
+    /// Takes packet-A bytes out of the bus path: the handwheels' counters, which the kernel reads
+    /// in the tick they turn (the CNC's own encoder inputs), go into the scan's image directly.
+    pub fn unwire(&mut self, bytes: impl IntoIterator<Item = usize>) {
+        for b in bytes {
+            if let Some(w) = self.wired.get_mut(b) {
+                *w = false;
+            }
+        }
+    }
+
     /// The packet-A input bytes the simulated I/O nodes carry (empty off the virtual transport).
     pub fn bus_inputs(&self) -> Vec<u16> {
         (0..self.wired.len())

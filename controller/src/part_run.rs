@@ -211,7 +211,15 @@ pub fn start_on_drives(
     let declared = machine.declared_connectors();
     let canopen = fieldbus::open_canopen(&machine.dir, &declared, timing)
         .map_err(|d| crate::io::render_map_error(&machine.dir, d))?;
-    let io = crate::drive_io::DriveIo::new(canopen, kernel, cnc)?;
+    let mut io = crate::drive_io::DriveIo::new(canopen, kernel, cnc)?;
+    io.unwire(
+        machine
+            .script
+            .handwheel
+            .iter()
+            .filter_map(|h| h.counter.parse::<packets::Signal>().ok())
+            .map(|s| s.image_byte()),
+    );
     if io.drives().is_empty() {
         return Err(format!(
             "error: {}: a part run on --io canopen needs the axes on drives: io.toml has no [[canopen.drive]] (docs/drives.md)",

@@ -258,3 +258,61 @@ fn node_simulate_hooks_need_the_virtual_bus() {
         "{r}"
     );
 }
+
+/// A handwheel whose counter (`W1A3`) is on the node's terminals: the counter is the CNC's own
+/// encoder input, so it stays out of the bus path (the header's `bus_inputs` lacks byte 7) and the
+/// kernel reads it in the tick it turns: −250 pulses × 10 µm move Z by −2.5 mm as on the plant
+/// (`manual_limits::`), and the run replays exactly.
+#[test]
+fn a_handwheel_counter_on_the_node_stays_the_kernels_and_replays_exactly() {
+    let _serial = e2e_common::serial();
+    let m = lathe_edited("transport = \"virtual\"\n", "transport = \"virtual\"\n");
+    let edit = |file: &str, f: &dyn Fn(String) -> String| {
+        let p = m.path().join(file);
+        let text = std::fs::read_to_string(&p).expect("read");
+        std::fs::write(&p, f(text)).expect("write");
+    };
+    edit("MP0/IOCFIL", &|t| t.replace("ASM=S\n", "ASM=S\nADV=0,0\n"));
+    edit("MP0/PLCPRG", &|t| {
+        let end = t.rfind('$').expect("the closing $");
+        format!(
+            "{}COMU = I1A1\nHW_ON1 = I1A1\nHW_AXIS1 = 2\nHW_SCALE = 1\n{}",
+            &t[..end],
+            &t[end..]
+        )
+    });
+    edit("sim.toml", &|t| {
+        t + "\n[[handwheel]]\nchannel = 1\ncounter = \"W1A3\"\n\n\
+             [[part.at]]\ntick = 300\nset = { I1A1 = 1 }\n\
+             [[part.at]]\ntick = 310\nturn = { 1 = -250 }\n"
+    });
+    let traj = m.path().join("hw.traj");
+    let rec = m.path().join("hw.jsonl");
+    let out = Ncplc::run(m.path())
+        .args(["--io", "canopen"])
+        .virtual_time()
+        .mdi("N1 G00 X-10 Z-20")
+        .ticks(450)
+        .trajectory(&traj)
+        .record(&rec)
+        .output();
+    let r = text(&out);
+    assert!(out.status.success(), "{r}");
+    let last = std::fs::read_to_string(&traj).expect("trajectory");
+    let v: serde_json::Value =
+        serde_json::from_str(last.lines().last().expect("a line")).expect("json");
+    assert_eq!(v["p"].to_string(), "[-10,-22.5]");
+    let trace = std::fs::read_to_string(&rec).expect("trace");
+    let header = trace.lines().next().expect("header");
+    assert!(
+        header.contains(r#""bus_inputs":[0,1,2,3,4,5,6]}"#),
+        "{header}"
+    );
+    let out = ncplc(&["replay", s(m.path()), s(&rec)]);
+    let r = text(&out);
+    assert!(out.status.success(), "{r}");
+    assert!(
+        r.contains("outputs identical, kernel signals and axis positions identical"),
+        "{r}"
+    );
+}
