@@ -208,8 +208,12 @@ impl CanopenIo {
         runtime.spawn(master.run());
         // The nodes are configured and started before the first scan (bounded by the SDO
         // timeouts of their transfers).
-        let writes: u32 = cfg.nodes.iter().map(|n| n.sdo.len() as u32 + 1).sum();
-        let _ = ready_rx.recv_timeout(cfg.sdo_timeout * writes + Duration::from_secs(1));
+        let writes = cfg.nodes.iter().map(|n| n.sdo.len() + 1).sum::<usize>();
+        let limit = cfg
+            .sdo_timeout
+            .saturating_mul(u32::try_from(writes).unwrap_or(u32::MAX))
+            .saturating_add(Duration::from_secs(1));
+        let _ = ready_rx.recv_timeout(limit);
         let nodes = cfg
             .nodes
             .iter()
@@ -660,12 +664,13 @@ impl<B: CanBus> Master<B> {
         self.served.store(requested, Ordering::Release);
     }
 
-    /// Lock-step: waits until every node that is not lost has answered the tick's SYNCs (an SDO
-    /// read of `1000h`, answered after them), handling the frames that come meanwhile.
+    /// Lock-step: waits until every node without a fault (not lost, operational or still
+    /// starting, configured) has answered the tick's SYNCs (an SDO read of `1000h`, answered after
+    /// them), handling the frames that come meanwhile.
     async fn barrier(&mut self) {
         let now = self.now();
         for i in 0..self.cfg.nodes.len() {
-            if self.status[i].sdo_failed || self.fault(i, now) == Fault::HeartbeatLost {
+            if self.fault(i, now) != Fault::None {
                 continue;
             }
             let mut seen = Vec::new();
