@@ -221,3 +221,50 @@ fn od_check_write(index: u16, sub: u8, size: u8) -> Result<(), u32> {
         _ => Err(sdo::ABORT_NO_OBJECT),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// In lock-step the heartbeat comes with the first SYNC and then every `1017h` ms of SYNC
+    /// periods (40 ms of 2 ms SYNCs: every 20th), after the TPDOs; a silent node sends nothing
+    /// from its `silent_at_sync` on, not even the heartbeat.
+    #[test]
+    fn the_sync_heartbeat_counts_syncs_and_a_silent_node_stops_it() {
+        let mut s = NodeState {
+            nmt: nmt::OPERATIONAL,
+            heartbeat_ms: 40,
+            sync_period_us: 2000,
+            silent_at_sync: Some(42),
+            ..NodeState::default()
+        };
+        assert_eq!(s.heartbeat_every(), 20);
+        let sync = CanMsg::new(cob::SYNC, &[]);
+        let mut beats = Vec::new();
+        for n in 1..=60u64 {
+            let out = handle(&mut s, 2, &sync);
+            if n < 42 {
+                assert_eq!(out[0].id, u32::from(cob::tpdo(1, 2)), "SYNC {n}");
+                assert_eq!(out[1].id, u32::from(cob::tpdo(2, 2)), "SYNC {n}");
+            } else {
+                assert!(out.is_empty(), "SYNC {n}: {out:?}");
+            }
+            if out.iter().any(|m| m.id == u32::from(cob::HEARTBEAT + 2)) {
+                beats.push(n);
+            }
+        }
+        assert_eq!(beats, [1, 21, 41]);
+        assert!(s.silent);
+        // On the wall clock (no SYNC period) the shared loop beats, never a SYNC.
+        let mut w = NodeState {
+            nmt: nmt::OPERATIONAL,
+            heartbeat_ms: 40,
+            ..NodeState::default()
+        };
+        let out = handle(&mut w, 2, &sync);
+        assert_eq!(out.len(), 2);
+        use super::super::sim_node::SimNode as _;
+        assert_eq!(w.heartbeat_state(), Some(nmt::OPERATIONAL));
+        assert_eq!(s.heartbeat_state(), None);
+    }
+}
