@@ -632,7 +632,7 @@ impl Process {
             for i in 0..self.drives.len() {
                 let sp = pos.get(i).copied().unwrap_or(0.0);
                 if let Some(answer) = self.bus_axis_tick(i, k, sp) {
-                    self.drives[i].follow_bus(sp, answer.map(|(_, actual, _)| actual));
+                    self.drives[i].follow_bus(sp, answer);
                     continue;
                 }
                 let (d, ff) = (&mut self.drives[i], &mut self.servo[i]);

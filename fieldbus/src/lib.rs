@@ -171,14 +171,24 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
 
 /// Reads and validates `<machine_dir>/io.toml` and starts its CANopen master with the CiA 402
 /// drives clocked by `timing` (a part run's kernel orders them through
-/// [`canopen::master::CanopenIo::drives`]).
+/// [`canopen::master::CanopenIo::drives`]). On the `virtual` transport, `machine` gives the
+/// simulated drive of (process, axis) the machine behind it (home switch, zero impulses; axis
+/// units), so that it can be homed.
 pub fn open_canopen(
     machine_dir: &Path,
     declared: &DeclaredConnectors,
     timing: canopen::drive::DriveTiming,
+    machine: &dyn Fn(u32, char) -> Option<canopen::drive_sim::SimMachine>,
 ) -> Result<canopen::master::CanopenIo, Vec<Diagnostic>> {
     let (map, diags) = load_map(machine_dir, declared);
-    let Some(map) = map else { return Err(diags) };
+    let Some(mut map) = map else {
+        return Err(diags);
+    };
+    if let Some(c) = map.canopen.as_mut() {
+        for d in &mut c.drives {
+            d.simulate.machine = machine(d.process, d.axis);
+        }
+    }
     let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
         return Err(whole_file(
             codes::NO_DEVICES,
@@ -216,7 +226,11 @@ pub fn start_canopen(
     match &cfg.transport {
         map::TransportConfig::Virtual => {
             let ids: Vec<u8> = cfg.nodes.iter().map(|n| n.node_id).collect();
-            let drives: Vec<_> = cfg.drives.iter().map(|d| (d.node_id, d.simulate)).collect();
+            let drives: Vec<_> = cfg
+                .drives
+                .iter()
+                .map(|d| (d.node_id, d.simulate, d.counts_per_unit))
+                .collect();
             let lockstep = timing.is_some_and(|t| t.lockstep);
             CanopenIo::start_with_drives(cfg, io_cpus, timing, move || async move {
                 let bus = canopen::virtual_bus::VirtualBus::new();
@@ -224,7 +238,7 @@ pub fn start_canopen(
                     // The node lives as long as the master's runtime.
                     std::mem::forget(canopen::node_sim::Cia401Node::spawn(bus.port(), id));
                 }
-                for (id, hooks) in drives {
+                for (id, hooks, counts) in drives {
                     let node = canopen::drive_sim::Cia402Node::spawn(bus.port(), id);
                     {
                         let mut st = node.state();
@@ -232,6 +246,7 @@ pub fn start_canopen(
                         st.heartbeat_stop_at_sync = hooks.heartbeat_stop;
                         st.refuse_enable = hooks.refuse_enable;
                         st.sync_heartbeat = lockstep;
+                        st.machine = hooks.machine.map(|m| m.scaled(counts));
                     }
                     // The drive lives as long as the master's runtime.
                     std::mem::forget(node);

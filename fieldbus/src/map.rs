@@ -247,7 +247,7 @@ pub struct CanDrive {
 
 /// What a simulated drive on the virtual bus is told to do wrong (io.toml `simulate`), so that
 /// faults can be rehearsed through `ncplc run`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct DriveSimHooks {
     /// Fault at this SYNC number with this `603Fh` code.
     pub fault: Option<(u64, u16)>,
@@ -255,6 +255,9 @@ pub struct DriveSimHooks {
     pub heartbeat_stop: Option<u64>,
     /// Never reach *Operation enabled*.
     pub refuse_enable: bool,
+    /// The machine behind the simulated drive (home switch, zero impulses) in axis units: not
+    /// from io.toml but from the simulated machine (`sim.toml`, AXCFIL) of a part run.
+    pub machine: Option<crate::canopen::drive_sim::SimMachine>,
 }
 
 /// An axis the machine's AXCFIL declares, as the drive validation needs it.

@@ -10,6 +10,7 @@
 
 pub mod cannelloni;
 pub mod drive;
+pub mod drive_machine;
 pub mod drive_sim;
 pub mod master;
 pub mod node_sim;
