@@ -12,8 +12,11 @@
 //! last healthy one. An interpolation tick without a healthy answer (faulted, silent, no answer
 //! yet) leaves the actual position where it was and is not checked: nothing from such a drive
 //! is taken as a position. The spindle on a `csv` drive is commanded with the speed the
-//! spindle model ramps to (revolutions per second); its answers are recorded but the model
-//! keeps the spindle's speed and encoder position.
+//! spindle model ramps to (revolutions per second); the drive's velocity actual (`606Ch`, the
+//! last answer of a step) gives the spindle's at-speed and zero-speed contacts and the speed
+//! the status shows ([`Process::bus_spindle_rpm`]): within POM's max deviation of the reference,
+//! as the model's; no healthy answer is neither at speed nor stopped. The model keeps the
+//! spindle's encoder position (threading).
 //!
 //! Homing a bus axis (the MCZ cycle, `homing.rs`) takes the home switch from the drive's digital
 //! inputs (`60FDh` bit 2, [`Process::bus_home`]) and the reference mark from its touch probe:
@@ -50,6 +53,8 @@ pub(crate) struct BusAxis {
     switch: bool,
     /// The touch probe's latched position (drive scale) while the drive says it stored one.
     probe: Option<f64>,
+    /// The last answer of the installed feedback, when healthy.
+    last: Option<f64>,
 }
 
 /// The bus side of a process.
@@ -161,10 +166,41 @@ impl Process {
                 b.feedback.clear();
                 b.feedback.extend_from_slice(values);
                 b.age = age;
+                b.last = values.last().copied().flatten();
+                if axis == 'S'
+                    && let Some(rps) = b.last
+                {
+                    let top = self.counters.spindle_drive_top.get_or_insert(0.0);
+                    *top = top.max((rps * 60.0).abs());
+                }
                 true
             }
             None => false,
         }
+    }
+
+    /// The spindle's speed from its `csv` drive (rev/min, signed, the last answer): `None`
+    /// when the spindle is not on a drive, `Some(None)` without a healthy answer.
+    pub fn bus_spindle_rpm(&self) -> Option<Option<f64>> {
+        let b = self.bus.as_ref()?.spindle.as_ref()?;
+        Some(b.last.map(|rps| rps * 60.0))
+    }
+
+    /// The spindle's (at speed, stopped) contacts from its drive's speed, as the model's are
+    /// made: at speed within `cfg.max_deviation` of the reference `sp.target()` (never at a
+    /// reference of 0), stopped below `cfg.limit_speed`; `None` when the spindle is not on a
+    /// drive. Without a healthy answer it is neither.
+    pub(crate) fn bus_spindle_contacts(
+        &self,
+        sp: &crate::plant::Spindle,
+        cfg: &crate::config::SpindleConfig,
+    ) -> Option<(bool, bool)> {
+        let rpm = self.bus_spindle_rpm()?;
+        let target = sp.target();
+        Some(rpm.map_or((false, false), |r| {
+            let at = target != 0.0 && (r - target).abs() <= cfg.max_deviation * target.abs();
+            (at, r.abs() < cfg.limit_speed)
+        }))
     }
 
     /// Installs the homing inputs of drive axis `axis` for the next step: the home switch

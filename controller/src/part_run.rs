@@ -777,6 +777,12 @@ impl PartRun {
                     k.corrections
                 ));
             }
+            if let Some(top) = k.spindle_drive_top {
+                s.push_str(&format!(
+                    "process {} spindle on its drive: top speed {top:.1} rev/min (606Ch)\n",
+                    p.number()
+                ));
+            }
             if k.css_ticks > 0 || k.gear_changes > 0 {
                 s.push_str(&format!(
                     "process {} spindle: G96 (FG96) for {:.2} s; top speed {:.1} rev/min; gear changes {}\n",

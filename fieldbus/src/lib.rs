@@ -247,6 +247,7 @@ pub fn start_canopen(
                         st.refuse_enable = hooks.refuse_enable;
                         st.sync_heartbeat = lockstep;
                         st.machine = hooks.machine.map(|m| m.scaled(counts));
+                        st.max_speed = hooks.max_speed;
                     }
                     // The drive lives as long as the master's runtime.
                     std::mem::forget(node);

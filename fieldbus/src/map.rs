@@ -255,6 +255,9 @@ pub struct DriveSimHooks {
     pub heartbeat_stop: Option<u64>,
     /// Never reach *Operation enabled*.
     pub refuse_enable: bool,
+    /// The drive's speed is limited to this (drive units per second): a `csv` drive's velocity
+    /// actual never exceeds it, as with a maximum motor speed set too low.
+    pub max_speed: Option<u32>,
     /// The machine behind the simulated drive (home switch, zero impulses) in axis units: not
     /// from io.toml but from the simulated machine (`sim.toml`, AXCFIL) of a part run.
     pub machine: Option<crate::canopen::drive_sim::SimMachine>,
@@ -468,6 +471,7 @@ pub(crate) struct RawDriveSim {
     pub heartbeat_stop_at_sync: Option<u64>,
     #[serde(default)]
     pub refuse_enable: bool,
+    pub max_speed: Option<u32>,
 }
 
 #[derive(Debug, Deserialize)]

@@ -120,7 +120,7 @@ fn the_lathe_homes_x_and_z_on_drives_from_the_switch_and_the_touch_probe() {
     );
     assert!(out.status.success(), "{text}");
     assert!(
-        text.contains("cycle time 41.40 s (ticks 1502..5642), ended\n"),
+        text.contains("cycle time 41.42 s (ticks 1502..5644), ended\n"),
         "{text}"
     );
     assert!(!text.contains("alarm: process"), "{text}");

@@ -25,7 +25,8 @@
 //! the velocity follows the same way and the position integrates it over the interpolation
 //! period. Test hooks: [`DriveSimState::inject_fault`] (statusword fault + EMCY at the next SYNC),
 //! `heartbeat_stopped` (a lost heartbeat, the node otherwise working), `silent` (no frame at
-//! all), `refuse_enable`, `sdo_abort` (one object aborts every write).
+//! all), `refuse_enable`, `sdo_abort` (one object aborts every write), `max_speed` (a `csv`
+//! drive that cannot reach its target velocity).
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
@@ -103,6 +104,8 @@ pub struct DriveSimState {
     /// by the clock: the drive of a lock-step run in virtual time, where SYNCs come faster than
     /// the wall clock.
     pub sync_heartbeat: bool,
+    /// Hook: the velocity of a `csv` drive is limited to this (drive units per second).
+    pub max_speed: Option<u32>,
     /// Hook: writes to this object (index, sub-index) abort with this code.
     pub sdo_abort: Option<(u16, u8, u32)>,
     /// SYNCs received.
@@ -180,6 +183,7 @@ impl DriveSimState {
             heartbeat_stop_at_sync: None,
             sync_heartbeat: false,
             sdo_abort: None,
+            max_speed: None,
             syncs: 0,
             applied: Vec::new(),
             pending_fault: None,
@@ -500,6 +504,10 @@ impl DriveSimState {
         };
         let period = self.period_s();
         if self.mode == 9 {
+            let limit = self
+                .max_speed
+                .map_or(i32::MAX, |m| m.min(i32::MAX as u32) as i32);
+            let now = now.clamp(-limit, limit);
             self.velocity = now;
             self.exact_position += f64::from(now) * period;
             self.position = self.exact_position.round() as i32;
@@ -585,9 +593,9 @@ pub fn handle(s: &mut DriveSimState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
             nmt::CMD_STOP => s.nmt = nmt::STOPPED,
             nmt::CMD_PRE_OPERATIONAL => s.nmt = nmt::PRE_OPERATIONAL,
             nmt::CMD_RESET_NODE | nmt::CMD_RESET_COMM => {
-                let hooks = (s.refuse_enable, s.sdo_abort, s.lag, s.machine);
+                let hooks = (s.refuse_enable, s.sdo_abort, s.lag, s.machine, s.max_speed);
                 *s = DriveSimState::new(id);
-                (s.refuse_enable, s.sdo_abort, s.lag, s.machine) = hooks;
+                (s.refuse_enable, s.sdo_abort, s.lag, s.machine, s.max_speed) = hooks;
                 out.push(CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]));
             }
             _ => {}

@@ -126,6 +126,7 @@ fn simulate(cx: &mut Ctx, h: &Spanned<RawDriveSim>, virtual_bus: bool) -> DriveS
         fault,
         heartbeat_stop: r.heartbeat_stop_at_sync,
         refuse_enable: r.refuse_enable,
+        max_speed: r.max_speed,
         machine: None,
     }
 }
