@@ -157,6 +157,17 @@ impl Process {
                     self.interp.abort();
                     Stage::Settle(mark)
                 }
+                _ if self.interp.is_idle() => {
+                    // The search move ended without a latch: no reference mark on its way.
+                    self.raise(
+                        format!(
+                            "homing of axis {name}: the drive latched no reference mark (touch probe 60B9h) within the search move"
+                        ),
+                        true,
+                    );
+                    self.home_stage = None;
+                    return;
+                }
                 _ => Stage::Probe,
             },
             Stage::Leave if !pressed => {

@@ -111,9 +111,9 @@ fn auto_is_refused_until_homed() {
 /// the drive's touch probe latched. The test's drive answers each step with the previous step's
 /// set point (its position 0 stands at machine 2); its switch is pressed from machine 7.5 up;
 /// armed, its probe stores the exact drive position of the first mark (every 5 mm of the
-/// machine) its move crosses.
-#[test]
-fn homing_on_a_drive_takes_the_switch_from_its_inputs_and_the_mark_from_its_probe() {
+/// machine; none when not `marks`) its move crosses. Per step: (set point sent, probe armed,
+/// actual X).
+fn home_on_a_drive(steps: usize, marks: bool) -> (Bench, Vec<(f64, bool, f64)>) {
     let mut c = cnc(false, 0, 0);
     let p = c.process_mut(1).expect("p1");
     p.attach_bus(&['X'], false).expect("X");
@@ -133,7 +133,7 @@ fn homing_on_a_drive_takes_the_switch_from_its_inputs_and_the_mark_from_its_prob
     let (start, edge, pitch) = (2.0, 7.5, 5.0);
     let (mut drive, mut latched): (f64, Option<f64>) = (0.0, None);
     let mut seen = Vec::new();
-    for t in 0..20 {
+    for t in 0..steps {
         let p = b.cnc.process_mut(1).expect("p1");
         assert!(p.bus_feedback('X', &[Some(drive)], 1));
         assert!(p.bus_home('X', start + drive >= edge, latched));
@@ -147,7 +147,7 @@ fn homing_on_a_drive_takes_the_switch_from_its_inputs_and_the_mark_from_its_prob
         let armed = p.bus_probe('X');
         if !armed {
             latched = None;
-        } else if latched.is_none() {
+        } else if latched.is_none() && marks {
             let (from, to) = (start + drive, start + sent);
             let mark = ((from / pitch).ceil() - 1.0) * pitch;
             if to < from && mark >= to && mark < from {
@@ -158,6 +158,12 @@ fn homing_on_a_drive_takes_the_switch_from_its_inputs_and_the_mark_from_its_prob
         let x = p.actual_positions().next().expect("X").1;
         seen.push((sent, armed, x));
     }
+    (b, seen)
+}
+
+#[test]
+fn homing_on_a_drive_takes_the_switch_from_its_inputs_and_the_mark_from_its_probe() {
+    let (b, seen) = home_on_a_drive(20, true);
     assert_eq!(
         seen,
         vec![
@@ -186,4 +192,17 @@ fn homing_on_a_drive_takes_the_switch_from_its_inputs_and_the_mark_from_its_prob
     let p = &b.cnc.processes()[0];
     assert!(p.state().homed);
     assert_eq!(p.state().interp, Interp::Idle);
+}
+
+#[test]
+fn a_drive_that_latches_no_mark_ends_homing_with_an_alarm() {
+    // The search for the mark is the rest of the 1000 mm move back: then the alarm.
+    let (b, seen) = home_on_a_drive(1030, false);
+    let p = &b.cnc.processes()[0];
+    assert!(!p.state().homed);
+    assert_eq!(
+        p.alarms()[0].message,
+        "process 1: homing of axis X: the drive latched no reference mark (touch probe 60B9h) within the search move"
+    );
+    assert!(!seen.last().expect("steps").1, "disarmed");
 }
