@@ -12,8 +12,19 @@
 //! last healthy one. An interpolation tick without a healthy answer (faulted, silent, no answer
 //! yet) leaves the actual position where it was and is not checked: nothing from such a drive
 //! is taken as a position. The spindle on a `csv` drive is commanded with the speed the
-//! spindle model ramps to (revolutions per second); its answers are recorded but the model
-//! keeps the spindle's speed and encoder position.
+//! spindle model ramps to (revolutions per second); the drive's velocity actual (`606Ch`, the
+//! last answer of a step) gives the spindle's at-speed and zero-speed contacts and the speed
+//! the status shows ([`Process::bus_spindle_rpm`]): within POM's max deviation of the reference,
+//! as the model's; no healthy answer is neither at speed nor stopped. The model keeps the
+//! spindle's encoder position (threading).
+//!
+//! Homing a bus axis (the MCZ cycle, `homing.rs`) takes the home switch from the drive's digital
+//! inputs (`60FDh` bit 2, [`Process::bus_home`]) and the reference mark from its touch probe:
+//! while the cycle waits for the mark, [`Process::bus_probe`] asks the master to arm the probe
+//! on the encoder's zero impulse, and the latched drive position becomes the axis's 0. The
+//! drive keeps its own scale: the axis keeps an origin (the drive position of coordinate 0), so
+//! the drive is sent set point + origin and its actual position − origin is the axis's.
+//! Following errors are checked on the drive's scale, which homing does not move.
 //!
 //! Invariant: a process without a bus behaves exactly as before (no field of this module is
 //! read on its path).
@@ -36,6 +47,14 @@ pub(crate) struct BusAxis {
     feedback: Vec<Option<f64>>,
     /// Which step's set points `feedback` answers: 1 = the previous step's.
     age: usize,
+    /// The drive position of the axis's coordinate 0 (moved by homing).
+    origin: f64,
+    /// The home switch (`60FDh` bit 2) of the drive's last answer.
+    switch: bool,
+    /// The touch probe's latched position (drive scale) while the drive says it stored one.
+    probe: Option<f64>,
+    /// The last answer of the installed feedback, when healthy.
+    last: Option<f64>,
 }
 
 /// The bus side of a process.
@@ -75,7 +94,33 @@ pub struct BusCommand {
     pub fault_reset: bool,
 }
 
+/// The simulated machine behind a drive axis (for a simulated drive), in axis units.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BusMachine {
+    /// The machine position where the axis's coordinate 0 (the drive's position 0) stands.
+    pub start: f64,
+    /// The home switch's edge on the machine's scale, and true when it is pressed below it.
+    pub home_switch: Option<(f64, bool)>,
+    /// The reference marks' pitch on the machine's scale (PAS), 0 without an MCZ cycle.
+    pub mark_pitch: f64,
+}
+
 impl Process {
+    /// The simulated machine behind coordinated axis `axis` (`sim.toml [[axis]]` start and
+    /// home switch, AXCFIL MCZ direction and PAS pitch), for a simulated drive; `None` for an
+    /// axis the process does not have.
+    pub fn bus_machine(&self, axis: char) -> Option<BusMachine> {
+        let i = self.axis_index(axis)?;
+        let d = self.drives.get(i)?;
+        let home = self.cfg.axes.get(i)?.home;
+        let below = home.is_some_and(|h| h.negative);
+        Some(BusMachine {
+            start: d.machine_position() - d.actual(),
+            home_switch: d.home_switch().map(|e| (e, below)),
+            mark_pitch: home.map_or(0.0, |h| h.mark_pitch),
+        })
+    }
+
     /// Puts the coordinated axes `axes` (and the spindle when `spindle`) on bus drives; an axis
     /// this process does not have is an error naming it.
     pub fn attach_bus(&mut self, axes: &[char], spindle: bool) -> Result<(), String> {
@@ -121,14 +166,81 @@ impl Process {
                 b.feedback.clear();
                 b.feedback.extend_from_slice(values);
                 b.age = age;
+                b.last = values.last().copied().flatten();
+                if axis == 'S'
+                    && let Some(rps) = b.last
+                {
+                    let top = self.counters.spindle_drive_top.get_or_insert(0.0);
+                    *top = top.max((rps * 60.0).abs());
+                }
                 true
             }
             None => false,
         }
     }
 
-    /// The set points of `axis` this step produced, one per interpolation tick (`S`: the
-    /// spindle's speed in revolutions per second).
+    /// The spindle's speed from its `csv` drive (rev/min, signed, the last answer): `None`
+    /// when the spindle is not on a drive, `Some(None)` without a healthy answer.
+    pub fn bus_spindle_rpm(&self) -> Option<Option<f64>> {
+        let b = self.bus.as_ref()?.spindle.as_ref()?;
+        Some(b.last.map(|rps| rps * 60.0))
+    }
+
+    /// The spindle's (at speed, stopped) contacts from its drive's speed, as the model's are
+    /// made: at speed within `cfg.max_deviation` of the reference `sp.target()` (never at a
+    /// reference of 0), stopped below `cfg.limit_speed`; `None` when the spindle is not on a
+    /// drive. Without a healthy answer it is neither.
+    pub(crate) fn bus_spindle_contacts(
+        &self,
+        sp: &crate::plant::Spindle,
+        cfg: &crate::config::SpindleConfig,
+    ) -> Option<(bool, bool)> {
+        let rpm = self.bus_spindle_rpm()?;
+        let target = sp.target();
+        Some(rpm.map_or((false, false), |r| {
+            let at = target != 0.0 && (r - target).abs() <= cfg.max_deviation * target.abs();
+            (at, r.abs() < cfg.limit_speed)
+        }))
+    }
+
+    /// Installs the homing inputs of drive axis `axis` for the next step: the home switch
+    /// (`60FDh` bit 2) and the touch probe's latched position (axis units on the drive's scale,
+    /// `None` while it stored none); false when the axis is not on the bus.
+    pub fn bus_home(&mut self, axis: char, switch: bool, probe: Option<f64>) -> bool {
+        match self.bus_axis_mut(axis) {
+            Some(b) => {
+                b.switch = switch;
+                b.probe = probe;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// True while the homing cycle of `axis` waits for its reference mark: the drive's touch
+    /// probe is to be armed on the encoder's zero impulse.
+    pub fn bus_probe(&self, axis: char) -> bool {
+        let i = self.axis_index(axis);
+        i.is_some_and(|i| self.bus_homing(i).is_some())
+            && matches!(self.home_stage, Some((j, crate::homing::Stage::Probe)) if Some(j) == i)
+    }
+
+    /// Bus axis `i`'s homing state: (home switch, latched probe position in the axis's
+    /// coordinates); `None` when axis `i` is not on the bus.
+    pub(crate) fn bus_homing(&self, i: usize) -> Option<(bool, Option<f64>)> {
+        let b = self.bus.as_ref()?.axes.get(i)?.as_ref()?;
+        Some((b.switch, b.probe.map(|p| p - b.origin)))
+    }
+
+    /// Homing moved bus axis `i`'s coordinates by −`shift`: its origin moves by +`shift`.
+    pub(crate) fn bus_shift(&mut self, i: usize, shift: f64) {
+        if let Some(b) = self.bus.as_mut().and_then(|b| b.axes.get_mut(i)?.as_mut()) {
+            b.origin += shift;
+        }
+    }
+
+    /// The set points of `axis` this step produced, one per interpolation tick, on the drive's
+    /// scale (`S`: the spindle's speed in revolutions per second).
     pub fn bus_set_points(&self, axis: char) -> Option<&[f64]> {
         let bus = self.bus.as_ref()?;
         let b = if axis == 'S' && bus.spindle.is_some() {
@@ -178,17 +290,13 @@ impl Process {
     }
 
     /// Interpolation tick `k`: records axis `i`'s set point `sp` and returns the drive's answer
-    /// to the previous step's tick `k` with the set point it answers and its feed-forward state;
-    /// `None` for an axis not on the bus. `Some(None)`: on the bus, no healthy answer.
-    pub(crate) fn bus_axis_tick(
-        &mut self,
-        i: usize,
-        k: usize,
-        sp: f64,
-    ) -> Option<Option<(f64, f64, bool)>> {
+    /// to the previous step's tick `k` in the axis's coordinates (the set point it answers and
+    /// its feed-forward state go to the following-error check, on the drive's scale); `None` for
+    /// an axis not on the bus. `Some(None)`: on the bus, no healthy answer.
+    pub(crate) fn bus_axis_tick(&mut self, i: usize, k: usize, sp: f64) -> Option<Option<f64>> {
         let bus = self.bus.as_mut()?;
         let b = bus.axes.get_mut(i)?.as_mut()?;
-        b.set_points.push(sp);
+        b.set_points.push(sp + b.origin);
         let older = |len: usize| len.checked_sub(b.age.max(1));
         let answered = older(b.history.len()).and_then(|j| b.history.get(j)?.get(k));
         let vff = older(bus.vff_history.len()).and_then(|j| bus.vff_history.get(j)?.get(k));
@@ -199,7 +307,7 @@ impl Process {
         if let Some(c) = bus.checks.get_mut(i) {
             *c = answer;
         }
-        Some(answer)
+        Some(answer.map(|(_, actual, _)| actual - b.origin))
     }
 
     /// Interpolation tick: the feed-forward state of this tick, and the spindle's speed.

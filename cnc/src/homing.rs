@@ -6,6 +6,11 @@
 //! Stage 3: go on to the next encoder reference mark (every PAS mechanical pitch on the machine's
 //! scale); stop there; that point becomes coordinate 0 and the axis is homed. The switch is read
 //! from the simulated machine (`sim.toml [[axis]] home_switch`), and also written to the MCZ input.
+//!
+//! An axis on a CiA 402 drive (`bus.rs`) is homed the way masters home CSP drives: the switch is
+//! the drive's digital input (`60FDh` bit 2), and stage 3 arms the drive's touch probe on the
+//! encoder's zero impulse once the switch is left; the position the drive latched at the mark
+//! (exact, not the position of a later tick) becomes 0.
 
 use partprogram::Canon;
 use partprogram::canon::{Kind, Plane};
@@ -26,6 +31,8 @@ pub enum Stage {
     Leave,
     /// Stage 3: moving to the reference mark at this machine position.
     Mark(f64),
+    /// Stage 3 on a drive: moving with the touch probe armed until the drive latches a mark.
+    Probe,
     /// Stopping after the mark at this coordinate.
     Settle(f64),
 }
@@ -34,6 +41,9 @@ impl Process {
     /// The home switch of axis `i` is pressed (machine position beyond its edge in the search
     /// direction); `None` when the machine does not simulate it.
     pub(crate) fn home_pressed(&self, i: usize) -> Option<bool> {
+        if let Some((switch, _)) = self.bus_homing(i) {
+            return Some(switch);
+        }
         let d = &self.drives[i];
         let edge = d.home_switch()?;
         let negative = self.cfg.axes[i].home.is_some_and(|h| h.negative);
@@ -141,6 +151,25 @@ impl Process {
                 self.home_move(i, -search, home.speed);
                 Stage::Leave
             }
+            Stage::Leave if !pressed && self.bus_homing(i).is_some() => Stage::Probe,
+            Stage::Probe => match self.bus_homing(i) {
+                Some((_, Some(mark))) => {
+                    self.interp.abort();
+                    Stage::Settle(mark)
+                }
+                _ if self.interp.is_idle() => {
+                    // The search move ended without a latch: no reference mark on its way.
+                    self.raise(
+                        format!(
+                            "homing of axis {name}: the drive latched no reference mark (touch probe 60B9h) within the search move"
+                        ),
+                        true,
+                    );
+                    self.home_stage = None;
+                    return;
+                }
+                _ => Stage::Probe,
+            },
             Stage::Leave if !pressed => {
                 let p = self.drives[i].machine_position();
                 let pitch = home.mark_pitch;
@@ -172,7 +201,12 @@ impl Process {
                     return;
                 }
                 self.drives[i].shift(coord);
-                self.monitors[i].shift(coord);
+                if self.bus_homing(i).is_some() {
+                    // The drive's scale (where following errors are checked) does not move.
+                    self.bus_shift(i, coord);
+                } else {
+                    self.monitors[i].shift(coord);
+                }
                 self.homed_axes[i] = true;
                 self.home_stage = None;
                 return;

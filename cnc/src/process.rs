@@ -60,6 +60,8 @@ pub struct Counters {
     pub gear_changes: u64,
     /// Tool-correction requests that re-planned the following blocks.
     pub corrections: u64,
+    /// A spindle on a `csv` drive: the highest speed its `606Ch` reported (rev/min, unsigned).
+    pub spindle_drive_top: Option<f64>,
 }
 
 /// One process.
@@ -632,7 +634,7 @@ impl Process {
             for i in 0..self.drives.len() {
                 let sp = pos.get(i).copied().unwrap_or(0.0);
                 if let Some(answer) = self.bus_axis_tick(i, k, sp) {
-                    self.drives[i].follow_bus(sp, answer.map(|(_, actual, _)| actual));
+                    self.drives[i].follow_bus(sp, answer);
                     continue;
                 }
                 let (d, ff) = (&mut self.drives[i], &mut self.servo[i]);
@@ -732,9 +734,14 @@ impl Process {
             }
         }
         if let (Some(sp), Some(cfg)) = (&self.spindle, &self.cfg.spindle) {
-            let at = sp.at_speed(cfg.max_deviation);
+            // A spindle on a drive: its contacts come from the drive's speed (bus.rs).
+            let (at, stopped) = self.bus_spindle_contacts(sp, cfg).unwrap_or_else(|| {
+                (
+                    sp.at_speed(cfg.max_deviation),
+                    sp.actual().abs() < cfg.limit_speed,
+                )
+            });
             write_opt(image, cfg.at_speed_signal, u8::from(at));
-            let stopped = sp.actual().abs() < cfg.limit_speed;
             write_opt(image, cfg.stopped_signal, u8::from(stopped));
             write_opt(image, self.plant.at_speed, u8::from(at));
             write_opt(image, self.plant.stopped, u8::from(stopped));
@@ -799,7 +806,10 @@ impl Process {
             }
         }
         out.feed_mm_min = self.tick_out.feed_mm_min;
-        out.spindle_rpm = self.spindle.as_ref().map_or(0.0, |s| s.actual());
+        out.spindle_rpm = match self.bus_spindle_rpm() {
+            Some(drive) => drive.unwrap_or(0.0),
+            None => self.spindle.as_ref().map_or(0.0, |s| s.actual()),
+        };
         out.alarms.truncate(self.alarms.len());
         for (k, a) in self.alarms.iter().enumerate() {
             match out.alarms.get_mut(k) {

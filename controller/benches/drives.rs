@@ -103,6 +103,9 @@ impl OnDrives {
                     statusword: 0,
                     age: 1,
                     fault: None,
+                    inputs: 0,
+                    probe_status: 0,
+                    probe: None,
                 })
                 .collect(),
             set,
@@ -133,11 +136,30 @@ impl OnDrives {
                         enable: c.enable,
                         quick_stop: c.quick_stop,
                         fault_reset: c.fault_reset,
+                        probe: false,
                     },
                 );
             }
             let now = tokio::time::Instant::now();
-            for (j, m) in self.set.rpdos(now).into_iter().enumerate() {
+            for m in self.set.rpdos(now) {
+                let Some(j) = self
+                    .cfg
+                    .iter()
+                    .position(|d| u32::from(cob::rpdo(1, d.node_id)) == m.id)
+                else {
+                    // RPDO2 (the touch probe function): the drive answers with TPDO2 and TPDO3.
+                    if let Some(d) = self
+                        .cfg
+                        .iter()
+                        .find(|d| u32::from(cob::rpdo(2, d.node_id)) == m.id)
+                    {
+                        self.set
+                            .on_frame(&CanMsg::new(cob::tpdo(2, d.node_id), &[0; 6]), now);
+                        self.set
+                            .on_frame(&CanMsg::new(cob::tpdo(3, d.node_id), &[0; 4]), now);
+                    }
+                    continue;
+                };
                 let d = m.payload();
                 let word = u16::from_le_bytes([d[0], d[1]]);
                 let e = &mut self.echo[j];

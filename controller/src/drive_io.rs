@@ -7,7 +7,10 @@
 //! raise their alarms), then the kernel steps behind `sim.toml`'s part script, and its set points
 //! of the tick's interpolation ticks become the drives' orders, which `publish_outputs(t)` hands
 //! to the master with the outputs: one SYNC per interpolation tick, set point n in the RPDO before
-//! SYNC n. The feedback the kernel took is kept for the recording ([`DriveIo::samples`]).
+//! SYNC n. The feedback the kernel took is kept for the recording ([`DriveIo::samples`]): the
+//! answers, the statusword, the fault, and for homing the home switch (`60FDh`) and the touch
+//! probe (status and latched position); the orders arm the touch probe while the MCZ cycle
+//! waits for a reference mark.
 //!
 //! **The simulated I/O nodes carry the script and the plant** (the `virtual` transport, whose
 //! nodes' terminals are wired to packet A: `fieldbus::canopen::sim_wiring`): the kernel steps on
@@ -170,6 +173,9 @@ fn samples_of(
             statusword: a.statusword,
             age,
             fault: a.fault.map(fault_record),
+            inputs: a.inputs,
+            probe_status: a.probe_status,
+            probe: a.probe.map(f64::to_bits),
         });
     }
 }
@@ -259,6 +265,8 @@ pub fn apply_feedback(
         values.clear();
         values.extend(s.values.iter().map(|v| v.map(f64::from_bits)));
         p.bus_feedback(s.axis.axis, &values, s.age as usize);
+        let switch = s.inputs & fieldbus::canopen::drive::set::INPUT_HOME_SWITCH != 0;
+        p.bus_home(s.axis.axis, switch, s.probe.map(f64::from_bits));
         let new = match (&s.fault, &*last) {
             (Some(f), Some(l)) => f.cause != l.cause,
             (Some(_), None) => true,
@@ -321,6 +329,7 @@ impl PacketIo for DriveIo {
             order.enable = c.enable;
             order.quick_stop = c.quick_stop;
             order.fault_reset = c.fault_reset;
+            order.probe = p.bus_probe(drive.axis.axis);
             order.set_points.clear();
             if let Some(sp) = p.bus_set_points(drive.axis.axis) {
                 order.set_points.extend_from_slice(sp);

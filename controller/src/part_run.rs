@@ -209,7 +209,31 @@ pub fn start_on_drives(
         lockstep,
     };
     let declared = machine.declared_connectors();
-    let canopen = fieldbus::open_canopen(&machine.dir, &declared, timing)
+    // The simulated drives get the simulated machine behind their axes (home switch, marks).
+    let models: Vec<((u8, char), fieldbus::canopen::drive_sim::SimMachine)> = {
+        let c = run.lock();
+        c.processes()
+            .iter()
+            .flat_map(|p| {
+                p.axis_names().into_iter().filter_map(move |a| {
+                    let m = p.bus_machine(a)?;
+                    let sim = fieldbus::canopen::drive_sim::SimMachine {
+                        start: m.start,
+                        home_switch: m.home_switch,
+                        mark_pitch: m.mark_pitch,
+                    };
+                    Some(((p.number(), a), sim))
+                })
+            })
+            .collect()
+    };
+    let model = |process: u32, axis: char| {
+        models
+            .iter()
+            .find(|((p, a), _)| u32::from(*p) == process && *a == axis)
+            .map(|(_, m)| *m)
+    };
+    let canopen = fieldbus::open_canopen(&machine.dir, &declared, timing, &model)
         .map_err(|d| crate::io::render_map_error(&machine.dir, d))?;
     let mut io = crate::drive_io::DriveIo::new(canopen, kernel, cnc)?;
     io.unwire(
@@ -764,6 +788,12 @@ impl PartRun {
                     "process {}: tool-correction requests {} (following blocks re-planned)\n",
                     p.number(),
                     k.corrections
+                ));
+            }
+            if let Some(top) = k.spindle_drive_top {
+                s.push_str(&format!(
+                    "process {} spindle on its drive: top speed {top:.1} rev/min (606Ch)\n",
+                    p.number()
                 ));
             }
             if k.css_ticks > 0 || k.gear_changes > 0 {

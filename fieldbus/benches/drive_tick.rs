@@ -1,5 +1,6 @@
 //! The master's per-tick drive logic without I/O (`DriveSet`) for four axes and a spindle: the
-//! RPDOs of one tick's commands, the five TPDO answers, the after-SYNC checks (issue 21's budget
+//! RPDOs of one tick's commands (with the axes' RPDO2), the drives' TPDO answers (TPDO1–3 of an
+//! axis, TPDO1 of the spindle), the after-SYNC checks (issue 21's budget
 //! for kernel + drives is 20 µs p99 per tick; this is the drives' part, bus time excluded).
 
 use std::time::Duration;
@@ -32,9 +33,19 @@ fn bench(c: &mut Criterion) {
     let now = Instant::now();
     set.started(now, &[0x0237; 5]);
     let axes: Vec<AxisId> = set.axes().collect();
+    // TPDO1 of every drive; a `csp` drive also answers with TPDO2 (touch probe) and TPDO3
+    // (digital inputs).
     let answers: Vec<CanMsg> = drives
         .iter()
-        .map(|d| CanMsg::new(0x180 + u16::from(d.node_id), &[0x37, 0x02, 1, 2, 3, 0]))
+        .flat_map(|d| {
+            let id = u16::from(d.node_id);
+            let mut v = vec![CanMsg::new(0x180 + id, &[0x37, 0x02, 1, 2, 3, 0])];
+            if d.mode == DriveMode::Csp {
+                v.push(CanMsg::new(0x280 + id, &[0; 6]));
+                v.push(CanMsg::new(0x380 + id, &[0; 4]));
+            }
+            v
+        })
         .collect();
     let mut n = 0.0f64;
     c.bench_function("drive_tick_5_drives", |b| {

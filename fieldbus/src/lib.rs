@@ -171,14 +171,24 @@ pub fn open_map(kind: IoKind, map: &IoMap) -> Result<Box<dyn PacketIo>, Vec<Diag
 
 /// Reads and validates `<machine_dir>/io.toml` and starts its CANopen master with the CiA 402
 /// drives clocked by `timing` (a part run's kernel orders them through
-/// [`canopen::master::CanopenIo::drives`]).
+/// [`canopen::master::CanopenIo::drives`]). On the `virtual` transport, `machine` gives the
+/// simulated drive of (process, axis) the machine behind it (home switch, zero impulses; axis
+/// units), so that it can be homed.
 pub fn open_canopen(
     machine_dir: &Path,
     declared: &DeclaredConnectors,
     timing: canopen::drive::DriveTiming,
+    machine: &dyn Fn(u32, char) -> Option<canopen::drive_sim::SimMachine>,
 ) -> Result<canopen::master::CanopenIo, Vec<Diagnostic>> {
     let (map, diags) = load_map(machine_dir, declared);
-    let Some(map) = map else { return Err(diags) };
+    let Some(mut map) = map else {
+        return Err(diags);
+    };
+    if let Some(c) = map.canopen.as_mut() {
+        for d in &mut c.drives {
+            d.simulate.machine = machine(d.process, d.axis);
+        }
+    }
     let Some(cfg) = map.canopen.as_ref().filter(|c| !c.nodes.is_empty()) else {
         return Err(whole_file(
             codes::NO_DEVICES,
@@ -223,7 +233,11 @@ pub fn start_canopen(
     use canopen::master::CanopenIo;
     match &cfg.transport {
         map::TransportConfig::Virtual => {
-            let drives: Vec<_> = cfg.drives.iter().map(|d| (d.node_id, d.simulate)).collect();
+            let drives: Vec<_> = cfg
+                .drives
+                .iter()
+                .map(|d| (d.node_id, d.simulate, d.counts_per_unit))
+                .collect();
             let lockstep = timing.is_some_and(|t| t.lockstep);
             // In lock-step the I/O nodes' heartbeat runs on the SYNCs, as the drives' does.
             let period_us = match timing {
@@ -256,7 +270,7 @@ pub fn start_canopen(
                         state,
                     ));
                 }
-                for (id, hooks) in drives {
+                for (id, hooks, counts) in drives {
                     let node = canopen::drive_sim::Cia402Node::spawn(bus.port(), id);
                     {
                         let mut st = node.state();
@@ -265,6 +279,8 @@ pub fn start_canopen(
                         st.refuse_enable = hooks.refuse_enable;
                         st.sdo_abort = hooks.sdo_abort;
                         st.sync_heartbeat = lockstep;
+                        st.machine = hooks.machine.map(|m| m.scaled(counts));
+                        st.max_speed = hooks.max_speed;
                     }
                     // The drive lives as long as the master's runtime.
                     std::mem::forget(node);

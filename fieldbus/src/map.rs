@@ -256,7 +256,7 @@ pub struct CanDrive {
 
 /// What a simulated drive on the virtual bus is told to do wrong (io.toml `simulate`), so that
 /// faults can be rehearsed through `ncplc run`.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct DriveSimHooks {
     /// Fault at this SYNC number with this `603Fh` code.
     pub fault: Option<(u64, u16)>,
@@ -266,6 +266,12 @@ pub struct DriveSimHooks {
     pub refuse_enable: bool,
     /// Abort every SDO write to this object (index, sub-index) with this abort code.
     pub sdo_abort: Option<(u16, u8, u32)>,
+    /// The drive's speed is limited to this (drive units per second): a `csv` drive's velocity
+    /// actual never exceeds it, as with a maximum motor speed set too low.
+    pub max_speed: Option<u32>,
+    /// The machine behind the simulated drive (home switch, zero impulses) in axis units: not
+    /// from io.toml but from the simulated machine (`sim.toml`, AXCFIL) of a part run.
+    pub machine: Option<crate::canopen::drive_sim::SimMachine>,
 }
 
 /// An axis the machine's AXCFIL declares, as the drive validation needs it.
@@ -477,6 +483,7 @@ pub(crate) struct RawDriveSim {
     #[serde(default)]
     pub refuse_enable: bool,
     pub sdo_abort: Option<RawSdoAbort>,
+    pub max_speed: Option<u32>,
 }
 
 #[derive(Debug, Deserialize)]

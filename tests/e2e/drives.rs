@@ -62,13 +62,15 @@ fn the_bundled_parts_run_on_drives_as_on_the_plant_and_replay_exactly() {
     let _serial = e2e_common::serial();
     // On the bus the panel and the machine's contacts reach the logic one tick later (the
     // simulated I/O node carries them: tests/e2e/ionode.rs), so the cycle starts a tick later
-    // and its handshakes take a little longer.
+    // and its handshakes take a little longer; and each wait for the spindle at speed ends a
+    // logic tick later (the at-speed contact comes from the drive's 606Ch, whose answer to a
+    // tick's SYNCs reaches the kernel at the next tick).
     for (machine, (cycle, bus_cycle), end, header) in [
         (
             "lathe",
             (
                 "cycle time 42.40 s (ticks 12..4252), ended",
-                "cycle time 42.42 s (ticks 13..4255), ended",
+                "cycle time 42.44 s (ticks 13..4257), ended",
             ),
             vec![("1X", -20.0), ("1Z", -50.0)],
             r#""drives":[{"axis":{"process":1,"axis":"X"},"node":3},{"axis":{"process":1,"axis":"Z"},"node":4},{"axis":{"process":1,"axis":"S"},"node":5}]"#,
@@ -77,7 +79,7 @@ fn the_bundled_parts_run_on_drives_as_on_the_plant_and_replay_exactly() {
             "mill",
             (
                 "cycle time 34.26 s (ticks 12..3438), ended",
-                "cycle time 34.32 s (ticks 13..3445), ended",
+                "cycle time 34.33 s (ticks 13..3446), ended",
             ),
             vec![("1X", -100.0), ("1Y", -100.0), ("1Z", -50.0)],
             r#""drives":[{"axis":{"process":1,"axis":"X"},"node":4},{"axis":{"process":1,"axis":"Y"},"node":5},{"axis":{"process":1,"axis":"Z"},"node":6},{"axis":{"process":1,"axis":"S"},"node":7}]"#,
@@ -110,6 +112,95 @@ fn the_bundled_parts_run_on_drives_as_on_the_plant_and_replay_exactly() {
             "{r}"
         );
     }
+}
+
+/// The ticks where a text trace records the input `name` changing, with its value.
+fn input_changes(trace: &str, name: &str) -> Vec<(u64, u64)> {
+    trace
+        .lines()
+        .skip(1)
+        .filter_map(|l| {
+            let rec: serde_json::Value = serde_json::from_str(l).expect("json");
+            let v = rec.get("in")?.get(name)?.as_u64()?;
+            Some((rec["t"].as_u64()?, v))
+        })
+        .collect()
+}
+
+/// The spindle's last answer (rev/min) the kernel had at tick `t`: from the last record at or
+/// before `t` with drive feedback (a trace records it when it changes).
+fn spindle_rpm_at(trace: &str, t: u64) -> Option<f64> {
+    let mut rpm = None;
+    for l in trace.lines().skip(1) {
+        let rec: serde_json::Value = serde_json::from_str(l).expect("json");
+        if rec["t"].as_u64().is_none_or(|r| r > t) {
+            break;
+        }
+        let s = rec
+            .get("drives")
+            .and_then(|d| d.as_array()?.iter().find(|d| d["axis"]["axis"] == "S"));
+        if let Some(bits) = s.and_then(|s| s["values"].as_array()?.last()?.as_u64()) {
+            rpm = Some(f64::from_bits(bits) * 60.0);
+        }
+    }
+    rpm
+}
+
+/// The lathe's `csv` spindle: its at-speed contact (I0A5, POM max deviation 0.1) comes from the
+/// drive's 606Ch. S1200 M03: on the plant the model is at speed at tick 87. On the bus the cycle
+/// starts a tick later (CYCLE START comes over the I/O node), the drive's answer reaches
+/// 1080.0 rev/min = 1200 − 10 % at tick 89 (one logic tick after the model, whose ramp the drive
+/// follows), and the contact the kernel then closes reaches the logic over the I/O node at tick
+/// 90; the summary shows the drive's top speed.
+#[test]
+fn the_spindle_is_at_speed_when_its_drive_says_so() {
+    let _serial = e2e_common::serial();
+    let m = root().join("plc-programs/lathe");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let (plant, plant_trace, ok) = part1(&m, "sim", dir.path());
+    assert!(ok, "{plant}");
+    let (bus, bus_trace, ok) = part1(&m, "canopen", dir.path());
+    assert!(ok, "{bus}");
+    assert_eq!(input_changes(&plant_trace, "I0A5").first(), Some(&(87, 1)));
+    assert_eq!(input_changes(&bus_trace, "I0A5").first(), Some(&(90, 1)));
+    assert_eq!(spindle_rpm_at(&bus_trace, 89), Some(1080.0));
+    assert!(spindle_rpm_at(&bus_trace, 88).is_some_and(|r| r < 1080.0));
+    assert!(
+        bus.contains("process 1 spindle on its drive: top speed 1200.0 rev/min (606Ch)\n"),
+        "{bus}"
+    );
+    assert!(!plant.contains("spindle on its drive"), "{plant}");
+}
+
+/// A spindle drive that never reaches its speed keeps the feed waiting: its speed is limited to
+/// 40960 units/s = 10 rev/s = 600 rev/min (io.toml `simulate = { max_speed = 40960 }`, 4096
+/// units per revolution), below 1080 (S1200 − 10 %): M03 of N10 never gets FIN, no axis moves,
+/// and after the 5 s strobe timeout the process stops with its alarm.
+#[test]
+fn a_spindle_drive_that_never_reaches_speed_keeps_the_feed_waiting() {
+    let _serial = e2e_common::serial();
+    let m = lathe_with_hooks("S", "{ max_speed = 40960 }");
+    let (out, trace, _) = run_part(m.path(), &["--ticks", "1000"]);
+    assert!(
+        out.contains("process 1: 0 blocks; handshakes M 0 S 1 T 0; FIN wait M 5.01 s"),
+        "{out}"
+    );
+    assert!(
+        out.contains("process 1 spindle on its drive: top speed 600.0 rev/min (606Ch)\n"),
+        "{out}"
+    );
+    assert!(
+        out.contains("M03 not acknowledged (FIN) within the strobe timeout (block 1 (N10))"),
+        "{out}"
+    );
+    assert_eq!(input_changes(&trace, "I0A5"), []);
+    assert_eq!(spindle_rpm_at(&trace, 300), Some(600.0));
+    // No axis moved: the positions are recorded once, at 0.
+    assert_eq!(trace.matches(r#""pos":"#).count(), 1, "{trace}");
+    assert!(
+        trace.contains(r#""pos":{"1X":"0000000000000000","1Z":"0000000000000000"}"#),
+        "{trace}"
+    );
 }
 
 /// A replay takes the axes' positions from the recorded feedback: a changed value shows.

@@ -93,7 +93,7 @@ fn a_drive_that_refuses_an_sdo_write_is_error_3077_with_node_object_and_abort_co
 /// The lathe's panel script over the bus: CYCLE START (`I0A3`, IN0 on node dio1) set at tick 10
 /// and released at 15 reaches the scan at 11 and 16 (at 10 and 15 on the simulated I/O); the
 /// power-on inputs of tick 0 and the node's healthy bit (`I100K1`) at tick 1; the plant's
-/// at-speed contact (`I0A5`, wired to the node too) one tick after the plant's. Two runs give the
+/// at-speed contact (`I0A5`, wired to the node too) three ticks after the plant's. Two runs give the
 /// same trace byte for byte, and the replay without the bus is exact.
 #[test]
 fn the_panel_script_reaches_the_scan_over_the_bus_one_tick_later_and_replays_exactly() {
@@ -104,7 +104,7 @@ fn the_panel_script_reaches_the_scan_over_the_bus_one_tick_later_and_replays_exa
     let bus_path = dir.path().join("bus.jsonl");
     let (out, bus) = record(&m, "canopen", &bus_path);
     assert!(
-        out.contains("cycle time 42.42 s (ticks 13..4255), ended"),
+        out.contains("cycle time 42.44 s (ticks 13..4257), ended"),
         "{out}"
     );
     assert!(!out.contains("lost"), "{out}");
@@ -126,9 +126,10 @@ fn the_panel_script_reaches_the_scan_over_the_bus_one_tick_later_and_replays_exa
     );
     assert_eq!(p.1, 1);
     assert_eq!(b.1, 1);
-    // M03 reaches the plant one tick later too (CYCLE START came a tick later), and its contact
+    // M03 reaches the spindle one tick later too (CYCLE START came a tick later), the spindle
+    // drive's answer says "at speed" one tick after the model would (drives.rs), and the contact
     // travels one more tick.
-    assert_eq!(b.0, p.0 + 2, "plant {p:?} bus {b:?}");
+    assert_eq!(b.0, p.0 + 3, "plant {p:?} bus {b:?}");
     // The header names the bytes that came over the bus: IN0 and IN1 (TPDO1 of dio1).
     let header = bus.lines().next().expect("header");
     assert!(
@@ -197,7 +198,7 @@ fn a_stalled_virtual_time_run_logs_no_heartbeat_loss() {
     assert!(!r.contains("heartbeat lost"), "{r}");
     assert!(!r.contains("lost"), "{r}");
     assert!(
-        r.contains("cycle time 42.42 s (ticks 13..4255), ended"),
+        r.contains("cycle time 42.44 s (ticks 13..4257), ended"),
         "{r}"
     );
 }

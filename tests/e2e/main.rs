@@ -15,6 +15,7 @@ mod check;
 mod cli;
 mod docs;
 mod drives;
+mod drives_homing;
 mod e2e_common;
 mod generated_parsers;
 mod hmi;

@@ -468,6 +468,9 @@ mod tests {
                         code: 0x5530,
                         cause: "drive".into(),
                     }),
+                    inputs: 0,
+                    probe_status: 0,
+                    probe: None,
                 }],
                 ..TickRecord::default()
             }],
@@ -500,6 +503,51 @@ mod tests {
         one.write_text(&mut text).expect("text");
         assert!(!String::from_utf8_lossy(&text).contains("age"));
         assert_eq!(super::super::text::parse(&text).expect("parse"), one);
+    }
+
+    /// The homing feedback (`60FDh`, the touch probe) is written only when there is some: a
+    /// trace written before it (the record above) reads with none.
+    #[test]
+    fn homing_feedback_survives_both_forms() {
+        use crate::DriveSample;
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![TickRecord {
+                t: 7,
+                drives: vec![DriveSample {
+                    axis: AxisId {
+                        process: 1,
+                        axis: 'Z',
+                    },
+                    values: vec![Some(50.0f64.to_bits())],
+                    statusword: 0x0237,
+                    age: 1,
+                    fault: None,
+                    inputs: 4,
+                    probe_status: 3,
+                    probe: Some(100.0f64.to_bits()),
+                }],
+                ..TickRecord::default()
+            }],
+            part: None,
+        };
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        let text = String::from_utf8(text).expect("utf8");
+        assert_eq!(
+            text.lines().nth(1),
+            Some(
+                r#"{"t":7,"drives":[{"axis":{"process":1,"axis":"Z"},"values":[4632233691727265792],"statusword":567,"inputs":4,"probe_status":3,"probe":4636737291354636288}]}"#
+            )
+        );
+        assert_eq!(
+            super::super::text::parse(text.as_bytes()).expect("parse"),
+            trace
+        );
     }
 
     #[test]

@@ -86,6 +86,27 @@ pub struct DriveSample {
     /// The drive's fault, while it has one.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fault: Option<DriveFaultRecord>,
+    /// The digital inputs `60FDh` of the last answer (`csp` drives; bit 2: the home switch); 0
+    /// is not written (traces written before homing on drives read as 0).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub inputs: u32,
+    /// The touch probe status `60B9h` of the last answer; 0 is not written.
+    #[serde(default, skip_serializing_if = "is_zero16")]
+    pub probe_status: u16,
+    /// The touch probe's latched position (`60BAh`, axis units on the drive's scale) as f64
+    /// bits, while the drive says it stored one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub probe: Option<u64>,
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_zero(v: &u32) -> bool {
+    *v == 0
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)] // serde's skip_serializing_if passes a reference
+fn is_zero16(v: &u16) -> bool {
+    *v == 0
 }
 
 fn one() -> u32 {

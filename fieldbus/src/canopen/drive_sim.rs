@@ -5,21 +5,34 @@
 //! communication (`1400h`, `1800h`) and mapping (`1600h`, `1A00h`) records, `603Fh` error code,
 //! `6040h` controlword, `6041h` statusword, `6060h`/`6061h` mode, `6064h` position actual,
 //! `606Ch` velocity actual, `607Ah` target position, `60FFh` target velocity, `60C2h`
-//! interpolation period. RPDO1 is synchronous: its mapped objects are applied at the next SYNC,
-//! then the power state machine ([`cia402::transition`]) takes the controlword, the axis model
-//! moves, and TPDO1 carries the mapped objects (transmission type n: every n-th SYNC).
+//! interpolation period, and the homing objects `60B8h` touch probe function, `60B9h` touch
+//! probe status, `60BAh` touch probe 1 positive edge position, `60FDh` digital inputs, with
+//! RPDO2 and TPDO2/TPDO3 (`1401h`, `1601h`, `1801h`–`1802h`, `1A01h`–`1A02h`; disabled until a
+//! master maps and enables them). RPDOs are synchronous: their mapped objects are applied at the
+//! next SYNC, then the power state machine ([`cia402::transition`]) takes the controlword, the
+//! axis model moves, and the enabled TPDOs carry the mapped objects (transmission type n: every
+//! n-th SYNC).
+//!
+//! The machine behind the drive ([`SimMachine`], optional): the home switch (`60FDh` bit 2 while
+//! the machine position is on its pressed side of the edge) and the encoder's zero impulse every
+//! mark pitch on the machine's scale. Touch probe 1 latches like a real drive's: armed by a
+//! rising bit 0 of `60B8h` (which clears what it stored), on the zero impulse with bits 2–3 =
+//! 01, it stores the exact drive position of the first mark the axis crosses (`60BAh`, status
+//! bit 1), not the position of the SYNC after it; bit 0 = 0 disarms it and clears the status.
 //!
 //! The axis model is an ideal follower with a lag of `lag` SYNCs: in *Operation enabled* the
 //! actual value is the target received `lag` SYNCs before (0: the target of this SYNC). In `csv`
 //! the velocity follows the same way and the position integrates it over the interpolation
 //! period. Test hooks: [`DriveSimState::inject_fault`] (statusword fault + EMCY at the next SYNC),
 //! `heartbeat_stopped` (a lost heartbeat, the node otherwise working), `silent` (no frame at
-//! all), `refuse_enable`, `sdo_abort` (one object aborts every write).
+//! all), `refuse_enable`, `sdo_abort` (one object aborts every write), `max_speed` (a `csv`
+//! drive that cannot reach its target velocity).
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, MutexGuard};
 
 use super::drive::cia402::{self, State};
+pub use super::drive_machine::SimMachine;
 use super::transport::CanBus;
 use super::{CanMsg, cob, nmt, sdo};
 
@@ -61,6 +74,20 @@ pub struct DriveSimState {
     pub rpdo: PdoConfig,
     /// TPDO1 COB-ID (`1800h`/1), transmission type (`1800h`/2), mapping (`1A00h`).
     pub tpdo: PdoConfig,
+    /// RPDO2 (`1401h`, `1601h`).
+    pub rpdo2: PdoConfig,
+    /// TPDO2 (`1801h`, `1A01h`).
+    pub tpdo2: PdoConfig,
+    /// TPDO3 (`1802h`, `1A02h`).
+    pub tpdo3: PdoConfig,
+    /// Touch probe function (`60B8h`).
+    pub probe_function: u16,
+    /// Touch probe status (`60B9h`).
+    pub probe_status: u16,
+    /// Touch probe 1 positive edge position (`60BAh`).
+    pub probe_position: i32,
+    /// The machine behind the drive (home switch, zero impulses).
+    pub machine: Option<SimMachine>,
     /// SYNCs the follower lags behind the target.
     pub lag: usize,
     /// Hook: no heartbeat is produced (the node otherwise works).
@@ -77,6 +104,8 @@ pub struct DriveSimState {
     /// by the clock: the drive of a lock-step run in virtual time, where SYNCs come faster than
     /// the wall clock.
     pub sync_heartbeat: bool,
+    /// Hook: the velocity of a `csv` drive is limited to this (drive units per second).
+    pub max_speed: Option<u32>,
     /// Hook: writes to this object (index, sub-index) abort with this code.
     pub sdo_abort: Option<(u16, u8, u32)>,
     /// SYNCs received.
@@ -86,6 +115,7 @@ pub struct DriveSimState {
     pub applied: Vec<(u64, u16, i32)>,
     pending_fault: Option<u16>,
     pending_rpdo: Option<CanMsg>,
+    pending_rpdo2: Option<CanMsg>,
     history: VecDeque<i32>,
     exact_position: f64,
 }
@@ -114,6 +144,16 @@ impl DriveSimState {
             count: 2,
             map: [map[0], map[1], 0, 0, 0, 0, 0, 0],
         };
+        let off = |n: u8, tx: bool, map: [u32; 2]| PdoConfig {
+            cob_id: 0x8000_0000
+                | u32::from(if tx {
+                    cob::tpdo(n, id)
+                } else {
+                    cob::rpdo(n, id)
+                }),
+            count: if map[1] == 0 { 1 } else { 2 },
+            ..pdo(0, map)
+        };
         DriveSimState {
             nmt: nmt::PRE_OPERATIONAL,
             state: State::SwitchOnDisabled,
@@ -128,6 +168,13 @@ impl DriveSimState {
             heartbeat_ms: 0,
             rpdo: pdo(cob::RPDO1, [0x6040_0010, 0x607A_0020]),
             tpdo: pdo(cob::TPDO1, [0x6041_0010, 0x6064_0020]),
+            rpdo2: off(2, false, [0x60B8_0010, 0]),
+            tpdo2: off(2, true, [0x60B9_0010, 0x60BA_0020]),
+            tpdo3: off(3, true, [0x60FD_0020, 0]),
+            probe_function: 0,
+            probe_status: 0,
+            probe_position: 0,
+            machine: None,
             lag: 0,
             heartbeat_stopped: false,
             silent: false,
@@ -136,10 +183,12 @@ impl DriveSimState {
             heartbeat_stop_at_sync: None,
             sync_heartbeat: false,
             sdo_abort: None,
+            max_speed: None,
             syncs: 0,
             applied: Vec::new(),
             pending_fault: None,
             pending_rpdo: None,
+            pending_rpdo2: None,
             history: VecDeque::new(),
             exact_position: 0.0,
         }
@@ -193,6 +242,16 @@ impl DriveSimState {
             0x1600 => pdo(&self.rpdo, false),
             0x1800 => pdo(&self.tpdo, true),
             0x1A00 => pdo(&self.tpdo, false),
+            0x1401 => pdo(&self.rpdo2, true),
+            0x1601 => pdo(&self.rpdo2, false),
+            0x1801 => pdo(&self.tpdo2, true),
+            0x1A01 => pdo(&self.tpdo2, false),
+            0x1802 => pdo(&self.tpdo3, true),
+            0x1A02 => pdo(&self.tpdo3, false),
+            0x60B8 => only0(u32::from(self.probe_function), 2),
+            0x60B9 => only0(u32::from(self.probe_status), 2),
+            0x60BA => only0(self.probe_position as u32, 4),
+            0x60FD => only0(self.inputs(), 4),
             0x603F => only0(u32::from(self.error_code), 2),
             0x6040 => only0(u32::from(self.controlword), 2),
             0x6041 => only0(u32::from(self.statusword()), 2),
@@ -225,9 +284,12 @@ impl DriveSimState {
         let map_entry = |p: &mut PdoConfig, v: u32, rx: bool| -> Result<(), u32> {
             let obj = (v >> 16) as u16;
             let ok = if rx {
-                matches!(obj, 0x6040 | 0x607A | 0x60FF | 0x6060)
+                matches!(obj, 0x6040 | 0x607A | 0x60FF | 0x6060 | 0x60B8)
             } else {
-                matches!(obj, 0x6041 | 0x6064 | 0x606C | 0x6061 | 0x603F)
+                matches!(
+                    obj,
+                    0x6041 | 0x6064 | 0x606C | 0x6061 | 0x603F | 0x60B9 | 0x60BA | 0x60FD
+                )
             };
             if !ok || v & 0xFF == 0 || v & 0x07 != 0 {
                 return Err(ABORT_NOT_MAPPABLE);
@@ -253,6 +315,19 @@ impl DriveSimState {
             (0x1A00, 0) => count(&mut self.tpdo, v)?,
             (0x1600, _) => map_entry(&mut self.rpdo, v, true)?,
             (0x1A00, _) => map_entry(&mut self.tpdo, v, false)?,
+            (0x1401, 1) => self.rpdo2.cob_id = v,
+            (0x1401, 2) => self.rpdo2.transmission = v as u8,
+            (0x1801, 1) => self.tpdo2.cob_id = v,
+            (0x1801, 2) => self.tpdo2.transmission = v as u8,
+            (0x1802, 1) => self.tpdo3.cob_id = v,
+            (0x1802, 2) => self.tpdo3.transmission = v as u8,
+            (0x1601, 0) => count(&mut self.rpdo2, v)?,
+            (0x1A01, 0) => count(&mut self.tpdo2, v)?,
+            (0x1A02, 0) => count(&mut self.tpdo3, v)?,
+            (0x1601, _) => map_entry(&mut self.rpdo2, v, true)?,
+            (0x1A01, _) => map_entry(&mut self.tpdo2, v, false)?,
+            (0x1A02, _) => map_entry(&mut self.tpdo3, v, false)?,
+            (0x60B8, 0) => self.set_probe_function(v as u16),
             (0x6040, 0) => self.controlword = v as u16,
             (0x6060, 0) => {
                 if !matches!(v, 8 | 9) {
@@ -269,12 +344,45 @@ impl DriveSimState {
         Ok(())
     }
 
-    /// Applies a received RPDO's bytes to the mapped objects.
-    fn apply_rpdo(&mut self, m: &CanMsg) {
+    /// The digital inputs `60FDh`: bit 2 is the home switch.
+    pub fn inputs(&self) -> u32 {
+        let p = f64::from(self.position);
+        match self.machine {
+            Some(m) if m.pressed(m.start + p) => 0x0004,
+            _ => 0,
+        }
+    }
+
+    /// Writes `60B8h`: a rising bit 0 arms probe 1 afresh, bit 0 = 0 disarms it.
+    fn set_probe_function(&mut self, v: u16) {
+        if v & 1 == 0 {
+            self.probe_status = 0;
+        } else if self.probe_function & 1 == 0 {
+            self.probe_status = 1;
+        }
+        self.probe_function = v;
+    }
+
+    /// Touch probe 1 on the axis's move from drive position `from` to `to`: armed on the zero
+    /// impulse's positive edge and not yet stored, it stores the first mark crossed.
+    fn probe(&mut self, from: f64, to: f64) {
+        let f = self.probe_function;
+        let armed = f & 1 == 1 && (f >> 2) & 3 == 1 && f & 0x10 != 0;
+        if !armed || self.probe_status & 2 != 0 {
+            return;
+        }
+        let Some(m) = self.machine else { return };
+        if let Some(mark) = m.mark_between(m.start + from, m.start + to) {
+            self.probe_position = (mark - m.start).round() as i32;
+            self.probe_status |= 2;
+        }
+    }
+
+    /// Applies a received RPDO's bytes to the mapped objects of `pdo`.
+    fn apply_rpdo(&mut self, m: &CanMsg, pdo: PdoConfig) {
         let d = m.payload();
         let mut at = 0usize;
-        let map = self.rpdo.map;
-        for e in map.iter().take(usize::from(self.rpdo.count)).copied() {
+        for e in pdo.map.iter().take(usize::from(pdo.count)).copied() {
             let n = ((e & 0xFF) / 8) as usize;
             let Some(bytes) = d.get(at..at + n) else {
                 return;
@@ -291,15 +399,9 @@ impl DriveSimState {
         }
     }
 
-    fn tpdo_bytes(&self) -> Vec<u8> {
+    fn tpdo_bytes(&self, pdo: &PdoConfig) -> Vec<u8> {
         let mut out = Vec::with_capacity(8);
-        for e in self
-            .tpdo
-            .map
-            .iter()
-            .take(usize::from(self.tpdo.count))
-            .copied()
-        {
+        for e in pdo.map.iter().take(usize::from(pdo.count)).copied() {
             let n = ((e & 0xFF) / 8) as usize;
             let v = self
                 .get((e >> 16) as u16, (e >> 8) as u8)
@@ -337,7 +439,10 @@ impl DriveSimState {
         }
         let last = self.controlword;
         if let Some(m) = self.pending_rpdo.take() {
-            self.apply_rpdo(&m);
+            self.apply_rpdo(&m, self.rpdo);
+        }
+        if let Some(m) = self.pending_rpdo2.take() {
+            self.apply_rpdo(&m, self.rpdo2);
         }
         if self.applied.len() < APPLIED_CAP {
             self.applied
@@ -357,16 +462,20 @@ impl DriveSimState {
             self.error_code = 0;
             out.push(CanMsg::new(0x080 + u16::from(id), &[0; 8]));
         }
+        let before = self.exact_position;
         self.follow();
-        let every = u64::from(self.tpdo.transmission.max(1));
-        if self.tpdo.cob_id & 0x8000_0000 == 0
-            && self.tpdo.transmission <= 240
-            && self.syncs.is_multiple_of(every)
-        {
-            out.push(CanMsg::new(
-                (self.tpdo.cob_id & 0x7FF) as u16,
-                &self.tpdo_bytes(),
-            ));
+        self.probe(before, self.exact_position);
+        for pdo in [self.tpdo, self.tpdo2, self.tpdo3] {
+            let every = u64::from(pdo.transmission.max(1));
+            if pdo.cob_id & 0x8000_0000 == 0
+                && pdo.transmission <= 240
+                && self.syncs.is_multiple_of(every)
+            {
+                out.push(CanMsg::new(
+                    (pdo.cob_id & 0x7FF) as u16,
+                    &self.tpdo_bytes(&pdo),
+                ));
+            }
         }
         out
     }
@@ -395,6 +504,10 @@ impl DriveSimState {
         };
         let period = self.period_s();
         if self.mode == 9 {
+            let limit = self
+                .max_speed
+                .map_or(i32::MAX, |m| m.min(i32::MAX as u32) as i32);
+            let now = now.clamp(-limit, limit);
             self.velocity = now;
             self.exact_position += f64::from(now) * period;
             self.position = self.exact_position.round() as i32;
@@ -480,9 +593,9 @@ pub fn handle(s: &mut DriveSimState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
             nmt::CMD_STOP => s.nmt = nmt::STOPPED,
             nmt::CMD_PRE_OPERATIONAL => s.nmt = nmt::PRE_OPERATIONAL,
             nmt::CMD_RESET_NODE | nmt::CMD_RESET_COMM => {
-                let hooks = (s.refuse_enable, s.sdo_abort, s.lag);
+                let hooks = (s.refuse_enable, s.sdo_abort, s.lag, s.machine, s.max_speed);
                 *s = DriveSimState::new(id);
-                (s.refuse_enable, s.sdo_abort, s.lag) = hooks;
+                (s.refuse_enable, s.sdo_abort, s.lag, s.machine, s.max_speed) = hooks;
                 out.push(CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::BOOTUP]));
             }
             _ => {}
@@ -491,6 +604,8 @@ pub fn handle(s: &mut DriveSimState, id: u8, m: &CanMsg) -> Vec<CanMsg> {
         out = s.on_sync(id);
     } else if u32::from(cob_id) == s.rpdo.cob_id && s.nmt == nmt::OPERATIONAL {
         s.pending_rpdo = Some(*m);
+    } else if u32::from(cob_id) == s.rpdo2.cob_id && s.nmt == nmt::OPERATIONAL {
+        s.pending_rpdo2 = Some(*m);
     } else if cob_id == cob::SDO_RX + u16::from(id) && s.nmt != nmt::STOPPED {
         let snapshot = s.clone();
         let mut write = None;
@@ -576,5 +691,63 @@ mod tests {
         assert_eq!(out[0].id, 0x183);
         assert_eq!(out[0].payload(), &[0x27, 0x02, 0x39, 0x30, 0, 0]);
         assert_eq!(s.applied, vec![(1, 0x0F, 12_345)]);
+    }
+
+    /// Touch probe 1 on the zero impulse: armed by a rising `60B8h` bit 0, it stores the exact
+    /// drive position of the first mark crossed (not the position of the SYNC), keeps it
+    /// (first event), and is cleared by disarming; `60FDh` bit 2 is the home switch.
+    #[test]
+    fn the_touch_probe_latches_the_first_zero_impulse_exactly() {
+        let mut s = DriveSimState::new(3);
+        handle(&mut s, 3, &CanMsg::new(0, &[nmt::CMD_START, 3]));
+        (s.mode, s.state, s.controlword) = (8, State::OperationEnabled, 0x0F);
+        // Drive 0 stands at machine −50 mm (10 000 counts/mm); switch from 3 mm up; marks every 5.
+        s.machine = Some(SimMachine {
+            start: -500_000.0,
+            home_switch: Some((30_000.0, false)),
+            mark_pitch: 50_000.0,
+        });
+        for p in [&mut s.rpdo2, &mut s.tpdo2, &mut s.tpdo3] {
+            p.cob_id &= 0x7FF;
+        }
+        let step = |s: &mut DriveSimState, target: i32, probe: Option<u16>| {
+            let mut rpdo = [0u8; 6];
+            rpdo[..2].copy_from_slice(&0x0Fu16.to_le_bytes());
+            rpdo[2..].copy_from_slice(&target.to_le_bytes());
+            handle(s, 3, &CanMsg::new(0x203, &rpdo));
+            if let Some(f) = probe {
+                handle(s, 3, &CanMsg::new(0x303, &f.to_le_bytes()));
+            }
+            let out = handle(s, 3, &CanMsg::new(0x80, &[]));
+            let ids: Vec<u32> = out.iter().map(|m| m.id).collect();
+            assert_eq!(ids, [0x183, 0x283, 0x383]);
+            (out[1].payload().to_vec(), out[2].payload().to_vec())
+        };
+        // Onto the switch, crossing marks unarmed: nothing stored.
+        assert_eq!(
+            step(&mut s, 530_000, None),
+            (vec![0, 0, 0, 0, 0, 0], vec![4, 0, 0, 0])
+        );
+        // Armed on the zero impulse, positive edge; off the switch (machine 2.9 mm).
+        assert_eq!(
+            step(&mut s, 529_000, Some(0x15)),
+            (vec![1, 0, 0, 0, 0, 0], vec![0, 0, 0, 0])
+        );
+        assert_eq!(step(&mut s, 520_000, Some(0x15)).1, vec![0, 0, 0, 0]);
+        // Past the mark at machine 0 (drive 500 000) in one SYNC: its exact position is stored.
+        let stored = [3, 0, 0x20, 0xA1, 0x07, 0];
+        assert_eq!(step(&mut s, 499_990, Some(0x15)).0, stored);
+        assert_eq!(s.position, 499_990);
+        // First event: the next mark (drive 450 000) does not overwrite it.
+        assert_eq!(step(&mut s, 449_000, Some(0x15)).0, stored);
+        // Disarmed: the status clears; armed again, the next crossing is stored.
+        assert_eq!(step(&mut s, 449_000, Some(0)).0[..2], [0, 0]);
+        assert_eq!(step(&mut s, 449_000, Some(0x15)).0[..2], [1, 0]);
+        let again = step(&mut s, 399_000, Some(0x15)).0;
+        assert_eq!(again, [3, 0, 0x80, 0x1A, 0x06, 0]);
+        assert_eq!(
+            i32::from_le_bytes([again[2], again[3], again[4], again[5]]),
+            400_000
+        );
     }
 }

@@ -11,6 +11,7 @@
 
 pub mod cannelloni;
 pub mod drive;
+pub mod drive_machine;
 pub mod drive_sim;
 pub mod master;
 pub mod node_sim;

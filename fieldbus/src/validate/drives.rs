@@ -127,6 +127,8 @@ fn simulate(cx: &mut Ctx, h: &Spanned<RawDriveSim>, virtual_bus: bool) -> DriveS
         heartbeat_stop: r.heartbeat_stop_at_sync,
         refuse_enable: r.refuse_enable,
         sdo_abort: r.sdo_abort.as_ref().map(|a| (a.index, a.subindex, a.code)),
+        max_speed: r.max_speed,
+        machine: None,
     }
 }
 

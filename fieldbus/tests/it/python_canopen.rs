@@ -152,16 +152,20 @@ async fn ncplc_drives_a_python_canopen_local_node() {
         .expect("the LocalNode drive starts");
     d.set_answer_timeout(Duration::from_secs(1));
     let mut seen = Vec::new();
+    let mut probe_status = Vec::new();
     for n in 1..=8 {
         let cmd = DriveCommand {
             set_point: 0.25 * f64::from(n),
             enable: true,
+            // The touch probe armed from the 6th SYNC on (as homing's stage 3 arms it).
+            probe: n >= 6,
             ..DriveCommand::default()
         };
         assert!(d.command(x, cmd));
         d.sync().await.expect("sync");
         let f = d.feedback(x).expect("X");
         seen.push((f.state, f.position, f.healthy));
+        probe_status.push(f.probe_status);
         d.idle(tick).await.expect("idle");
     }
     let report = tokio::task::block_in_place(|| lines.next());
@@ -191,6 +195,20 @@ async fn ncplc_drives_a_python_canopen_local_node() {
     assert_eq!(v["heartbeat"], 100);
     assert_eq!(v["rpdo"], serde_json::json!([2, 0x6040_0010, 0x607A_0020]));
     assert_eq!(v["tpdo"], serde_json::json!([2, 0x6041_0010, 0x6064_0020]));
+    // The homing PDOs: RPDO2 (touch probe function), TPDO2 (probe status and latched position),
+    // TPDO3 (digital inputs), every SYNC, enabled; the probe function of every SYNC.
+    assert_eq!(
+        v["pdo2"],
+        serde_json::json!([[0x307, 1], [0x287, 1], [0x387, 1]])
+    );
+    assert_eq!(v["rpdo2"], serde_json::json!([1, 0x60B8_0010]));
+    assert_eq!(v["tpdo2"], serde_json::json!([2, 0x60B9_0010, 0x60BA_0020]));
+    assert_eq!(v["tpdo3"], serde_json::json!([1, 0x60FD_0020]));
+    assert_eq!(
+        v["probes"],
+        serde_json::json!([0, 0, 0, 0, 0, 0x15, 0x15, 0x15])
+    );
+    assert_eq!(probe_status, [0, 0, 0, 0, 0, 1, 1, 1]);
     assert_eq!(seen[0], (State::ReadyToSwitchOn, 0.0, true));
     assert_eq!(seen[1], (State::SwitchedOn, 0.0, true));
     for (i, s) in seen.iter().enumerate().skip(2) {

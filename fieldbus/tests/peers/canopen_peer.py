@@ -110,6 +110,14 @@ def drive_od(node):
     od.add_object(var("Producer heartbeat time", 0x1017, 0, odm.UNSIGNED16, "rw", 0))
     pdo_records(od, 0x1400, 0x1600, 0x200 + node, [0x60400010, 0x607A0020])
     pdo_records(od, 0x1800, 0x1A00, 0x180 + node, [0x60410010, 0x60640020])
+    # The homing PDOs, disabled until the master maps and enables them.
+    pdo_records(od, 0x1401, 0x1601, 0x80000300 + node, [])
+    pdo_records(od, 0x1801, 0x1A01, 0x80000280 + node, [])
+    pdo_records(od, 0x1802, 0x1A02, 0x80000380 + node, [])
+    od.add_object(var("Touch probe function", 0x60B8, 0, odm.UNSIGNED16, "rw"))
+    od.add_object(var("Touch probe status", 0x60B9, 0, odm.UNSIGNED16, "ro"))
+    od.add_object(var("Touch probe pos1 pos value", 0x60BA, 0, odm.INTEGER32, "ro"))
+    od.add_object(var("Digital inputs", 0x60FD, 0, odm.UNSIGNED32, "ro"))
     od.add_object(var("Error code", 0x603F, 0, odm.UNSIGNED16, "ro"))
     od.add_object(var("Controlword", 0x6040, 0, odm.UNSIGNED16, "rw"))
     od.add_object(var("Statusword", 0x6041, 0, odm.UNSIGNED16, "ro", 0x0240))
@@ -207,13 +215,18 @@ def node(local, remote, node_id, syncs):
     drive = canopen.LocalNode(node_id, drive_od(node_id))
     network.add_node(drive)
     lock = threading.Lock()
-    st = {"state": "SOD", "pending": None, "syncs": 0, "seen": [], "position": 0, "pdo": False}
+    st = {"state": "SOD", "pending": None, "syncs": 0, "seen": [], "position": 0, "pdo": False,
+          "probe": 0, "probes": []}
     drive.sdo[0x6041].raw = SW["SOD"]
     done = threading.Event()
 
     def on_rpdo(pdo):
         with lock:
             st["pending"] = (pdo["Controlword"].raw, pdo["Target position"].raw)
+
+    def on_rpdo2(pdo):
+        with lock:
+            st["probe"] = pdo["Touch probe function"].raw
 
     def on_sync(can_id, data, timestamp):
         with lock:
@@ -229,6 +242,13 @@ def node(local, remote, node_id, syncs):
             drive.tpdo[1]["Statusword"].raw = SW[st["state"]]
             drive.tpdo[1]["Position actual value"].raw = st["position"]
             drive.tpdo[1].transmit()
+            # The touch probe as far as this drive has one: enabled (status bit 0) while armed.
+            st["probes"].append(st["probe"])
+            drive.tpdo[2]["Touch probe status"].raw = st["probe"] & 1
+            drive.tpdo[2]["Touch probe pos1 pos value"].raw = 0
+            drive.tpdo[2].transmit()
+            drive.tpdo[3]["Digital inputs"].raw = 0
+            drive.tpdo[3].transmit()
             if st["syncs"] >= syncs:
                 done.set()
 
@@ -240,6 +260,7 @@ def node(local, remote, node_id, syncs):
                 drive.rpdo.read()
                 drive.tpdo.read()
                 drive.rpdo[1].add_callback(on_rpdo)
+                drive.rpdo[2].add_callback(on_rpdo2)
                 st["pdo"] = True
 
     network.subscribe(0x80, on_sync)
@@ -257,6 +278,11 @@ def node(local, remote, node_id, syncs):
             "heartbeat": drive.sdo[0x1017].raw,
             "rpdo": [drive.sdo[0x1600][i].raw for i in range(0, 3)],
             "tpdo": [drive.sdo[0x1A00][i].raw for i in range(0, 3)],
+            "pdo2": [[drive.sdo[c][1].raw, drive.sdo[c][2].raw] for c in (0x1401, 0x1801, 0x1802)],
+            "rpdo2": [drive.sdo[0x1601][i].raw for i in range(0, 2)],
+            "tpdo2": [drive.sdo[0x1A01][i].raw for i in range(0, 3)],
+            "tpdo3": [drive.sdo[0x1A02][i].raw for i in range(0, 2)],
+            "probes": st["probes"],
         }))
     finally:
         network.disconnect()

@@ -48,6 +48,8 @@ pub struct DriveOrder {
     pub quick_stop: bool,
     /// Fault reset (a rising controlword bit 7).
     pub fault_reset: bool,
+    /// Arm the touch probe on the encoder's zero impulse (homing, `csp` only).
+    pub probe: bool,
 }
 
 /// One logic tick's orders, per drive in io.toml order.
@@ -69,6 +71,13 @@ pub struct DriveAnswer {
     pub statusword: u16,
     /// The drive's fault, while it has one.
     pub fault: Option<DriveFault>,
+    /// The digital inputs `60FDh` of the last healthy answer (`csp`; bit 2: home switch).
+    pub inputs: u32,
+    /// The touch probe status `60B9h` of the last healthy answer (`csp`).
+    pub probe_status: u16,
+    /// The touch probe's latched position (`60BAh`, axis units) while `probe_status` says it
+    /// stored one.
+    pub probe: Option<f64>,
 }
 
 /// The answers to one logic tick's orders.
@@ -211,6 +220,7 @@ impl MasterDrives {
                         enable: o.enable,
                         quick_stop: o.quick_stop,
                         fault_reset: o.fault_reset,
+                        probe: o.probe,
                     },
                 );
             }
@@ -247,6 +257,10 @@ impl MasterDrives {
                 a.values.push(f.healthy.then_some(value));
                 a.statusword = f.state.statusword();
                 a.fault = f.fault;
+                a.inputs = f.inputs;
+                a.probe_status = f.probe_status;
+                a.probe =
+                    (f.probe_status & super::set::PROBE_STORED != 0).then_some(f.probe_position);
             }
             if !self.timing.lockstep && k + 1 < syncs {
                 let next = start + self.timing.int_tick * (k as u32 + 1);
@@ -266,6 +280,8 @@ impl MasterDrives {
         self.cfg.iter().any(|d| {
             let n = u16::from(d.node_id);
             id == cob::tpdo(1, d.node_id)
+                || id == cob::tpdo(2, d.node_id)
+                || id == cob::tpdo(3, d.node_id)
                 || id == 0x080 + n
                 || id == cob::HEARTBEAT + n
                 || id == cob::SDO_TX + n

@@ -10,6 +10,11 @@
 //! only by a fault reset once the cause is gone. Feedback is *healthy* only
 //! while the drive is operational, unfaulted and answered the last SYNC: the position of any
 //! other drive is the last healthy one, never a value from the faulted or silent drive.
+//!
+//! A `csp` drive also has the homing PDOs (see [`super::startup::homing_pdos`]): before each
+//! SYNC its RPDO2 carries the touch probe function (probe 1 armed on the encoder's zero impulse,
+//! positive edge, first event, while [`DriveCommand::probe`]), and it has answered a SYNC only
+//! when TPDO1, TPDO2 (probe status and latched position) and TPDO3 (digital inputs) all came.
 
 use tokio::time::{Duration, Instant};
 
@@ -21,6 +26,13 @@ use crate::map::{CanDrive, DriveMode};
 pub const ENABLE_TICKS: u32 = 20;
 /// The heartbeat consumer time is this many producer times.
 pub const HEARTBEAT_FACTOR: u32 = 2;
+/// `60B8h` touch probe function: probe 1 enabled (bit 0), first event (bit 1 = 0), triggered
+/// by the encoder's zero impulse (bits 2–3 = 01), sampling on the positive edge (bit 4).
+pub const PROBE_ZERO_IMPULSE: u16 = 0x0015;
+/// `60B9h` bit 1: touch probe 1 has stored a position at the positive edge.
+pub const PROBE_STORED: u16 = 0x0002;
+/// `60FDh` bit 2: the home switch.
+pub const INPUT_HOME_SWITCH: u32 = 0x0004;
 /// CiA 301 EMCY code "life guard error or heartbeat error", used for a lost heartbeat.
 pub const CODE_HEARTBEAT: u16 = 0x8130;
 /// CiA 301 EMCY code "communication error" (the drive left NMT operational).
@@ -56,6 +68,9 @@ pub struct DriveCommand {
     pub quick_stop: bool,
     /// Fault reset (RESET).
     pub fault_reset: bool,
+    /// Arm touch probe 1 on the encoder's zero impulse (`60B8h` = [`PROBE_ZERO_IMPULSE`]; 0
+    /// when false, which disarms it: the next arming latches afresh).
+    pub probe: bool,
 }
 
 /// Why a drive is faulted.
@@ -97,6 +112,13 @@ pub struct DriveFeedback {
     pub fault: Option<DriveFault>,
     /// True when this feedback is a fresh value from an operational, unfaulted drive.
     pub healthy: bool,
+    /// The digital inputs `60FDh` of the last healthy answer (`csp`; bit 2: home switch).
+    pub inputs: u32,
+    /// The touch probe status `60B9h` of the last healthy answer (`csp`).
+    pub probe_status: u16,
+    /// The touch probe's latched position `60BAh` in axis units (meaningful while
+    /// `probe_status` has [`PROBE_STORED`]).
+    pub probe_position: f64,
 }
 
 #[derive(Debug, Clone)]
@@ -112,6 +134,11 @@ struct Slot {
     position: f64,
     velocity: f64,
     fresh: bool,
+    /// The homing PDOs (TPDO2, TPDO3) of this SYNC arrived (always true without them).
+    fresh_homing: [bool; 2],
+    inputs: u32,
+    probe_status: u16,
+    probe_value: i32,
     nmt: u8,
     last_hb: Option<Instant>,
     fault: Option<DriveFault>,
@@ -149,6 +176,10 @@ impl DriveSet {
                 position: 0.0,
                 velocity: 0.0,
                 fresh: false,
+                fresh_homing: [false; 2],
+                inputs: 0,
+                probe_status: 0,
+                probe_value: 0,
                 nmt: nmt::PRE_OPERATIONAL,
                 last_hb: None,
                 fault: None,
@@ -201,7 +232,10 @@ impl DriveSet {
                 velocity: s.velocity,
                 state: s.state,
                 fault: s.fault,
-                healthy: s.fresh && s.fault.is_none() && !s.state.is_fault(),
+                healthy: s.answered() && s.fault.is_none() && !s.state.is_fault(),
+                inputs: s.inputs,
+                probe_status: s.probe_status,
+                probe_position: f64::from(s.probe_value) / s.cfg.counts_per_unit,
             })
     }
 
@@ -245,6 +279,14 @@ impl DriveSet {
             d[2..].copy_from_slice(&target.to_le_bytes());
             out.push(CanMsg::new(cob::rpdo(1, s.cfg.node_id), &d));
             s.fresh = false;
+            if s.homing() {
+                let probe = if s.cmd.probe { PROBE_ZERO_IMPULSE } else { 0 };
+                out.push(CanMsg::new(
+                    cob::rpdo(2, s.cfg.node_id),
+                    &probe.to_le_bytes(),
+                ));
+                s.fresh_homing = [false; 2];
+            }
         }
         out
     }
@@ -299,6 +341,17 @@ impl DriveSet {
                     _ => {}
                 }
                 s.fresh = true;
+            } else if id == cob::tpdo(2, node) && d.len() >= 6 && s.homing() {
+                if s.fault.is_none() {
+                    s.probe_status = u16::from_le_bytes([d[0], d[1]]);
+                    s.probe_value = i32::from_le_bytes([d[2], d[3], d[4], d[5]]);
+                }
+                s.fresh_homing[0] = true;
+            } else if id == cob::tpdo(3, node) && d.len() >= 4 && s.homing() {
+                if s.fault.is_none() {
+                    s.inputs = u32::from_le_bytes([d[0], d[1], d[2], d[3]]);
+                }
+                s.fresh_homing[1] = true;
             } else if id == 0x080 + u16::from(node) && d.len() >= 2 {
                 let code = u16::from_le_bytes([d[0], d[1]]);
                 if code != 0
@@ -381,7 +434,7 @@ impl DriveSet {
     /// True when every drive that should answer this SYNC has answered.
     pub fn all_answered(&self) -> bool {
         self.slots.iter().all(|s| {
-            s.fresh
+            s.answered()
                 || s.fault
                     .is_some_and(|f| f.cause == FaultCause::HeartbeatLost)
         })
@@ -390,6 +443,18 @@ impl DriveSet {
     /// True when a `603Fh` read sent this tick is still unanswered.
     pub fn code_pending(&self) -> bool {
         self.slots.iter().any(|s| s.code_wait)
+    }
+}
+
+impl Slot {
+    /// The drive has the homing PDOs (a `csp` drive).
+    fn homing(&self) -> bool {
+        self.cfg.mode == DriveMode::Csp
+    }
+
+    /// Every TPDO of this SYNC arrived.
+    fn answered(&self) -> bool {
+        self.fresh && (!self.homing() || self.fresh_homing == [true; 2])
     }
 }
 
@@ -448,10 +513,40 @@ mod tests {
         assert!(s.command(AxisId::new('X'), cmd));
         assert!(!s.command(AxisId::new('Y'), cmd));
         let f = s.rpdos(now);
-        assert_eq!(f.len(), 1);
+        assert_eq!(f.len(), 2);
         assert_eq!(
             (f[0].id, f[0].payload()),
             (0x203, &[0x06, 0, 123, 0, 0, 0][..])
+        );
+        // RPDO2: the touch probe function, disarmed.
+        assert_eq!((f[1].id, f[1].payload()), (0x303, &[0, 0][..]));
+        let armed = DriveCommand { probe: true, ..cmd };
+        assert!(s.command(AxisId::new('X'), armed));
+        assert_eq!(s.rpdos(now)[1].payload(), &[0x15, 0]);
+    }
+
+    #[test]
+    fn a_csp_drive_answered_when_its_three_tpdos_came() {
+        let (mut s, now) = set();
+        let x = AxisId::new('X');
+        s.rpdos(now);
+        s.on_frame(&CanMsg::new(0x183, &[0x27, 0x02, 0x10, 0, 0, 0]), now);
+        assert!(!s.all_answered());
+        // TPDO2: probe status "stored" with 60BAh = 250 counts = 2.5 mm; TPDO3: home switch.
+        s.on_frame(&CanMsg::new(0x283, &[0x03, 0, 250, 0, 0, 0]), now);
+        assert!(!s.all_answered());
+        s.on_frame(&CanMsg::new(0x383, &[0x04, 0, 0, 0]), now);
+        assert!(s.all_answered());
+        let f = s.feedback(x).expect("X");
+        assert_eq!(
+            (
+                f.healthy,
+                f.position,
+                f.inputs,
+                f.probe_status,
+                f.probe_position
+            ),
+            (true, 0.16, INPUT_HOME_SWITCH, 0x03, 2.5)
         );
     }
 

@@ -2,6 +2,11 @@
 //! the SDO configuration (mode of operation, interpolation period, PDO mappings, heartbeat, the
 //! entry's extra writes), the statusword read, and NMT *start* — for every drive, or for none.
 //!
+//! A `csp` drive also gets the homing PDOs: RPDO2 carries the touch probe function `60B8h`,
+//! TPDO2 the touch probe status `60B9h` and the latched position `60BAh` (together, so that a
+//! "stored" bit always comes with its value), TPDO3 the digital inputs `60FDh` (bit 2: the home
+//! switch). `60FDh` does not fit TPDO2 as well: 16 + 32 + 32 bits exceed a classic CAN frame.
+//!
 //! [`configuration`] lists the SDO writes of one drive (pure, tested byte for byte);
 //! [`start`] performs them on a bus. One failed transfer (a timeout or an abort) stops the start-up
 //! with a [`DriveStartError`] naming the axis, the node, the object and the abort code: no drive is
@@ -139,6 +144,11 @@ pub fn configuration(d: &CanDrive, tick: Duration) -> Vec<SdoWrite> {
         w(0x1A00, 2, actual, 4),
         w(0x1A00, 0, 2, 1),
         w(0x1800, 1, u32::from(cob::TPDO1) + id, 4),
+    ];
+    if d.mode == DriveMode::Csp {
+        list.extend(homing_pdos(id));
+    }
+    list.extend([
         // Heartbeat producer.
         w(
             0x1017,
@@ -146,8 +156,36 @@ pub fn configuration(d: &CanDrive, tick: Duration) -> Vec<SdoWrite> {
             d.heartbeat.as_millis().min(u128::from(u16::MAX)) as u32,
             2,
         ),
-    ];
+    ]);
     list.extend(d.sdo.iter().copied());
+    list
+}
+
+/// The homing PDOs of a `csp` drive with node id `id`: RPDO2 = `60B8h` touch probe function;
+/// TPDO2 = `60B9h` touch probe status + `60BAh` touch probe 1 positive edge position; TPDO3 =
+/// `60FDh` digital inputs; every SYNC, each disabled while mapped and enabled after.
+pub fn homing_pdos(id: u32) -> Vec<SdoWrite> {
+    let mut list = Vec::new();
+    let pdos: [(u16, u16, u32, &[u32]); 3] = [
+        (0x1401, 0x1601, u32::from(cob::rpdo(2, 0)), &[0x60B8_0010]),
+        (
+            0x1801,
+            0x1A01,
+            u32::from(cob::tpdo(2, 0)),
+            &[0x60B9_0010, 0x60BA_0020],
+        ),
+        (0x1802, 0x1A02, u32::from(cob::tpdo(3, 0)), &[0x60FD_0020]),
+    ];
+    for (comm, map, base, entries) in pdos {
+        list.push(w(comm, 1, 0x8000_0000 | (base + id), 4));
+        list.push(w(comm, 2, 1, 1));
+        list.push(w(map, 0, 0, 1));
+        for (k, e) in entries.iter().enumerate() {
+            list.push(w(map, k as u8 + 1, *e, 4));
+        }
+        list.push(w(map, 0, entries.len() as u32, 1));
+        list.push(w(comm, 1, base + id, 4));
+    }
     list
 }
 
@@ -259,5 +297,44 @@ mod tests {
         assert_eq!(c[17], w(0x1017, 0, 50, 2));
         assert_eq!(c[18], w(0x2000, 1, 7, 1));
         assert_eq!(c.len(), 19);
+    }
+
+    #[test]
+    fn a_csp_drive_gets_the_homing_pdos_before_its_heartbeat() {
+        let d = CanDrive {
+            process: 1,
+            axis: 'X',
+            node_id: 3,
+            counts_per_unit: 10000.0,
+            mode: DriveMode::Csp,
+            heartbeat: Duration::from_millis(100),
+            sdo: Vec::new(),
+            simulate: Default::default(),
+        };
+        let c = configuration(&d, Duration::from_millis(2));
+        let homing = [
+            w(0x1401, 1, 0x8000_0303, 4),
+            w(0x1401, 2, 1, 1),
+            w(0x1601, 0, 0, 1),
+            w(0x1601, 1, 0x60B8_0010, 4),
+            w(0x1601, 0, 1, 1),
+            w(0x1401, 1, 0x303, 4),
+            w(0x1801, 1, 0x8000_0283, 4),
+            w(0x1801, 2, 1, 1),
+            w(0x1A01, 0, 0, 1),
+            w(0x1A01, 1, 0x60B9_0010, 4),
+            w(0x1A01, 2, 0x60BA_0020, 4),
+            w(0x1A01, 0, 2, 1),
+            w(0x1801, 1, 0x283, 4),
+            w(0x1802, 1, 0x8000_0383, 4),
+            w(0x1802, 2, 1, 1),
+            w(0x1A02, 0, 0, 1),
+            w(0x1A02, 1, 0x60FD_0020, 4),
+            w(0x1A02, 0, 1, 1),
+            w(0x1802, 1, 0x383, 4),
+        ];
+        assert_eq!(c[17..36], homing);
+        assert_eq!(c[36], w(0x1017, 0, 100, 2));
+        assert_eq!(c.len(), 37);
     }
 }
