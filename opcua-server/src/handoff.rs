@@ -1,17 +1,20 @@
 //! The hand-over between the scan thread and the server: after every tick the scan pushes a
 //! [`Frame`] (the packets, the tick, the wall-clock time) into a wait-free SPSC ring (`rtrb`) and
-//! drains the clients' accepted writes with `try_recv`; the server's publisher pops every frame in
-//! order, so no tick's change is merged into the next one.
+//! drains the clients' accepted writes and operator commands with `try_recv`; the server's
+//! publisher pops every frame in order, so no tick's change is merged into the next one.
 //!
 //! **Invariant:** nothing on the scan's side takes a lock the server holds, allocates or waits: a
-//! copy of [`packets::PACKETS_LEN`] bytes into a ring slot and a `try_recv` loop. When the ring is
+//! copy of [`packets::PACKETS_LEN`] bytes into a ring slot and `try_recv` loops. A command goes to
+//! the part run's kernel there, at the tick boundary, through
+//! [`controller::servers::kernel_command`] (the web HMI's path, recorded in the trace). When the ring is
 //! full (the server fell [`RING`] ticks behind) the frame is dropped and counted; the next one the
 //! server gets still carries the whole image, so values stay right and only that tick's pulses can
 //! be missed.
 
 use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::{Arc, mpsc};
+use std::sync::{Arc, Mutex, mpsc};
 
+use hmi::{Command, Role};
 use packets::Signal;
 use runtime::scheduler::Scheduler;
 
@@ -36,11 +39,28 @@ pub type Write = (Signal, u8);
 /// An alarm raised (true) or cleared (false), its text and the tick it happened at.
 pub type AlarmNote = (bool, String, u64);
 
+/// A client's operator command (a method call) for the scan: the kernel's answer goes to `reply`
+/// (the tick it was applied at, or why it was refused).
+#[derive(Debug)]
+pub struct CommandRequest {
+    /// The process (channel), 1..5.
+    pub process: u8,
+    /// START, HOLD or RESET.
+    pub command: Command,
+    /// The caller's role (recorded in the trace).
+    pub role: Role,
+    /// Where the answer goes.
+    pub reply: tokio::sync::oneshot::Sender<Result<u64, String>>,
+}
+
 /// The scan thread's half.
 pub struct ScanSide {
     frames: rtrb::Producer<Frame>,
     dropped: Arc<AtomicU64>,
     writes: mpsc::Receiver<Write>,
+    commands: mpsc::Receiver<CommandRequest>,
+    /// The part run's kernel the commands go to (None: no part run, every command is refused).
+    pub kernel: Option<Arc<Mutex<cnc::Cnc>>>,
     /// Alarms for the `Messages` events.
     pub alarms: mpsc::Sender<AlarmNote>,
 }
@@ -53,6 +73,8 @@ pub struct ServerSide {
     pub dropped: Arc<AtomicU64>,
     /// Accepted writes, for the scan.
     pub writes: mpsc::Sender<Write>,
+    /// Operator commands, for the scan.
+    pub commands: mpsc::Sender<CommandRequest>,
     /// The alarms the scan saw.
     pub alarms: mpsc::Receiver<AlarmNote>,
 }
@@ -63,17 +85,21 @@ pub fn pair() -> (ScanSide, ServerSide) {
     let dropped = Arc::new(AtomicU64::new(0));
     let (tx, rx) = mpsc::channel();
     let (alarm_tx, alarm_rx) = mpsc::channel();
+    let (cmd_tx, cmd_rx) = mpsc::channel();
     (
         ScanSide {
             frames: producer,
             dropped: Arc::clone(&dropped),
             writes: rx,
+            commands: cmd_rx,
+            kernel: None,
             alarms: alarm_tx,
         },
         ServerSide {
             frames: consumer,
             dropped,
             writes: tx,
+            commands: cmd_tx,
             alarms: alarm_rx,
         },
     )
@@ -81,10 +107,23 @@ pub fn pair() -> (ScanSide, ServerSide) {
 
 impl ScanSide {
     /// At a tick boundary: queues the accepted writes for the next scan (the scheduler applies
-    /// them after the input latch, where the trace records them), then publishes the image.
+    /// them after the input latch, where the trace records them), gives the operator commands to
+    /// the kernel (recorded for the next tick, as the web HMI's), then publishes the image.
     pub fn after_tick(&mut self, sched: &mut Scheduler) {
         while let Ok((signal, value)) = self.writes.try_recv() {
             sched.forces_mut().write_once(signal, value);
+        }
+        while let Ok(c) = self.commands.try_recv() {
+            let answer = match &self.kernel {
+                Some(k) => {
+                    controller::servers::kernel_command(sched, k, c.process, &c.command, c.role)
+                }
+                None => {
+                    Err("no part run: the kernel takes commands with --program or --mdi".into())
+                }
+            };
+            // The caller may have timed out and gone: nobody is waiting then.
+            let _ = c.reply.send(answer);
         }
         self.publish(sched.tick_count().saturating_sub(1), sched.image().bytes());
     }

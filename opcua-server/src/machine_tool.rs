@@ -8,11 +8,14 @@
 //! **Invariant:** each value node has exactly one [`Source`]; the evaluator sets a node only when
 //! its value changed, stamped with the tick's time like the signals.
 
-use opcua::nodes::{EventNotifier, ObjectBuilder, ReferenceDirection, VariableBuilder};
+use hmi::Command;
+use opcua::nodes::{
+    EventNotifier, MethodBuilder, ObjectBuilder, ReferenceDirection, VariableBuilder,
+};
 use opcua::server::address_space::AddressSpace;
 use opcua::types::{
-    DataTypeId, LocalizedText, NodeId, ObjectId, QualifiedName, ReferenceTypeId, VariableTypeId,
-    Variant,
+    Argument, DataTypeId, LocalizedText, NodeId, ObjectId, QualifiedName, ReferenceTypeId,
+    VariableTypeId, Variant,
 };
 use packets::Signal;
 
@@ -64,6 +67,17 @@ pub struct Inputs {
     pub lamps: Vec<Lamp>,
     /// The partprogram of the run (`--program`), if any.
     pub program: Option<String>,
+    /// A part run's kernel takes operator commands: each channel gets `Start`, `Hold`, `Reset`.
+    pub commands: bool,
+}
+
+/// What [`add`] put into the address space that the server serves.
+#[derive(Debug, Default)]
+pub struct Added {
+    /// The value nodes and their sources.
+    pub values: Vec<(NodeId, Source)>,
+    /// The methods: node, process, command.
+    pub methods: Vec<(NodeId, u8, Command)>,
 }
 
 /// How a value node's value follows the image.
@@ -94,6 +108,7 @@ struct Build<'a> {
     space: &'a mut AddressSpace,
     ns: Ns,
     values: Vec<(NodeId, Source)>,
+    methods: Vec<(NodeId, u8, Command)>,
 }
 
 impl Build<'_> {
@@ -144,12 +159,13 @@ impl Build<'_> {
     }
 }
 
-/// Adds the instance to `space`; the value nodes and their sources.
-pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Vec<(NodeId, Source)> {
+/// Adds the instance to `space`; the value nodes with their sources, and the methods.
+pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Added {
     let mut b = Build {
         space,
         ns,
         values: Vec::new(),
+        methods: Vec::new(),
     };
     let (mt, di, machinery, ia) = (ns.mt, ns.di, ns.machinery, ns.ia);
     let root = b.id(ROOT);
@@ -206,6 +222,9 @@ pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Vec<(NodeId, So
     );
     for p in &inputs.processes {
         channel(&mut b, p);
+        if inputs.commands {
+            commands(&mut b, p.process);
+        }
     }
     stacklight(&mut b, &inputs.lamps, ia);
     production(&mut b, inputs.program.as_deref(), p1);
@@ -223,7 +242,41 @@ pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Vec<(NodeId, So
         .component_of(b.id("MachineTool/Notification"))
         .insert(b.space);
     let _ = di;
-    b.values
+    Added {
+        values: b.values,
+        methods: b.methods,
+    }
+}
+
+/// The operator's methods of channel `process`: `Start` (CYCLE START), `Hold` (FEED HOLD) and
+/// `Reset`, without inputs; the output is the tick the kernel took the command at.
+fn commands(b: &mut Build<'_>, process: u8) {
+    let own = b.ns.own;
+    let channel = format!("MachineTool/Monitoring/Channel{process}");
+    for (name, command, what) in [
+        ("Start", Command::Start, "CYCLE START"),
+        ("Hold", Command::Hold, "FEED HOLD"),
+        ("Reset", Command::Reset, "RESET"),
+    ] {
+        let path = format!("{channel}/{name}");
+        let id = b.id(&path);
+        let out = b.id(&format!("{path}/OutputArguments"));
+        let tick = Argument {
+            name: "Tick".into(),
+            data_type: DataTypeId::UInt64.into(),
+            value_rank: -1,
+            array_dimensions: None,
+            description: LocalizedText::new("", "the tick the kernel took the command at"),
+        };
+        MethodBuilder::new(&id, QualifiedName::new(own, name), name)
+            .description(format!("{what} of process {process} (operator role)"))
+            .component_of(b.id(&channel))
+            .executable(true)
+            .user_executable(true)
+            .output_args(b.space, &out, &[tick])
+            .insert(b.space);
+        b.methods.push((id, process, command));
+    }
 }
 
 fn identification(b: &mut Build<'_>, id: &Identification, name: &str) {

@@ -1,7 +1,6 @@
 //! The server's side of the signals: a task that wakes every logic tick, reads the newest
 //! [`Frame`] and sets the variables whose value changed (one `set_values` call, one lock of the
-//! address space, off the scan thread), and the write callbacks that turn an accepted client
-//! write into a [`crate::handoff::Write`] for the scan.
+//! address space, off the scan thread). Client writes are [`crate::node_manager`]'s.
 //!
 //! **Invariant:** a variable's source timestamp is `origin + tick × tick_ms`, where `tick` is the
 //! tick whose image holds the value and `origin` the server's start time: a client can tell the
@@ -9,15 +8,14 @@
 //! it against the recorded trace.
 
 use std::sync::Arc;
-use std::sync::mpsc::Sender;
 use std::time::Duration;
 
+use crate::node_manager::OwnManager;
 use opcua::nodes::{BaseEventType, Event};
 use opcua::server::SubscriptionCache;
-use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{ByteString, DataValue, DateTime, NodeId, NumericRange, StatusCode, Variant};
 
-use crate::handoff::{Frame, Write};
+use crate::handoff::Frame;
 use crate::machine_tool::Evaluator;
 use crate::signals::SignalNode;
 use crate::space::TICK;
@@ -118,7 +116,7 @@ pub fn tick_time(origin: i64, tick: u64, tick_ms: u32) -> DateTime {
 /// What the publisher task owns.
 pub struct Publisher {
     /// The node manager of the server's namespace.
-    pub nm: Arc<SimpleNodeManager>,
+    pub nm: Arc<OwnManager>,
     /// The stack's subscriptions.
     pub subs: Arc<SubscriptionCache>,
     /// The signal nodes by image byte.
@@ -189,38 +187,6 @@ fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
             Some(v) => v.copy_from_slice(&frame.image),
             None => *prev = Some(frame.image.to_vec()),
         }
-    }
-}
-
-/// Adds the write callback of each writable node: the right type (Boolean for a bit, Byte for
-/// a byte) is queued for the scan, anything else is `BadTypeMismatch`, an index range
-/// `BadIndexRangeInvalid`; nothing is written on a refusal.
-pub fn add_write_callbacks(
-    nm: &SimpleNodeManager,
-    ns: u16,
-    table: &[SignalNode],
-    writes: &Sender<Write>,
-) {
-    for n in table.iter().filter(|n| n.writable) {
-        let signal = n.signal;
-        let tx = writes.clone();
-        nm.inner().add_write_callback(
-            NodeId::new(ns, n.id.as_str()),
-            move |dv: DataValue, range: &NumericRange| {
-                if range.has_range() {
-                    return StatusCode::BadIndexRangeInvalid;
-                }
-                let value = match (dv.value, signal.bit()) {
-                    (Some(Variant::Boolean(b)), Some(_)) => u8::from(b),
-                    (Some(Variant::Byte(v)), None) => v,
-                    _ => return StatusCode::BadTypeMismatch,
-                };
-                match tx.send((signal, value)) {
-                    Ok(()) => StatusCode::Good,
-                    Err(_) => StatusCode::BadServerHalted,
-                }
-            },
-        );
     }
 }
 

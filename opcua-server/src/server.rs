@@ -11,15 +11,13 @@ use std::path::Path;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
-use opcua::server::diagnostics::NamespaceMetadata;
-use opcua::server::node_manager::memory::{
-    SimpleNodeManager, simple_node_manager, simple_node_manager_imports,
-};
+use opcua::server::node_manager::memory::simple_node_manager_imports;
 use opcua::server::{ServerBuilder, ServerHandle};
 use opcua::types::{DateTime, NodeId};
 
 use crate::handoff::ServerSide;
 use crate::limits::Limits;
+use crate::node_manager::{self, OwnManager};
 use crate::publisher::{self, Nodes};
 use crate::signals::SignalNode;
 use crate::users::Users;
@@ -96,10 +94,11 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
     let tick_ms = plan.tick_ms.max(1);
     let loopback = crate::settings::is_loopback(addr.ip());
     let builder = auth::endpoints(ServerBuilder::new(), &plan.users.credentials(), loopback);
+    let authenticator = Arc::new(auth::Auth::new(plan.users.clone(), loopback));
     let mut builder = builder
         .application_name("ncplc")
         .application_uri("urn:ncplc:server")
-        .with_authenticator(Arc::new(auth::Auth::new(plan.users.clone(), loopback)))
+        .with_authenticator(authenticator.clone())
         .product_uri("urn:ncplc")
         .host(addr.ip().to_string())
         .port(addr.port())
@@ -109,12 +108,12 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
             nodesets::imports().map_err(StartError::Server)?,
             "machine-tool-types",
         ))
-        .with_node_manager(simple_node_manager(
-            NamespaceMetadata {
-                namespace_uri: NCPLC_NS.to_string(),
-                ..Default::default()
-            },
+        .with_node_manager(node_manager::builder(
+            NCPLC_NS,
             OWN,
+            authenticator,
+            side.writes.clone(),
+            side.commands.clone(),
         ));
     plan.limits.apply(&mut builder, tick_ms);
     // The stack spawns its tasks while it is built: inside the runtime that will run it.
@@ -133,7 +132,7 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
     let (server, handle) = builder.build().map_err(StartError::Server)?;
     let nm = handle
         .node_managers()
-        .get_by_name::<SimpleNodeManager>(OWN)
+        .get_by_name::<OwnManager>(OWN)
         .ok_or_else(|| StartError::Server("the ncplc node manager is missing".into()))?;
     let index = |uri: &str| {
         handle
@@ -147,17 +146,23 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
         di: index(nodesets::DI)?,
         ia: index(nodesets::IA)?,
     };
-    let sources = {
+    let added = {
         let mut space = nm.address_space().write();
         space::add_signals(&mut space, ns.own, &plan.table, tick_ms);
         machine_tool::add(&mut space, ns, &plan.model)
     };
-    publisher::add_write_callbacks(&nm, ns.own, &plan.table, &side.writes);
+    for n in plan.table.iter().filter(|n| n.writable) {
+        nm.inner()
+            .add_writable(NodeId::new(ns.own, n.id.as_str()), n.signal);
+    }
+    for (id, process, command) in added.methods {
+        nm.inner().add_method(id, process, command);
+    }
     let publisher = publisher::Publisher {
         nm,
         subs: Arc::clone(handle.subscriptions()),
         nodes: Nodes::new(ns.own, &plan.table),
-        model: machine_tool::Evaluator::new(sources, ns.mt),
+        model: machine_tool::Evaluator::new(added.values, ns.mt),
         messages: (
             NodeId::new(ns.own, machine_tool::MESSAGES),
             NodeId::new(ns.mt, 35u32),

@@ -31,6 +31,7 @@ mod modbus_peer;
 mod nc;
 mod nc_run;
 mod opcua;
+mod opcua_methods;
 mod part;
 mod part_contour;
 mod part_prop;

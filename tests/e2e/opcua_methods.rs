@@ -1,0 +1,150 @@
+//! The channel's methods of ncplc's OPC UA server (issue 25): an asyncua client
+//! (`tests/peers/opcua_peer.py methods`) starts, holds, resumes and resets a part run of the
+//! operator lathe (nothing in its script presses CYCLE START) through `Channel1`'s `Start`, `Hold`
+//! and `Reset`. Each accepted call is applied at a tick boundary on the scan thread, recorded in
+//! the trace with the caller's role at the tick the call answered, and the recorded session
+//! replays exactly; a viewer is refused with `BadUserAccessDenied`, a command the kernel refuses
+//! answers `BadInvalidState`.
+
+use serde_json::{Value, json};
+
+use crate::e2e_common::{Ncplc, serial};
+use crate::hmi_common::operator_lathe;
+use crate::opcua::{have_asyncua, image_at, images, peer, spawn_opcua};
+
+/// A short part: the spindle to 600 rpm, 2 s of feed along X, back, spindle off, end.
+const SHORT: &str = "%1 \"Short part for the OPC UA method test\n\
+N10 G53 S600 M03\n\
+N20 G01 X-20 F600\n\
+N30 G00 X0\n\
+N40 M05\n\
+N50 M30\n";
+
+/// The operator commands of a trace's text: (tick, commands).
+fn recorded_commands(text: &str) -> Vec<(u64, Value)> {
+    text.lines()
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .filter(|r| r.get("cmd").is_some())
+        .map(|r| (r["t"].as_u64().unwrap_or(0), r["cmd"].clone()))
+        .collect()
+}
+
+#[test]
+fn an_operator_starts_holds_and_resets_a_part_run_through_the_channel_s_methods() {
+    if !have_asyncua() {
+        return;
+    }
+    let _serial = serial();
+    let machine = operator_lathe();
+    std::fs::write(machine.path().join("nc/SHORT"), SHORT).expect("nc/SHORT");
+    let users = machine.path().join("opcua-users");
+    std::fs::write(&users, "viewer mes mes-secret-1\noperator op op-secret-1\n").expect("users");
+    let trace = machine.path().join("session.jsonl");
+    let mut c = Ncplc::run(machine.path())
+        .args(["--overrun-limit", "0", "--opcua", "127.0.0.1:0"])
+        .args(["--program", "SHORT", "--ticks", "2500", "--record"])
+        .args([trace.as_os_str()])
+        .args([std::ffi::OsStr::new("--opcua-users"), users.as_os_str()])
+        .command();
+    let (mut run, url) = spawn_opcua(&mut c);
+    let name = machine
+        .path()
+        .file_name()
+        .expect("name")
+        .to_string_lossy()
+        .into_owned();
+    let got = peer(&["methods", &url, &name, "op", "op-secret-1"]);
+    assert!(run.0.wait().expect("ncplc ends").success());
+
+    // An anonymous session is a viewer when there is a users file: no methods, no writes.
+    assert_eq!(got["viewer_start"], "BadUserAccessDenied", "{got}");
+    assert_eq!(got["viewer_write_window"], "BadUserAccessDenied");
+    assert_eq!(got["viewer_write_outside"], "BadNotWritable");
+    assert_eq!(got["methods"], json!(["Hold", "Reset", "Start"]));
+    // Nothing runs yet: the kernel refuses HOLD.
+    assert_eq!(got["hold_idle"], "BadInvalidState", "{got}");
+    let tick = |k: &str| -> u64 {
+        assert_eq!(got[k][0], "Good", "{k}: {got}");
+        got[k][1]
+            .as_u64()
+            .expect("the tick the command was applied at")
+    };
+    let (started, held, resumed, reset) =
+        (tick("start"), tick("hold"), tick("resume"), tick("reset"));
+    assert!(started < held && held < resumed && resumed < reset, "{got}");
+    for k in ["running", "interrupted", "ended"] {
+        assert_eq!(got[k], true, "{k}: {got}");
+    }
+
+    // Each command is in the record of the tick the call named, with the operator's role.
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let cmd = |c: &str| json!([{"process": 1, "command": c, "role": "operator"}]);
+    assert_eq!(
+        recorded_commands(&text),
+        vec![
+            (started, cmd("start")),
+            (held, cmd("hold")),
+            (resumed, cmd("start")),
+            (reset, cmd("reset"))
+        ]
+    );
+    // CYCLE (I1K5) rises in the tick START went in.
+    let images = images(&text);
+    let cycle: packets::Signal = "I1K5".parse().expect("signal");
+    let hold: packets::Signal = "I1K6".parse().expect("signal");
+    assert_eq!(cycle.read(image_at(&images, started - 1)), 0);
+    assert_eq!(cycle.read(image_at(&images, started)), 1);
+
+    // Every program and channel state the client was notified of is the recorded image's at the
+    // tick its timestamp names.
+    let t0 = got["tick"][0].as_i64().expect("tick");
+    let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    let mut states = Vec::new();
+    for n in got["notifications"].as_array().expect("notifications") {
+        let us = n[2].as_i64().expect("ts") - origin;
+        assert_eq!(us % 10_000, 0, "{n}");
+        let t = u64::try_from(us / 10_000).expect("after the origin");
+        let img = image_at(&images, t);
+        let (c, h) = (cycle.read(img) != 0, hold.read(img) != 0);
+        let id = n[0].as_str().expect("id");
+        let want = if id.ends_with("ChannelState") {
+            json!(if h {
+                1
+            } else if c {
+                0
+            } else {
+                2
+            })
+        } else {
+            let ran = images.range(..=t).any(|(_, i)| cycle.read(i) != 0);
+            states.push(n[1].clone());
+            json!(match (h, c, ran) {
+                (true, _, _) => "Interrupted",
+                (false, true, _) => "Running",
+                (false, false, true) => "Ended",
+                (false, false, false) => "Initializing",
+            })
+        };
+        assert_eq!(n[1], want, "{id} at tick {t}");
+    }
+    assert_eq!(
+        states,
+        json!(["Initializing", "Running", "Interrupted", "Running", "Ended"])
+            .as_array()
+            .cloned()
+            .unwrap_or_default()
+    );
+
+    // The session replays exactly: the commands go to the replay's kernel at their ticks.
+    let replay = crate::e2e_common::ncplc(&[
+        "replay".as_ref(),
+        machine.path().as_os_str(),
+        trace.as_os_str(),
+    ]);
+    let err = String::from_utf8_lossy(&replay.stderr);
+    assert!(replay.status.success(), "{err}");
+    assert!(
+        err.contains("kernel signals and axis positions identical"),
+        "{err}"
+    );
+}
