@@ -21,6 +21,18 @@ use runtime::scheduler::Scheduler;
 /// Frames the ring holds (at a 10 ms tick: 2.56 s of server delay; 576 KiB).
 pub const RING: usize = 256;
 
+/// Processes a kernel has at most (1..5).
+pub const MAX_PROCESSES: usize = 5;
+
+/// What the Machine Tools model shows of one process of a part run's kernel.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct KernelValues {
+    /// Blocks the process has executed in this run.
+    pub blocks: u64,
+    /// The spindle's actual speed (rev/min, signed by direction).
+    pub spindle_rpm: f64,
+}
+
 /// One published state of the packets.
 #[derive(Debug, Clone, Copy)]
 pub struct Frame {
@@ -31,6 +43,8 @@ pub struct Frame {
     /// The wall-clock time of the copy, µs since the Unix epoch (the values' server timestamp:
     /// a client's receive time minus it is the tick-to-client latency).
     pub wall_us: i64,
+    /// A part run's kernel, by process number − 1 (all zero without one).
+    pub kernel: [KernelValues; MAX_PROCESSES],
 }
 
 /// A client's write the server accepted: applied once, before the next scan.
@@ -61,6 +75,8 @@ pub struct ScanSide {
     commands: mpsc::Receiver<CommandRequest>,
     /// The part run's kernel the commands go to (None: no part run, every command is refused).
     pub kernel: Option<Arc<Mutex<cnc::Cnc>>>,
+    /// Per process: the kernel's status, copied in place every tick (allocated once).
+    statuses: Vec<cnc::status::ProcessStatus>,
     /// Alarms for the `Messages` events.
     pub alarms: mpsc::Sender<AlarmNote>,
 }
@@ -93,6 +109,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
             writes: rx,
             commands: cmd_rx,
             kernel: None,
+            statuses: Vec::new(),
             alarms: alarm_tx,
         },
         ServerSide {
@@ -125,11 +142,40 @@ impl ScanSide {
             // The caller may have timed out and gone: nobody is waiting then.
             let _ = c.reply.send(answer);
         }
-        self.publish(sched.tick_count().saturating_sub(1), sched.image().bytes());
+        let kernel = self.kernel_values();
+        self.publish(
+            sched.tick_count().saturating_sub(1),
+            sched.image().bytes(),
+            kernel,
+        );
     }
 
-    /// Copies `image`'s packets as the state after `tick` into the ring (dropped when full).
-    pub fn publish(&mut self, tick: u64, image: &[u8]) {
+    /// The kernel's blocks and spindle speed per process (zero without a part run).
+    fn kernel_values(&mut self) -> [KernelValues; MAX_PROCESSES] {
+        let mut out = [KernelValues::default(); MAX_PROCESSES];
+        let Some(k) = &self.kernel else {
+            return out;
+        };
+        let c = k.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        for (i, p) in c.processes().iter().enumerate() {
+            match self.statuses.get_mut(i) {
+                Some(st) => p.status_into(st),
+                None => self.statuses.push(p.status()),
+            }
+            let slot = usize::from(p.number()).wrapping_sub(1);
+            if let (Some(v), Some(st)) = (out.get_mut(slot), self.statuses.get(i)) {
+                *v = KernelValues {
+                    blocks: p.counters().blocks,
+                    spindle_rpm: st.spindle_rpm,
+                };
+            }
+        }
+        out
+    }
+
+    /// Copies `image`'s packets and the kernel's values as the state after `tick` into the ring
+    /// (dropped when full).
+    pub fn publish(&mut self, tick: u64, image: &[u8], kernel: [KernelValues; MAX_PROCESSES]) {
         if self.frames.is_full() {
             self.dropped.fetch_add(1, Ordering::Relaxed);
             return;
@@ -140,6 +186,7 @@ impl ScanSide {
             wall_us: std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| i64::try_from(d.as_micros()).unwrap_or(i64::MAX)),
+            kernel,
         };
         let n = packets::PACKETS_LEN.min(image.len());
         f.image[..n].copy_from_slice(&image[..n]);
@@ -158,7 +205,7 @@ mod tests {
         let mut image = vec![0u8; packets::PACKETS_LEN];
         for t in 0..(RING as u64 + 3) {
             image[0] = t as u8;
-            scan.publish(t, &image);
+            scan.publish(t, &image, Default::default());
         }
         assert_eq!(server.dropped.load(Ordering::Relaxed), 3);
         let got: Vec<(u64, u8)> = std::iter::from_fn(|| server.frames.pop().ok())
@@ -167,7 +214,7 @@ mod tests {
         assert_eq!(got.len(), RING);
         assert_eq!(got[0], (0, 0));
         assert_eq!(got[RING - 1], (RING as u64 - 1, (RING - 1) as u8));
-        scan.publish(99, &image);
+        scan.publish(99, &image, Default::default());
         assert_eq!(server.frames.pop().map(|f| f.tick).ok(), Some(99));
     }
 }

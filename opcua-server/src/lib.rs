@@ -20,6 +20,7 @@ pub mod settings;
 pub mod signals;
 pub mod space;
 pub mod users;
+pub mod values;
 pub mod window;
 
 use controller::machine::Machine;
@@ -91,6 +92,8 @@ fn model_inputs(
                 mode: role(p, "MODE"),
                 fov: role(p, "FOV"),
                 rov: role(p, "ROV"),
+                sov: role(p, "SOV"),
+                scode: role(p, "SCODE"),
             })
             .collect(),
         lamps: tables.stacklight,

@@ -16,9 +16,9 @@ use opcua::server::SubscriptionCache;
 use opcua::types::{ByteString, DataValue, DateTime, NodeId, NumericRange, StatusCode, Variant};
 
 use crate::handoff::Frame;
-use crate::machine_tool::Evaluator;
 use crate::signals::SignalNode;
 use crate::space::TICK;
+use crate::values::Evaluator;
 
 /// OPC UA time ticks (100 ns) per ms.
 const TICKS_PER_MS: i64 = 10_000;
@@ -174,7 +174,7 @@ fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
         let time = tick_time(p.origin, frame.tick, p.tick_ms);
         let server = unix_time(frame.wall_us);
         let mut values = changes(&p.nodes, prev.as_deref(), frame, time, server);
-        let model = p.model.changes(&frame.image);
+        let model = p.model.changes(frame);
         values.extend(
             model
                 .iter()
@@ -220,6 +220,7 @@ mod tests {
                 tick,
                 image: [0; packets::PACKETS_LEN],
                 wall_us: 0,
+                kernel: Default::default(),
             };
             f.image.copy_from_slice(image);
             f

@@ -21,7 +21,7 @@ use crate::node_manager::{self, OwnManager};
 use crate::publisher::{self, Nodes};
 use crate::signals::SignalNode;
 use crate::users::Users;
-use crate::{auth, machine_tool, nodesets, space};
+use crate::{auth, machine_tool, nodesets, space, values};
 
 /// The server's own namespace: the signals and the machine tool instance.
 pub const NCPLC_NS: &str = "urn:ncplc";
@@ -162,7 +162,7 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
         nm,
         subs: Arc::clone(handle.subscriptions()),
         nodes: Nodes::new(ns.own, &plan.table),
-        model: machine_tool::Evaluator::new(added.values, ns.mt),
+        model: values::Evaluator::new(added.values, ns.mt),
         messages: (
             NodeId::new(ns.own, machine_tool::MESSAGES),
             NodeId::new(ns.mt, 35u32),

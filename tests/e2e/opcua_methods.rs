@@ -4,7 +4,7 @@
 //! and `Reset`. Each accepted call is applied at a tick boundary on the scan thread, recorded in
 //! the trace with the caller's role at the tick the call answered, and the recorded session
 //! replays exactly; a viewer is refused with `BadUserAccessDenied`, a command the kernel refuses
-//! answers `BadInvalidState`.
+//! answers `BadInvalidState`. The part run's spindle and blocks executed reach the client too.
 
 use serde_json::{Value, json};
 
@@ -99,7 +99,14 @@ fn an_operator_starts_holds_and_resets_a_part_run_through_the_channel_s_methods(
     // tick its timestamp names.
     let t0 = got["tick"][0].as_i64().expect("tick");
     let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    let (scode, sov): (packets::Signal, packets::Signal) = (
+        "W4K0".parse().expect("signal"),
+        "W14K1".parse().expect("signal"),
+    );
     let mut states = Vec::new();
+    let mut blocks = Vec::new();
+    let mut speeds: Vec<(u64, f64)> = Vec::new();
+    let mut rotating = std::collections::BTreeMap::new();
     for n in got["notifications"].as_array().expect("notifications") {
         let us = n[2].as_i64().expect("ts") - origin;
         assert_eq!(us % 10_000, 0, "{n}");
@@ -107,23 +114,45 @@ fn an_operator_starts_holds_and_resets_a_part_run_through_the_channel_s_methods(
         let img = image_at(&images, t);
         let (c, h) = (cycle.read(img) != 0, hold.read(img) != 0);
         let id = n[0].as_str().expect("id");
-        let want = if id.ends_with("ChannelState") {
-            json!(if h {
+        let want = match id.rsplit('/').next().unwrap_or_default() {
+            "ChannelState" => json!(if h {
                 1
             } else if c {
                 0
             } else {
                 2
-            })
-        } else {
-            let ran = images.range(..=t).any(|(_, i)| cycle.read(i) != 0);
-            states.push(n[1].clone());
-            json!(match (h, c, ran) {
-                (true, _, _) => "Interrupted",
-                (false, true, _) => "Running",
-                (false, false, true) => "Ended",
-                (false, false, false) => "Initializing",
-            })
+            }),
+            "CurrentState" => {
+                let ran = images.range(..=t).any(|(_, i)| cycle.read(i) != 0);
+                states.push(n[1].clone());
+                json!(match (h, c, ran) {
+                    (true, _, _) => "Interrupted",
+                    (false, true, _) => "Running",
+                    (false, false, true) => "Ended",
+                    (false, false, false) => "Initializing",
+                })
+            }
+            // The programmed speed is SCODE, a binary dword (W4K0..W4K3, little-endian).
+            "CommandedSpeed" => {
+                let at = scode.image_byte();
+                let b = &img[at..at + 4];
+                json!(f64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]])))
+            }
+            "Override" => json!(f64::from(sov.read(img))),
+            // The kernel's values: checked below as a whole.
+            "BlocksExecuted" => {
+                blocks.push(n[1].as_u64().expect("blocks"));
+                continue;
+            }
+            "ActualSpeed" => {
+                speeds.push((t, n[1].as_f64().expect("rpm")));
+                continue;
+            }
+            "IsRotating" => {
+                rotating.insert(t, n[1].as_i64().expect("bool") != 0);
+                continue;
+            }
+            other => panic!("a notification of {other}"),
         };
         assert_eq!(n[1], want, "{id} at tick {t}");
     }
@@ -134,6 +163,34 @@ fn an_operator_starts_holds_and_resets_a_part_run_through_the_channel_s_methods(
             .cloned()
             .unwrap_or_default()
     );
+    // SHORT's five blocks, counted one by one by the kernel.
+    assert_eq!(blocks, [0, 1, 2, 3, 4, 5]);
+    // The spindle (AXCFIL GM1 3000 rev/min, TSM 4 s: 2 × 3000 / 4 = 1500 rev/min per s) changes
+    // by 15 rev/min every 10 ms tick, up to S600 and back to 0 after M05; every tick reaches the
+    // client, and IsRotating says whether the speed is not 0 at each change.
+    assert_eq!(speeds.first().map(|s| s.1), Some(0.0));
+    assert_eq!(speeds.last().map(|s| s.1), Some(0.0));
+    let top = speeds.iter().map(|s| s.1).fold(0.0, f64::max);
+    assert_eq!(top, 600.0);
+    for w in speeds.windows(2).skip(1) {
+        let plateau = w[0].1 == 0.0 || w[0].1 == top;
+        assert!(
+            plateau || w[1].0 == w[0].0 + 1,
+            "a tick of the ramp is missing: {w:?}"
+        );
+        assert_eq!((w[1].1 - w[0].1).abs(), 15.0, "{w:?}");
+    }
+    let mut turning = false;
+    for (t, rpm) in &speeds {
+        if let Some(r) = rotating.get(t) {
+            turning = *r;
+        }
+        assert_eq!(
+            turning,
+            *rpm != 0.0,
+            "IsRotating at tick {t} ({rpm} rev/min)"
+        );
+    }
 
     // The session replays exactly: the commands go to the replay's kernel at their ticks.
     let replay = crate::e2e_common::ncplc(&[

@@ -265,7 +265,13 @@ async def methods(url, name, user, password):
                                  for n in await ch.get_methods()])
         h = Collect()
         sub = await c.create_subscription(10, h)
-        await sub.subscribe_data_change([cur, state], queuesize=1000, sampling_interval=10)
+        blocks = await prog.get_child([f"{ns}:BlocksExecuted"])
+        sp = await m.get_child([f"{mt}:Monitoring", f"{mt}:Spindle1"])
+        out["spindle_type"] = (await c.get_node(await sp.read_type_definition()).read_browse_name()).Name
+        spindle = [await sp.get_child([f"{mt}:Override"]), await sp.get_child([f"{mt}:IsRotating"]),
+                   await sp.get_child([f"{ns}:ActualSpeed"]), await sp.get_child([f"{ns}:CommandedSpeed"])]
+        await sub.subscribe_data_change([cur, state, blocks] + spindle, queuesize=1000,
+                                        sampling_interval=10)
         await asyncio.sleep(0.5)
         out["hold_idle"] = (await call(ch, f"{ns}:Hold"))[0]
         status, ticks = await call(ch, f"{ns}:Start")
