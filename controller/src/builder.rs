@@ -267,6 +267,7 @@ impl Builder {
                 machine,
                 tick_ms,
                 kernel: kernel.clone(),
+                meta: Arc::clone(&meta),
             })
             .map_err(BuildError::Start)?;
         }

@@ -30,6 +30,8 @@ pub struct Start<'a> {
     pub tick_ms: u32,
     /// A part run's kernel and its programs' texts (None without `--program`/`--mdi`).
     pub kernel: Option<PartKernel>,
+    /// The PLC program loaded for the first tick (its variables and their image offsets).
+    pub meta: Arc<dyn runtime::program::ProgramMeta>,
 }
 
 /// A server beside the scan, given the scheduler after every tick (to publish its image and apply

@@ -16,9 +16,11 @@ use std::sync::{Arc, Mutex, mpsc};
 
 use hmi::{Command, Role};
 use packets::Signal;
+
+use crate::variables::{Layout, VARS_MAX};
 use runtime::scheduler::Scheduler;
 
-/// Frames the ring holds (at a 10 ms tick: 2.56 s of server delay; 576 KiB).
+/// Frames the ring holds (at a 10 ms tick: 2.56 s of server delay; about 850 KiB).
 pub const RING: usize = 256;
 
 /// Processes a kernel has at most (1..5).
@@ -45,6 +47,10 @@ pub struct Frame {
     pub wall_us: i64,
     /// A part run's kernel, by process number − 1 (all zero without one).
     pub kernel: [KernelValues; MAX_PROCESSES],
+    /// The PLC variables' image bytes ([`crate::variables::Layout::window`]).
+    pub vars: [u8; VARS_MAX],
+    /// False once an online change replaced the program the variables' layout is for.
+    pub vars_valid: bool,
 }
 
 /// A client's write the server accepted: applied once, before the next scan.
@@ -77,6 +83,8 @@ pub struct ScanSide {
     pub kernel: Option<Arc<Mutex<cnc::Cnc>>>,
     /// Per process: the kernel's status, copied in place every tick (allocated once).
     statuses: Vec<cnc::status::ProcessStatus>,
+    /// The PLC variables the frames carry.
+    pub vars: Layout,
     /// Alarms for the `Messages` events.
     pub alarms: mpsc::Sender<AlarmNote>,
 }
@@ -110,6 +118,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
             commands: cmd_rx,
             kernel: None,
             statuses: Vec::new(),
+            vars: Layout::default(),
             alarms: alarm_tx,
         },
         ServerSide {
@@ -143,10 +152,14 @@ impl ScanSide {
             let _ = c.reply.send(answer);
         }
         let kernel = self.kernel_values();
+        let valid = self
+            .vars
+            .same_program(runtime::compiled::base_program(sched.meta().as_ref()));
         self.publish(
             sched.tick_count().saturating_sub(1),
             sched.image().bytes(),
             kernel,
+            valid,
         );
     }
 
@@ -175,7 +188,13 @@ impl ScanSide {
 
     /// Copies `image`'s packets and the kernel's values as the state after `tick` into the ring
     /// (dropped when full).
-    pub fn publish(&mut self, tick: u64, image: &[u8], kernel: [KernelValues; MAX_PROCESSES]) {
+    pub fn publish(
+        &mut self,
+        tick: u64,
+        image: &[u8],
+        kernel: [KernelValues; MAX_PROCESSES],
+        vars_valid: bool,
+    ) {
         if self.frames.is_full() {
             self.dropped.fetch_add(1, Ordering::Relaxed);
             return;
@@ -187,9 +206,14 @@ impl ScanSide {
                 .duration_since(std::time::UNIX_EPOCH)
                 .map_or(0, |d| i64::try_from(d.as_micros()).unwrap_or(i64::MAX)),
             kernel,
+            vars: [0; VARS_MAX],
+            vars_valid,
         };
         let n = packets::PACKETS_LEN.min(image.len());
         f.image[..n].copy_from_slice(&image[..n]);
+        if vars_valid && let Some(src) = image.get(self.vars.window.clone()) {
+            f.vars[..src.len()].copy_from_slice(src);
+        }
         // Only this thread pushes, and the ring was not full: the push succeeds.
         let _ = self.frames.push(f);
     }
@@ -205,7 +229,7 @@ mod tests {
         let mut image = vec![0u8; packets::PACKETS_LEN];
         for t in 0..(RING as u64 + 3) {
             image[0] = t as u8;
-            scan.publish(t, &image, Default::default());
+            scan.publish(t, &image, Default::default(), true);
         }
         assert_eq!(server.dropped.load(Ordering::Relaxed), 3);
         let got: Vec<(u64, u8)> = std::iter::from_fn(|| server.frames.pop().ok())
@@ -214,7 +238,7 @@ mod tests {
         assert_eq!(got.len(), RING);
         assert_eq!(got[0], (0, 0));
         assert_eq!(got[RING - 1], (RING as u64 - 1, (RING - 1) as u8));
-        scan.publish(99, &image, Default::default());
+        scan.publish(99, &image, Default::default(), true);
         assert_eq!(server.frames.pop().map(|f| f.tick).ok(), Some(99));
     }
 }

@@ -21,6 +21,7 @@ pub mod signals;
 pub mod space;
 pub mod users;
 pub mod values;
+pub mod variables;
 pub mod window;
 
 use controller::machine::Machine;
@@ -108,6 +109,7 @@ impl Server for OpcuaServer {
             machine,
             tick_ms,
             kernel,
+            meta,
         } = start;
         let window = window::Window::load(&machine.dir, &machine.declared_connectors())
             .map_err(|d| render_map_errors(&machine.dir, &d))?;
@@ -131,6 +133,15 @@ impl Server for OpcuaServer {
         }
         let (mut scan, side) = handoff::pair();
         scan.kernel = kernel.map(|(k, _)| k);
+        scan.vars = variables::Layout::of(runtime::compiled::base_program(meta.as_ref()));
+        if !scan.vars.left_out.is_empty() {
+            eprintln!(
+                "opcua: warning: {} PLC variables lie past the first {} bytes of variables and are not served: {}",
+                scan.vars.left_out.len(),
+                variables::VARS_MAX,
+                scan.vars.left_out.join(", ")
+            );
+        }
         let running = server::start(
             server::Plan {
                 addr: self.settings.addr,
@@ -145,6 +156,7 @@ impl Server for OpcuaServer {
                     scan.kernel.is_some(),
                 ),
                 users,
+                vars: scan.vars.clone(),
             },
             side,
         )

@@ -19,6 +19,8 @@ use crate::handoff::Frame;
 use crate::signals::SignalNode;
 use crate::space::TICK;
 use crate::values::Evaluator;
+use crate::variables::{Layout, decode};
+use compiler::ir::Ty;
 
 /// OPC UA time ticks (100 ns) per ms.
 const TICKS_PER_MS: i64 = 10_000;
@@ -28,11 +30,13 @@ pub struct Nodes {
     /// Per packet byte: (node, bit) — `None` for a byte variable.
     by_byte: Vec<Vec<(NodeId, Option<u8>)>>,
     tick: NodeId,
+    /// The PLC variables: node, type, offset in the frame's variable bytes.
+    vars: Vec<(NodeId, Ty, usize)>,
 }
 
 impl Nodes {
-    /// Indexes `table` (namespace `ns`) by image byte.
-    pub fn new(ns: u16, table: &[SignalNode]) -> Nodes {
+    /// Indexes `table` (namespace `ns`) by image byte, and the PLC variables of `layout`.
+    pub fn new(ns: u16, table: &[SignalNode], layout: &Layout) -> Nodes {
         let mut by_byte = vec![Vec::new(); packets::PACKETS_LEN];
         for n in table {
             if let Some(slot) = by_byte.get_mut(n.signal.image_byte()) {
@@ -42,8 +46,43 @@ impl Nodes {
         Nodes {
             by_byte,
             tick: NodeId::new(ns, TICK),
+            vars: layout
+                .vars
+                .iter()
+                .map(|v| (NodeId::new(ns, v.id.as_str()), v.ty, v.at))
+                .collect(),
         }
     }
+}
+
+/// The PLC variables whose bytes changed between two frames (every one without `prev`), as data
+/// values; once the layout is stale, `BadOutOfService` for every variable (once).
+fn var_changes<'a>(
+    nodes: &'a Nodes,
+    prev: Option<&Frame>,
+    frame: &Frame,
+    time: DateTime,
+    server: DateTime,
+) -> Vec<(&'a NodeId, Option<&'a NumericRange>, DataValue)> {
+    let mut out = Vec::new();
+    let was_valid = prev.is_none_or(|p| p.vars_valid);
+    for (id, ty, at) in &nodes.vars {
+        let bytes = |f: &Frame| f.vars.get(*at..*at + ty.size()).map(<[u8]>::to_vec);
+        if !frame.vars_valid {
+            if was_valid {
+                let mut dv = stamped(Variant::Empty, time, server);
+                dv.status = Some(StatusCode::BadOutOfService);
+                out.push((id, None, dv));
+            }
+            continue;
+        }
+        if prev.is_some_and(|p| bytes(p) == bytes(frame)) {
+            continue;
+        }
+        let now = bytes(frame).unwrap_or_default();
+        out.push((id, None, stamped(decode(*ty, &now), time, server)));
+    }
+    out
 }
 
 /// A value stamped with its tick's time (source) and the scan's copy (server). No picoseconds:
@@ -138,7 +177,7 @@ pub struct Publisher {
 pub async fn run(mut p: Publisher) {
     let mut every = tokio::time::interval(Duration::from_millis(u64::from(p.tick_ms.max(1))));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
-    let mut prev: Option<Vec<u8>> = None;
+    let mut prev: Option<Box<Frame>> = None;
     let mut events = 0u64;
     loop {
         every.tick().await;
@@ -169,11 +208,13 @@ pub async fn run(mut p: Publisher) {
 }
 
 /// Sets the values `frame` changed (against `prev`, then keeps `frame` as `prev`).
-fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
+fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Box<Frame>>) {
     {
         let time = tick_time(p.origin, frame.tick, p.tick_ms);
         let server = unix_time(frame.wall_us);
-        let mut values = changes(&p.nodes, prev.as_deref(), frame, time, server);
+        let before = prev.as_deref();
+        let mut values = changes(&p.nodes, before.map(|f| &f.image[..]), frame, time, server);
+        values.extend(var_changes(&p.nodes, before, frame, time, server));
         let model = p.model.changes(frame);
         values.extend(
             model
@@ -184,8 +225,8 @@ fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
         // same lists, so there is nothing to recover.
         let _ = p.nm.set_values(&p.subs, values.into_iter());
         match prev {
-            Some(v) => v.copy_from_slice(&frame.image),
-            None => *prev = Some(frame.image.to_vec()),
+            Some(v) => **v = *frame,
+            None => *prev = Some(Box::new(*frame)),
         }
     }
 }
@@ -213,7 +254,7 @@ mod tests {
             node("MFIN", "U11K0"),
             node("SFIN", "U11K1"),
         ];
-        let nodes = Nodes::new(2, &table);
+        let nodes = Nodes::new(2, &table, &Layout::default());
         let mut image = vec![0u8; packets::PACKETS_LEN];
         let frame = |image: &[u8], tick| {
             let mut f = Frame {
@@ -221,6 +262,8 @@ mod tests {
                 image: [0; packets::PACKETS_LEN],
                 wall_us: 0,
                 kernel: Default::default(),
+                vars: [0; crate::variables::VARS_MAX],
+                vars_valid: true,
             };
             f.image.copy_from_slice(image);
             f

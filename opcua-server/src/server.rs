@@ -77,6 +77,8 @@ pub struct Plan<'a> {
     pub model: machine_tool::Inputs,
     /// The users (empty: anonymous only, on loopback).
     pub users: Users,
+    /// The PLC variables.
+    pub vars: crate::variables::Layout,
 }
 
 /// Binds, builds and starts the server on its own thread.
@@ -149,6 +151,7 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
     let added = {
         let mut space = nm.address_space().write();
         space::add_signals(&mut space, ns.own, &plan.table, tick_ms);
+        crate::variables::add(&mut space, ns.own, &plan.vars);
         machine_tool::add(&mut space, ns, &plan.model)
     };
     for n in plan.table.iter().filter(|n| n.writable) {
@@ -161,7 +164,7 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
     let publisher = publisher::Publisher {
         nm,
         subs: Arc::clone(handle.subscriptions()),
-        nodes: Nodes::new(ns.own, &plan.table),
+        nodes: Nodes::new(ns.own, &plan.table, &plan.vars),
         model: values::Evaluator::new(added.values, ns.mt),
         messages: (
             NodeId::new(ns.own, machine_tool::MESSAGES),

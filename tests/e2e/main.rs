@@ -32,6 +32,7 @@ mod nc;
 mod nc_run;
 mod opcua;
 mod opcua_methods;
+mod opcua_variables;
 mod part;
 mod part_contour;
 mod part_prop;

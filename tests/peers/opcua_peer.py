@@ -5,6 +5,7 @@ Usage: opcua_peer.py signals URL SECONDS
        opcua_peer.py model URL
        opcua_peer.py secure URL CERT_DIR USER:PASSWORD:ROLE...
        opcua_peer.py methods URL MACHINE USER PASSWORD
+       opcua_peer.py variables URL SECONDS
 """
 import asyncio
 import json
@@ -290,6 +291,30 @@ async def methods(url, name, user, password):
     print(json.dumps(out, default=str))
 
 
+async def variables(url, seconds):
+    """The PLC program's variables: the folder, a type and description, a refused write, and the
+    notifications of CHAIN_OK and HOLD_REQ while SECONDS pass."""
+    out = {}
+    async with Client(url) as c:
+        ns = await c.get_namespace_index(NS_SIGNALS)
+        folder = await c.nodes.objects.get_child([f"{ns}:Variables"])
+        out["names"] = sorted([(await n.read_browse_name()).Name for n in await folder.get_children()])
+        chain = await folder.get_child([f"{ns}:CHAIN_OK"])
+        hold = await folder.get_child([f"{ns}:HOLD_REQ"])
+        out["chain_type"] = (await chain.read_data_type_as_variant_type()).name
+        out["chain_description"] = (await chain.read_description()).Text
+        out["write"] = await write(chain, ua.Variant(False, ua.VariantType.Boolean))
+        tick = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:Tick"])
+        out["tick"] = stamp((await c.read_attributes([tick]))[0])
+        h = Collect()
+        sub = await c.create_subscription(10, h)
+        await sub.subscribe_data_change([chain, hold], queuesize=1000, sampling_interval=10)
+        await asyncio.sleep(seconds)
+        await sub.delete()
+        out["notifications"] = h.got
+    print(json.dumps(out))
+
+
 APP_URI = "urn:ncplc:test-client"
 
 
@@ -378,6 +403,8 @@ def main():
         asyncio.run(model(sys.argv[2], sys.argv[3], float(sys.argv[4])))
     elif mode == "secure":
         asyncio.run(secure(sys.argv[2], sys.argv[3], sys.argv[4:]))
+    elif mode == "variables":
+        asyncio.run(variables(sys.argv[2], float(sys.argv[3])))
     elif mode == "methods":
         asyncio.run(methods(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5]))
     elif mode == "untrusted":
