@@ -5,6 +5,17 @@
 
 use opcua::server::ServerBuilder;
 
+/// How often per logic tick the stack's subscriptions and the publisher look for work. A
+/// subscription publishes at a poll once its interval has elapsed since its last publish: polled
+/// exactly at the interval, jitter made every other publish wait a whole second interval (20 ms
+/// at 10 ms); polled five times a tick, a value waits at most a fifth of a tick for the poll.
+pub const POLLS_PER_TICK: u32 = 5;
+
+/// The poll period in ms for a logic tick of `tick_ms` (at least 1 ms).
+pub fn poll_ms(tick_ms: u32) -> u64 {
+    u64::from(tick_ms.div_ceil(POLLS_PER_TICK).max(1))
+}
+
 /// The server's limits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {

@@ -1,4 +1,4 @@
-//! The server's side of the signals: a task that wakes every logic tick, reads the newest
+//! The server's side of the signals: a task that wakes five times a logic tick, takes every new
 //! [`Frame`] and sets the variables whose value changed (one `set_values` call, one lock of the
 //! address space, off the scan thread). Client writes are [`crate::node_manager`]'s.
 //!
@@ -172,10 +172,10 @@ pub struct Publisher {
     pub origin: i64,
 }
 
-/// Runs until cancelled: every `tick_ms`, publishes the alarms and every frame's changes in tick
+/// Runs until cancelled: five times a tick ([`crate::limits::poll_ms`]), publishes the alarms and every frame's changes in tick
 /// order (one `set_values`, one lock of the address space, per frame).
 pub async fn run(mut p: Publisher) {
-    let mut every = tokio::time::interval(Duration::from_millis(u64::from(p.tick_ms.max(1))));
+    let mut every = tokio::time::interval(Duration::from_millis(crate::limits::poll_ms(p.tick_ms)));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let mut prev: Option<Box<Frame>> = None;
     let mut events = 0u64;

@@ -2,8 +2,8 @@
 //! start, and port 0 gets a real port), builds the address space, and runs the server and the
 //! publisher on a thread of their own with a small tokio runtime. Dropping [`Running`] stops both.
 //!
-//! **Invariants:** the subscription poll and the minimum publishing and sampling intervals are
-//! the logic tick (async-opcua's defaults are 100 ms); the scan never calls into this module
+//! **Invariants:** the minimum publishing and sampling intervals are the logic tick (async-opcua's
+//! defaults are 100 ms), the subscription poll a fifth of it ([`crate::limits::poll_ms`]); the scan never calls into this module
 //! after [`start`] returned.
 
 use std::net::SocketAddr;
@@ -105,7 +105,7 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
         .host(addr.ip().to_string())
         .port(addr.port())
         .pki_dir(plan.machine_dir.join("opcua-pki"))
-        .subscription_poll_interval_ms(u64::from(tick_ms))
+        .subscription_poll_interval_ms(crate::limits::poll_ms(tick_ms))
         .with_node_manager(simple_node_manager_imports(
             nodesets::imports().map_err(StartError::Server)?,
             "machine-tool-types",
