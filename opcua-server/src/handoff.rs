@@ -1,10 +1,13 @@
-//! The hand-over between the scan thread and the server: after every tick the scan pushes a
-//! [`Frame`] (the packets, the tick, the wall-clock time) into a wait-free SPSC ring (`rtrb`) and
+//! The hand-over between the scan thread and the server: after every tick the scan fills a
+//! [`Frame`] (the packets, the tick, the wall-clock time) taken from a pool of [`RING`]
+//! preallocated frames and pushes it into a wait-free SPSC ring (`rtrb`; the server gives each
+//! frame back through a second ring once it has published it), and
 //! drains the clients' accepted writes and operator commands with `try_recv`; the server's
 //! publisher pops every frame in order, so no tick's change is merged into the next one.
 //!
 //! **Invariant:** nothing on the scan's side takes a lock the server holds, allocates or waits: a
-//! copy of [`packets::PACKETS_LEN`] bytes into a ring slot and `try_recv` loops. A command goes to
+//! copy of [`packets::PACKETS_LEN`] bytes (and the variables' bytes) into a pooled frame, two
+//! ring operations on pointers and `try_recv` loops. A command goes to
 //! the part run's kernel there, at the tick boundary, through
 //! [`controller::servers::kernel_command`] (the web HMI's path, recorded in the trace). When the ring is
 //! full (the server fell [`RING`] ticks behind) the frame is dropped and counted; the next one the
@@ -73,9 +76,24 @@ pub struct CommandRequest {
     pub reply: tokio::sync::oneshot::Sender<Result<u64, String>>,
 }
 
+impl Frame {
+    /// A frame of zeros (the pool's initial content).
+    fn empty() -> Box<Frame> {
+        Box::new(Frame {
+            tick: 0,
+            image: [0; packets::PACKETS_LEN],
+            wall_us: 0,
+            kernel: [KernelValues::default(); MAX_PROCESSES],
+            vars: [0; VARS_MAX],
+            vars_valid: true,
+        })
+    }
+}
+
 /// The scan thread's half.
 pub struct ScanSide {
-    frames: rtrb::Producer<Frame>,
+    frames: rtrb::Producer<Box<Frame>>,
+    free: rtrb::Consumer<Box<Frame>>,
     dropped: Arc<AtomicU64>,
     writes: mpsc::Receiver<Write>,
     commands: mpsc::Receiver<CommandRequest>,
@@ -91,8 +109,9 @@ pub struct ScanSide {
 
 /// The server's half: the frames in tick order and where accepted writes go.
 pub struct ServerSide {
-    /// The frames, oldest first.
-    pub frames: rtrb::Consumer<Frame>,
+    /// The frames, oldest first (give each back with [`ServerSide::recycle`]).
+    pub frames: rtrb::Consumer<Box<Frame>>,
+    free: rtrb::Producer<Box<Frame>>,
     /// Frames the scan dropped because the ring was full.
     pub dropped: Arc<AtomicU64>,
     /// Accepted writes, for the scan.
@@ -106,6 +125,11 @@ pub struct ServerSide {
 /// A connected pair of halves.
 pub fn pair() -> (ScanSide, ServerSide) {
     let (producer, consumer) = rtrb::RingBuffer::new(RING);
+    let (mut free_tx, free_rx) = rtrb::RingBuffer::new(RING);
+    for _ in 0..RING {
+        // RING slots for RING frames: every push succeeds.
+        let _ = free_tx.push(Frame::empty());
+    }
     let dropped = Arc::new(AtomicU64::new(0));
     let (tx, rx) = mpsc::channel();
     let (alarm_tx, alarm_rx) = mpsc::channel();
@@ -113,6 +137,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
     (
         ScanSide {
             frames: producer,
+            free: free_rx,
             dropped: Arc::clone(&dropped),
             writes: rx,
             commands: cmd_rx,
@@ -123,6 +148,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
         },
         ServerSide {
             frames: consumer,
+            free: free_tx,
             dropped,
             writes: tx,
             commands: cmd_tx,
@@ -186,8 +212,8 @@ impl ScanSide {
         out
     }
 
-    /// Copies `image`'s packets and the kernel's values as the state after `tick` into the ring
-    /// (dropped when full).
+    /// Copies `image`'s packets, the variables' bytes and the kernel's values as the state after
+    /// `tick` into a frame of the pool and hands it to the server (dropped when the pool is empty).
     pub fn publish(
         &mut self,
         tick: u64,
@@ -195,27 +221,32 @@ impl ScanSide {
         kernel: [KernelValues; MAX_PROCESSES],
         vars_valid: bool,
     ) {
-        if self.frames.is_full() {
+        let Ok(mut f) = self.free.pop() else {
             self.dropped.fetch_add(1, Ordering::Relaxed);
             return;
-        }
-        let mut f = Frame {
-            tick,
-            image: [0; packets::PACKETS_LEN],
-            wall_us: std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(0, |d| i64::try_from(d.as_micros()).unwrap_or(i64::MAX)),
-            kernel,
-            vars: [0; VARS_MAX],
-            vars_valid,
         };
+        f.tick = tick;
+        f.wall_us = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| i64::try_from(d.as_micros()).unwrap_or(i64::MAX));
+        f.kernel = kernel;
+        f.vars_valid = vars_valid;
         let n = packets::PACKETS_LEN.min(image.len());
         f.image[..n].copy_from_slice(&image[..n]);
+        f.image[n..].fill(0);
         if vars_valid && let Some(src) = image.get(self.vars.window.clone()) {
             f.vars[..src.len()].copy_from_slice(src);
         }
-        // Only this thread pushes, and the ring was not full: the push succeeds.
+        // RING frames in all: the ring always has a slot for a frame taken from the pool.
         let _ = self.frames.push(f);
+    }
+}
+
+impl ServerSide {
+    /// Gives a published frame back to the scan's pool.
+    pub fn recycle(&mut self, frame: Box<Frame>) {
+        // RING frames in all: the pool always has a slot for one coming back.
+        let _ = self.free.push(frame);
     }
 }
 
@@ -224,7 +255,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn frames_arrive_in_order_and_a_full_ring_drops_and_counts() {
+    fn frames_arrive_in_order_and_an_empty_pool_drops_and_counts() {
         let (mut scan, mut server) = pair();
         let mut image = vec![0u8; packets::PACKETS_LEN];
         for t in 0..(RING as u64 + 3) {
@@ -232,13 +263,19 @@ mod tests {
             scan.publish(t, &image, Default::default(), true);
         }
         assert_eq!(server.dropped.load(Ordering::Relaxed), 3);
-        let got: Vec<(u64, u8)> = std::iter::from_fn(|| server.frames.pop().ok())
-            .map(|f| (f.tick, f.image[0]))
-            .collect();
+        let mut got = Vec::new();
+        while let Ok(f) = server.frames.pop() {
+            got.push((f.tick, f.image[0]));
+            server.recycle(f);
+        }
         assert_eq!(got.len(), RING);
         assert_eq!(got[0], (0, 0));
         assert_eq!(got[RING - 1], (RING as u64 - 1, (RING - 1) as u8));
+        // The frames came back: the next tick goes through again.
+        image[0] = 7;
         scan.publish(99, &image, Default::default(), true);
-        assert_eq!(server.frames.pop().map(|f| f.tick).ok(), Some(99));
+        let f = server.frames.pop().ok();
+        assert_eq!(f.map(|f| (f.tick, f.image[0])), Some((99, 7)));
+        assert_eq!(server.dropped.load(Ordering::Relaxed), 3);
     }
 }

@@ -29,6 +29,10 @@ pub struct Limits {
     pub max_message_size: usize,
     /// Nodes per Read, Write or Browse request.
     pub max_nodes_per_request: usize,
+    /// Values a monitored item queues between publishes (a client asking more gets this).
+    pub max_item_queue: usize,
+    /// Notification messages a subscription keeps waiting for the client's Publish requests.
+    pub max_queued_notifications: usize,
 }
 
 impl Default for Limits {
@@ -39,6 +43,10 @@ impl Default for Limits {
             max_monitored_items_per_sub: 5000,
             max_message_size: 4 << 20,
             max_nodes_per_request: 5000,
+            // One second of ticks at 10 ms (async-opcua's 10 values, 100 ms, lost ticks whenever
+            // a loaded machine delayed a publish longer).
+            max_item_queue: 100,
+            max_queued_notifications: 100,
         }
     }
 }
@@ -51,6 +59,8 @@ impl Limits {
         l.max_message_size = self.max_message_size;
         l.subscriptions.max_subscriptions_per_session = self.max_subscriptions_per_session;
         l.subscriptions.max_monitored_items_per_sub = self.max_monitored_items_per_sub;
+        l.subscriptions.max_monitored_item_queue_size = self.max_item_queue;
+        l.subscriptions.max_queued_notifications = self.max_queued_notifications;
         l.subscriptions.min_publishing_interval_ms = f64::from(tick_ms);
         l.subscriptions.min_sampling_interval_ms = f64::from(tick_ms);
         l.operational.max_nodes_per_read = self.max_nodes_per_request;

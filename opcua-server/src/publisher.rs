@@ -202,17 +202,20 @@ pub async fn run(mut p: Publisher) {
                 .notify_events([(&evt as &dyn Event, &p.messages.0)].into_iter());
         }
         while let Ok(frame) = p.side.frames.pop() {
-            publish_frame(&mut p, &frame, &mut prev);
+            publish_frame(&mut p, &frame, prev.as_deref());
+            // The frame is the next one's previous; the one before goes back to the pool.
+            if let Some(old) = prev.replace(frame) {
+                p.side.recycle(old);
+            }
         }
     }
 }
 
-/// Sets the values `frame` changed (against `prev`, then keeps `frame` as `prev`).
-fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Box<Frame>>) {
+/// Sets the values `frame` changed against `before`, the frame published last.
+fn publish_frame(p: &mut Publisher, frame: &Frame, before: Option<&Frame>) {
     {
         let time = tick_time(p.origin, frame.tick, p.tick_ms);
         let server = unix_time(frame.wall_us);
-        let before = prev.as_deref();
         let mut values = changes(&p.nodes, before.map(|f| &f.image[..]), frame, time, server);
         values.extend(var_changes(&p.nodes, before, frame, time, server));
         let model = p.model.changes(frame);
@@ -224,10 +227,6 @@ fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Box<Frame>>
         // A failure names a node that is not there: the table and the space are built from the
         // same lists, so there is nothing to recover.
         let _ = p.nm.set_values(&p.subs, values.into_iter());
-        match prev {
-            Some(v) => **v = *frame,
-            None => *prev = Some(Box::new(*frame)),
-        }
     }
 }
 
