@@ -1,18 +1,19 @@
 //! The hand-over between the scan thread and the server: after every tick the scan fills a
-//! [`Frame`] (the packets, the tick, the wall-clock time) taken from a pool of [`RING`]
-//! preallocated frames and pushes it into a wait-free SPSC ring (`rtrb`; the server gives each
-//! frame back through a second ring once it has published it), and
-//! drains the clients' accepted writes and operator commands with `try_recv`; the server's
-//! publisher pops every frame in order, so no tick's change is merged into the next one.
+//! [`Frame`] (the packets, the PLC variables' bytes, a part run's kernel values, the tick, the
+//! wall-clock time) taken from a pool of [`RING`] preallocated frames and pushes it into a
+//! wait-free SPSC ring (`rtrb`; the server gives each frame back through a second ring once it
+//! has published it), and drains the clients' accepted writes and operator commands with
+//! `try_recv`; the server's publisher pops every frame in order, so no tick's change is merged
+//! into the next one.
 //!
-//! **Invariant:** nothing on the scan's side takes a lock the server holds, allocates or waits: a
-//! copy of [`packets::PACKETS_LEN`] bytes (and the variables' bytes) into a pooled frame, two
-//! ring operations on pointers and `try_recv` loops. A command goes to
-//! the part run's kernel there, at the tick boundary, through
-//! [`controller::servers::kernel_command`] (the web HMI's path, recorded in the trace). When the ring is
-//! full (the server fell [`RING`] ticks behind) the frame is dropped and counted; the next one the
-//! server gets still carries the whole image, so values stay right and only that tick's pulses can
-//! be missed.
+//! **Invariant:** nothing on the scan's side takes a lock the server holds, allocates or waits:
+//! a copy of [`packets::PACKETS_LEN`] bytes (and the variables' bytes) into a pooled frame, two
+//! ring operations on pointers and `try_recv` loops. The only lock is the part run's kernel (as
+//! the web HMI's scan half takes it: for its values and for a command, which goes to the kernel
+//! here, at the tick boundary, through [`controller::servers::kernel_command`], the web HMI's
+//! path, recorded in the trace). When the pool is empty (the server fell [`RING`] ticks behind)
+//! the frame is dropped and counted; the next one the server gets still carries the whole image,
+//! so values stay right and only that tick's pulses can be missed.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, mpsc};
