@@ -19,8 +19,7 @@ use crate::handoff::Frame;
 use crate::signals::SignalNode;
 use crate::space::TICK;
 use crate::values::Evaluator;
-use crate::variables::{Layout, decode};
-use compiler::ir::Ty;
+use crate::variables::{Field, Layout};
 
 /// OPC UA time ticks (100 ns) per ms.
 const TICKS_PER_MS: i64 = 10_000;
@@ -30,8 +29,8 @@ pub struct Nodes {
     /// Per packet byte: (node, bit) — `None` for a byte variable.
     by_byte: Vec<Vec<(NodeId, Option<u8>)>>,
     tick: NodeId,
-    /// The PLC variables: node, type, offset in the frame's variable bytes.
-    vars: Vec<(NodeId, Ty, usize)>,
+    /// The PLC variables: node, what it shows, offset in the frame's variable bytes.
+    vars: Vec<(NodeId, Field, usize)>,
 }
 
 impl Nodes {
@@ -80,7 +79,7 @@ fn var_changes<'a>(
             continue;
         }
         let now = bytes(frame).unwrap_or_default();
-        out.push((id, None, stamped(decode(*ty, &now), time, server)));
+        out.push((id, None, stamped(ty.decode(&now), time, server)));
     }
     out
 }

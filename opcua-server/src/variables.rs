@@ -1,6 +1,9 @@
-//! The PLC program's named variables (`DEF name : TYPE`, the compiler's `Program::vars`) as
-//! read-only variable nodes under `Objects/Variables`: their image bytes travel with each frame
-//! ([`crate::handoff`]) and are decoded here (little-endian, as the engines store them).
+//! The PLC program's named state as read-only variable nodes under `Objects/Variables`: every
+//! internal variable (`DEF name : TYPE`, the compiler's `Program::vars`), every timer's `Q` and
+//! `ET` (`NAME.Q`, `NAME.ET` in ms), every counter's `CV` (`NAME.CV`) and every pulse `P<n>`. Their
+//! image bytes travel with each frame ([`crate::handoff`]) and are decoded here (little-endian,
+//! the layout of `compiler::ir`: a timer's i32 ET at +0 and its Q in bit 0 of the flags at +4, a
+//! counter's i32 CV at +0, a pulse's value in bit 0).
 //!
 //! **Invariants:** the served variables lie inside one window of at most [`VARS_MAX`] image
 //! bytes (the frame's fixed copy); a variable past it is left out and named on stderr at start,
@@ -11,7 +14,7 @@
 use std::ops::Range;
 use std::sync::Arc;
 
-use compiler::ir::{Program, Ty};
+use compiler::ir::{FLAG_Q, Program, Ty};
 use opcua::nodes::{AccessLevel, ObjectBuilder, VariableBuilder};
 use opcua::server::address_space::AddressSpace;
 use opcua::types::{DataTypeId, NodeId, ObjectId, QualifiedName, VariableTypeId, Variant};
@@ -22,15 +25,73 @@ pub const VARS_MAX: usize = 1024;
 /// The node id of the `Variables` folder.
 pub const FOLDER: &str = "Variables";
 
+/// What a node shows of its bytes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Field {
+    /// A variable of that type.
+    Value(Ty),
+    /// A timer's Q (Boolean).
+    TimerQ,
+    /// A timer's elapsed time ET in ms (Int32).
+    TimerEt,
+    /// A counter's CV (Int32).
+    CounterCv,
+    /// A pulse's value (Boolean).
+    Pulse,
+}
+
+impl Field {
+    /// The bytes it reads from its offset.
+    pub fn size(self) -> usize {
+        match self {
+            Field::Value(ty) => ty.size(),
+            Field::TimerQ => 5,
+            Field::TimerEt | Field::CounterCv => 4,
+            Field::Pulse => 1,
+        }
+    }
+
+    /// The OPC UA data type.
+    pub fn data_type(self) -> DataTypeId {
+        match self {
+            Field::Value(ty) => data_type(ty),
+            Field::TimerQ | Field::Pulse => DataTypeId::Boolean,
+            Field::TimerEt | Field::CounterCv => DataTypeId::Int32,
+        }
+    }
+
+    /// The value stored at `bytes` (short input reads as zeros).
+    pub fn decode(self, bytes: &[u8]) -> Variant {
+        let at = |i: usize| bytes.get(i).copied().unwrap_or(0);
+        match self {
+            Field::Value(ty) => decode(ty, bytes),
+            Field::TimerQ => Variant::Boolean(at(4) & FLAG_Q != 0),
+            Field::TimerEt | Field::CounterCv => decode(Ty::Dint, bytes),
+            Field::Pulse => Variant::Boolean(at(0) & 1 != 0),
+        }
+    }
+
+    /// What it is, for the node's description.
+    fn what(self) -> String {
+        match self {
+            Field::Value(ty) => ty.name().to_string(),
+            Field::TimerQ => "timer output Q".into(),
+            Field::TimerEt => "timer elapsed time ET, ms".into(),
+            Field::CounterCv => "counter value CV".into(),
+            Field::Pulse => "one-shot pulse".into(),
+        }
+    }
+}
+
 /// One served variable.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct VarNode {
     /// The string node id (`Variables/CHAIN_OK`).
     pub id: String,
-    /// The declared name.
+    /// The declared name (`BLINK_ON.Q` for a timer's output).
     pub name: String,
-    /// Its type.
-    pub ty: Ty,
+    /// What it shows.
+    pub ty: Field,
     /// Its offset in the frame's variable bytes.
     pub at: usize,
     /// Kept across restarts.
@@ -55,23 +116,38 @@ impl Layout {
         let Some(p) = program else {
             return Layout::default();
         };
-        let start = p.vars.iter().map(|v| v.offset).min().unwrap_or(0);
+        let mut all: Vec<(String, Field, usize, bool)> = p
+            .vars
+            .iter()
+            .map(|v| (v.name.clone(), Field::Value(v.ty), v.offset, v.retain))
+            .collect();
+        for t in &p.timers {
+            all.push((format!("{}.Q", t.name), Field::TimerQ, t.offset, false));
+            all.push((format!("{}.ET", t.name), Field::TimerEt, t.offset, false));
+        }
+        for c in &p.counters {
+            all.push((format!("{}.CV", c.name), Field::CounterCv, c.offset, false));
+        }
+        for q in &p.pulses {
+            all.push((format!("P{}", q.n), Field::Pulse, q.offset, false));
+        }
+        let start = all.iter().map(|v| v.2).min().unwrap_or(0);
         let mut vars = Vec::new();
         let mut left_out = Vec::new();
         let mut end = start;
-        for v in &p.vars {
-            let stop = v.offset + v.ty.size();
+        for (name, field, offset, retain) in all {
+            let stop = offset + field.size();
             if stop - start > VARS_MAX {
-                left_out.push(v.name.clone());
+                left_out.push(name);
                 continue;
             }
             end = end.max(stop);
             vars.push(VarNode {
-                id: format!("{FOLDER}/{}", v.name),
-                name: v.name.clone(),
-                ty: v.ty,
-                at: v.offset - start,
-                retain: v.retain,
+                id: format!("{FOLDER}/{name}"),
+                name,
+                ty: field,
+                at: offset - start,
+                retain,
             });
         }
         vars.sort_by(|a, b| a.name.cmp(&b.name));
@@ -140,10 +216,10 @@ pub fn add(space: &mut AddressSpace, ns: u16, layout: &Layout) {
             QualifiedName::new(ns, v.name.as_str()),
             v.name.as_str(),
         )
-        .description(format!("PLC variable {} : {}{retain}", v.name, v.ty.name()))
-        .data_type(data_type(v.ty))
+        .description(format!("PLC variable {} : {}{retain}", v.name, v.ty.what()))
+        .data_type(v.ty.data_type())
         .value_rank(-1)
-        .value(decode(v.ty, &[]))
+        .value(v.ty.decode(&[]))
         .access_level(AccessLevel::CURRENT_READ)
         .user_access_level(AccessLevel::CURRENT_READ)
         .organized_by(folder.clone())
@@ -171,5 +247,15 @@ mod tests {
             Variant::Double(-0.25)
         );
         assert_eq!(decode(Ty::Dword, &[7]), Variant::UInt32(7), "short input");
+        // A timer's state: ET 250 ms, flags Q | previous IN.
+        let timer = [0xFA, 0, 0, 0, 3, 0, 0, 0];
+        assert_eq!(Field::TimerEt.decode(&timer), Variant::Int32(250));
+        assert_eq!(Field::TimerQ.decode(&timer), Variant::Boolean(true));
+        assert_eq!(Field::TimerQ.decode(&timer[..4]), Variant::Boolean(false));
+        assert_eq!(
+            Field::Pulse.decode(&[2]),
+            Variant::Boolean(false),
+            "bit 1 is the input"
+        );
     }
 }

@@ -30,19 +30,39 @@ fn the_plc_program_s_variables_are_read_only_nodes_with_the_values_of_each_tick(
     let got = peer(&["variables", &url, "5"]);
     assert!(run.0.wait().expect("ncplc ends").success());
 
-    // The lathe's DEF … : BOOL variables (PLCPRG), by name.
+    // The lathe's DEF … : BOOL variables, its timers' Q and ET, its counter's CV and its pulses
+    // (PLCPRG), by name.
     assert_eq!(
         got["names"],
         json!([
+            "BLINK_OFF.ET",
+            "BLINK_OFF.Q",
+            "BLINK_ON.ET",
+            "BLINK_ON.Q",
             "CHAIN_OK",
             "COOL_REQ",
             "HOLD_REQ",
             "LUBE_ALARM",
+            "LUBE_CLOCK.ET",
+            "LUBE_CLOCK.Q",
+            "LUBE_LOW.ET",
+            "LUBE_LOW.Q",
+            "LUBE_MINUTES.CV",
+            "LUBE_RUN.ET",
+            "LUBE_RUN.Q",
             "M_DONE",
+            "P1",
+            "P2",
             "SP_CCW_REQ",
-            "SP_CW_REQ"
+            "SP_CW_REQ",
+            "SP_READY.ET",
+            "SP_READY.Q"
         ]),
         "{got}"
+    );
+    assert_eq!(
+        got["blink_description"],
+        "PLC variable BLINK_ON.ET : timer elapsed time ET, ms"
     );
     assert_eq!(got["chain_type"], "Boolean");
     assert_eq!(got["chain_description"], "PLC variable CHAIN_OK : BOOL");
@@ -80,6 +100,11 @@ fn the_plc_program_s_variables_are_read_only_nodes_with_the_values_of_each_tick(
         let want = match id {
             "Variables/CHAIN_OK" => estop_ok.read(img) & overtravel_ok.read(img),
             "Variables/HOLD_REQ" => u8::from(hold_req[usize::try_from(t).expect("tick")]),
+            // The blinker's timer: checked below against its own ET.
+            "Variables/BLINK_ON.Q" | "Variables/BLINK_ON.ET" => {
+                seen.push((id.to_string(), t, n[1].as_i64().unwrap_or(-1)));
+                continue;
+            }
             other => panic!("a notification of {other}"),
         };
         assert_eq!(n[1], Value::from(want), "{id} at tick {t}");
@@ -94,4 +119,29 @@ fn the_plc_program_s_variables_are_read_only_nodes_with_the_values_of_each_tick(
         .collect();
     assert!(hold.windows(2).any(|w| w == [0, 1]), "{seen:?}");
     assert!(hold.windows(2).any(|w| w == [1, 0]), "{seen:?}");
+    // BLINK_ON (TON 500 ms): Q rises in the tick ET reaches 500 and falls in the tick ET goes
+    // back to 0; the 1 Hz blinker rises at the same spacing every time.
+    let of = |name: &str| -> Vec<(u64, i64)> {
+        seen.iter()
+            .filter(|s| s.0 == name)
+            .map(|s| (s.1, s.2))
+            .collect()
+    };
+    let (q, et) = (of("Variables/BLINK_ON.Q"), of("Variables/BLINK_ON.ET"));
+    let et_at = |t: u64| et.iter().find(|e| e.0 == t).map(|e| e.1);
+    let mut rises = Vec::new();
+    for w in q.windows(2) {
+        let (t, v) = w[1];
+        assert_eq!(
+            et_at(t),
+            Some(if v == 1 { 500 } else { 0 }),
+            "Q = {v} at tick {t}"
+        );
+        if v == 1 {
+            rises.push(t);
+        }
+    }
+    assert!(rises.len() >= 3, "{q:?}");
+    let period: Vec<u64> = rises.windows(2).map(|w| w[1] - w[0]).collect();
+    assert!(period.windows(2).all(|w| w[0] == w[1]), "{period:?}");
 }

@@ -308,7 +308,9 @@ async def variables(url, seconds):
         out["tick"] = stamp((await c.read_attributes([tick]))[0])
         h = Collect()
         sub = await c.create_subscription(10, h)
-        await sub.subscribe_data_change([chain, hold], queuesize=1000, sampling_interval=10)
+        blink = [await folder.get_child([f"{ns}:BLINK_ON.Q"]), await folder.get_child([f"{ns}:BLINK_ON.ET"])]
+        out["blink_description"] = (await blink[1].read_description()).Text
+        await sub.subscribe_data_change([chain, hold] + blink, queuesize=1000, sampling_interval=10)
         await asyncio.sleep(seconds)
         await sub.delete()
         out["notifications"] = h.got
