@@ -205,3 +205,54 @@ fn an_operator_starts_holds_and_resets_a_part_run_through_the_channel_s_methods(
         "{err}"
     );
 }
+
+/// The brief's run: `ncplc run <operator lathe> --program PART1 --virtual-time --opcua`; nothing
+/// presses CYCLE START until the client calls `Start` (an anonymous integrator on loopback), then
+/// PART1 runs to its end at the speed of the machine and the client sees Running, then Ended.
+#[test]
+fn start_through_opc_ua_runs_part1_in_virtual_time_to_its_end() {
+    if !have_asyncua() {
+        return;
+    }
+    let _serial = serial();
+    let machine = operator_lathe();
+    let trace = machine.path().join("session.jsonl");
+    // Virtual time runs as fast as the machine allows: enough ticks for the client to connect
+    // (idle ticks) and for PART1's 4,240 ticks; the run then ends by itself.
+    let mut c = Ncplc::run(machine.path())
+        .args([
+            "--overrun-limit",
+            "0",
+            "--opcua",
+            "127.0.0.1:0",
+            "--virtual-time",
+        ])
+        .args(["--program", "PART1", "--ticks", "150000", "--record"])
+        .args([trace.as_os_str()])
+        .command();
+    let (mut run, url) = spawn_opcua(&mut c);
+    let name = machine
+        .path()
+        .file_name()
+        .expect("name")
+        .to_string_lossy()
+        .into_owned();
+    let got = peer(&["start_part", &url, &name]);
+    assert!(run.0.wait().expect("ncplc ends").success());
+    assert_eq!(got["program"], "PART1");
+    assert_eq!(got["start"][0], "Good", "{got}");
+    assert_eq!(got["ended"], true, "{got}");
+    let states: Vec<&str> = got["states"]
+        .as_array()
+        .expect("states")
+        .iter()
+        .filter_map(Value::as_str)
+        .collect();
+    assert_eq!(states.first(), Some(&"Initializing"), "{got}");
+    assert_eq!(states.last(), Some(&"Ended"), "{got}");
+    assert!(states.contains(&"Running"), "{got}");
+    let started = got["start"][1].as_u64().expect("tick");
+    let text = std::fs::read_to_string(&trace).expect("trace");
+    let cmd = json!([{"process": 1, "command": "start", "role": "integrator"}]);
+    assert_eq!(recorded_commands(&text), vec![(started, cmd)]);
+}

@@ -6,6 +6,7 @@ Usage: opcua_peer.py signals URL SECONDS
        opcua_peer.py secure URL CERT_DIR USER:PASSWORD:ROLE...
        opcua_peer.py methods URL MACHINE USER PASSWORD
        opcua_peer.py variables URL SECONDS
+       opcua_peer.py start_part URL MACHINE
 """
 import asyncio
 import json
@@ -317,6 +318,31 @@ async def variables(url, seconds):
     print(json.dumps(out))
 
 
+async def start_part(url, name):
+    """START of Channel1 (anonymous: an integrator on loopback without a users file), then the
+    active program's states until it has ended."""
+    out = {}
+    async with Client(url) as c:
+        ns = await c.get_namespace_index(NS_SIGNALS)
+        mt = await c.get_namespace_index("http://opcfoundation.org/UA/MachineTool/")
+        mach = await c.get_namespace_index("http://opcfoundation.org/UA/Machinery/")
+        m = await c.nodes.objects.get_child([f"{mach}:Machines", f"{ns}:{name}"])
+        ch = await m.get_child([f"{mt}:Monitoring", f"{mt}:Channel1"])
+        prog = await m.get_child([f"{mt}:Production", f"{mt}:ActiveProgram"])
+        cur = await prog.get_child([f"{mt}:State", "0:CurrentState"])
+        out["program"] = await (await prog.get_child([f"{mt}:Name"])).read_value()
+        h = Collect()
+        sub = await c.create_subscription(10, h)
+        await sub.subscribe_data_change([cur], queuesize=1000, sampling_interval=10)
+        await asyncio.sleep(0.3)
+        out["start"] = await call(ch, f"{ns}:Start")
+        got = lambda: [[n[0], n[1].Text if hasattr(n[1], "Text") else n[1]] for n in h.got]
+        out["ended"] = await wait_for(got, cur.nodeid.Identifier, "Ended", 60)
+        await sub.delete()
+        out["states"] = [n[1] for n in got()]
+    print(json.dumps(out, default=str))
+
+
 APP_URI = "urn:ncplc:test-client"
 
 
@@ -405,6 +431,8 @@ def main():
         asyncio.run(model(sys.argv[2], sys.argv[3], float(sys.argv[4])))
     elif mode == "secure":
         asyncio.run(secure(sys.argv[2], sys.argv[3], sys.argv[4:]))
+    elif mode == "start_part":
+        asyncio.run(start_part(sys.argv[2], sys.argv[3]))
     elif mode == "variables":
         asyncio.run(variables(sys.argv[2], float(sys.argv[3])))
     elif mode == "methods":
