@@ -28,8 +28,21 @@ use crate::io::{IoKind, open_io_with, with_modbus_hmi};
 use crate::machine::Machine;
 use crate::part_run::PartRun;
 use crate::replayer::Replayer;
-use crate::servers::{HmiInputs, Server, hmi_token, start_hmi};
+use crate::servers::{HmiInputs, PartKernel, Server, Start, hmi_token, start_hmi};
 use crate::settings::{Clock, Engine, Hmi, Io, Part, Recording, Scan};
+
+/// A part run's kernel with its partprograms' texts, for the web HMI and the servers.
+fn part_kernel(
+    run: Option<&PartRun>,
+    part: Option<&Part>,
+    machine: &Machine,
+) -> Option<PartKernel> {
+    let (run, part) = run.zip(part)?;
+    Some((
+        run.cnc(),
+        crate::hmi_link::kernel_cnc::sources(&part.spec, machine),
+    ))
+}
 
 /// Why a controller could not be built.
 #[derive(Debug, thiserror::Error)]
@@ -243,13 +256,20 @@ impl Builder {
             tick_ns: u64::from(tick_ms) * 1_000_000,
             overrun_limit: self.scan.overrun_limit,
         };
+        let kernel = part_kernel(opened.part.as_ref(), self.part.as_ref(), machine);
         let mut sched = Scheduler::new(image, loaded, opened.io, self.make_clock(), settings);
         self.start_recording(&mut sched, opened.part.as_ref(), tick_ms)?;
         let retain = retain_path.map(|p| (crate::retained::start_writer(p.clone(), &mut sched), p));
         let (notes_tx, notes) = mpsc::channel();
         let watch = self.start_watch(machine, checked.source, compile, &mut sched, notes_tx);
         for s in &mut self.servers {
-            s.start(machine, tick_ms).map_err(BuildError::Start)?;
+            s.start(Start {
+                machine,
+                tick_ms,
+                kernel: kernel.clone(),
+                meta: Arc::clone(&meta),
+            })
+            .map_err(BuildError::Start)?;
         }
         let realtime = !self.virtual_time();
         Ok(Controller::new(Parts {
@@ -326,18 +346,11 @@ impl Builder {
         let Some(hmi) = &self.hmi else {
             return Ok(None);
         };
-        let kernel = match (&opened.part, &self.part) {
-            (Some(run), Some(part)) => Some((
-                run.cnc(),
-                crate::hmi_link::kernel_cnc::sources(&part.spec, &checked.machine),
-            )),
-            _ => None,
-        };
         let inputs = HmiInputs {
             source: &checked.source,
             tick_ms,
             counts: opened.handshakes.clone(),
-            kernel,
+            kernel: part_kernel(opened.part.as_ref(), self.part.as_ref(), &checked.machine),
             flow,
         };
         start_hmi(

@@ -2,9 +2,13 @@
 //! extension point for others ([`Server`]: an OPC UA server, …). The Modbus HMI sits in front of the
 //! I/O instead ([`crate::io::with_modbus_hmi`]).
 //!
+//! A server is started with a [`Start`]: the machine, the logic tick and, in a part run, the
+//! CNC kernel ([`PartKernel`]); operator commands go to that kernel through [`kernel_command`],
+//! the web HMI's path (the same `apply_command`, recorded in the trace the same way).
+//!
 //! **Invariant:** the scan never waits for a server: [`Server::after_tick`] runs on the scan thread
 //! and must only copy (into a triple buffer, a `watch`) and drain requests with `try_recv`, as
-//! `hmi_link` does.
+//! `hmi_link` does; a command is applied there, at the tick boundary, never from a server task.
 
 use std::sync::{Arc, Mutex};
 
@@ -18,11 +22,23 @@ use crate::hmi_link::{HmiLink, catalog, image_cnc::ImageCnc};
 use crate::machine::Machine;
 use crate::settings::Hmi;
 
+/// What a server is started with.
+pub struct Start<'a> {
+    /// The machine.
+    pub machine: &'a Machine,
+    /// The logic tick (ms).
+    pub tick_ms: u32,
+    /// A part run's kernel and its programs' texts (None without `--program`/`--mdi`).
+    pub kernel: Option<PartKernel>,
+    /// The PLC program loaded for the first tick (its variables and their image offsets).
+    pub meta: Arc<dyn runtime::program::ProgramMeta>,
+}
+
 /// A server beside the scan, given the scheduler after every tick (to publish its image and apply
 /// requests at the tick boundary) and every event. Added with [`crate::Builder::server`].
 pub trait Server: Send {
     /// Called once, after the controller is assembled and before the first tick.
-    fn start(&mut self, machine: &Machine, tick_ms: u32) -> Result<(), String>;
+    fn start(&mut self, start: Start<'_>) -> Result<(), String>;
     /// An event of the tick just run (alarm, cleared alarm, online change).
     fn on_event(&mut self, _event: &Event, _tick: u64) {}
     /// An online-change note (compiled, rejected, error).
@@ -33,6 +49,33 @@ pub trait Server: Send {
 
 /// A part run's kernel and its partprograms' texts (name, text), for the Machine page.
 pub type PartKernel = (Arc<Mutex<cnc::Cnc>>, Vec<(String, String)>);
+
+/// Gives operator command `command` for `process` to a part run's kernel at a tick boundary, the
+/// web HMI's way ([`crate::hmi_link::kernel_cnc::apply_command`]), and records it in the trace with
+/// the `role` that sent it, so a replay gives it to its kernel at the same tick. The tick it was
+/// applied at, or the kernel's reason for refusing it. Call it on the scan thread only (from
+/// [`Server::after_tick`]).
+pub fn kernel_command(
+    sched: &mut Scheduler,
+    kernel: &Mutex<cnc::Cnc>,
+    process: u8,
+    command: &hmi::Command,
+    role: hmi::Role,
+) -> Result<u64, String> {
+    let applied_at = sched.tick_count();
+    {
+        let mut c = kernel
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        crate::hmi_link::kernel_cnc::apply_command(&mut c, process, command)?;
+    }
+    sched.record_command(trace::OperatorCommand {
+        process,
+        command: command.clone(),
+        role: Some(role),
+    });
+    Ok(applied_at)
+}
 
 /// The session tokens of the HMI: read from `token_file` (`ROLE TOKEN` lines, or one token with
 /// every right), else one integrator token generated from the OS's CSPRNG.

@@ -3,7 +3,7 @@
 //! users file, if any); anywhere else the endpoints are Basic256Sha256 Sign and SignAndEncrypt
 //! with the server certificate the stack creates on first start in `<machine>/opcua-pki/`, user
 //! name and password only (anonymous refused). Roles are the web HMI's: a viewer browses, reads
-//! and subscribes; an operator also calls methods (none are offered yet); an integrator also
+//! and subscribes; an operator also calls methods (a channel's START, HOLD, RESET); an integrator also
 //! writes inside the io.toml window.
 //!
 //! **Invariants:** anonymous sessions exist only on loopback, where they are integrators without a
@@ -45,7 +45,8 @@ impl Auth {
         Auth { users, anonymous }
     }
 
-    fn role(&self, token: &UserToken) -> Option<Role> {
+    /// The role of a session's token (None: anonymous off loopback, or an unknown user).
+    pub fn role(&self, token: &UserToken) -> Option<Role> {
         if token.is_anonymous() {
             self.anonymous
         } else {

@@ -93,9 +93,35 @@ pub fn read(signal: Option<Signal>, image: &[u8]) -> u8 {
     signal.map_or(0, |s| s.read(image))
 }
 
+/// The binary little-endian dword whose first byte is `signal` (0 when the map has none, or
+/// when it is a bit or runs past the image).
+pub fn dword(signal: Option<Signal>, image: &[u8]) -> u32 {
+    let Some(s) = signal.filter(|s| s.bit().is_none()) else {
+        return 0;
+    };
+    let at = s.image_byte();
+    image
+        .get(at..at + 4)
+        .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_dword_is_read_little_endian_from_its_first_byte() {
+        let mut image = vec![0u8; packets::PACKETS_LEN];
+        let scode: Signal = "W4K0".parse().expect("signal");
+        let at = scode.image_byte();
+        image[at..at + 4].copy_from_slice(&[0x58, 0x02, 0, 0]);
+        assert_eq!(dword(Some(scode), &image), 600);
+        assert_eq!(dword(None, &image), 0);
+        let bit: Signal = "I4K0".parse().expect("signal");
+        assert_eq!(dword(Some(bit), &image), 0);
+        let last: Signal = "W15T3".parse().expect("signal");
+        assert_eq!(dword(Some(last), &image), 0, "past the image's end");
+    }
 
     #[test]
     fn modes_map_onto_the_machine_tool_enumerations() {

@@ -12,6 +12,7 @@ pub mod derive;
 pub mod handoff;
 pub mod limits;
 pub mod machine_tool;
+pub mod node_manager;
 pub mod nodesets;
 pub mod publisher;
 pub mod server;
@@ -19,10 +20,12 @@ pub mod settings;
 pub mod signals;
 pub mod space;
 pub mod users;
+pub mod values;
+pub mod variables;
 pub mod window;
 
 use controller::machine::Machine;
-use controller::servers::Server;
+use controller::servers::{Server, Start};
 use runtime::scheduler::{Event, Scheduler};
 
 pub use settings::{DEFAULT_ENDPOINT, Settings, parse_endpoint};
@@ -71,6 +74,7 @@ fn model_inputs(
     machine: &Machine,
     tables: config::Tables,
     program: Option<String>,
+    commands: bool,
 ) -> machine_tool::Inputs {
     let processes = machine.process_numbers();
     let role = |p: u8, r: &str| machine.interface.role(p, r).map(|s| s.signal);
@@ -89,15 +93,24 @@ fn model_inputs(
                 mode: role(p, "MODE"),
                 fov: role(p, "FOV"),
                 rov: role(p, "ROV"),
+                sov: role(p, "SOV"),
+                scode: role(p, "SCODE"),
             })
             .collect(),
         lamps: tables.stacklight,
         program,
+        commands,
     }
 }
 
 impl Server for OpcuaServer {
-    fn start(&mut self, machine: &Machine, tick_ms: u32) -> Result<(), String> {
+    fn start(&mut self, start: Start<'_>) -> Result<(), String> {
+        let Start {
+            machine,
+            tick_ms,
+            kernel,
+            meta,
+        } = start;
         let window = window::Window::load(&machine.dir, &machine.declared_connectors())
             .map_err(|d| render_map_errors(&machine.dir, &d))?;
         let tables = config::load(&machine.dir).map_err(|d| render_map_errors(&machine.dir, &d))?;
@@ -118,7 +131,17 @@ impl Server for OpcuaServer {
                 self.settings.addr
             ));
         }
-        let (scan, side) = handoff::pair();
+        let (mut scan, side) = handoff::pair();
+        scan.kernel = kernel.map(|(k, _)| k);
+        scan.vars = variables::Layout::of(runtime::compiled::base_program(meta.as_ref()));
+        if !scan.vars.left_out.is_empty() {
+            eprintln!(
+                "opcua: warning: {} PLC variables lie past the first {} bytes of variables and are not served: {}",
+                scan.vars.left_out.len(),
+                variables::VARS_MAX,
+                scan.vars.left_out.join(", ")
+            );
+        }
         let running = server::start(
             server::Plan {
                 addr: self.settings.addr,
@@ -126,8 +149,14 @@ impl Server for OpcuaServer {
                 table,
                 tick_ms,
                 limits: self.limits,
-                model: model_inputs(machine, tables, self.settings.program.clone()),
+                model: model_inputs(
+                    machine,
+                    tables,
+                    self.settings.program.clone(),
+                    scan.kernel.is_some(),
+                ),
                 users,
+                vars: scan.vars.clone(),
             },
             side,
         )

@@ -5,6 +5,17 @@
 
 use opcua::server::ServerBuilder;
 
+/// How often per logic tick the stack's subscriptions and the publisher look for work. A
+/// subscription publishes at a poll once its interval has elapsed since its last publish: polled
+/// exactly at the interval, jitter made every other publish wait a whole second interval (20 ms
+/// at 10 ms); polled five times a tick, a value waits at most a fifth of a tick for the poll.
+pub const POLLS_PER_TICK: u32 = 5;
+
+/// The poll period in ms for a logic tick of `tick_ms` (at least 1 ms).
+pub fn poll_ms(tick_ms: u32) -> u64 {
+    u64::from(tick_ms.div_ceil(POLLS_PER_TICK).max(1))
+}
+
 /// The server's limits.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Limits {
@@ -18,6 +29,10 @@ pub struct Limits {
     pub max_message_size: usize,
     /// Nodes per Read, Write or Browse request.
     pub max_nodes_per_request: usize,
+    /// Values a monitored item queues between publishes (a client asking more gets this).
+    pub max_item_queue: usize,
+    /// Notification messages a subscription keeps waiting for the client's Publish requests.
+    pub max_queued_notifications: usize,
 }
 
 impl Default for Limits {
@@ -28,6 +43,10 @@ impl Default for Limits {
             max_monitored_items_per_sub: 5000,
             max_message_size: 4 << 20,
             max_nodes_per_request: 5000,
+            // One second of ticks at 10 ms (async-opcua's 10 values, 100 ms, lost ticks whenever
+            // a loaded machine delayed a publish longer).
+            max_item_queue: 100,
+            max_queued_notifications: 100,
         }
     }
 }
@@ -40,6 +59,8 @@ impl Limits {
         l.max_message_size = self.max_message_size;
         l.subscriptions.max_subscriptions_per_session = self.max_subscriptions_per_session;
         l.subscriptions.max_monitored_items_per_sub = self.max_monitored_items_per_sub;
+        l.subscriptions.max_monitored_item_queue_size = self.max_item_queue;
+        l.subscriptions.max_queued_notifications = self.max_queued_notifications;
         l.subscriptions.min_publishing_interval_ms = f64::from(tick_ms);
         l.subscriptions.min_sampling_interval_ms = f64::from(tick_ms);
         l.operational.max_nodes_per_read = self.max_nodes_per_request;

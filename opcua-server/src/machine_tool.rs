@@ -1,23 +1,28 @@
 //! The instance of the OPC UA for Machine Tools model (OPC 40501-1) for the running machine, under
 //! `Objects/Machines` (OPC 40001-1): `MachineToolType` with `Identification`, `Monitoring`
-//! (`MachineTool`, one `Channel<n>` per process, `Stacklight`), `Production/ActiveProgram` and
-//! `Notification/Messages` (alarms as events). The types come from the vendored NodeSets
+//! (`MachineTool`, one `Channel<n>` per process, `Stacklight`; in a part run one `Spindle<n>` per
+//! process and the channels' methods), `Production/ActiveProgram` (with the kernel's blocks
+//! executed in a part run) and `Notification/Messages` (alarms as events). The types come from the vendored NodeSets
 //! ([`crate::nodesets`]); the instance nodes are in the server's namespace, with the browse names
-//! and type definitions the types declare. [`Evaluator`] turns a packet image into their values.
+//! and type definitions the types declare. [`crate::values::Evaluator`] turns a frame into their
+//! values.
 //!
 //! **Invariant:** each value node has exactly one [`Source`]; the evaluator sets a node only when
 //! its value changed, stamped with the tick's time like the signals.
 
-use opcua::nodes::{EventNotifier, ObjectBuilder, ReferenceDirection, VariableBuilder};
+use hmi::Command;
+use opcua::nodes::{
+    EventNotifier, MethodBuilder, ObjectBuilder, ReferenceDirection, VariableBuilder,
+};
 use opcua::server::address_space::AddressSpace;
 use opcua::types::{
-    DataTypeId, LocalizedText, NodeId, ObjectId, QualifiedName, ReferenceTypeId, VariableTypeId,
-    Variant,
+    Argument, DataTypeId, LocalizedText, NodeId, ObjectId, QualifiedName, ReferenceTypeId,
+    VariableTypeId, Variant,
 };
 use packets::Signal;
 
 use crate::config::{Identification, Lamp};
-use crate::derive::{self, ProgramState};
+use crate::derive::ProgramState;
 
 /// The namespace indexes the instance uses.
 #[derive(Debug, Clone, Copy)]
@@ -49,6 +54,10 @@ pub struct ProcessRoles {
     pub fov: Option<Signal>,
     /// See `cycle`.
     pub rov: Option<Signal>,
+    /// The spindle override (SOV).
+    pub sov: Option<Signal>,
+    /// The programmed spindle speed (SCODE, the first byte of a binary dword).
+    pub scode: Option<Signal>,
 }
 
 /// What the instance shows.
@@ -64,6 +73,18 @@ pub struct Inputs {
     pub lamps: Vec<Lamp>,
     /// The partprogram of the run (`--program`), if any.
     pub program: Option<String>,
+    /// A part run's kernel runs beside the scan: each channel gets `Start`, `Hold`, `Reset`, each
+    /// process a `Spindle<n>`, the active program its blocks executed.
+    pub commands: bool,
+}
+
+/// What [`add`] put into the address space that the server serves.
+#[derive(Debug, Default)]
+pub struct Added {
+    /// The value nodes and their sources.
+    pub values: Vec<(NodeId, Source)>,
+    /// The methods: node, process, command.
+    pub methods: Vec<(NodeId, u8, Command)>,
 }
 
 /// How a value node's value follows the image.
@@ -83,6 +104,14 @@ pub enum Source {
     ProgramState(Option<Signal>, Option<Signal>),
     /// The `Id` of the program's `CurrentState`.
     ProgramStateId(Option<Signal>, Option<Signal>),
+    /// The kernel's blocks executed of a process (UInt64; index = process − 1).
+    Blocks(usize),
+    /// The kernel's actual spindle speed of a process (Double, rev/min).
+    SpindleRpm(usize),
+    /// Whether that spindle turns (Boolean).
+    Rotating(usize),
+    /// A binary little-endian dword from its first byte (Double).
+    Dword(Option<Signal>),
 }
 
 /// The id of the MachineTool object.
@@ -94,6 +123,7 @@ struct Build<'a> {
     space: &'a mut AddressSpace,
     ns: Ns,
     values: Vec<(NodeId, Source)>,
+    methods: Vec<(NodeId, u8, Command)>,
 }
 
 impl Build<'_> {
@@ -144,12 +174,13 @@ impl Build<'_> {
     }
 }
 
-/// Adds the instance to `space`; the value nodes and their sources.
-pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Vec<(NodeId, Source)> {
+/// Adds the instance to `space`; the value nodes with their sources, and the methods.
+pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Added {
     let mut b = Build {
         space,
         ns,
         values: Vec::new(),
+        methods: Vec::new(),
     };
     let (mt, di, machinery, ia) = (ns.mt, ns.di, ns.machinery, ns.ia);
     let root = b.id(ROOT);
@@ -206,9 +237,13 @@ pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Vec<(NodeId, So
     );
     for p in &inputs.processes {
         channel(&mut b, p);
+        if inputs.commands {
+            commands(&mut b, p.process);
+            spindle(&mut b, p);
+        }
     }
     stacklight(&mut b, &inputs.lamps, ia);
-    production(&mut b, inputs.program.as_deref(), p1);
+    production(&mut b, inputs.program.as_deref(), p1, inputs.commands);
     b.object(
         "MachineTool/Notification",
         QualifiedName::new(mt, "Notification"),
@@ -223,7 +258,41 @@ pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Vec<(NodeId, So
         .component_of(b.id("MachineTool/Notification"))
         .insert(b.space);
     let _ = di;
-    b.values
+    Added {
+        values: b.values,
+        methods: b.methods,
+    }
+}
+
+/// The operator's methods of channel `process`: `Start` (CYCLE START), `Hold` (FEED HOLD) and
+/// `Reset`, without inputs; the output is the tick the kernel took the command at.
+fn commands(b: &mut Build<'_>, process: u8) {
+    let own = b.ns.own;
+    let channel = format!("MachineTool/Monitoring/Channel{process}");
+    for (name, command, what) in [
+        ("Start", Command::Start, "CYCLE START"),
+        ("Hold", Command::Hold, "FEED HOLD"),
+        ("Reset", Command::Reset, "RESET"),
+    ] {
+        let path = format!("{channel}/{name}");
+        let id = b.id(&path);
+        let out = b.id(&format!("{path}/OutputArguments"));
+        let tick = Argument {
+            name: "Tick".into(),
+            data_type: DataTypeId::UInt64.into(),
+            value_rank: -1,
+            array_dimensions: None,
+            description: LocalizedText::new("", "the tick the kernel took the command at"),
+        };
+        MethodBuilder::new(&id, QualifiedName::new(own, name), name)
+            .description(format!("{what} of process {process} (operator role)"))
+            .component_of(b.id(&channel))
+            .executable(true)
+            .user_executable(true)
+            .output_args(b.space, &out, &[tick])
+            .insert(b.space);
+        b.methods.push((id, process, command));
+    }
 }
 
 fn identification(b: &mut Build<'_>, id: &Identification, name: &str) {
@@ -416,7 +485,71 @@ fn stacklight(b: &mut Build<'_>, lamps: &[Lamp], ia: u16) {
     }
 }
 
-fn production(b: &mut Build<'_>, program: Option<&str>, p1: ProcessRoles) {
+/// `Monitoring/Spindle<n>` (`SpindleMonitoringType`): the override from SOV, `IsRotating` and
+/// (ours) `ActualSpeed` in rev/min from the kernel, `CommandedSpeed` from SCODE.
+fn spindle(b: &mut Build<'_>, p: &ProcessRoles) {
+    let (mt, own) = (b.ns.mt, b.ns.own);
+    let path = format!("MachineTool/Monitoring/Spindle{}", p.process);
+    let bn = format!("Spindle{}", p.process);
+    b.object(
+        &path,
+        QualifiedName::new(mt, bn.as_str()),
+        NodeId::new(mt, 22u32),
+        "MachineTool/Monitoring",
+    );
+    let at = usize::from(p.process).saturating_sub(1);
+    b.variable(
+        &format!("{path}/Name"),
+        QualifiedName::new(mt, "Name"),
+        DataTypeId::String.into(),
+        Variant::from(format!("spindle of process {}", p.process).as_str()),
+        &path,
+        true,
+        None,
+    );
+    for (name, ns, ty, v, s) in [
+        (
+            "Override",
+            mt,
+            DataTypeId::Double,
+            Variant::Double(0.0),
+            Source::Percent(p.sov),
+        ),
+        (
+            "IsRotating",
+            mt,
+            DataTypeId::Boolean,
+            Variant::Boolean(false),
+            Source::Rotating(at),
+        ),
+        (
+            "ActualSpeed",
+            own,
+            DataTypeId::Double,
+            Variant::Double(0.0),
+            Source::SpindleRpm(at),
+        ),
+        (
+            "CommandedSpeed",
+            own,
+            DataTypeId::Double,
+            Variant::Double(0.0),
+            Source::Dword(p.scode),
+        ),
+    ] {
+        b.variable(
+            &format!("{path}/{name}"),
+            QualifiedName::new(ns, name),
+            ty.into(),
+            v,
+            &path,
+            false,
+            Some(s),
+        );
+    }
+}
+
+fn production(b: &mut Build<'_>, program: Option<&str>, p1: ProcessRoles, kernel: bool) {
     let mt = b.ns.mt;
     b.object(
         "MachineTool/Production",
@@ -449,6 +582,17 @@ fn production(b: &mut Build<'_>, program: Option<&str>, p1: ProcessRoles) {
         true,
         None,
     );
+    if kernel {
+        b.variable(
+            &format!("{path}/BlocksExecuted"),
+            QualifiedName::new(b.ns.own, "BlocksExecuted"),
+            DataTypeId::UInt64.into(),
+            Variant::UInt64(0),
+            path,
+            false,
+            Some(Source::Blocks(usize::from(p1.process).saturating_sub(1))),
+        );
+    }
     let state = format!("{path}/State");
     b.object(
         &state,
@@ -475,62 +619,4 @@ fn production(b: &mut Build<'_>, program: Option<&str>, p1: ProcessRoles) {
         true,
         Some(Source::ProgramStateId(p1.cycle, p1.hold)),
     );
-}
-
-/// Computes the instance's values from images, keeping the program's state between ticks.
-pub struct Evaluator {
-    sources: Vec<(NodeId, Source)>,
-    last: Vec<Option<Variant>>,
-    program: ProgramState,
-    mt: u16,
-}
-
-impl Evaluator {
-    /// An evaluator of `sources` (MachineTool namespace `mt`).
-    pub fn new(sources: Vec<(NodeId, Source)>, mt: u16) -> Evaluator {
-        let last = vec![None; sources.len()];
-        Evaluator {
-            sources,
-            last,
-            program: ProgramState::Initializing,
-            mt,
-        }
-    }
-
-    /// The nodes whose value changed with `image`, and their new values.
-    pub fn changes(&mut self, image: &[u8]) -> Vec<(NodeId, Variant)> {
-        let bit = |s: Option<Signal>| derive::read(s, image) != 0;
-        let mut out = Vec::new();
-        let mut next_program = None;
-        for (i, (id, src)) in self.sources.iter().enumerate() {
-            let v = match *src {
-                Source::ChannelState(c, h) => Variant::Int32(derive::channel_state(bit(c), bit(h))),
-                Source::ChannelMode(m) => {
-                    Variant::Int32(derive::channel_mode(derive::read(m, image)))
-                }
-                Source::OperationMode(m) => {
-                    Variant::Int32(derive::operation_mode(derive::read(m, image)))
-                }
-                Source::Percent(s) => Variant::Double(f64::from(derive::read(s, image))),
-                Source::Bit(s) => Variant::Boolean(s.read(image) != 0),
-                Source::ProgramState(c, h) | Source::ProgramStateId(c, h) => {
-                    let st = *next_program.get_or_insert_with(|| self.program.next(bit(c), bit(h)));
-                    match src {
-                        Source::ProgramState(..) => {
-                            Variant::from(LocalizedText::new("", st.name()))
-                        }
-                        _ => Variant::from(NodeId::new(self.mt, st.type_node())),
-                    }
-                }
-            };
-            if self.last[i].as_ref() != Some(&v) {
-                self.last[i] = Some(v.clone());
-                out.push((id.clone(), v));
-            }
-        }
-        if let Some(p) = next_program {
-            self.program = p;
-        }
-        out
-    }
 }

@@ -1,7 +1,6 @@
-//! The server's side of the signals: a task that wakes every logic tick, reads the newest
+//! The server's side of the signals: a task that wakes five times a logic tick, takes every new
 //! [`Frame`] and sets the variables whose value changed (one `set_values` call, one lock of the
-//! address space, off the scan thread), and the write callbacks that turn an accepted client
-//! write into a [`crate::handoff::Write`] for the scan.
+//! address space, off the scan thread). Client writes are [`crate::node_manager`]'s.
 //!
 //! **Invariant:** a variable's source timestamp is `origin + tick × tick_ms`, where `tick` is the
 //! tick whose image holds the value and `origin` the server's start time: a client can tell the
@@ -9,18 +8,21 @@
 //! it against the recorded trace.
 
 use std::sync::Arc;
-use std::sync::mpsc::Sender;
 use std::time::Duration;
 
+use crate::node_manager::OwnManager;
 use opcua::nodes::{BaseEventType, Event};
 use opcua::server::SubscriptionCache;
-use opcua::server::node_manager::memory::SimpleNodeManager;
 use opcua::types::{ByteString, DataValue, DateTime, NodeId, NumericRange, StatusCode, Variant};
 
-use crate::handoff::{Frame, Write};
-use crate::machine_tool::Evaluator;
+use crate::handoff::Frame;
 use crate::signals::SignalNode;
 use crate::space::TICK;
+use crate::values::Evaluator;
+use crate::variables::{Field, Layout};
+
+/// Frames published between two yields to the stack's tasks.
+const YIELD_EVERY: u32 = 8;
 
 /// OPC UA time ticks (100 ns) per ms.
 const TICKS_PER_MS: i64 = 10_000;
@@ -30,11 +32,13 @@ pub struct Nodes {
     /// Per packet byte: (node, bit) — `None` for a byte variable.
     by_byte: Vec<Vec<(NodeId, Option<u8>)>>,
     tick: NodeId,
+    /// The PLC variables: node, what it shows, offset in the frame's variable bytes.
+    vars: Vec<(NodeId, Field, usize)>,
 }
 
 impl Nodes {
-    /// Indexes `table` (namespace `ns`) by image byte.
-    pub fn new(ns: u16, table: &[SignalNode]) -> Nodes {
+    /// Indexes `table` (namespace `ns`) by image byte, and the PLC variables of `layout`.
+    pub fn new(ns: u16, table: &[SignalNode], layout: &Layout) -> Nodes {
         let mut by_byte = vec![Vec::new(); packets::PACKETS_LEN];
         for n in table {
             if let Some(slot) = by_byte.get_mut(n.signal.image_byte()) {
@@ -44,8 +48,43 @@ impl Nodes {
         Nodes {
             by_byte,
             tick: NodeId::new(ns, TICK),
+            vars: layout
+                .vars
+                .iter()
+                .map(|v| (NodeId::new(ns, v.id.as_str()), v.ty, v.at))
+                .collect(),
         }
     }
+}
+
+/// The PLC variables whose bytes changed between two frames (every one without `prev`), as data
+/// values; once the layout is stale, `BadOutOfService` for every variable (once).
+fn var_changes<'a>(
+    nodes: &'a Nodes,
+    prev: Option<&Frame>,
+    frame: &Frame,
+    time: DateTime,
+    server: DateTime,
+) -> Vec<(&'a NodeId, Option<&'a NumericRange>, DataValue)> {
+    let mut out = Vec::new();
+    let was_valid = prev.is_none_or(|p| p.vars_valid);
+    for (id, ty, at) in &nodes.vars {
+        let bytes = |f: &Frame| f.vars.get(*at..*at + ty.size()).map(<[u8]>::to_vec);
+        if !frame.vars_valid {
+            if was_valid {
+                let mut dv = stamped(Variant::Empty, time, server);
+                dv.status = Some(StatusCode::BadOutOfService);
+                out.push((id, None, dv));
+            }
+            continue;
+        }
+        if prev.is_some_and(|p| bytes(p) == bytes(frame)) {
+            continue;
+        }
+        let now = bytes(frame).unwrap_or_default();
+        out.push((id, None, stamped(ty.decode(&now), time, server)));
+    }
+    out
 }
 
 /// A value stamped with its tick's time (source) and the scan's copy (server). No picoseconds:
@@ -118,7 +157,7 @@ pub fn tick_time(origin: i64, tick: u64, tick_ms: u32) -> DateTime {
 /// What the publisher task owns.
 pub struct Publisher {
     /// The node manager of the server's namespace.
-    pub nm: Arc<SimpleNodeManager>,
+    pub nm: Arc<OwnManager>,
     /// The stack's subscriptions.
     pub subs: Arc<SubscriptionCache>,
     /// The signal nodes by image byte.
@@ -135,12 +174,12 @@ pub struct Publisher {
     pub origin: i64,
 }
 
-/// Runs until cancelled: every `tick_ms`, publishes the alarms and every frame's changes in tick
+/// Runs until cancelled: five times a tick ([`crate::limits::poll_ms`]), publishes the alarms and every frame's changes in tick
 /// order (one `set_values`, one lock of the address space, per frame).
 pub async fn run(mut p: Publisher) {
-    let mut every = tokio::time::interval(Duration::from_millis(u64::from(p.tick_ms.max(1))));
+    let mut every = tokio::time::interval(Duration::from_millis(crate::limits::poll_ms(p.tick_ms)));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
-    let mut prev: Option<Vec<u8>> = None;
+    let mut prev: Option<Box<Frame>> = None;
     let mut events = 0u64;
     loop {
         every.tick().await;
@@ -164,19 +203,31 @@ pub async fn run(mut p: Publisher) {
             p.subs
                 .notify_events([(&evt as &dyn Event, &p.messages.0)].into_iter());
         }
+        let mut done = 0u32;
         while let Ok(frame) = p.side.frames.pop() {
-            publish_frame(&mut p, &frame, &mut prev);
+            publish_frame(&mut p, &frame, prev.as_deref());
+            // The frame is the next one's previous; the one before goes back to the pool.
+            if let Some(old) = prev.replace(frame) {
+                p.side.recycle(old);
+            }
+            // A scan in virtual time fills the ring as fast as the publisher empties it: let the
+            // stack's tasks (the clients' requests) run between batches on the one worker.
+            done += 1;
+            if done.is_multiple_of(YIELD_EVERY) {
+                tokio::task::yield_now().await;
+            }
         }
     }
 }
 
-/// Sets the values `frame` changed (against `prev`, then keeps `frame` as `prev`).
-fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
+/// Sets the values `frame` changed against `before`, the frame published last.
+fn publish_frame(p: &mut Publisher, frame: &Frame, before: Option<&Frame>) {
     {
         let time = tick_time(p.origin, frame.tick, p.tick_ms);
         let server = unix_time(frame.wall_us);
-        let mut values = changes(&p.nodes, prev.as_deref(), frame, time, server);
-        let model = p.model.changes(&frame.image);
+        let mut values = changes(&p.nodes, before.map(|f| &f.image[..]), frame, time, server);
+        values.extend(var_changes(&p.nodes, before, frame, time, server));
+        let model = p.model.changes(frame);
         values.extend(
             model
                 .iter()
@@ -185,42 +236,6 @@ fn publish_frame(p: &mut Publisher, frame: &Frame, prev: &mut Option<Vec<u8>>) {
         // A failure names a node that is not there: the table and the space are built from the
         // same lists, so there is nothing to recover.
         let _ = p.nm.set_values(&p.subs, values.into_iter());
-        match prev {
-            Some(v) => v.copy_from_slice(&frame.image),
-            None => *prev = Some(frame.image.to_vec()),
-        }
-    }
-}
-
-/// Adds the write callback of each writable node: the right type (Boolean for a bit, Byte for
-/// a byte) is queued for the scan, anything else is `BadTypeMismatch`, an index range
-/// `BadIndexRangeInvalid`; nothing is written on a refusal.
-pub fn add_write_callbacks(
-    nm: &SimpleNodeManager,
-    ns: u16,
-    table: &[SignalNode],
-    writes: &Sender<Write>,
-) {
-    for n in table.iter().filter(|n| n.writable) {
-        let signal = n.signal;
-        let tx = writes.clone();
-        nm.inner().add_write_callback(
-            NodeId::new(ns, n.id.as_str()),
-            move |dv: DataValue, range: &NumericRange| {
-                if range.has_range() {
-                    return StatusCode::BadIndexRangeInvalid;
-                }
-                let value = match (dv.value, signal.bit()) {
-                    (Some(Variant::Boolean(b)), Some(_)) => u8::from(b),
-                    (Some(Variant::Byte(v)), None) => v,
-                    _ => return StatusCode::BadTypeMismatch,
-                };
-                match tx.send((signal, value)) {
-                    Ok(()) => StatusCode::Good,
-                    Err(_) => StatusCode::BadServerHalted,
-                }
-            },
-        );
     }
 }
 
@@ -247,13 +262,16 @@ mod tests {
             node("MFIN", "U11K0"),
             node("SFIN", "U11K1"),
         ];
-        let nodes = Nodes::new(2, &table);
+        let nodes = Nodes::new(2, &table, &Layout::default());
         let mut image = vec![0u8; packets::PACKETS_LEN];
         let frame = |image: &[u8], tick| {
             let mut f = Frame {
                 tick,
                 image: [0; packets::PACKETS_LEN],
                 wall_us: 0,
+                kernel: Default::default(),
+                vars: [0; crate::variables::VARS_MAX],
+                vars_valid: true,
             };
             f.image.copy_from_slice(image);
             f

@@ -2,8 +2,8 @@
 //! start, and port 0 gets a real port), builds the address space, and runs the server and the
 //! publisher on a thread of their own with a small tokio runtime. Dropping [`Running`] stops both.
 //!
-//! **Invariants:** the subscription poll and the minimum publishing and sampling intervals are
-//! the logic tick (async-opcua's defaults are 100 ms); the scan never calls into this module
+//! **Invariants:** the minimum publishing and sampling intervals are the logic tick (async-opcua's
+//! defaults are 100 ms), the subscription poll a fifth of it ([`crate::limits::poll_ms`]); the scan never calls into this module
 //! after [`start`] returned.
 
 use std::net::SocketAddr;
@@ -11,19 +11,17 @@ use std::path::Path;
 use std::sync::Arc;
 use std::thread::JoinHandle;
 
-use opcua::server::diagnostics::NamespaceMetadata;
-use opcua::server::node_manager::memory::{
-    SimpleNodeManager, simple_node_manager, simple_node_manager_imports,
-};
+use opcua::server::node_manager::memory::simple_node_manager_imports;
 use opcua::server::{ServerBuilder, ServerHandle};
 use opcua::types::{DateTime, NodeId};
 
 use crate::handoff::ServerSide;
 use crate::limits::Limits;
+use crate::node_manager::{self, OwnManager};
 use crate::publisher::{self, Nodes};
 use crate::signals::SignalNode;
 use crate::users::Users;
-use crate::{auth, machine_tool, nodesets, space};
+use crate::{auth, machine_tool, nodesets, space, values};
 
 /// The server's own namespace: the signals and the machine tool instance.
 pub const NCPLC_NS: &str = "urn:ncplc";
@@ -79,6 +77,8 @@ pub struct Plan<'a> {
     pub model: machine_tool::Inputs,
     /// The users (empty: anonymous only, on loopback).
     pub users: Users,
+    /// The PLC variables.
+    pub vars: crate::variables::Layout,
 }
 
 /// Binds, builds and starts the server on its own thread.
@@ -96,25 +96,26 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
     let tick_ms = plan.tick_ms.max(1);
     let loopback = crate::settings::is_loopback(addr.ip());
     let builder = auth::endpoints(ServerBuilder::new(), &plan.users.credentials(), loopback);
+    let authenticator = Arc::new(auth::Auth::new(plan.users.clone(), loopback));
     let mut builder = builder
         .application_name("ncplc")
         .application_uri("urn:ncplc:server")
-        .with_authenticator(Arc::new(auth::Auth::new(plan.users.clone(), loopback)))
+        .with_authenticator(authenticator.clone())
         .product_uri("urn:ncplc")
         .host(addr.ip().to_string())
         .port(addr.port())
         .pki_dir(plan.machine_dir.join("opcua-pki"))
-        .subscription_poll_interval_ms(u64::from(tick_ms))
+        .subscription_poll_interval_ms(crate::limits::poll_ms(tick_ms))
         .with_node_manager(simple_node_manager_imports(
             nodesets::imports().map_err(StartError::Server)?,
             "machine-tool-types",
         ))
-        .with_node_manager(simple_node_manager(
-            NamespaceMetadata {
-                namespace_uri: NCPLC_NS.to_string(),
-                ..Default::default()
-            },
+        .with_node_manager(node_manager::builder(
+            NCPLC_NS,
             OWN,
+            authenticator,
+            side.writes.clone(),
+            side.commands.clone(),
         ));
     plan.limits.apply(&mut builder, tick_ms);
     // The stack spawns its tasks while it is built: inside the runtime that will run it.
@@ -133,7 +134,7 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
     let (server, handle) = builder.build().map_err(StartError::Server)?;
     let nm = handle
         .node_managers()
-        .get_by_name::<SimpleNodeManager>(OWN)
+        .get_by_name::<OwnManager>(OWN)
         .ok_or_else(|| StartError::Server("the ncplc node manager is missing".into()))?;
     let index = |uri: &str| {
         handle
@@ -147,17 +148,24 @@ pub fn start(plan: Plan<'_>, side: ServerSide) -> Result<Running, StartError> {
         di: index(nodesets::DI)?,
         ia: index(nodesets::IA)?,
     };
-    let sources = {
+    let added = {
         let mut space = nm.address_space().write();
         space::add_signals(&mut space, ns.own, &plan.table, tick_ms);
+        crate::variables::add(&mut space, ns.own, &plan.vars);
         machine_tool::add(&mut space, ns, &plan.model)
     };
-    publisher::add_write_callbacks(&nm, ns.own, &plan.table, &side.writes);
+    for n in plan.table.iter().filter(|n| n.writable) {
+        nm.inner()
+            .add_writable(NodeId::new(ns.own, n.id.as_str()), n.signal);
+    }
+    for (id, process, command) in added.methods {
+        nm.inner().add_method(id, process, command);
+    }
     let publisher = publisher::Publisher {
         nm,
         subs: Arc::clone(handle.subscriptions()),
-        nodes: Nodes::new(ns.own, &plan.table),
-        model: machine_tool::Evaluator::new(sources, ns.mt),
+        nodes: Nodes::new(ns.own, &plan.table, &plan.vars),
+        model: values::Evaluator::new(added.values, ns.mt),
         messages: (
             NodeId::new(ns.own, machine_tool::MESSAGES),
             NodeId::new(ns.mt, 35u32),

@@ -4,8 +4,8 @@
 //! and `TickMs` variables.
 //!
 //! **Invariant:** only nodes inside the write window carry `CurrentWrite` in their access level
-//! (their writes go through [`crate::publisher`]'s callback to the scan); every other node is
-//! read-only, so the stack answers a write with `BadUserAccessDenied` before anything moves.
+//! (their writes go through [`crate::node_manager`] to the scan); every other node is read-only,
+//! so a write answers `BadNotWritable` before anything moves.
 
 use opcua::nodes::{AccessLevel, ObjectBuilder, VariableBuilder};
 use opcua::server::address_space::AddressSpace;

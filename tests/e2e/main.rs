@@ -33,6 +33,8 @@ mod modbus_peer;
 mod nc;
 mod nc_run;
 mod opcua;
+mod opcua_methods;
+mod opcua_variables;
 mod part;
 mod part_contour;
 mod part_prop;

@@ -4,6 +4,9 @@
 Usage: opcua_peer.py signals URL SECONDS
        opcua_peer.py model URL
        opcua_peer.py secure URL CERT_DIR USER:PASSWORD:ROLE...
+       opcua_peer.py methods URL MACHINE USER PASSWORD
+       opcua_peer.py variables URL SECONDS
+       opcua_peer.py start_part URL MACHINE
 """
 import asyncio
 import json
@@ -210,6 +213,136 @@ async def events(url, name, seconds):
     print(json.dumps(out))
 
 
+async def call(obj, method):
+    """A method call: ["Good", outputs] or [status name, None]."""
+    try:
+        out = await obj.call_method(method)
+        return ["Good", out]
+    except ua.UaStatusCodeError as e:
+        return [ua.StatusCode(e.code).name, None]
+
+
+async def wait_for(got, node_id, value, seconds):
+    """Waits until the notifications of NODE_ID include VALUE (GOT: a function giving them);
+    False on time-out."""
+    for _ in range(int(seconds * 100)):
+        if any(n[0] == node_id and n[1] == value for n in got()):
+            return True
+        await asyncio.sleep(0.01)
+    return False
+
+
+async def methods(url, name, user, password):
+    """START, HOLD and RESET of Channel1: refused to an anonymous viewer, called by an operator
+    while the program state, channel state, spindle and block count are subscribed."""
+    out = {}
+
+    async def channel_of(c):
+        ns = await c.get_namespace_index(NS_SIGNALS)
+        mt = await c.get_namespace_index("http://opcfoundation.org/UA/MachineTool/")
+        mach = await c.get_namespace_index("http://opcfoundation.org/UA/Machinery/")
+        m = await c.nodes.objects.get_child([f"{mach}:Machines", f"{ns}:{name}"])
+        ch = await m.get_child([f"{mt}:Monitoring", f"{mt}:Channel1"])
+        return ns, mt, m, ch
+
+    async with Client(url) as c:
+        ns, mt, m, ch = await channel_of(c)
+        out["viewer_start"] = (await call(ch, f"{ns}:Start"))[0]
+        # A viewer may not write anywhere: outside the window the node is not writable at all.
+        mcode = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:K", f"{ns}:3", f"{ns}:MCODE"])
+        w200 = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:K", f"{ns}:200", f"{ns}:W200K0"])
+        out["viewer_write_outside"] = await write(mcode, ua.Variant(7, ua.VariantType.Byte))
+        out["viewer_write_window"] = await write(w200, ua.Variant(7, ua.VariantType.Byte))
+    c = Client(url)
+    c.set_user(user)
+    c.set_password(password)
+    async with c:
+        ns, mt, m, ch = await channel_of(c)
+        prog = await m.get_child([f"{mt}:Production", f"{mt}:ActiveProgram"])
+        cur = await prog.get_child([f"{mt}:State", "0:CurrentState"])
+        state = await ch.get_child([f"{mt}:ChannelState"])
+        tick = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:Tick"])
+        out["tick"] = stamp((await c.read_attributes([tick]))[0])
+        out["methods"] = sorted([(await n.read_browse_name()).Name
+                                 for n in await ch.get_methods()])
+        h = Collect()
+        sub = await c.create_subscription(10, h)
+        blocks = await prog.get_child([f"{ns}:BlocksExecuted"])
+        sp = await m.get_child([f"{mt}:Monitoring", f"{mt}:Spindle1"])
+        out["spindle_type"] = (await c.get_node(await sp.read_type_definition()).read_browse_name()).Name
+        spindle = [await sp.get_child([f"{mt}:Override"]), await sp.get_child([f"{mt}:IsRotating"]),
+                   await sp.get_child([f"{ns}:ActualSpeed"]), await sp.get_child([f"{ns}:CommandedSpeed"])]
+        await sub.subscribe_data_change([cur, state, blocks] + spindle, queuesize=1000,
+                                        sampling_interval=10)
+        await asyncio.sleep(0.5)
+        out["hold_idle"] = (await call(ch, f"{ns}:Hold"))[0]
+        status, ticks = await call(ch, f"{ns}:Start")
+        out["start"] = [status, ticks]
+        got = lambda: [[n[0], n[1].Text if hasattr(n[1], "Text") else n[1], n[2]] for n in h.got]
+        cur_id = cur.nodeid.Identifier
+        out["running"] = await wait_for(got, cur_id, "Running", 20)
+        out["hold"] = await call(ch, f"{ns}:Hold")
+        out["interrupted"] = await wait_for(got, cur_id, "Interrupted", 5)
+        out["resume"] = await call(ch, f"{ns}:Start")
+        out["ended"] = await wait_for(got, cur_id, "Ended", 20)
+        out["reset"] = await call(ch, f"{ns}:Reset")
+        await asyncio.sleep(0.3)
+        await sub.delete()
+        out["notifications"] = got()
+    print(json.dumps(out, default=str))
+
+
+async def variables(url, seconds):
+    """The PLC program's variables: the folder, a type and description, a refused write, and the
+    notifications of CHAIN_OK and HOLD_REQ while SECONDS pass."""
+    out = {}
+    async with Client(url) as c:
+        ns = await c.get_namespace_index(NS_SIGNALS)
+        folder = await c.nodes.objects.get_child([f"{ns}:Variables"])
+        out["names"] = sorted([(await n.read_browse_name()).Name for n in await folder.get_children()])
+        chain = await folder.get_child([f"{ns}:CHAIN_OK"])
+        hold = await folder.get_child([f"{ns}:HOLD_REQ"])
+        out["chain_type"] = (await chain.read_data_type_as_variant_type()).name
+        out["chain_description"] = (await chain.read_description()).Text
+        out["write"] = await write(chain, ua.Variant(False, ua.VariantType.Boolean))
+        tick = await c.nodes.objects.get_child([f"{ns}:Signals", f"{ns}:Tick"])
+        out["tick"] = stamp((await c.read_attributes([tick]))[0])
+        h = Collect()
+        sub = await c.create_subscription(10, h)
+        blink = [await folder.get_child([f"{ns}:BLINK_ON.Q"]), await folder.get_child([f"{ns}:BLINK_ON.ET"])]
+        out["blink_description"] = (await blink[1].read_description()).Text
+        await sub.subscribe_data_change([chain, hold] + blink, queuesize=1000, sampling_interval=10)
+        await asyncio.sleep(seconds)
+        await sub.delete()
+        out["notifications"] = h.got
+    print(json.dumps(out))
+
+
+async def start_part(url, name):
+    """START of Channel1 (anonymous: an integrator on loopback without a users file), then the
+    active program's states until it has ended."""
+    out = {}
+    async with Client(url) as c:
+        ns = await c.get_namespace_index(NS_SIGNALS)
+        mt = await c.get_namespace_index("http://opcfoundation.org/UA/MachineTool/")
+        mach = await c.get_namespace_index("http://opcfoundation.org/UA/Machinery/")
+        m = await c.nodes.objects.get_child([f"{mach}:Machines", f"{ns}:{name}"])
+        ch = await m.get_child([f"{mt}:Monitoring", f"{mt}:Channel1"])
+        prog = await m.get_child([f"{mt}:Production", f"{mt}:ActiveProgram"])
+        cur = await prog.get_child([f"{mt}:State", "0:CurrentState"])
+        out["program"] = await (await prog.get_child([f"{mt}:Name"])).read_value()
+        h = Collect()
+        sub = await c.create_subscription(10, h)
+        await sub.subscribe_data_change([cur], queuesize=1000, sampling_interval=10)
+        await asyncio.sleep(0.3)
+        out["start"] = await call(ch, f"{ns}:Start")
+        got = lambda: [[n[0], n[1].Text if hasattr(n[1], "Text") else n[1]] for n in h.got]
+        out["ended"] = await wait_for(got, cur.nodeid.Identifier, "Ended", 60)
+        await sub.delete()
+        out["states"] = [n[1] for n in got()]
+    print(json.dumps(out, default=str))
+
+
 APP_URI = "urn:ncplc:test-client"
 
 
@@ -298,6 +431,12 @@ def main():
         asyncio.run(model(sys.argv[2], sys.argv[3], float(sys.argv[4])))
     elif mode == "secure":
         asyncio.run(secure(sys.argv[2], sys.argv[3], sys.argv[4:]))
+    elif mode == "start_part":
+        asyncio.run(start_part(sys.argv[2], sys.argv[3]))
+    elif mode == "variables":
+        asyncio.run(variables(sys.argv[2], float(sys.argv[3])))
+    elif mode == "methods":
+        asyncio.run(methods(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5]))
     elif mode == "untrusted":
         asyncio.run(untrusted(sys.argv[2], sys.argv[3], sys.argv[4], sys.argv[5]))
     else:
