@@ -38,7 +38,7 @@ pub use cap::{
     DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, json_lines_capped_with,
     render_human_capped, render_human_capped_with,
 };
-pub use lines::{Indexed, LineIndex};
+pub use lines::{Indexed, LineIndex, line_columns};
 pub use random_text::random_text;
 pub use sink::{Sink, merge_hidden};
 pub use suggest::{did_you_mean, nearest};
