@@ -145,7 +145,7 @@ impl Mefi {
             }
             Item::Word('N', val, sp) => {
                 if let Some(b) = self.cur.take() {
-                    out.blocks.push(b);
+                    push_block(out, b);
                 }
                 let n = match val {
                     Val::Lit(l) if !l.point && !l.signed && (1..=99_999_999).contains(&l.int) => {
@@ -213,7 +213,7 @@ impl Mefi {
             );
         }
         if let Some(b) = self.cur.take() {
-            out.blocks.push(b);
+            push_block(out, b);
         }
         if !self.header_seen && self.require_header {
             diags.push(
@@ -243,7 +243,7 @@ impl Fanuc {
         if self.started
             && (self.cur.n.is_some() || !self.cur.words.is_empty() || !self.cur.decls.is_empty())
         {
-            out.blocks.push(std::mem::take(&mut self.cur));
+            push_block(out, std::mem::take(&mut self.cur));
         } else {
             self.cur = Block::default();
         }
@@ -332,6 +332,14 @@ impl Fanuc {
         self.flush(out);
         out.blocks.extend(self.macros);
     }
+}
+
+/// Keeps a finished block, its words and declarations without spare capacity (a block of two words
+/// would otherwise hold room for four: a program keeps every block).
+fn push_block(out: &mut ParsedFile, mut b: Block) {
+    b.words.shrink_to_fit();
+    b.decls.shrink_to_fit();
+    out.blocks.push(b);
 }
 
 fn uint_of(src: &str, span: &Range<usize>) -> Option<u64> {

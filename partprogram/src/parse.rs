@@ -274,6 +274,8 @@ fn parse_unlocated(
         }
     }
     group.finish(file, &mut out, diags);
+    // Without the spare room of the last doubling: the blocks live as long as the compile.
+    out.blocks.shrink_to_fit();
     out
 }
 

@@ -340,6 +340,7 @@ fn build_main_units(
         });
         cur = Some(prog.units.len() - 1);
     }
+    prog.blocks.reserve_exact(parsed.blocks.len());
     let mut subs = 0;
     let first_unit = prog.units.len();
     let mut closed = std::collections::HashSet::new();
