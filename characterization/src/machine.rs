@@ -241,10 +241,9 @@ pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
     if let Some(path) = &pgcfil_path
         && let Some((file, mut diags)) = l.read(path, Grammar::PGCFIL)
     {
-        let (model, d) = pgcfil::parse(&file);
-        diags.extend(d);
+        let model = pgcfil::parse_into(&file, &mut diags);
         if let Some(ax) = &axcfil {
-            diags.extend(pgcfil::check_against(&model, &file, ax));
+            pgcfil::check_against_into(&model, &file, ax, &mut diags);
         }
         l.add(diags);
         l.sources.add(file.name.clone(), file.text.clone());
@@ -255,10 +254,9 @@ pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
     if let Some(path) = &iocfil_path
         && let Some((file, mut diags)) = l.read(path, Grammar::FUNCTIONAL)
     {
-        let (model, d) = iocfil::parse(&file);
-        diags.extend(d);
+        let model = iocfil::parse_into(&file, &mut diags);
         if let Some(ax) = &axcfil {
-            diags.extend(iocfil::check_against(&model, &file, ax));
+            iocfil::check_against_into(&model, &file, ax, &mut diags);
         }
         l.add(diags);
         l.sources.add(file.name.clone(), file.text.clone());

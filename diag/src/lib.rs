@@ -38,7 +38,7 @@ pub use cap::{
     DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, json_lines_capped_with,
     render_human_capped, render_human_capped_with,
 };
-pub use lines::{Indexed, LineIndex};
+pub use lines::{Indexed, LineIndex, line_columns};
 pub use random_text::random_text;
 pub use sink::{Sink, merge_hidden};
 pub use suggest::{did_you_mean, nearest};
@@ -292,9 +292,23 @@ fn render_body(diagnostics: &[Diagnostic], sources: &Sources) -> String {
     let mut files = SimpleFiles::new();
     let mut ids = BTreeMap::new();
     for (name, text) in &sources.files {
-        // Only the files diagnostics point into: line starts are computed per added file.
-        if diagnostics.iter().any(|d| d.file == *name) {
-            ids.insert(name.as_str(), files.add(name.as_str(), text.as_str()));
+        // Only the files diagnostics point into, and of each only the lines up to the last one a
+        // diagnostic points at: the renderer computes the start of every line it is given (8
+        // bytes per line: 36 MB for a 50 MB file of short lines, whose first 100 errors are on
+        // its first 40 lines).
+        let last = diagnostics
+            .iter()
+            .filter(|d| d.file == *name)
+            .map(|d| d.span.end.max(d.span.start))
+            .max();
+        if let Some(last) = last {
+            let from = last.min(text.len());
+            let cut = text.as_bytes()[from..]
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(text.len(), |i| from + i + 1);
+            let shown = text.get(..cut).unwrap_or(text.as_str());
+            ids.insert(name.as_str(), files.add(name.as_str(), shown));
         }
     }
     let config = term::Config::default();

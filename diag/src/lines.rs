@@ -156,6 +156,39 @@ pub(crate) fn active(text: &str) -> Option<std::rc::Rc<LineIndex>> {
     })
 }
 
+/// 1-based line and column of every offset of `offsets` in `text`, exactly as
+/// [`crate::line_column`] gives them, in one walk over the text: time linear in the text plus
+/// `k log k` for `k` offsets, memory for the `k` answers only (no index of the text's lines: a
+/// reader that keeps a few diagnostics of a huge file locates them without per-line storage).
+pub fn line_columns(text: &str, offsets: &[usize]) -> Vec<(u32, u32)> {
+    let mut order: Vec<usize> = (0..offsets.len()).collect();
+    order.sort_by_key(|&i| offsets[i]);
+    let bytes = text.as_bytes();
+    let mut out = vec![(0, 0); offsets.len()];
+    // Walk state: the line of byte `at` and the characters from that line's start to `at`.
+    let (mut at, mut line, mut column) = (0usize, 1usize, 0usize);
+    for i in order {
+        let mut offset = offsets[i].min(text.len());
+        while !text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        for &b in &bytes[at..offset] {
+            if b == b'\n' {
+                line += 1;
+                column = 0;
+            } else if starts_char(b) {
+                column += 1;
+            }
+        }
+        at = offset;
+        out[i] = (
+            u32::try_from(line).unwrap_or(u32::MAX),
+            u32::try_from(column + 1).unwrap_or(u32::MAX),
+        );
+    }
+    out
+}
+
 /// Offsets just after every `\n` of `bytes`.
 fn memchr_newlines(bytes: &[u8]) -> impl Iterator<Item = usize> + '_ {
     bytes
@@ -184,6 +217,23 @@ mod tests {
             );
         }
         assert_eq!(index.lines(), 6);
+    }
+
+    #[test]
+    fn one_walk_locates_offsets_in_any_order_as_the_scanning_lookup() {
+        let mut text = String::from("abc\n");
+        text.push_str(&"дж".repeat(300));
+        text.push_str("x\n\nлюбой\nend\n");
+        // Every offset, in a scrambled order with repeats.
+        let offsets: Vec<usize> = (0..=text.len() + 3)
+            .map(|i| (i * 7919) % (text.len() + 4))
+            .chain([5, 5, 0])
+            .collect();
+        let got = line_columns(&text, &offsets);
+        for (o, lc) in offsets.iter().zip(got) {
+            assert_eq!(lc, crate::scan_line_column(&text, *o), "offset {o}");
+        }
+        assert_eq!(line_columns(&text, &[]), []);
     }
 
     #[test]

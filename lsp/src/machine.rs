@@ -69,9 +69,11 @@ impl Machine {
         }
     }
 
-    /// Loads the machine in `dir` as `ncplc build` does.
+    /// Loads the machine in `dir` as `ncplc build` does, in bounded memory: only whether the
+    /// characterization has errors is used, so one diagnostic per file is stored and the rest
+    /// counted (an error-dense file of any size costs no memory per error, issue 23).
     pub fn load(dir: &Path) -> Machine {
-        let load = characterization::load_machine(dir);
+        let load = characterization::load_machine_capped(dir, 1);
         let shown = dir.display();
         let bad = load.has_errors();
         let machine = match load.machine {
@@ -155,6 +157,37 @@ mod tests {
         assert_eq!(m.iocfil_line(5), Some((7, "OU0=4,5,,,,,,".to_string())));
         assert_eq!(m.iocfil_line(1), Some((6, "IN0=0,1,,,,,,".to_string())));
         assert_eq!(m.iocfil_line(9), None);
+    }
+
+    #[test]
+    fn an_error_dense_machine_is_refused_through_the_capped_load() {
+        // The lathe with 10,000 bad IOCFIL lines (a duplicate T01 and an instruction section 4
+        // does not allow): one diagnostic is stored, the other 19,999 only counted.
+        let dir = std::env::temp_dir().join(format!("lsp-dense-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("MP0")).expect("mkdir");
+        std::fs::copy(example("lathe").join("FCRSYS"), dir.join("FCRSYS")).expect("FCRSYS");
+        for f in ["AXCFIL", "PGCFIL", "IOCFIL", "PLCPRG"] {
+            std::fs::copy(
+                example("lathe").join("MP0").join(f),
+                dir.join("MP0").join(f),
+            )
+            .expect("copy");
+        }
+        let mut io = std::fs::read(dir.join("MP0/IOCFIL")).expect("IOCFIL");
+        for _ in 0..10_000 {
+            io.extend_from_slice(b"\nT01=10\nQZQ=1");
+        }
+        std::fs::write(dir.join("MP0/IOCFIL"), io).expect("write");
+        let m = Machine::load(&dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(m.dir.is_none());
+        assert!(
+            m.note
+                .as_deref()
+                .is_some_and(|n| n.contains("the characterization files have errors")),
+            "{:?}",
+            m.note
+        );
     }
 
     #[test]

@@ -21,6 +21,7 @@ pub mod exec;
 pub mod fanuc;
 pub mod fanuc_exec;
 pub mod geom;
+mod group;
 pub mod groups;
 pub mod jit;
 pub mod kor;

@@ -152,21 +152,20 @@ pub(crate) fn to_locate(mut d: Diagnostic) -> Diagnostic {
     d
 }
 
-/// Fills line and column of the diagnostics [`err`] made, with one line index per file.
-fn locate_pending(files: &[SourceFile], diags: &mut [Diagnostic]) {
-    for f in files {
-        if !diags
-            .iter()
-            .any(|d| d.column == TO_LOCATE && d.file == f.name)
-        {
+/// Fills line and column of the diagnostics [`err`] made, with one walk over each file's text
+/// (`main`: the text of file 0, which the program holds only once it compiled).
+fn locate_pending(files: &[SourceFile], main: &str, diags: &mut [Diagnostic]) {
+    for (i, f) in files.iter().enumerate() {
+        let text = if i == 0 { main } else { f.text.as_str() };
+        let pending: Vec<usize> = (0..diags.len())
+            .filter(|&d| diags[d].column == TO_LOCATE && diags[d].file == f.name)
+            .collect();
+        if pending.is_empty() {
             continue;
         }
-        let lines = diag::LineIndex::new(&f.text);
-        for d in diags
-            .iter_mut()
-            .filter(|d| d.column == TO_LOCATE && d.file == f.name)
-        {
-            (d.line, d.column) = lines.line_column(&f.text, d.span.start);
+        let offsets: Vec<usize> = pending.iter().map(|&d| diags[d].span.start).collect();
+        for (d, lc) in pending.into_iter().zip(diag::line_columns(text, &offsets)) {
+            (diags[d].line, diags[d].column) = lc;
         }
     }
     for d in diags.iter_mut().filter(|d| d.column == TO_LOCATE) {
@@ -194,9 +193,11 @@ pub fn compile_capped(
     let mut prog = Program {
         dialect: machine.dialect,
         number: None,
+        // The main file's text is copied in once the program compiled: a rejected file is not
+        // copied at all (its diagnostics are located in `src`).
         files: vec![SourceFile {
             name: name.to_string(),
-            text: src.to_string(),
+            text: String::new(),
         }],
         blocks: Vec::new(),
         units: Vec::new(),
@@ -214,7 +215,7 @@ pub fn compile_capped(
         crate::fanuc::check(&mut prog, &mut sink);
         crate::macro_b::flow::link(&mut prog, &mut sink);
     } else {
-        build_main_units(&mut prog, 0, parsed, &mut sink);
+        build_main_units(&mut prog, 0, parsed, src, &mut sink);
         load_library(&mut prog, &machine.macro_dir, &mut sink);
         for b in 0..prog.blocks.len() {
             crate::check::check_block(&prog, b, &mut sink);
@@ -223,7 +224,7 @@ pub fn compile_capped(
     }
     let failed = sink.has_errors();
     let (mut diags, hidden) = sink.finish();
-    locate_pending(&prog.files, &mut diags);
+    locate_pending(&prog.files, src, &mut diags);
     diags.sort_by(|a, b| {
         (a.file != name, &a.file, a.line, a.column).cmp(&(
             b.file != name,
@@ -235,6 +236,7 @@ pub fn compile_capped(
     if failed {
         return (None, diags, hidden);
     }
+    prog.files[0].text = src.to_string();
     if machine.dialect == Dialect::Fanuc {
         match crate::macro_b::native::compile(&prog) {
             Ok(code) => prog.macro_native = code,
@@ -316,8 +318,14 @@ fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
 
 /// Splits a parsed MEFI file into units. `file` 0 is the main file (main program + subprograms);
 /// other files are library files (units only).
-fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: &mut Sink) {
-    let (fname, src) = (prog.files[file].name.clone(), prog.files[file].text.clone());
+fn build_main_units(
+    prog: &mut Program,
+    file: usize,
+    parsed: ParsedFile,
+    src: &str,
+    diags: &mut Sink,
+) {
+    let fname = prog.files[file].name.clone();
     let library = file != 0;
     let mut cur: Option<usize> = None;
     let mut main_ended = false;
@@ -332,6 +340,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
         });
         cur = Some(prog.units.len() - 1);
     }
+    prog.blocks.reserve_exact(parsed.blocks.len());
     let mut subs = 0;
     let first_unit = prog.units.len();
     let mut closed = std::collections::HashSet::new();
@@ -345,7 +354,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
                 diags.push(err(
                     codes::AFTER_END,
                     &fname,
-                    &src,
+                    src,
                     b.span,
                     "subprogram before the end of the main program",
                     "subprograms follow the block with M02 or M30",
@@ -363,7 +372,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
                     diags.push(err(
                         codes::TOO_MANY_SUBPROGRAMS,
                         &fname,
-                        &src,
+                        src,
                         b.span,
                         "more than 99 subprograms",
                         "a partprogram holds at most 99 subprograms",
@@ -379,7 +388,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
                 diags.push(err(
                     codes::DUPLICATE_N,
                     &fname,
-                    &src,
+                    src,
                     b.span,
                     format!("unit L{l} is defined twice"),
                     "every G79 L<n> number must be unique",
@@ -399,7 +408,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
             diags.push(err(
                 codes::NO_BLOCK_NUMBER,
                 &fname,
-                &src,
+                src,
                 b.span,
                 "block outside a G79 … G70 unit",
                 "a macro file holds units that start with `G79 L<n>` and end with G70",
@@ -410,7 +419,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
             diags.push(err(
                 codes::AFTER_END,
                 &fname,
-                &src,
+                src,
                 b.span,
                 "block after the end of the main program",
                 "only subprograms (G79 L<n> … G70) may follow M02/M30",
@@ -431,7 +440,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
                     .any(|x| x.index.contains_key(&n))
             };
             if dup {
-                diags.push(err(codes::DUPLICATE_N, &fname, &src, b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
+                diags.push(err(codes::DUPLICATE_N, &fname, src, b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
             } else {
                 prog.units[u].index.insert(n, idx);
             }
@@ -453,7 +462,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
             diags.push(err(
                 codes::UNIT_NOT_CLOSED,
                 &fname,
-                &src,
+                src,
                 span,
                 format!("unit L{} has no G70", unit.l),
                 "end the unit with a block containing G70",
@@ -470,7 +479,7 @@ fn build_main_units(prog: &mut Program, file: usize, parsed: ParsedFile, diags: 
                 "the main program has no M02/M30 block",
             )
             .with_hint("end the main program with M02 or M30")
-            .locate(&src),
+            .locate(src),
         );
     }
 }
@@ -516,10 +525,13 @@ fn load_library(prog: &mut Program, dir: &Path, diags: &mut Sink) {
         }
         let name = format!("macros/{fname}");
         let (parsed, d) = crate::parse::parse_library(Dialect::Mefi, &name, &text);
-        let src = text;
         diags.extend(d);
-        prog.files.push(SourceFile { name, text: src });
+        prog.files.push(SourceFile {
+            name,
+            text: String::new(),
+        });
         let file = prog.files.len() - 1;
-        build_main_units(prog, file, parsed, diags);
+        build_main_units(prog, file, parsed, &text, diags);
+        prog.files[file].text = text;
     }
 }

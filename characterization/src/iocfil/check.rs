@@ -2,7 +2,7 @@
 //! NBP, and the axes of ASM, TAx, UCDA and ADV against AXCFIL (existence, spindle, point-to-point
 //! positions equal to PAS).
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use crate::axcfil::Axcfil;
 use crate::pgcfil::axes;
@@ -14,7 +14,15 @@ use super::model::{Handwheel, Iocfil};
 
 /// Checks `i` (decoded from `file`) against AXCFIL `ax`; returns the cross-file diagnostics.
 pub fn check_against(i: &Iocfil, file: &ParsedFile, ax: &Axcfil) -> Vec<Diagnostic> {
-    let mut e = Emit::new(file);
+    let mut diags = Sink::unbounded();
+    check_against_into(i, file, ax, &mut diags);
+    diags.into_vec()
+}
+
+/// [`check_against`] pushing the diagnostics into `diags` (a sink that may store only the first of
+/// them).
+pub fn check_against_into(i: &Iocfil, file: &ParsedFile, ax: &Axcfil, diags: &mut Sink) {
+    let mut e = Emit::new(file, diags);
     clo(&mut e, i, file, ax);
     for section in [2, 3] {
         for (n, rec) in locate::pro_records(file, section) {
@@ -149,7 +157,6 @@ pub fn check_against(i: &Iocfil, file: &ParsedFile, ax: &Axcfil) -> Vec<Diagnost
             }
         }
     }
-    e.diags
 }
 
 /// CLO against TIM: CPU tick not 0 (104), tick_logic a multiple of it (105), time_slow at least it (106).

@@ -20,6 +20,6 @@ mod equipment;
 mod model;
 mod parse;
 
-pub use check::check_against;
+pub use check::{check_against, check_against_into};
 pub use model::*;
-pub use parse::{INPUT_CONNECTORS, OUTPUT_CONNECTORS, parse};
+pub use parse::{INPUT_CONNECTORS, OUTPUT_CONNECTORS, parse, parse_into};

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeSet;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use crate::pgcfil::fields::Emit;
 use crate::pgcfil::structure::{Blocks, not_allowed};
@@ -24,7 +24,14 @@ pub const OUTPUT_CONNECTORS: [u16; 16] =
 /// Decodes `file` (read by [`crate::reader::read`]) into an [`Iocfil`] and the diagnostics of every
 /// rule that needs no other file; cross-file rules are in [`super::check_against`].
 pub fn parse(file: &ParsedFile) -> (Iocfil, Vec<Diagnostic>) {
-    let mut e = Emit::new(file);
+    let mut diags = Sink::unbounded();
+    let io = parse_into(file, &mut diags);
+    (io, diags.into_vec())
+}
+
+/// [`parse`] pushing the diagnostics into `diags` (a sink that may store only the first of them).
+pub fn parse_into(file: &ParsedFile, diags: &mut Sink) -> Iocfil {
+    let mut e = Emit::new(file, diags);
     e.diags
         .extend(crate::reader::check_section_count(file, 4, 4));
     let mut io = Iocfil::default();
@@ -55,7 +62,7 @@ pub fn parse(file: &ParsedFile) -> (Iocfil, Vec<Diagnostic>) {
         );
     }
     io.processes.sort_by_key(|p| p.number);
-    (io, e.diags)
+    io
 }
 
 /// The number after `prefix` in `key` when it is 1–2 digits within `range`.

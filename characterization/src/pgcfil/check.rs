@@ -1,7 +1,7 @@
 //! Cross-file rules of PGCFIL: process numbers against AXCFIL NBP, the interpolator of NIP, the
 //! axes of NAM, NPD, TGA, CAX and MAS, and the ECDF-only instruction CAX.
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use crate::axcfil::Axcfil;
 use crate::reader::ParsedFile;
@@ -13,7 +13,15 @@ use super::model::Pgcfil;
 
 /// Checks `p` (decoded from `file`) against AXCFIL `ax`; returns the cross-file diagnostics.
 pub fn check_against(p: &Pgcfil, file: &ParsedFile, ax: &Axcfil) -> Vec<Diagnostic> {
-    let mut e = Emit::new(file);
+    let mut diags = Sink::unbounded();
+    check_against_into(p, file, ax, &mut diags);
+    diags.into_vec()
+}
+
+/// [`check_against`] pushing the diagnostics into `diags` (a sink that may store only the first of
+/// them).
+pub fn check_against_into(p: &Pgcfil, file: &ParsedFile, ax: &Axcfil, diags: &mut Sink) {
+    let mut e = Emit::new(file, diags);
     let nbp = ax.nbp;
     for section in [2, 4, 5, 6] {
         for (n, rec) in locate::pro_records(file, section) {
@@ -137,7 +145,6 @@ pub fn check_against(p: &Pgcfil, file: &ParsedFile, ax: &Axcfil) -> Vec<Diagnost
             }
         }
     }
-    e.diags
 }
 
 /// NIP: the interpolator exists in the process (114) and is the continuous one, holding both

@@ -7,13 +7,14 @@
 
 use std::ops::Range;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 use packets::Signal;
 
 use crate::reader::{Param, ParsedFile, Record};
 use crate::values::{self, Ctx};
 
-/// Collects the diagnostics of one file while its records are decoded.
+/// Pushes the diagnostics of one file into its sink while its records are decoded (a capped sink
+/// stores the first `--max-errors` of them and counts the rest: issue 23).
 pub(crate) struct Emit<'f> {
     /// The file being decoded.
     pub file: &'f ParsedFile,
@@ -21,18 +22,18 @@ pub(crate) struct Emit<'f> {
     pub section: u32,
     /// Process of the record being decoded, when the section is per process.
     pub process: Option<u32>,
-    /// Everything reported so far.
-    pub diags: Vec<Diagnostic>,
+    /// Where the diagnostics go.
+    pub diags: &'f mut Sink,
 }
 
 impl<'f> Emit<'f> {
-    /// A collector for `file`.
-    pub fn new(file: &'f ParsedFile) -> Self {
+    /// An emitter for `file` pushing into `diags`.
+    pub fn new(file: &'f ParsedFile, diags: &'f mut Sink) -> Self {
         Emit {
             file,
             section: 0,
             process: None,
-            diags: Vec::new(),
+            diags,
         }
     }
 

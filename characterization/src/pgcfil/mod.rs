@@ -33,6 +33,6 @@ mod sections56;
 pub(crate) mod structure;
 pub mod tables;
 
-pub use check::check_against;
+pub use check::{check_against, check_against_into};
 pub use model::*;
-pub use parse::parse;
+pub use parse::{parse, parse_into};

@@ -3,7 +3,7 @@
 
 use std::collections::BTreeSet;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 
 use crate::reader::{Param, ParsedFile, Record, Section};
 
@@ -22,7 +22,14 @@ const S4: &str = "PRO, ASS, NPL, NDD, PRF, FIL, FLC, STR, SER, CHN, SCR";
 /// Decodes `file` (read with [`crate::reader::read_with`] and [`crate::reader::Grammar::PGCFIL`]) into a [`Pgcfil`] and the diagnostics of every rule
 /// that needs no other file; cross-file rules are in [`super::check_against`].
 pub fn parse(file: &ParsedFile) -> (Pgcfil, Vec<Diagnostic>) {
-    let mut e = Emit::new(file);
+    let mut diags = Sink::unbounded();
+    let pg = parse_into(file, &mut diags);
+    (pg, diags.into_vec())
+}
+
+/// [`parse`] pushing the diagnostics into `diags` (a sink that may store only the first of them).
+pub fn parse_into(file: &ParsedFile, diags: &mut Sink) -> Pgcfil {
+    let mut e = Emit::new(file, diags);
     let mut pg = Pgcfil {
         load_mode: load_mode(&mut e, file),
         ..Pgcfil::default()
@@ -43,7 +50,7 @@ pub fn parse(file: &ParsedFile) -> (Pgcfil, Vec<Diagnostic>) {
         }
     }
     pg.processes.sort_by_key(|p| p.number);
-    (pg, e.diags)
+    pg
 }
 
 /// The NEW/OLD word before `*1` (error 25 when it is missing or something else).

@@ -19,24 +19,81 @@ fn lathe() -> PathBuf {
 /// A copy of the lathe's characterization files whose AXCFIL ends with `pairs` error-dense pairs;
 /// returns the directory and the line of the first `NAS=X`.
 fn dense_lathe(pairs: usize) -> (tempfile::TempDir, u32) {
+    dense_copy("AXCFIL", pairs, |i| format!("NAS=X\nQZQ{}=1\n", i % 10))
+}
+
+/// A copy of the lathe's characterization files whose MP0 file `name` ends with `pairs` pairs of
+/// lines `pair(k)`; returns the directory and the line of the first pair.
+fn dense_copy(
+    name: &str,
+    pairs: usize,
+    pair: impl Fn(usize) -> String,
+) -> (tempfile::TempDir, u32) {
     let dir = tempfile::tempdir().expect("temp dir");
     fs::create_dir_all(dir.path().join("MP0")).expect("mkdir");
     fs::copy(lathe().join("FCRSYS"), dir.path().join("FCRSYS")).expect("FCRSYS");
-    for f in ["PGCFIL", "IOCFIL", "PLCPRG"] {
+    for f in ["AXCFIL", "PGCFIL", "IOCFIL", "PLCPRG"] {
         fs::copy(lathe().join("MP0").join(f), dir.path().join("MP0").join(f)).expect("copy");
     }
     // Bytes: the lathe's comments are CP866.
-    let mut text = fs::read(lathe().join("MP0/AXCFIL")).expect("lathe AXCFIL");
+    let mut text = fs::read(lathe().join("MP0").join(name)).expect("lathe file");
     while text.last() == Some(&b'\n') {
         text.pop();
     }
     text.push(b'\n');
     let first = text.iter().filter(|&&b| b == b'\n').count() as u32 + 1;
     for i in 0..pairs {
-        text.extend_from_slice(format!("NAS=X\nQZQ{}=1\n", i % 10).as_bytes());
+        text.extend_from_slice(pair(i).as_bytes());
     }
-    fs::write(dir.path().join("MP0/AXCFIL"), text).expect("write");
+    fs::write(dir.path().join("MP0").join(name), text).expect("write");
     (dir, first)
+}
+
+/// The PGCFIL and IOCFIL validators push into the file's capped sink as AXCFIL's do: pairs of a
+/// duplicated instruction (101) and one the section does not allow (6), two errors per pair.
+#[test]
+fn capped_pgcfil_and_iocfil_loads_keep_exactly_max_diagnostics_and_count_the_rest() {
+    let pairs = 20_000;
+    for (name, pair) in [
+        (
+            "PGCFIL",
+            (|i| format!("MAS=XZ\nQZQ{}=1\n", i % 10)) as fn(usize) -> String,
+        ),
+        ("IOCFIL", |i| format!("T01=10\nQZQ{}=1\n", i % 10)),
+    ] {
+        let (dir, first) = dense_copy(name, pairs, pair);
+        let file = format!("MP0/{name}");
+        let load = load_machine_capped(dir.path(), 100);
+        assert_eq!(load.diagnostics.len(), 100, "{name}");
+        assert!(load.diagnostics.iter().all(|d| d.file == file), "{name}");
+        assert_eq!(
+            load.hidden,
+            [Hidden {
+                file: file.clone(),
+                errors: 2 * pairs - 100,
+                warnings: 0
+            }]
+        );
+        // Pair k (from 0) is lines first+2k (101) and first+2k+1 (6): the 100th kept is the 6
+        // of pair 49.
+        let at = |i: usize| {
+            let d = &load.diagnostics[i];
+            (d.code, d.line, d.column)
+        };
+        assert_eq!(
+            [at(0), at(1), at(2), at(99)],
+            [
+                (101, first, 1),
+                (6, first + 1, 1),
+                (101, first + 2, 1),
+                (6, first + 99, 1)
+            ],
+            "{name}"
+        );
+        let all = load_machine(dir.path());
+        assert_eq!(all.diagnostics.len(), 2 * pairs, "{name}");
+        assert_eq!(all.diagnostics[..100], load.diagnostics[..], "{name}");
+    }
 }
 
 #[test]

@@ -154,7 +154,10 @@ pub fn run(args: Args) -> ExitCode {
     // Each characterization file keeps at most `--max-errors` diagnostics in memory and counts
     // the rest: an error-dense file of any size is rejected in bounded memory (issue 23).
     let mut load = characterization::load_machine_capped(&args.machine_dir, args.max_errors);
-    if let Some(machine) = load.machine.clone() {
+    // What a part run would accept: the tables are read with this machine's axes (the machine
+    // is loaded once).
+    let runnable = !load.has_errors();
+    if let Some(machine) = load.machine.take() {
         let map = runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         let map_ok = !diag::has_errors(&map);
         load.diagnostics.extend(map);
@@ -170,10 +173,13 @@ pub fn run(args: Args) -> ExitCode {
             }
             load.diagnostics.extend(sim.diagnostics);
         }
+        let tables = (runnable && machine.iocfil.is_some()).then_some(&machine);
         load.diagnostics.extend(super::check_files::check(
             &args.machine_dir,
+            tables,
             &mut load.sources,
         ));
+        load.machine = Some(machine);
     }
     super::output::relocate(&mut load, &args.machine_dir);
     let report = render(&load, args.format, args.max_errors);

@@ -16,8 +16,6 @@ use std::path::Path;
 
 use diag::{Diagnostic, Sources};
 
-use sim::machine_view as nc;
-
 /// Codes of the machine files checked here (docs/README.md §Diagnostics).
 pub mod codes {
     /// `nc/DIALECT` names no dialect.
@@ -46,18 +44,28 @@ fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
     }
 }
 
-/// The diagnostics of every such file of `dir`, their texts added to `sources`.
-pub fn check(dir: &Path, sources: &mut Sources) -> Vec<Diagnostic> {
+/// The diagnostics of every such file of `dir`, their texts added to `sources`. `machine` is the
+/// machine `check` loaded, when its characterization has no errors and it has an IOCFIL (a part
+/// run refuses it otherwise): the tables are read with its axes, without loading it again.
+pub fn check(
+    dir: &Path,
+    machine: Option<&characterization::Machine>,
+    sources: &mut Sources,
+) -> Vec<Diagnostic> {
     let mut out = Vec::new();
+    let mut dialect = partprogram::Dialect::Mefi;
     if let Some(text) = read(dir, "nc/DIALECT", &mut out) {
         let word = text.trim();
-        if let Err(e) = word.parse::<partprogram::Dialect>() {
-            let start = text.find(word).unwrap_or(0);
-            out.push(
-                Diagnostic::error(codes::DIALECT, "nc/DIALECT", start..start + word.len(), e)
-                    .with_hint("nc/DIALECT holds one word: mefi or fanuc")
-                    .locate(&text),
-            );
+        match word.parse::<partprogram::Dialect>() {
+            Ok(d) => dialect = d,
+            Err(e) => {
+                let start = text.find(word).unwrap_or(0);
+                out.push(
+                    Diagnostic::error(codes::DIALECT, "nc/DIALECT", start..start + word.len(), e)
+                        .with_hint("nc/DIALECT holds one word: mefi or fanuc")
+                        .locate(&text),
+                );
+            }
         }
         sources.add("nc/DIALECT", text);
     }
@@ -65,8 +73,10 @@ pub fn check(dir: &Path, sources: &mut Sources) -> Vec<Diagnostic> {
         out.extend(constants(&text));
         sources.add("nc/CONSTANTS", text);
     }
-    if !diag::has_errors(&out) {
-        tables(dir, sources, &mut out);
+    if let Some(machine) = machine
+        && !diag::has_errors(&out)
+    {
+        tables(dir, &table_axes(machine, dialect), sources, &mut out);
     }
     let retain = dir.join("retain.bin");
     if let Err(e) = runtime::retain::load(&retain) {
@@ -108,23 +118,47 @@ fn constants(text: &str) -> Vec<Diagnostic> {
     out
 }
 
-/// The correction, zero-offset and retained-variable tables, read with the machine's axes.
-fn tables(dir: &Path, sources: &mut Sources, out: &mut Vec<Diagnostic>) {
-    let Ok(spec) = nc::machine_spec(dir, None, "") else {
-        return;
-    };
-    let axes = spec.axes();
+/// The axes a part run reads the tables with: those of `sim::machine_view::machine_spec` for
+/// `machine` in `dialect` (process 1's axes without spindles, C added for a Fanuc lathe; X, Y, Z
+/// when there are none), taken from the machine `check` loaded.
+fn table_axes(machine: &characterization::Machine, dialect: partprogram::Dialect) -> Vec<char> {
+    let mut axes: Vec<char> = machine
+        .axcfil
+        .processes
+        .first()
+        .map(|p| {
+            p.axes
+                .iter()
+                .filter(|a| !a.axis_type().spindle())
+                .map(|a| a.name)
+                .collect()
+        })
+        .unwrap_or_default();
+    let tof = machine
+        .pgcfil
+        .as_ref()
+        .and_then(|p| p.process(1))
+        .and_then(|p| p.tof.as_ref());
+    let lathe = tof.map_or(!axes.contains(&'Y'), |t| t.is_lathe());
+    if lathe && dialect == partprogram::Dialect::Fanuc && !axes.contains(&'C') {
+        axes.push('C');
+    }
+    partprogram::MachineSpec::new(dialect, &axes).axes()
+}
+
+/// The correction, zero-offset and retained-variable tables, read with the machine's `axes`.
+fn tables(dir: &Path, axes: &[char], sources: &mut Sources, out: &mut Vec<Diagnostic>) {
     let kor = ["MP0/TAB0.KOR", "MP0/TAB2.KOR"]
         .into_iter()
         .find(|n| dir.join(n).is_file());
     if let Some(name) = kor
         && let Some(text) = read(dir, name, out)
     {
-        out.extend(partprogram::parse_kor(name, &text, &axes).1);
+        out.extend(partprogram::parse_kor(name, &text, axes).1);
         sources.add(name, text);
     }
     if let Some(text) = read(dir, "MP0/TAB0.POS", out) {
-        out.extend(partprogram::parse_pos("MP0/TAB0.POS", &text, &axes).1);
+        out.extend(partprogram::parse_pos("MP0/TAB0.POS", &text, axes).1);
         sources.add("MP0/TAB0.POS", text);
     }
     if let Some(text) = read(dir, "nc/MACROVARS", out) {

@@ -644,11 +644,33 @@ pub fn parse_block(file: &str, text: &str, base: usize) -> Result<Block, Diagnos
     Ok(b)
 }
 
-/// Finds the macro blocks of Fanuc text `src`: returns the text with them blanked out, the blocks
-/// (in file order) and the errors of those that could not be read (their text is blanked too).
-pub fn prepass(file: &str, src: &str) -> (Option<String>, Vec<Block>, Vec<Diagnostic>) {
+/// Finds the macro blocks of Fanuc text `src`: returns the text with them blanked out (None when
+/// there is none), the blocks (in file order), and pushes the errors of those that could not be
+/// read (their text is blanked too) into `diags`. One pass over the pieces of the text (lines and
+/// `;`-separated blocks) as they end: nothing is held per piece.
+pub fn prepass(
+    file: &str,
+    src: &str,
+    diags: &mut dyn FnMut(Diagnostic),
+) -> (Option<String>, Vec<Block>) {
     let bytes = src.as_bytes();
-    let mut pieces = Vec::new();
+    let mut blocks = Vec::new();
+    let mut text: Option<Vec<u8>> = None;
+    let mut piece = |s: usize, e: usize| {
+        let Some(piece) = src.get(s..e) else {
+            return;
+        };
+        if !piece.contains(['#', '[', 'G', 'g', 'I', 'i', 'W', 'w', 'D', 'd', 'E', 'e'])
+            || !is_macro(piece)
+        {
+            return;
+        }
+        match parse_block(file, piece, s) {
+            Ok(b) => blocks.push(b),
+            Err(d) => diags(d),
+        }
+        blank(text.get_or_insert_with(|| bytes.to_vec()), (s, e));
+    };
     let (mut start, mut comment) = (0, false);
     for (i, &c) in bytes.iter().enumerate() {
         match c {
@@ -656,33 +678,21 @@ pub fn prepass(file: &str, src: &str) -> (Option<String>, Vec<Block>, Vec<Diagno
             b')' => comment = false,
             b'\n' | b'\r' => {
                 comment = false;
-                pieces.push((start, i));
+                piece(start, i);
                 start = i + 1;
             }
             b';' if !comment => {
-                pieces.push((start, i));
+                piece(start, i);
                 start = i + 1;
             }
             _ => {}
         }
     }
-    pieces.push((start, bytes.len()));
-    let mut blocks = Vec::new();
-    let mut diags = Vec::new();
-    let mut text: Option<Vec<u8>> = None;
-    for (s, e) in pieces {
-        let piece = &src[s..e];
-        if !piece.contains(['#', '[', 'G', 'g', 'I', 'i', 'W', 'w', 'D', 'd', 'E', 'e'])
-            || !is_macro(piece)
-        {
-            continue;
-        }
-        match parse_block(file, piece, s) {
-            Ok(b) => blocks.push(b),
-            Err(d) => diags.push(d),
-        }
-        blank(text.get_or_insert_with(|| bytes.to_vec()), (s, e));
-    }
-    let text = text.map(|t| String::from_utf8_lossy(&t).into_owned());
-    (text, blocks, diags)
+    piece(start, bytes.len());
+    // Blanking writes ASCII spaces over whole pieces, whose ends are ASCII: still UTF-8.
+    let text = text.map(|t| match String::from_utf8(t) {
+        Ok(s) => s,
+        Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
+    });
+    (text, blocks)
 }
