@@ -1,7 +1,7 @@
 //! The pages and their scripts, embedded in the binary (no CDN: the HMI works offline).
 
 use axum::extract::Path;
-use axum::http::{StatusCode, header};
+use axum::http::header;
 use axum::response::{IntoResponse, Response};
 
 /// Every embedded file: (URL path, content type, bytes).
@@ -59,6 +59,6 @@ pub async fn file(Path(path): Path<String>) -> Response {
 fn serve(path: &str) -> Response {
     match find(path) {
         Some((ct, bytes)) => ([(header::CONTENT_TYPE, ct)], bytes).into_response(),
-        None => (StatusCode::NOT_FOUND, format!("no such file: {path}")).into_response(),
+        None => crate::error::ApiError::not_found(format!("no such file: {path}")).into_response(),
     }
 }

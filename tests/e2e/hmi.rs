@@ -250,6 +250,10 @@ fn a_non_loopback_bind_needs_the_printed_token() {
     );
     // The scripts are public (they hold no data).
     assert_eq!(http(&addr, "GET", "/static/app.js", None, None).0, 200);
+    // A missing asset is refused like every other request: a JSON error.
+    let (code, body) = http(&addr, "GET", "/static/nothing.js", None, None);
+    assert_eq!(code, 404);
+    assert_eq!(body, r#"{"error":"no such file: nothing.js"}"#);
     let _ = child.kill();
     let _ = child.wait();
 }
