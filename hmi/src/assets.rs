@@ -1,6 +1,7 @@
 //! The pages and their scripts, embedded in the binary (no CDN: the HMI works offline).
 
 use axum::extract::Path;
+use axum::extract::rejection::PathRejection;
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 
@@ -52,8 +53,11 @@ pub async fn index() -> Response {
 }
 
 /// `GET /static/<path>`: an embedded file or a 404.
-pub async fn file(Path(path): Path<String>) -> Response {
-    serve(&path)
+pub async fn file(path: Result<Path<String>, PathRejection>) -> Response {
+    match crate::error::path_param(path) {
+        Ok(path) => serve(&path),
+        Err(e) => e.into_response(),
+    }
 }
 
 fn serve(path: &str) -> Response {
