@@ -19,6 +19,9 @@
 #          that do not need cranelift (not plc_*, not partprogram).
 # Env:     FUZZ_ARGS="..." adds libFuzzer flags (e.g. "-max_len=4096"). Every run is
 #          `-jobs=1 -workers=1`: the machine is shared.
+#          FUZZ_SANITIZER=none builds without AddressSanitizer (cargo fuzz `-s none`): several times
+#          the executions per second; panics, timeouts and the RSS limit are still caught. Use the
+#          same value for every command of a campaign (another value rebuilds everything).
 set -euo pipefail
 cd "$(dirname "$0")"
 state=executions.tsv
@@ -32,6 +35,10 @@ else
     shift || true
 fi
 targets=("$@")
+san=()
+if [ -n "${FUZZ_SANITIZER:-}" ]; then
+    san=(--sanitizer "$FUZZ_SANITIZER")
+fi
 if [ ${#targets[@]} -eq 0 ]; then
     mapfile -t targets < <(cargo +nightly fuzz list)
     if [ -n "${FUZZ_FEATURES:-}" ]; then
@@ -76,7 +83,7 @@ executions() {
 keep_corpus() {
     local t="$1" kb
     # shellcheck disable=SC2086
-    cargo +nightly fuzz cmin ${FUZZ_FEATURES:-} "$t" "corpus/$t" -- -jobs=1 -workers=1 >/dev/null 2>&1 || return 0
+    cargo +nightly fuzz cmin ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" -- -jobs=1 -workers=1 >/dev/null 2>&1 || return 0
     kb="$(du -sk "corpus/$t" | cut -f1)"
     if [ "$kb" -le "${FUZZ_SEED_KB:-64}" ]; then
         cp -n "corpus/$t"/* "seeds/$t"/ 2>/dev/null || true
@@ -92,7 +99,7 @@ fail() {
 }
 
 # shellcheck disable=SC2086
-cargo +nightly fuzz build ${FUZZ_FEATURES:-}
+cargo +nightly fuzz build ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-}
 mkdir -p logs
 for t in "${targets[@]}"; do
     [ -n "$t" ] || continue
@@ -101,7 +108,7 @@ for t in "${targets[@]}"; do
         echo "=== $t: ${secs}s"
         log="logs/$t.log"
         # shellcheck disable=SC2086
-        cargo +nightly fuzz run ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
+        cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
             -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 -jobs=1 -workers=1 \
             ${FUZZ_ARGS:-} 2>"$log" || fail "$t"
         record "$t" "$(executions "$log")"
@@ -114,7 +121,7 @@ for t in "${targets[@]}"; do
         echo "=== $t: $done_runs of $resume executions; running $chunk more"
         log="logs/$t.log"
         # shellcheck disable=SC2086
-        cargo +nightly fuzz run ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
+        cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
             -runs="$chunk" -rss_limit_mb=2048 -timeout=10 -jobs=1 -workers=1 \
             ${FUZZ_ARGS:-} 2>"$log" || fail "$t"
         n="$(executions "$log")"

@@ -86,8 +86,9 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let body = parts.next().unwrap_or_default().to_string();
     let mut lines = head.lines();
     let path = lines.next().unwrap_or("/");
+    let method = METHODS[usize::from(first & 7) % METHODS.len()];
     let mut b = Request::builder()
-        .method(METHODS[usize::from(first & 7) % METHODS.len()])
+        .method(method)
         .uri(if path.starts_with('/') {
             path.to_string()
         } else {
@@ -114,7 +115,8 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let Ok(resp) = resp;
     let status = resp.status();
     assert_ne!(status.as_u16(), 500, "a request made the HMI fail");
-    if status.is_client_error() && status.as_u16() != 405 {
+    // A HEAD answer has no body by definition (RFC 9110 §9.3.2): only its status is checked.
+    if status.is_client_error() && status.as_u16() != 405 && method != "HEAD" {
         let bytes = rt
             .block_on(axum::body::to_bytes(resp.into_body(), 1 << 20))
             .expect("body");

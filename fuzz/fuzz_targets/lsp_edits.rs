@@ -14,14 +14,20 @@ use plc_lsp::machine::Machine;
 
 const LATHE: &str = include_str!("../../plc-programs/lathe/MP0/PLCPRG");
 
-libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let machine = Arc::new(Machine {
+/// The machine, built once (parsing the built-in interface map per input was most of an
+/// execution).
+static MACHINE: std::sync::LazyLock<Arc<Machine>> = std::sync::LazyLock::new(|| {
+    Arc::new(Machine {
         dir: None,
         ctx: compiler::MachineContext::lathe_like(),
         plc_source: None,
         iocfil: None,
         note: None,
-    });
+    })
+});
+
+libfuzzer_sys::fuzz_target!(|data: &[u8]| {
+    let machine = Arc::clone(&MACHINE);
     let mut doc = Document::new("fuzz".into(), LATHE.to_string(), 0, machine.clone());
     let mut rest = data;
     let mut version = 0;

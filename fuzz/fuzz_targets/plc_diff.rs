@@ -7,16 +7,19 @@ use std::sync::Arc;
 
 use compiler::{Engine, Interpreter, MachineContext};
 
+/// The machine context, built once (parsing the built-in interface map per input was most of an
+/// execution).
+static CTX: std::sync::LazyLock<MachineContext> = std::sync::LazyLock::new(|| MachineContext {
+    time_slow_ms: 0,
+    ..MachineContext::lathe_like()
+});
+
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
     let (src, pokes) = match data.iter().position(|&b| b == 0) {
         Some(i) => (&data[..i], &data[i + 1..]),
         None => (data, &[][..]),
     };
-    let ctx = MachineContext {
-        time_slow_ms: 0,
-        ..MachineContext::lathe_like()
-    };
-    let Some(p) = compiler::compile("fuzz", src, &ctx).program else {
+    let Some(p) = compiler::compile("fuzz", src, &CTX).program else {
         return;
     };
     let p = Arc::new(p);

@@ -3,6 +3,7 @@
 use std::time::Duration;
 
 use axum::body::Bytes;
+use axum::extract::rejection::PathRejection;
 use axum::extract::{Path, State};
 use axum::response::{IntoResponse, Response};
 use axum::{Extension, Json};
@@ -10,7 +11,7 @@ use packets::{Packet, Signal};
 use serde::Deserialize;
 use serde_json::{Value, json};
 
-use crate::error::ApiError;
+use crate::error::{ApiError, path_param};
 use crate::model::{Command, Envelope, Request, SharedSnapshot};
 use crate::security::Role;
 use crate::server::AppState;
@@ -94,8 +95,9 @@ pub async fn set_flow(
 /// `GET /api/signal/<ADDR>`: one signal's value and whether it is forced.
 pub async fn signal(
     State(state): State<AppState>,
-    Path(addr): Path<String>,
+    addr: Result<Path<String>, PathRejection>,
 ) -> Result<Response, ApiError> {
+    let addr = path_param(addr)?;
     let sig = resolve(&state, &addr)?;
     let snap = snapshot(&state).await;
     let forced = snap.forced.iter().any(|(s, _)| same_storage(s, &sig));
@@ -156,8 +158,9 @@ pub async fn force(
 pub async fn unforce(
     State(state): State<AppState>,
     Extension(role): Extension<Role>,
-    Path(addr): Path<String>,
+    addr: Result<Path<String>, PathRejection>,
 ) -> Result<Response, ApiError> {
+    let addr = path_param(addr)?;
     writable(&state)?;
     let sig = resolve(&state, &addr)?;
     let tick = ask(&state, role, Request::Unforce(sig)).await?;
@@ -266,8 +269,9 @@ pub async fn command(
 /// `GET /api/toolpath/<P>`: process P's programmed path and the set points sampled so far.
 pub async fn toolpath(
     State(state): State<AppState>,
-    Path(process): Path<String>,
+    process: Result<Path<String>, PathRejection>,
 ) -> Result<Response, ApiError> {
+    let process = path_param(process)?;
     let snap = snapshot(&state).await;
     let found = process
         .parse::<u8>()

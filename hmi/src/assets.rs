@@ -1,7 +1,8 @@
 //! The pages and their scripts, embedded in the binary (no CDN: the HMI works offline).
 
 use axum::extract::Path;
-use axum::http::{StatusCode, header};
+use axum::extract::rejection::PathRejection;
+use axum::http::header;
 use axum::response::{IntoResponse, Response};
 
 /// Every embedded file: (URL path, content type, bytes).
@@ -52,13 +53,16 @@ pub async fn index() -> Response {
 }
 
 /// `GET /static/<path>`: an embedded file or a 404.
-pub async fn file(Path(path): Path<String>) -> Response {
-    serve(&path)
+pub async fn file(path: Result<Path<String>, PathRejection>) -> Response {
+    match crate::error::path_param(path) {
+        Ok(path) => serve(&path),
+        Err(e) => e.into_response(),
+    }
 }
 
 fn serve(path: &str) -> Response {
     match find(path) {
         Some((ct, bytes)) => ([(header::CONTENT_TYPE, ct)], bytes).into_response(),
-        None => (StatusCode::NOT_FOUND, format!("no such file: {path}")).into_response(),
+        None => crate::error::ApiError::not_found(format!("no such file: {path}")).into_response(),
     }
 }

@@ -1,6 +1,8 @@
 //! API errors: every refused request gets a status code and a JSON body `{"error": "…"}`.
 
 use axum::Json;
+use axum::extract::Path;
+use axum::extract::rejection::PathRejection;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 
@@ -62,4 +64,11 @@ impl IntoResponse for ApiError {
         )
             .into_response()
     }
+}
+
+/// The path parameter of a route, or a 400 JSON error when it cannot be taken (not UTF-8 after
+/// percent-decoding): axum's own rejection would answer in plain text.
+pub fn path_param(p: Result<Path<String>, PathRejection>) -> Result<String, ApiError> {
+    p.map(|Path(s)| s)
+        .map_err(|e| ApiError::bad_request(format!("the request's path: {e}")))
 }

@@ -66,6 +66,10 @@ pub(crate) fn parse_number(s: &str) -> Option<Lit> {
         Some(i) => (&body[..i], &body[i + 1..], true),
         None => (body, "", false),
     };
+    // A token may carry a second point ("2.52.5" in a Macro B block): not a number.
+    if !fp.bytes().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
     let ip_trim = ip.trim_start_matches('0');
     if ip_trim.len() > 12 {
         return None;

@@ -250,6 +250,19 @@ fn a_non_loopback_bind_needs_the_printed_token() {
     );
     // The scripts are public (they hold no data).
     assert_eq!(http(&addr, "GET", "/static/app.js", None, None).0, 200);
+    // A missing asset is refused like every other request: a JSON error.
+    let (code, body) = http(&addr, "GET", "/static/nothing.js", None, None);
+    assert_eq!(code, 404);
+    assert_eq!(body, r#"{"error":"no such file: nothing.js"}"#);
+    // A path parameter that is not UTF-8 once decoded: a JSON 400, not axum's plain text.
+    for path in ["/static/%FF", "/api/signal/%FF"] {
+        let (code, body) = http(&addr, "GET", path, None, Some(token));
+        assert_eq!(code, 400, "{path}");
+        assert_eq!(
+            body, r#"{"error":"the request's path: Invalid URL: Invalid UTF-8 in `path`"}"#,
+            "{path}"
+        );
+    }
     let _ = child.kill();
     let _ = child.wait();
 }

@@ -1,7 +1,8 @@
 //! The Modbus HMI server's limits on what one client may cost: a cap on open connections
 //! ([`Places`]), requests per second per connection ([`Rate`]) and an idle timeout on each
 //! connection ([`Guarded`]: no request byte for that long closes it, so a half-open connection
-//! or a client that stops in the middle of a frame gives its place back).
+//! or a client that stops in the middle of a frame gives its place back). [`Guarded`] also hands
+//! the request bytes on through a [`Screen`] (whole frames with counts in the protocol's ranges).
 //!
 //! Invariant: nothing here blocks or waits on the scan; a refused connection is closed at once,
 //! a request over the rate is answered with exception 06 (server device busy) and not served.
@@ -17,6 +18,8 @@ use tokio::io::{AsyncRead, AsyncWrite, ReadBuf};
 use tokio::net::TcpStream;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 use tokio::time::{Instant, Sleep};
+
+use super::screen::Screen;
 
 /// The open connections a server allows.
 #[derive(Debug, Clone)]
@@ -40,6 +43,7 @@ pub struct Guarded {
     stream: TcpStream,
     idle: Duration,
     deadline: Pin<Box<Sleep>>,
+    screen: Screen,
     _place: OwnedSemaphorePermit,
 }
 
@@ -50,6 +54,7 @@ impl Guarded {
             stream,
             idle,
             deadline: Box::pin(tokio::time::sleep(idle)),
+            screen: Screen::new(),
             _place: place,
         }
     }
@@ -62,16 +67,35 @@ impl AsyncRead for Guarded {
         buf: &mut ReadBuf<'_>,
     ) -> Poll<io::Result<()>> {
         let this = &mut *self;
-        match Pin::new(&mut this.stream).poll_read(cx, buf) {
-            Poll::Ready(r) => {
-                let idle = this.idle;
-                this.deadline.as_mut().reset(Instant::now() + idle);
-                Poll::Ready(r)
+        loop {
+            if this.screen.has_ready() {
+                let n = this.screen.take(buf.initialize_unfilled());
+                buf.advance(n);
+                return Poll::Ready(Ok(()));
             }
-            Poll::Pending if this.deadline.as_mut().poll(cx).is_ready() => Poll::Ready(Err(
-                io::Error::new(io::ErrorKind::TimedOut, "idle Modbus connection closed"),
-            )),
-            Poll::Pending => Poll::Pending,
+            let mut chunk = [0u8; 512];
+            let mut read = ReadBuf::new(&mut chunk);
+            match Pin::new(&mut this.stream).poll_read(cx, &mut read) {
+                Poll::Ready(Ok(())) => {
+                    let idle = this.idle;
+                    this.deadline.as_mut().reset(Instant::now() + idle);
+                    if read.filled().is_empty() {
+                        // End of stream: a partial frame held back is dropped with it.
+                        return Poll::Ready(Ok(()));
+                    }
+                    if let Err(e) = this.screen.push(read.filled()) {
+                        return Poll::Ready(Err(io::Error::new(io::ErrorKind::InvalidData, e)));
+                    }
+                }
+                Poll::Ready(Err(e)) => return Poll::Ready(Err(e)),
+                Poll::Pending if this.deadline.as_mut().poll(cx).is_ready() => {
+                    return Poll::Ready(Err(io::Error::new(
+                        io::ErrorKind::TimedOut,
+                        "idle Modbus connection closed",
+                    )));
+                }
+                Poll::Pending => return Poll::Pending,
+            }
         }
     }
 }

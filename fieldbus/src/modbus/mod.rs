@@ -8,6 +8,7 @@
 pub mod client;
 pub mod frame;
 pub mod guard;
+pub mod screen;
 pub mod server;
 pub mod sim;
 pub mod writer;

@@ -258,3 +258,59 @@ fn drivers_start_from_inside_another_tokio_runtime() {
     });
     assert_eq!(names, "canopen");
 }
+
+/// Request counts outside the protocol's ranges (found by the `modbus_server` fuzz target: they
+/// panicked tokio-modbus's decoder inside the server's thread) close the connection without an
+/// answer and without a panic; the server goes on serving, and a valid write in split reads is
+/// still served.
+#[test]
+fn requests_with_counts_outside_the_protocol_close_their_connection_and_nothing_else() {
+    use std::io::{Read, Write};
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    // Panics on the server's threads (tokio would contain them in the connection's task).
+    static SERVER_PANICS: AtomicUsize = AtomicUsize::new(0);
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if std::thread::current().name() == Some("ncplc-hmi") {
+            SERVER_PANICS.fetch_add(1, Ordering::SeqCst);
+        }
+        previous(info);
+    }));
+    let cfg = HmiConfig {
+        bind: "127.0.0.1:0".parse().expect("addr"),
+        holding: vec![HmiWindow {
+            start: Packet::K.offset() + 800,
+            len: 4,
+        }],
+        limits: HmiLimits::default(),
+    };
+    let hmi = HmiIo::start(Box::new(Fixed), &cfg).expect("server");
+    let addr = hmi.local_addr();
+    let exchange = |chunks: &[&[u8]]| {
+        let mut s = std::net::TcpStream::connect(addr).expect("connect");
+        s.set_read_timeout(Some(Duration::from_secs(5)))
+            .expect("timeout");
+        for c in chunks {
+            s.write_all(c).expect("write");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        let _ = s.shutdown(std::net::Shutdown::Write);
+        let mut got = Vec::new();
+        let _ = s.read_to_end(&mut got);
+        got
+    };
+    // 0x10 with quantity 0xC013 (× 2 overflows), 0x0F with 100 coils in one byte.
+    let overflow = [0x31, 0, 0, 0, 0, 7, 1, 0x10, 0xFF, 0x2F, 0xC0, 0x13, 0];
+    let coils = [0, 2, 0, 0, 0, 8, 1, 0x0F, 0, 0, 0, 100, 1, 0xFF];
+    assert_eq!(exchange(&[&overflow]), Vec::<u8>::new());
+    assert_eq!(exchange(&[&coils]), Vec::<u8>::new());
+    // Write W200K0..W200K3 (holding registers 400, 401), the frame in two reads: answered.
+    let write = [
+        0, 3, 0, 0, 0, 11, 1, 0x10, 1, 0x90, 0, 2, 4, 0xAB, 0xCD, 0x12, 0x34,
+    ];
+    assert_eq!(
+        exchange(&[&write[..9], &write[9..]]),
+        [0, 3, 0, 0, 0, 6, 1, 0x10, 1, 0x90, 0, 2]
+    );
+    assert_eq!(SERVER_PANICS.load(Ordering::SeqCst), 0);
+}

@@ -311,6 +311,13 @@ fn static_errors_are_located() {
     assert_eq!(static_codes("O1\n#1 = 1\nG#1 X1.\nM30\n"), vec![(2010, 3)]);
     assert_eq!(static_codes("O1\n#1 = [1 + 2\nM30\n"), vec![(2002, 2)]);
     assert_eq!(static_codes("O1\nG65 P77\nM30\n"), vec![(2019, 2)]);
+    // A number with two points (found by the fanuc_macro fuzz target: the fraction's second
+    // point overflowed the digit arithmetic).
+    assert_eq!(
+        static_codes("O1\nG01 X2.52.5 WHILE [1 EQ 1] DO1\nEND1\nM30\n"),
+        vec![(2002, 2), (2037, 3)]
+    );
+    assert_eq!(static_codes("O1\nG01 X2.52.5\nM30\n"), vec![(2013, 2)]);
 }
 
 #[test]
