@@ -174,19 +174,33 @@ pub fn compile_text(
             return Err(diag::render_human(&kdiags, &sources));
         }
     }
-    let (prog, mut diags) = partprogram::compile(&spec, name, text);
+    // At most diag::DEFAULT_MAX_PER_FILE diagnostics per file are kept, the rest counted, so an
+    // error-dense program is refused in memory bounded by the cap (issue 23).
+    let (prog, mut diags, hidden) =
+        partprogram::compile_capped(&spec, name, text, diag::DEFAULT_MAX_PER_FILE);
     if name == "MDI" {
         // MDI blocks are not a main program: they need no M02/M30.
         diags.retain(|d| d.code != partprogram::codes::NO_END);
     }
     if let Some(p) = &prog {
-        for f in &p.files {
+        for f in p.files.iter().filter(|f| f.name != name) {
             sources.add(f.name.clone(), f.text.clone());
         }
     }
-    match prog.filter(|_| !diag::has_errors(&diags)) {
+    let failed = diag::has_errors(&diags) || hidden.iter().any(|h| h.errors > 0);
+    match prog.filter(|_| !failed) {
         Some(prog) => Ok(Compiled { prog, sources }),
-        None => Err(diag::render_human(&diags, &sources)),
+        None => Err(diag::render_human_capped_with(
+            &diags,
+            &hidden,
+            &sources,
+            diag::DEFAULT_MAX_PER_FILE,
+        )
+        // `run` has no --max-errors: the note names the command that lists everything.
+        .replace(
+            "(--max-errors 0 shows all)",
+            "(`ncplc nc check --max-errors 0` lists all)",
+        )),
     }
 }
 

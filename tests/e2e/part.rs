@@ -417,3 +417,35 @@ fn until_end_without_a_start_stops_after_ten_idle_minutes() {
         "{stdout}"
     );
 }
+
+/// An error-dense partprogram is refused by `run` as by `nc check`: the first 100 diagnostics
+/// of the file (diag::DEFAULT_MAX_PER_FILE), the rest counted in one line and in the summary (issue 23: memory
+/// bounded by the cap, not by the file).
+#[test]
+fn run_refuses_an_error_dense_program_with_the_first_diagnostics_and_a_count() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/mill"), dir.path());
+    let text = format!("%1\nN1{}\nN2 M30\n", " U1".repeat(300));
+    std::fs::write(dir.path().join("nc/DENSE"), text).expect("write");
+    let out = Ncplc::run(dir.path())
+        .virtual_time()
+        .program("DENSE")
+        .ticks(10)
+        .output();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    // The first 100 of the file: the long line's warning and 99 of its 300 errors.
+    assert_eq!(
+        err.matches("error[E2008]: the machine has no axis U")
+            .count(),
+        99,
+        "{err}"
+    );
+    assert_eq!(err.matches("warning[E2012]").count(), 1, "{err}");
+    assert!(
+        err.contains(
+            "note: 201 more errors in nc/DENSE (`ncplc nc check --max-errors 0` lists all)\n300 errors, 1 warning\n"
+        ),
+        "{err}"
+    );
+}
