@@ -399,6 +399,14 @@ impl Builder {
                     out.clone_from(&s);
                 }));
             }
+            if let Some(lost) = p.nodes_lost.clone() {
+                sched.record_nodes_lost(Box::new(move |out| {
+                    let l = lost
+                        .lock()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner);
+                    out.clone_from(&l);
+                }));
+            }
         }
         Ok(())
     }

@@ -32,10 +32,13 @@ use fieldbus::canopen::drive::{DriveAnswers, DriveFault, FaultCause};
 use fieldbus::canopen::master::CanopenIo;
 use fieldbus::health::Fault;
 use packets::{IoAlarm, PacketIo};
-use trace::{AxisId, DriveFaultRecord, DriveSample, HeaderDrive};
+use trace::{AxisId, DriveFaultRecord, DriveSample, HeaderDrive, NodeLoss};
 
 /// The samples the kernel took at the last latch, for the recording.
 pub type Samples = Arc<Mutex<Vec<DriveSample>>>;
+
+/// The I/O nodes newly lost at the last latch, for the recording.
+pub type NodesLost = Arc<Mutex<Vec<NodeLoss>>>;
 
 /// The master and the kernel behind one [`PacketIo`].
 pub struct DriveIo {
@@ -53,6 +56,8 @@ pub struct DriveIo {
     published: Option<Vec<u8>>,
     /// The I/O nodes lost at the last latch (node ids).
     nodes_lost: Vec<u8>,
+    /// The nodes newly lost at the last latch (shared with the recording).
+    newly_lost: NodesLost,
 }
 
 impl DriveIo {
@@ -93,6 +98,7 @@ impl DriveIo {
             scratch: Vec::new(),
             published: None,
             nodes_lost: Vec::new(),
+            newly_lost: NodesLost::default(),
             canopen,
             kernel,
             cnc,
@@ -128,6 +134,11 @@ impl DriveIo {
     /// The feedback the kernel took at the last latch (shared with the recording).
     pub fn samples(&self) -> Samples {
         Arc::clone(&self.samples)
+    }
+
+    /// The I/O nodes newly lost at the last latch (shared with the recording).
+    pub fn nodes_lost(&self) -> NodesLost {
+        Arc::clone(&self.newly_lost)
     }
 }
 
@@ -194,12 +205,16 @@ fn fault_record(f: DriveFault) -> DriveFaultRecord {
     }
 }
 
-/// The alarm text of a lost I/O node.
-pub fn node_lost_message(name: &str, node: u8, fault: Fault) -> String {
-    let why = match fault {
+/// Why a node is lost, as the alarm and the trace say it.
+fn lost_why(fault: Fault) -> &'static str {
+    match fault {
         Fault::None => "no answer",
         f => f.text(),
-    };
+    }
+}
+
+/// The alarm text of a lost I/O node.
+pub fn node_lost_message(name: &str, node: u8, why: &str) -> String {
     format!(
         "I/O node {name} (node {node}) lost ({why}): its inputs read their fail values and its outputs are safe; machine off"
     )
@@ -215,19 +230,35 @@ impl DriveIo {
             .lost_nodes()
             .map(|(n, id, f)| (n.to_string(), id, f))
             .collect();
-        let mut cnc = lock(&self.cnc);
+        let mut newly = self
+            .newly_lost
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        newly.clear();
         for (name, id, fault) in &lost {
-            if self.nodes_lost.contains(id) {
-                continue;
-            }
-            let message = node_lost_message(name, *id, *fault);
-            for n in 1..=5u8 {
-                if let Ok(p) = cnc.process_mut(n) {
-                    p.drive_alarm(message.clone());
-                }
+            if !self.nodes_lost.contains(id) {
+                newly.push(NodeLoss {
+                    name: name.clone(),
+                    node: *id,
+                    why: lost_why(*fault).to_string(),
+                });
             }
         }
+        apply_nodes_lost(&mut lock(&self.cnc), &newly);
         self.nodes_lost = lost.iter().map(|(_, id, _)| *id).collect();
+    }
+}
+
+/// Raises the stopping alarm of each newly lost I/O node on every process (live, and in a replay
+/// from the recorded losses).
+pub fn apply_nodes_lost(cnc: &mut Cnc, lost: &[NodeLoss]) {
+    for l in lost {
+        let message = node_lost_message(&l.name, l.node, &l.why);
+        for n in 1..=5u8 {
+            if let Ok(p) = cnc.process_mut(n) {
+                p.drive_alarm(message.clone());
+            }
+        }
     }
 }
 

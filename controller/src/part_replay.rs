@@ -181,6 +181,10 @@ impl ReplayKernel for KernelReplay {
         let mut c = cnc.lock().unwrap_or_else(PoisonError::into_inner);
         crate::drive_io::apply_feedback(&mut c, feedback, &mut self.faults);
     }
+
+    fn nodes_lost(&mut self, _t: u64, lost: &[trace::NodeLoss]) {
+        crate::drive_io::apply_nodes_lost(&mut self.lock(), lost);
+    }
 }
 
 /// Replays `trace` through `loaded`: with the kernel when its header names partprograms, as a

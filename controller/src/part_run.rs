@@ -41,6 +41,8 @@ pub struct PartRun {
     pub(crate) bus_inputs: Vec<u16>,
     /// The drives' feedback the kernel took at the last latch, for the recording.
     pub(crate) drive_samples: Option<crate::drive_io::Samples>,
+    /// The I/O nodes newly lost at the last latch, for the recording.
+    pub(crate) nodes_lost: Option<crate::drive_io::NodesLost>,
     process: u8,
     part: Option<Part>,
     mdi: VecDeque<String>,
@@ -253,6 +255,7 @@ pub fn start_on_drives(
     run.drives = io.drives().to_vec();
     run.bus_inputs = io.bus_inputs();
     run.drive_samples = Some(io.samples());
+    run.nodes_lost = Some(io.nodes_lost());
     Ok((Box::new(io), run))
 }
 
@@ -293,6 +296,7 @@ pub fn start_spec(
         drives: Vec::new(),
         bus_inputs: Vec::new(),
         drive_samples: None,
+        nodes_lost: None,
         process: args.process,
         part,
         // The blocks run as one MDI program: planned together, they share their modal state; it

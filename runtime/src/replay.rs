@@ -38,6 +38,8 @@ pub trait ReplayKernel {
     /// Before tick `t`'s latch: the bus drives' feedback the recorded kernel took at this latch
     /// (the last recorded one; a run without drives has none and never gets a call).
     fn drives(&mut self, _t: u64, _feedback: &[trace::DriveSample]) {}
+    /// Before tick `t`'s latch: the I/O nodes the recorded run lost at this latch.
+    fn nodes_lost(&mut self, _t: u64, _lost: &[trace::NodeLoss]) {}
 }
 
 /// The result of a replay.
@@ -185,6 +187,7 @@ pub fn replay_driving(
     while t < total {
         let rec = next.next_if(|r| r.t == t);
         let recorded_drives = rec.map_or(&[][..], |r| r.drives.as_slice());
+        let recorded_lost = rec.map_or(&[][..], |r| r.nodes_lost.as_slice());
         if !recorded_drives.is_empty() {
             drives = recorded_drives.to_vec();
         }
@@ -195,6 +198,9 @@ pub fn replay_driving(
                 if let Err(e) = k.command(t, c) {
                     refused.push(format!("tick {t}: {} refused: {e}", command_json(c)));
                 }
+            }
+            if !recorded_lost.is_empty() {
+                k.nodes_lost(t, recorded_lost);
             }
             if !drives.is_empty() {
                 k.drives(t, &drives);
@@ -243,6 +249,7 @@ pub fn replay_driving(
             || !pos.is_empty()
             || !commands.is_empty()
             || !recorded_drives.is_empty()
+            || !recorded_lost.is_empty()
             || t + 1 == total
         {
             actual.ticks.push(TickRecord {
@@ -253,6 +260,7 @@ pub fn replay_driving(
                 positions: pos.clone(),
                 commands: commands.to_vec(),
                 drives: recorded_drives.to_vec(),
+                nodes_lost: recorded_lost.to_vec(),
             });
         }
         let mut step = 1;

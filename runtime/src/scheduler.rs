@@ -90,10 +90,14 @@ pub struct Scheduler {
     forced_scratch: Vec<trace::SignalValue>,
     positions: Option<(PositionSource, PositionTracker)>,
     drives: Option<(DriveSource, Vec<trace::DriveSample>)>,
+    nodes_lost: Option<NodeLossSource>,
 }
 
 /// Fills the bus drives' feedback the kernel took at this tick's latch (a part run on drives).
 pub type DriveSource = Box<dyn FnMut(&mut Vec<trace::DriveSample>) + Send>;
+
+/// Fills the I/O nodes lost at the last latch (empty when none was newly lost).
+pub type NodeLossSource = Box<dyn FnMut(&mut Vec<trace::NodeLoss>) + Send>;
 
 impl Scheduler {
     /// A scheduler around `loaded`, starting from `image` (T set, retain restored by the caller).
@@ -132,6 +136,7 @@ impl Scheduler {
             forced_scratch: Vec::new(),
             positions: None,
             drives: None,
+            nodes_lost: None,
         }
     }
 
@@ -150,6 +155,11 @@ impl Scheduler {
     /// recorded one (a part run on CiA 402 drives).
     pub fn record_drives(&mut self, source: DriveSource) {
         self.drives = Some((source, Vec::new()));
+    }
+
+    /// Records the I/O nodes `source` says were lost at each latch (a part run on CANopen).
+    pub fn record_nodes_lost(&mut self, source: NodeLossSource) {
+        self.nodes_lost = Some(source);
     }
 
     /// Takes new programs from `rx` at tick boundaries.
@@ -276,6 +286,7 @@ impl Scheduler {
             rec.commands.clear();
             rec.commands.append(&mut self.commands);
             rec.drives.clear();
+            rec.nodes_lost.clear();
         }
         self.io.latch_inputs(t, self.image.packets_mut());
         self.forces.apply_before(self.image.bytes_mut());
@@ -291,6 +302,9 @@ impl Scheduler {
                 } else {
                     last.clone_from(&rec.drives);
                 }
+            }
+            if let Some(source) = &mut self.nodes_lost {
+                source(&mut rec.nodes_lost);
             }
         }
         if !self.tripped {
@@ -311,7 +325,8 @@ impl Scheduler {
                 && rec.forced.is_empty()
                 && rec.positions.is_empty()
                 && rec.commands.is_empty()
-                && rec.drives.is_empty())
+                && rec.drives.is_empty()
+                && rec.nodes_lost.is_empty())
                 && let Err(e) = sink.record(rec)
             {
                 self.last_io_error = Some(e);

@@ -208,7 +208,9 @@ fn a_stalled_virtual_time_run_logs_no_heartbeat_loss() {
 /// its tick's five SYNCs: the clock reads SYNC 985); the consumer's 100 ms are 50 SYNCs, passed at
 /// the end of tick 207 (SYNC 1040). The scan takes the loss at tick 208: the node's inputs read
 /// their fail values (0), its healthy bit `I100K1` falls, and the stopping alarm naming the node
-/// switches the machine off (CONP `I0K2` 0, ALARM `I1K4` 1, CYCLE `I1K5` 0) in that tick.
+/// switches the machine off (CONP `I0K2` 0, ALARM `I1K4` 1, CYCLE `I1K5` 0) in that tick. The
+/// trace records the loss at that tick (`nodes_lost`), so the replay without the bus raises the
+/// same alarm there and is exact.
 #[test]
 fn a_silent_io_node_is_a_stopping_alarm_naming_it_at_its_exact_tick() {
     let _serial = e2e_common::serial();
@@ -231,6 +233,28 @@ fn a_silent_io_node_is_a_stopping_alarm_naming_it_at_its_exact_tick() {
     assert_eq!(input_changes(&trace, "I0K2").last(), Some(&(208, 0)));
     assert_eq!(input_changes(&trace, "I1K4").last(), Some(&(208, 1)));
     assert_eq!(input_changes(&trace, "I1K5").last(), Some(&(208, 0)));
+    let lost: Vec<(u64, serde_json::Value)> = trace
+        .lines()
+        .skip(1)
+        .filter_map(|l| {
+            let rec: serde_json::Value = serde_json::from_str(l).expect("json");
+            Some((rec["t"].as_u64()?, rec.get("nodes_lost")?.clone()))
+        })
+        .collect();
+    assert_eq!(
+        lost,
+        [(
+            208,
+            serde_json::json!([{"name": "dio1", "node": 2, "why": "heartbeat lost"}])
+        )]
+    );
+    let out = ncplc(&["replay", s(m.path()), s(&trace_path)]);
+    let r = text(&out);
+    assert!(out.status.success(), "{r}");
+    assert!(
+        r.contains("outputs identical, kernel signals and axis positions identical"),
+        "{r}"
+    );
 }
 
 /// `simulate` on an I/O node rehearses faults on the virtual bus only: error 3078 elsewhere.

@@ -13,8 +13,8 @@ use serde::{Deserialize, Serialize};
 use packets::{Dir, Packet, Signal};
 
 use super::{
-    AxisId, AxisValue, DriveSample, OperatorCommand, PartHeader, TickRecord, Trace, TraceError,
-    TraceSink, VERSION,
+    AxisId, AxisValue, DriveSample, NodeLoss, OperatorCommand, PartHeader, TickRecord, Trace,
+    TraceError, TraceSink, VERSION,
 };
 
 /// The name in the header frame.
@@ -45,6 +45,9 @@ pub enum Frame {
     Commands(String),
     /// The `drives` of the [`Frame::Tick`] that follows, as their JSON array.
     Drives(String),
+    /// The `nodes_lost` of the [`Frame::Tick`] that follows, as their JSON array (last, so that
+    /// older traces decode unchanged).
+    NodesLost(String),
 }
 
 /// A [`TickRecord`] in compact form.
@@ -103,6 +106,7 @@ impl CompactTick {
                 .collect()
         };
         Some(TickRecord {
+            nodes_lost: Vec::new(),
             t: prev_t.checked_add(self.dt)?,
             inputs: unpack(&self.inputs, Dir::In)?,
             outputs: unpack(&self.outputs, Dir::Out)?,
@@ -191,6 +195,13 @@ impl<W: Write> TraceSink for BinaryWriter<W> {
             })?;
             write_frame(&mut self.out, &Frame::Drives(json))?;
         }
+        if !rec.nodes_lost.is_empty() {
+            let json = serde_json::to_string(&rec.nodes_lost).map_err(|e| TraceError::Binary {
+                frame: 0,
+                message: format!("cannot encode: {e}"),
+            })?;
+            write_frame(&mut self.out, &Frame::NodesLost(json))?;
+        }
         let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
         self.prev_t = rec.t;
         write_frame(&mut self.out, &frame)
@@ -255,7 +266,8 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
         | Frame::Part(_)
         | Frame::Positions(_)
         | Frame::Commands(_)
-        | Frame::Drives(_) => {
+        | Frame::Drives(_)
+        | Frame::NodesLost(_) => {
             return Err(bad(i, "the first frame must be the header".into()));
         }
     };
@@ -264,6 +276,7 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     let mut positions: Option<(usize, Vec<AxisValue>)> = None;
     let mut commands: Option<(usize, Vec<OperatorCommand>)> = None;
     let mut drives: Option<(usize, Vec<DriveSample>)> = None;
+    let mut nodes_lost: Option<(usize, Vec<NodeLoss>)> = None;
     let mut part = None;
     for (i, raw) in frames {
         match decode_one(i, raw)? {
@@ -300,6 +313,14 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                     .map_err(|e| bad(i, format!("drive feedback: {e}")))?;
                 drives = Some((i, list));
             }
+            Frame::NodesLost(json) => {
+                if nodes_lost.is_some() {
+                    return Err(bad(i, "two lost-node frames without a tick between".into()));
+                }
+                let list = serde_json::from_str(&json)
+                    .map_err(|e| bad(i, format!("lost I/O nodes: {e}")))?;
+                nodes_lost = Some((i, list));
+            }
             Frame::Forced(list) => {
                 if forced.is_some() {
                     return Err(bad(i, "two forced frames without a tick between".into()));
@@ -327,6 +348,9 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 if let Some((_, list)) = drives.take() {
                     r.drives = list;
                 }
+                if let Some((_, list)) = nodes_lost.take() {
+                    r.nodes_lost = list;
+                }
                 if let Some(prev) = ticks.last()
                     && c.dt == 0
                 {
@@ -348,6 +372,12 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
     }
     if let Some((i, _)) = drives {
         return Err(bad(i, "truncated: a drive frame without its tick".into()));
+    }
+    if let Some((i, _)) = nodes_lost {
+        return Err(bad(
+            i,
+            "truncated: a lost-node frame without its tick".into(),
+        ));
     }
     if let Some((i, _)) = positions {
         return Err(bad(
@@ -377,6 +407,7 @@ mod tests {
             tick_ms: 1,
             ticks: vec![
                 TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     t: 0,
@@ -386,6 +417,7 @@ mod tests {
                     positions: Vec::new(),
                 },
                 TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     t: 300,
@@ -551,6 +583,38 @@ mod tests {
     }
 
     #[test]
+    fn lost_io_nodes_survive_both_forms() {
+        let trace = Trace {
+            tick_ms: 10,
+            ticks: vec![TickRecord {
+                t: 208,
+                nodes_lost: vec![crate::NodeLoss {
+                    name: "dio1".into(),
+                    node: 2,
+                    why: "heartbeat lost".into(),
+                }],
+                ..TickRecord::default()
+            }],
+            part: None,
+        };
+        assert_eq!(
+            decode(&encode(&trace).expect("encode")).expect("decode"),
+            trace
+        );
+        let mut text = Vec::new();
+        trace.write_text(&mut text).expect("text");
+        let text = String::from_utf8(text).expect("utf8");
+        assert_eq!(
+            text.lines().nth(1),
+            Some(r#"{"t":208,"nodes_lost":[{"name":"dio1","node":2,"why":"heartbeat lost"}]}"#)
+        );
+        assert_eq!(
+            super::super::text::parse(text.as_bytes()).expect("parse"),
+            trace
+        );
+    }
+
+    #[test]
     fn operator_commands_survive_both_forms() {
         let cmd = |command| OperatorCommand {
             process: 1,
@@ -687,6 +751,7 @@ mod tests {
                 outputs.dedup_by_key(|(s, _)| *s);
                 let forced = if i % 2 == 1 { outputs.clone() } else { Vec::new() };
                 ticks.push(TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     t,

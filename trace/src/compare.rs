@@ -193,6 +193,7 @@ mod tests {
     fn report_shows_the_first_divergence_and_context() {
         let mut c = Comparator::new(10);
         let exp = vec![TickRecord {
+            nodes_lost: Vec::new(),
             commands: Vec::new(),
             drives: Vec::new(),
             t: 2,
@@ -202,6 +203,7 @@ mod tests {
             positions: Vec::new(),
         }];
         let act = vec![TickRecord {
+            nodes_lost: Vec::new(),
             commands: Vec::new(),
             drives: Vec::new(),
             t: 3,

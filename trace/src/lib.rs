@@ -67,6 +67,21 @@ pub struct TickRecord {
     /// recorded feedback to its kernel instead of the bus.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub drives: Vec<DriveSample>,
+    /// The I/O nodes the CANopen master declared lost at this tick's latch (its heartbeat
+    /// consumer): the kernel's stopping alarm; a replay raises it again at the same tick.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub nodes_lost: Vec<NodeLoss>,
+}
+
+/// An I/O node lost at one tick: its io.toml name, node id and why (the master's fault text).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct NodeLoss {
+    /// The node's name in io.toml.
+    pub name: String,
+    /// The node id.
+    pub node: u8,
+    /// Why it is lost (`heartbeat lost`, `no answer`, …).
+    pub why: String,
 }
 
 /// One bus drive's feedback for one logic tick: the answers to that tick's SYNCs.

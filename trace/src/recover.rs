@@ -115,6 +115,7 @@ mod tests {
             tick_ms: 2,
             ticks: vec![
                 TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     forced: Vec::new(),
@@ -124,6 +125,7 @@ mod tests {
                     outputs: vec![(sig("U4A0"), 1)],
                 },
                 TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     forced: Vec::new(),

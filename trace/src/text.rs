@@ -90,6 +90,12 @@ pub fn format_record(r: &TickRecord, line: &mut String) {
         line.push_str(",\"drives\":");
         line.push_str(&json);
     }
+    if !r.nodes_lost.is_empty()
+        && let Ok(json) = serde_json::to_string(&r.nodes_lost)
+    {
+        line.push_str(",\"nodes_lost\":");
+        line.push_str(&json);
+    }
     if !r.positions.is_empty() {
         line.push_str(",\"pos\":{");
         for (i, (a, bits)) in r.positions.iter().enumerate() {
@@ -189,12 +195,12 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
         for key in obj.keys() {
             if !matches!(
                 key.as_str(),
-                "t" | "in" | "out" | "forced" | "pos" | "cmd" | "drives"
+                "t" | "in" | "out" | "forced" | "pos" | "cmd" | "drives" | "nodes_lost"
             ) {
                 return Err(err(
                     n,
                     format!(
-                        "unknown key \"{key}\" (expected t, in, out, forced, pos, cmd, drives)"
+                        "unknown key \"{key}\" (expected t, in, out, forced, pos, cmd, drives, nodes_lost)"
                     ),
                 ));
             }
@@ -215,7 +221,13 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
                 serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"drives\": {e}")))?
             }
         };
+        let nodes_lost = match obj.get("nodes_lost") {
+            None => Vec::new(),
+            Some(v) => serde_json::from_value(v.clone())
+                .map_err(|e| err(n, format!("\"nodes_lost\": {e}")))?,
+        };
         ticks.push(TickRecord {
+            nodes_lost,
             t,
             inputs,
             outputs,
@@ -287,6 +299,7 @@ mod tests {
             tick_ms: 10,
             ticks: vec![
                 TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     t: 0,
@@ -296,6 +309,7 @@ mod tests {
                     positions: Vec::new(),
                 },
                 TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     t: 7,
