@@ -1,9 +1,10 @@
 #![no_main]
 //! I/O maps from arbitrary text never panic the reader; a map comes back exactly when there is no error.
-//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
-//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte of the thread's
+//! CPU time (generous for sanitizer builds; a quadratic path on a 64 KB input blows it by orders
+//! of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = std::time::Instant::now();
+    let started = ncplc_fuzz::CpuClock::start();
     if let Ok(s) = std::str::from_utf8(data) {
         let declared = fieldbus::DeclaredConnectors {
             inputs: vec![0, 1, 2],

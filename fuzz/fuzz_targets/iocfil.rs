@@ -1,9 +1,10 @@
 #![no_main]
 //! Arbitrary bytes read as IOCFIL never panic the reader or the IOCFIL decoder.
-//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
-//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte of the thread's
+//! CPU time (generous for sanitizer builds; a quadratic path on a 64 KB input blows it by orders
+//! of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = std::time::Instant::now();
+    let started = ncplc_fuzz::CpuClock::start();
     let (file, _) = characterization::reader::read("IOCFIL", data);
     let _ = characterization::iocfil::parse(&file);
     let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);

@@ -6,7 +6,7 @@
 use partprogram::macro_b::retained::{format_retained, parse_retained};
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = std::time::Instant::now();
+    let started = ncplc_fuzz::CpuClock::start();
     let text = String::from_utf8_lossy(data);
     let (vars, diags) = parse_retained("MACROVARS", &text);
     assert!(diags.iter().all(|d| d.span.end <= text.len()));

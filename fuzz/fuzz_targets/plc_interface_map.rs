@@ -1,14 +1,15 @@
 #![no_main]
 //! Interface maps from arbitrary text never panic the reader: every error has a code in 1601..1608
 //! and a span inside the text, and a map that parses merges with the default map without a panic.
-//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
-//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte of the thread's
+//! CPU time (generous for sanitizer builds; a quadratic path on a 64 KB input blows it by orders
+//! of magnitude).
 /// The built-in map, parsed once (it is the same for every input).
 static BUILTIN: std::sync::LazyLock<compiler::InterfaceMap> =
     std::sync::LazyLock::new(compiler::InterfaceMap::builtin);
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = std::time::Instant::now();
+    let started = ncplc_fuzz::CpuClock::start();
     if let Ok(s) = std::str::from_utf8(data) {
         let checked = compiler::InterfaceMap::parse_all("interface.toml", s)
             .and_then(|o| BUILTIN.clone().with_overrides(o));

@@ -2,10 +2,11 @@
 //! Trace files (text or binary) from arbitrary bytes never panic the reader or `trace recover`;
 //! what recovery keeps is a prefix of the input, and of a trace that reads whole it keeps a prefix
 //! of the records. Sim scripts (`sim.toml`) from arbitrary text never panic their reader.
-//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte (generous for
-//! sanitizer builds; a quadratic path on a 64 KB input blows it by orders of magnitude).
+//! Work is bounded: the whole input must take at most 100 ms + 20 µs per byte of the thread's
+//! CPU time (generous for sanitizer builds; a quadratic path on a 64 KB input blows it by orders
+//! of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = std::time::Instant::now();
+    let started = ncplc_fuzz::CpuClock::start();
     let whole = trace::Trace::from_bytes(data);
     if let Ok(r) = trace::recover::recover(data) {
         assert!(r.kept_bytes + r.dropped_bytes <= data.len());
