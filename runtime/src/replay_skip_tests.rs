@@ -43,6 +43,7 @@ fn run(src: &str, tick_ms: u32, trace: &Trace, engine: EngineKind, skip_idle: bo
 
 fn input_only(t: u64, inputs: &[(&str, u8)]) -> TickRecord {
     TickRecord {
+        nodes_lost: Vec::new(),
         commands: Vec::new(),
         drives: Vec::new(),
         forced: Vec::new(),
@@ -73,6 +74,7 @@ fn a_running_timer_is_jumped_to_the_tick_of_its_expiry_and_then_to_the_end() {
         let expected = vec![
             input_only(0, &[("I0A0", 1)]),
             TickRecord {
+                nodes_lost: Vec::new(),
                 commands: Vec::new(),
                 drives: Vec::new(),
                 forced: Vec::new(),
@@ -224,6 +226,7 @@ fn sparse_trace() -> impl Strategy<Value = Trace> {
             let mut t = 0;
             for (gap, n, v) in changes {
                 ticks.push(TickRecord {
+                    nodes_lost: Vec::new(),
                     commands: Vec::new(),
                     drives: Vec::new(),
                     forced: Vec::new(),
