@@ -259,7 +259,7 @@ fn a_non_loopback_bind_needs_the_printed_token() {
         let (code, body) = http(&addr, "GET", path, None, Some(token));
         assert_eq!(code, 400, "{path}");
         assert_eq!(
-            body, r#"{"error":"the request's path: Invalid URL: Invalid UTF-8 in `path`"}"#,
+            body, r#"{"error":"the request's path: Invalid UTF-8 in `path`"}"#,
             "{path}"
         );
     }
