@@ -255,11 +255,12 @@ fn a_non_loopback_bind_needs_the_printed_token() {
     assert_eq!(code, 404);
     assert_eq!(body, r#"{"error":"no such file: nothing.js"}"#);
     // A path parameter that is not UTF-8 once decoded: a JSON 400, not axum's plain text.
-    for path in ["/static/%FF", "/api/signal/%FF"] {
+    for (path, param) in [("/static/%FF", "path"), ("/api/signal/%FF", "addr")] {
         let (code, body) = http(&addr, "GET", path, None, Some(token));
         assert_eq!(code, 400, "{path}");
         assert_eq!(
-            body, r#"{"error":"the request's path: Invalid UTF-8 in `path`"}"#,
+            body,
+            format!(r#"{{"error":"the request's path: Invalid UTF-8 in `{param}`"}}"#),
             "{path}"
         );
     }
