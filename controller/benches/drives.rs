@@ -64,6 +64,7 @@ impl OnDrives {
                 heartbeat: Duration::from_secs(3600),
                 sdo: Vec::new(),
                 simulate: Default::default(),
+                span: 0..0,
             })
             .collect();
         let header: Vec<trace::HeaderDrive> = cfg

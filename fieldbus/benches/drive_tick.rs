@@ -27,6 +27,7 @@ fn bench(c: &mut Criterion) {
             heartbeat: Duration::from_secs(3600),
             sdo: Vec::new(),
             simulate: Default::default(),
+            span: 0..0,
         })
         .collect();
     let mut set = DriveSet::new(&drives, Duration::from_millis(1));

@@ -209,7 +209,20 @@ pub fn open_canopen(
             .get_ref()
             .and_then(|i| i.downcast_ref::<canopen::drive::startup::DriveStartError>())
         {
-            return vec![d.diagnostic()];
+            let span = cfg
+                .drives
+                .iter()
+                .find(|c| Some(c.node_id) == d.node())
+                .map_or(0..0, |c| c.span.clone());
+            // Located in io.toml's text as it was read (a file changed since reads as unlocated).
+            let diag = d.diagnostic(span);
+            return vec![match std::fs::read_to_string(machine_dir.join("io.toml")) {
+                Ok(text) => {
+                    let index = diag::LineIndex::new(&text);
+                    diag.locate_in(&text, &index)
+                }
+                Err(_) => diag,
+            }];
         }
         whole_file(
             codes::START,

@@ -252,6 +252,8 @@ pub struct CanDrive {
     pub sdo: Vec<SdoWrite>,
     /// Test hooks of the simulated drive (`simulate = {…}`, `transport = "virtual"` only).
     pub simulate: DriveSimHooks,
+    /// Where the entry's `node_id` is in io.toml (bytes), for errors found at start-up.
+    pub span: std::ops::Range<usize>,
 }
 
 /// What a simulated drive on the virtual bus is told to do wrong (io.toml `simulate`), so that

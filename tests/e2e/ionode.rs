@@ -88,6 +88,13 @@ fn a_drive_that_refuses_an_sdo_write_is_error_3077_with_node_object_and_abort_co
         "{r}"
     );
     assert!(!r.contains("E3060"), "{r}");
+    // Located at the drive's entry: its `node_id` in io.toml.
+    let io = std::fs::read_to_string(m.path().join("io.toml")).expect("io.toml");
+    let entry = io.find("axis = \"Z\"\nsimulate").expect("the Z entry");
+    let at = entry + io[entry..].find("node_id = ").expect("node_id") + "node_id = ".len();
+    let line = io[..at].matches('\n').count() + 1;
+    let column = at - io[..at].rfind('\n').map_or(0, |i| i + 1) + 1;
+    assert!(r.contains(&format!("io.toml:{line}:{column}\n")), "{r}");
 }
 
 /// The lathe's panel script over the bus: CYCLE START (`I0A3`, IN0 on node dio1) set at tick 10

@@ -68,6 +68,7 @@ pub(super) fn drives(
                 claimed.insert((process, a), r.axis.span());
             }
         }
+        let span = r.node_id.span();
         let node_id = node_id(cx, r, io_nodes, &mut nodes);
         let counts_per_unit = *r.counts_per_unit.get_ref();
         if !counts_per_unit.is_finite() || counts_per_unit <= 0.0 {
@@ -93,6 +94,7 @@ pub(super) fn drives(
                 .as_ref()
                 .map(|h| simulate(cx, h, virtual_bus))
                 .unwrap_or_default(),
+            span,
         });
     }
     out

@@ -30,6 +30,7 @@ fn drive(axis: char, node_id: u8, mode: DriveMode, cpu: f64) -> CanDrive {
         heartbeat: Duration::from_millis(200),
         sdo: Vec::new(),
         simulate: Default::default(),
+        span: 0..0,
     }
 }
 
@@ -224,7 +225,7 @@ async fn an_sdo_abort_at_start_up_names_the_node_the_object_and_the_code_and_sta
         err.to_string(),
         "drive of axis Z (node 4): SDO write 60C2h/1 was aborted with code 06090030h (value range of parameter exceeded)"
     );
-    assert_eq!(err.diagnostic().code, fieldbus::codes::DRIVE_START);
+    assert_eq!(err.diagnostic(0..0).code, fieldbus::codes::DRIVE_START);
     // Neither drive was started: both stay pre-operational, so none can be enabled.
     assert_eq!(good.state().nmt, nmt::PRE_OPERATIONAL);
     assert_eq!(bad.state().nmt, nmt::PRE_OPERATIONAL);

@@ -65,6 +65,11 @@ fn valid_drive_entries_parse_as_written() {
     );
     assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
     let drives = map.expect("valid").canopen.expect("canopen").drives;
+    // Each entry remembers where its node id is written (for start-up errors, 3077).
+    let span = |n: &str| {
+        let i = text.find(&format!("node_id = {n}\n")).expect("entry") + "node_id = ".len();
+        i..i + n.len()
+    };
     assert_eq!(
         drives,
         vec![
@@ -77,6 +82,7 @@ fn valid_drive_entries_parse_as_written() {
                 heartbeat: Duration::from_millis(50),
                 sdo: vec![],
                 simulate: Default::default(),
+                span: span("3"),
             },
             CanDrive {
                 process: 1,
@@ -92,6 +98,7 @@ fn valid_drive_entries_parse_as_written() {
                     size: 4
                 }],
                 simulate: Default::default(),
+                span: span("4"),
             },
             CanDrive {
                 process: 1,
@@ -102,6 +109,7 @@ fn valid_drive_entries_parse_as_written() {
                 heartbeat: Duration::from_millis(100),
                 sdo: vec![],
                 simulate: Default::default(),
+                span: span("5"),
             },
         ]
     );

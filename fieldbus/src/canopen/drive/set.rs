@@ -495,6 +495,7 @@ mod tests {
             heartbeat: Duration::from_millis(50),
             sdo: Vec::new(),
             simulate: Default::default(),
+            span: 0..0,
         };
         let mut s = DriveSet::new(&[d], Duration::from_millis(10));
         let now = Instant::now();

@@ -56,9 +56,20 @@ pub enum DriveStartError {
 }
 
 impl DriveStartError {
-    /// The error as a diagnostic on io.toml (code 3077): no drive was started.
-    pub fn diagnostic(&self) -> diag::Diagnostic {
-        diag::Diagnostic::error(crate::codes::DRIVE_START, "io.toml", 0..0, self.to_string())
+    /// The node the error is about (none for a bus error).
+    pub fn node(&self) -> Option<u8> {
+        match self {
+            DriveStartError::Sdo { node, .. } | DriveStartError::NotCia402 { node, .. } => {
+                Some(*node)
+            }
+            DriveStartError::Bus(_) => None,
+        }
+    }
+
+    /// The error as a diagnostic on io.toml (code 3077) at `span` (the drive's entry): no drive
+    /// was started.
+    pub fn diagnostic(&self, span: std::ops::Range<usize>) -> diag::Diagnostic {
+        diag::Diagnostic::error(crate::codes::DRIVE_START, "io.toml", span, self.to_string())
             .with_hint("no drive was started or enabled; check the node id and wiring, and the object in the drive's manual")
     }
 }
@@ -285,6 +296,7 @@ mod tests {
             heartbeat: Duration::from_millis(50),
             sdo: vec![w(0x2000, 1, 7, 1)],
             simulate: Default::default(),
+            span: 0..0,
         };
         let c = configuration(&d, Duration::from_millis(4));
         assert_eq!(c[0], w(0x6060, 0, 9, 1));
@@ -310,6 +322,7 @@ mod tests {
             heartbeat: Duration::from_millis(100),
             sdo: Vec::new(),
             simulate: Default::default(),
+            span: 0..0,
         };
         let c = configuration(&d, Duration::from_millis(2));
         let homing = [
