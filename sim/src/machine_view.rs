@@ -138,6 +138,38 @@ pub fn machine_view_files(dir: &Path) -> Vec<PathBuf> {
     .collect()
 }
 
+/// The axes a partprogram of `dialect` is compiled with on `machine`: process 1's axes without
+/// its spindles, and C for a Fanuc lathe (PGCFIL's TOF says lathe; without TOF, no Y axis) whose
+/// process 1 has none (the cylinder interpolation G7.1 names it).
+pub fn program_axes(machine: &characterization::Machine, dialect: Dialect) -> Vec<char> {
+    let mut axes: Vec<char> = machine
+        .axcfil
+        .processes
+        .first()
+        .map(|p| {
+            p.axes
+                .iter()
+                .filter(|a| !a.axis_type().spindle())
+                .map(|a| a.name)
+                .collect()
+        })
+        .unwrap_or_default();
+    if is_lathe(machine, &axes) && dialect == Dialect::Fanuc && !axes.contains(&'C') {
+        axes.push('C');
+    }
+    axes
+}
+
+/// PGCFIL's TOF of process 1 says lathe; without TOF, a machine whose `axes` have no Y is one.
+fn is_lathe(machine: &characterization::Machine, axes: &[char]) -> bool {
+    let tof = machine
+        .pgcfil
+        .as_ref()
+        .and_then(|p| p.process(1))
+        .and_then(|p| p.tof.as_ref());
+    tof.map_or(!axes.contains(&'Y'), |t| t.is_lathe())
+}
+
 /// Machine constants 8, 329 and 341 come from `<dir>/nc/CONSTANTS` when it exists.
 pub fn machine_spec(
     dir: &Path,
@@ -181,20 +213,8 @@ pub fn machine_spec(
                 .unwrap_or_default(),
         })
         .collect();
-    let first_axes: Vec<char> = processes
-        .first()
-        .map(|p| p.axes.clone())
-        .unwrap_or_default();
-    let tof = machine
-        .pgcfil
-        .as_ref()
-        .and_then(|p| p.process(1))
-        .and_then(|p| p.tof.as_ref());
-    let lathe = tof.map_or(!first_axes.contains(&'Y'), |t| t.is_lathe());
-    let mut axes = first_axes;
-    if lathe && dialect == Dialect::Fanuc && !axes.contains(&'C') {
-        axes.push('C');
-    }
+    let axes = program_axes(machine, dialect);
+    let lathe = is_lathe(machine, &axes);
     let mut spec = MachineSpec::new(dialect, &axes);
     if let Some(first) = processes.first_mut() {
         first.axes = axes;

@@ -119,30 +119,10 @@ fn constants(text: &str) -> Vec<Diagnostic> {
 }
 
 /// The axes a part run reads the tables with: those of `sim::machine_view::machine_spec` for
-/// `machine` in `dialect` (process 1's axes without spindles, C added for a Fanuc lathe; X, Y, Z
-/// when there are none), taken from the machine `check` loaded.
+/// `machine` in `dialect` (`sim::machine_view::program_axes`; X, Y, Z when there are none),
+/// taken from the machine `check` loaded.
 fn table_axes(machine: &characterization::Machine, dialect: partprogram::Dialect) -> Vec<char> {
-    let mut axes: Vec<char> = machine
-        .axcfil
-        .processes
-        .first()
-        .map(|p| {
-            p.axes
-                .iter()
-                .filter(|a| !a.axis_type().spindle())
-                .map(|a| a.name)
-                .collect()
-        })
-        .unwrap_or_default();
-    let tof = machine
-        .pgcfil
-        .as_ref()
-        .and_then(|p| p.process(1))
-        .and_then(|p| p.tof.as_ref());
-    let lathe = tof.map_or(!axes.contains(&'Y'), |t| t.is_lathe());
-    if lathe && dialect == partprogram::Dialect::Fanuc && !axes.contains(&'C') {
-        axes.push('C');
-    }
+    let axes = sim::machine_view::program_axes(machine, dialect);
     partprogram::MachineSpec::new(dialect, &axes).axes()
 }
 
