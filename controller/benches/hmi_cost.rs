@@ -49,7 +49,7 @@ fn client(addr: std::net::SocketAddr, stop: Arc<AtomicBool>) -> std::thread::Joi
 fn ticks(c: &mut Controller, n: u64, publish_every: u64) {
     for _ in 0..n {
         c.step(&mut Quiet);
-        if publish_every > 0 && c.scheduler().tick_count() % publish_every == 0 {
+        if publish_every > 0 && c.scheduler().tick_count().is_multiple_of(publish_every) {
             c.publish_hmi();
         }
     }

@@ -52,6 +52,7 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
             .parse()
             .unwrap_or_else(|e| panic!("{e:?}"));
         recs.push(TickRecord {
+            nodes_lost: Vec::new(),
             forced: Vec::new(),
             positions: Vec::new(),
             commands: Vec::new(),

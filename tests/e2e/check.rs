@@ -428,7 +428,9 @@ fn sim_toml_unknown_keys_ticks_and_values_are_located() {
     let sim = dir.path().join("sim.toml");
     let base = std::fs::read_to_string(&sim).expect("sim.toml");
     let n = base.lines().count() as u64;
-    let cases: [(&str, (u64, u64, u64, &str)); 5] = [
+    // (appended text, (code, line, column, message)).
+    type Case<'a> = (&'a str, (u64, u64, u64, &'a str));
+    let cases: [Case; 5] = [
         (
             "[[at]]\ntick = 5\nsett = { I0A3 = 1 }\n",
             (

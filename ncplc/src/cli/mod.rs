@@ -41,7 +41,7 @@ pub enum Command {
     Build(build::Args),
     /// Run the machine's logic in the cyclic runtime.
     #[command(after_help = output::EXIT_CODES_HELP)]
-    Run(run::Args),
+    Run(Box<run::Args>),
     /// Replay a recorded I/O trace and compare the outputs.
     #[command(after_help = output::EXIT_CODES_HELP)]
     Replay(replay::Args),
@@ -76,7 +76,7 @@ pub fn main(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Check(a) => check::run(a),
         Command::Build(a) => build::run(a),
-        Command::Run(a) => run::run(a),
+        Command::Run(a) => run::run(*a),
         Command::Replay(a) => replay::run(a),
         Command::Trace(a) => trace::run(a),
         Command::Nc(a) => nc::run(a),

@@ -178,9 +178,11 @@ fn run_inner(a: &RunArgs) -> Result<ExitCode, String> {
             &cfg,
             law,
             a.feed_override,
-            blocks.len(),
-            contour,
-            ticks,
+            Counts {
+                blocks: blocks.len(),
+                contour,
+                ticks,
+            },
             monitor.report()
         )
     );
@@ -236,16 +238,29 @@ fn tick_line(line: &mut String, t: u64, p: &[f64], block: usize, feed: f64) {
     let _ = writeln!(line, "],\"block\":{block},\"feed\":{}}}", num(feed, 1e3));
 }
 
+/// What a run counted, for its summary.
+struct Counts {
+    /// Canonical blocks planned.
+    blocks: usize,
+    /// Blocks under contour control.
+    contour: usize,
+    /// Interpolation ticks of the motion.
+    ticks: u64,
+}
+
 fn summary(
     name: &str,
     cfg: &Config,
     law: Law,
     ovr: u16,
-    blocks: usize,
-    contour: usize,
-    ticks: u64,
+    counts: Counts,
     r: &motion::monitor::Report,
 ) -> String {
+    let Counts {
+        blocks,
+        contour,
+        ticks,
+    } = counts;
     let mut s = format!(
         "{name}: {blocks} blocks, law {}, tolerance {} mm, override {ovr} %\n{}\n",
         law.name(),
