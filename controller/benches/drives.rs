@@ -65,6 +65,7 @@ impl OnDrives {
                 sdo: Vec::new(),
                 simulate: Default::default(),
                 span: 0..0,
+                homing: true,
             })
             .collect();
         let header: Vec<trace::HeaderDrive> = cfg

@@ -28,6 +28,7 @@ fn bench(c: &mut Criterion) {
             sdo: Vec::new(),
             simulate: Default::default(),
             span: 0..0,
+            homing: true,
         })
         .collect();
     let mut set = DriveSet::new(&drives, Duration::from_millis(1));

@@ -254,6 +254,10 @@ pub struct CanDrive {
     pub simulate: DriveSimHooks,
     /// Where the entry's `node_id` is in io.toml (bytes), for errors found at start-up.
     pub span: std::ops::Range<usize>,
+    /// A `csp` drive whose axis has an MCZ homing cycle (or whose AXCFIL is not known): it gets
+    /// the homing PDOs (touch probe `60B8h`–`60BAh`, digital inputs `60FDh`); a drive of an axis
+    /// without MCZ (an absolute encoder) needs none of those objects.
+    pub homing: bool,
 }
 
 /// What a simulated drive on the virtual bus is told to do wrong (io.toml `simulate`), so that
@@ -285,6 +289,8 @@ pub struct DeclaredAxis {
     pub name: char,
     /// TPA axis type as written (the Table 4.1 codes summed); 0 when the axis has no TPA.
     pub tpa: u32,
+    /// The axis has an MCZ homing cycle (its drive latches the reference mark for it).
+    pub homes: bool,
 }
 
 /// How the CANopen master reaches the bus.

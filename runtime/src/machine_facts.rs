@@ -156,6 +156,7 @@ pub fn declared_axes(machine: &Machine) -> Vec<fieldbus::DeclaredAxis> {
                 process: p.number,
                 name: a.name,
                 tpa: a.tpa.as_ref().map_or(0, |t| t.axis_type.raw),
+                homes: a.mcz.is_some(),
             })
         })
         .collect()

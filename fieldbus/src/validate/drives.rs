@@ -80,6 +80,7 @@ pub(super) fn drives(
             );
         }
         let mode = mode(cx, r, declared);
+        let homing = mode == DriveMode::Csp && declared.is_none_or(|d| d.homes);
         super::sections::check_sdo_writes(cx, &r.sdo);
         out.push(CanDrive {
             process,
@@ -95,6 +96,7 @@ pub(super) fn drives(
                 .map(|h| simulate(cx, h, virtual_bus))
                 .unwrap_or_default(),
             span,
+            homing,
         });
     }
     out

@@ -31,6 +31,7 @@ fn drive(axis: char, node_id: u8, mode: DriveMode, cpu: f64) -> CanDrive {
         sdo: Vec::new(),
         simulate: Default::default(),
         span: 0..0,
+        homing: true,
     }
 }
 

@@ -11,7 +11,13 @@ use fieldbus::{DeclaredAxis, DeclaredConnectors, codes, parse_map_with_axes};
 /// The lathe's axes: X (TPA 41: coordinate, diameter), Z (1), S (820: spindle with encoder,
 /// controlled acceleration); plus test axes of forbidden types in process 2.
 fn axes() -> Vec<DeclaredAxis> {
-    let a = |process, name, tpa| DeclaredAxis { process, name, tpa };
+    // Every axis homes (MCZ) but Z of process 1, an absolute encoder.
+    let a = |process, name, tpa| DeclaredAxis {
+        process,
+        name,
+        tpa,
+        homes: !(process == 1 && name == 'Z'),
+    };
     vec![
         a(1, 'X', 0x41),
         a(1, 'Z', 0x1),
@@ -65,7 +71,8 @@ fn valid_drive_entries_parse_as_written() {
     );
     assert!(diags.iter().all(|d| !d.is_error()), "{diags:?}");
     let drives = map.expect("valid").canopen.expect("canopen").drives;
-    // Each entry remembers where its node id is written (for start-up errors, 3077).
+    // Each entry remembers where its node id is written (for start-up errors, 3077); X homes on
+    // its csp drive (MCZ), Z has an absolute encoder and S is a csv spindle: no homing PDOs.
     let span = |n: &str| {
         let i = text.find(&format!("node_id = {n}\n")).expect("entry") + "node_id = ".len();
         i..i + n.len()
@@ -83,6 +90,7 @@ fn valid_drive_entries_parse_as_written() {
                 sdo: vec![],
                 simulate: Default::default(),
                 span: span("3"),
+                homing: true,
             },
             CanDrive {
                 process: 1,
@@ -99,6 +107,7 @@ fn valid_drive_entries_parse_as_written() {
                 }],
                 simulate: Default::default(),
                 span: span("4"),
+                homing: false,
             },
             CanDrive {
                 process: 1,
@@ -110,6 +119,7 @@ fn valid_drive_entries_parse_as_written() {
                 sdo: vec![],
                 simulate: Default::default(),
                 span: span("5"),
+                homing: false,
             },
         ]
     );
@@ -332,6 +342,7 @@ fn the_lathe_map_with_drives_for_x_z_and_s_validates_against_its_axcfil() {
                 process: p.number,
                 name: a.name,
                 tpa: a.tpa.as_ref().map_or(0, |t| t.axis_type.raw),
+                homes: a.mcz.is_some(),
             })
         })
         .collect();

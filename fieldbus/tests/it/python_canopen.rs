@@ -146,6 +146,7 @@ async fn ncplc_drives_a_python_canopen_local_node() {
         sdo: Vec::new(),
         simulate: Default::default(),
         span: 0..0,
+        homing: true,
     };
     let tick = Duration::from_millis(10);
     let mut d = Drives::start(bus, &[drive], tick, Duration::from_secs(2))

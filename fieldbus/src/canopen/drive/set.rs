@@ -449,7 +449,7 @@ impl DriveSet {
 impl Slot {
     /// The drive has the homing PDOs (a `csp` drive).
     fn homing(&self) -> bool {
-        self.cfg.mode == DriveMode::Csp
+        self.cfg.mode == DriveMode::Csp && self.cfg.homing
     }
 
     /// Every TPDO of this SYNC arrived.
@@ -496,6 +496,7 @@ mod tests {
             sdo: Vec::new(),
             simulate: Default::default(),
             span: 0..0,
+            homing: true,
         };
         let mut s = DriveSet::new(&[d], Duration::from_millis(10));
         let now = Instant::now();

@@ -156,7 +156,7 @@ pub fn configuration(d: &CanDrive, tick: Duration) -> Vec<SdoWrite> {
         w(0x1A00, 0, 2, 1),
         w(0x1800, 1, u32::from(cob::TPDO1) + id, 4),
     ];
-    if d.mode == DriveMode::Csp {
+    if d.mode == DriveMode::Csp && d.homing {
         list.extend(homing_pdos(id));
     }
     list.extend([
@@ -297,6 +297,7 @@ mod tests {
             sdo: vec![w(0x2000, 1, 7, 1)],
             simulate: Default::default(),
             span: 0..0,
+            homing: true,
         };
         let c = configuration(&d, Duration::from_millis(4));
         assert_eq!(c[0], w(0x6060, 0, 9, 1));
@@ -323,6 +324,7 @@ mod tests {
             sdo: Vec::new(),
             simulate: Default::default(),
             span: 0..0,
+            homing: true,
         };
         let c = configuration(&d, Duration::from_millis(2));
         let homing = [
@@ -349,5 +351,20 @@ mod tests {
         assert_eq!(c[17..36], homing);
         assert_eq!(c[36], w(0x1017, 0, 100, 2));
         assert_eq!(c.len(), 37);
+        // The same drive of an axis without MCZ (an absolute encoder): no homing objects are
+        // touched, the heartbeat follows PDO1 at once.
+        let c = configuration(
+            &CanDrive {
+                homing: false,
+                ..d.clone()
+            },
+            Duration::from_millis(2),
+        );
+        assert_eq!(c[17], w(0x1017, 0, 100, 2));
+        assert_eq!(c.len(), 18);
+        assert!(
+            c.iter()
+                .all(|x| !matches!(x.index, 0x1401 | 0x1601 | 0x1801 | 0x1A01 | 0x1802 | 0x1A02))
+        );
     }
 }
