@@ -56,6 +56,9 @@ recorded() {
 # Adds $2 executions and one campaign to target $1 in the state file, atomically.
 record() {
     local t="$1" n="$2" tmp
+    # Campaigns running side by side (other targets) update the file one at a time.
+    exec 9>"$state.lock"
+    flock 9
     tmp="$(mktemp "$state.XXXXXX")"
     {
         echo -e "# target\texecutions\tcampaigns"
@@ -67,6 +70,7 @@ record() {
             || echo -e "$t\t$n\t1"
     } >"$tmp"
     mv "$tmp" "$state"
+    flock -u 9
 }
 
 # The executions libFuzzer reports in log $1: "Done N runs" (-runs reached) or the last "#N".
