@@ -18,7 +18,8 @@
 #          `FUZZ_FEATURES=--no-default-features` builds and runs only the parsers
 #          that do not need cranelift (not plc_*, not partprogram).
 # Env:     FUZZ_ARGS="..." adds libFuzzer flags (e.g. "-max_len=4096"). Every run is
-#          `-jobs=1 -workers=1`: the machine is shared.
+#          one in-process libFuzzer run (no `-jobs`: libFuzzer's job mode logs to fuzz-<n>.log in the
+#          current directory, which campaigns side by side would share).
 #          FUZZ_SANITIZER=none builds without AddressSanitizer (cargo fuzz `-s none`): several times
 #          the executions per second; panics, timeouts and the RSS limit are still caught. Use the
 #          same value for every command of a campaign (another value rebuilds everything).
@@ -87,7 +88,7 @@ executions() {
 keep_corpus() {
     local t="$1" kb
     # shellcheck disable=SC2086
-    cargo +nightly fuzz cmin ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" -- -jobs=1 -workers=1 >/dev/null 2>&1 || return 0
+    cargo +nightly fuzz cmin ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" >/dev/null 2>&1 || return 0
     kb="$(du -sk "corpus/$t" | cut -f1)"
     if [ "$kb" -le "${FUZZ_SEED_KB:-64}" ]; then
         cp -n "corpus/$t"/* "seeds/$t"/ 2>/dev/null || true
@@ -113,7 +114,7 @@ for t in "${targets[@]}"; do
         log="logs/$t.log"
         # shellcheck disable=SC2086
         cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
-            -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 -jobs=1 -workers=1 \
+            -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
             ${FUZZ_ARGS:-} 2>"$log" || fail "$t"
         record "$t" "$(executions "$log")"
         continue
@@ -126,7 +127,7 @@ for t in "${targets[@]}"; do
         log="logs/$t.log"
         # shellcheck disable=SC2086
         cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
-            -runs="$chunk" -rss_limit_mb=2048 -timeout=10 -jobs=1 -workers=1 \
+            -runs="$chunk" -rss_limit_mb=2048 -timeout=10 \
             ${FUZZ_ARGS:-} 2>"$log" || fail "$t"
         n="$(executions "$log")"
         [ "$n" -gt 0 ] || { echo "!!! $t: no executions in $log" >&2; exit 1; }
