@@ -167,6 +167,37 @@ fn write_frame(out: &mut dyn Write, frame: &Frame) -> Result<(), TraceError> {
     Ok(())
 }
 
+/// A record's list as the JSON a frame carries.
+fn to_json<T: Serialize>(list: &T) -> Result<String, TraceError> {
+    serde_json::to_string(list).map_err(|e| TraceError::Binary {
+        frame: 0,
+        message: format!("cannot encode: {e}"),
+    })
+}
+
+/// Keeps the JSON list of frame `i` for the tick frame that follows; a second such frame before
+/// that tick, or JSON that does not read, is an error naming `frames` / `what`.
+fn pending_json<T: serde::de::DeserializeOwned>(
+    slot: &mut Option<(usize, Vec<T>)>,
+    i: usize,
+    json: &str,
+    frames: &str,
+    what: &str,
+) -> Result<(), TraceError> {
+    if slot.is_some() {
+        return Err(TraceError::Binary {
+            frame: i,
+            message: format!("two {frames} frames without a tick between"),
+        });
+    }
+    let list = serde_json::from_str(json).map_err(|e| TraceError::Binary {
+        frame: i,
+        message: format!("{what}: {e}"),
+    })?;
+    *slot = Some((i, list));
+    Ok(())
+}
+
 impl<W: Write> TraceSink for BinaryWriter<W> {
     fn record(&mut self, rec: &TickRecord) -> Result<(), TraceError> {
         if !rec.forced.is_empty() {
@@ -182,25 +213,13 @@ impl<W: Write> TraceSink for BinaryWriter<W> {
             write_frame(&mut self.out, &Frame::Positions(pos))?;
         }
         if !rec.commands.is_empty() {
-            let json = serde_json::to_string(&rec.commands).map_err(|e| TraceError::Binary {
-                frame: 0,
-                message: format!("cannot encode: {e}"),
-            })?;
-            write_frame(&mut self.out, &Frame::Commands(json))?;
+            write_frame(&mut self.out, &Frame::Commands(to_json(&rec.commands)?))?;
         }
         if !rec.drives.is_empty() {
-            let json = serde_json::to_string(&rec.drives).map_err(|e| TraceError::Binary {
-                frame: 0,
-                message: format!("cannot encode: {e}"),
-            })?;
-            write_frame(&mut self.out, &Frame::Drives(json))?;
+            write_frame(&mut self.out, &Frame::Drives(to_json(&rec.drives)?))?;
         }
         if !rec.nodes_lost.is_empty() {
-            let json = serde_json::to_string(&rec.nodes_lost).map_err(|e| TraceError::Binary {
-                frame: 0,
-                message: format!("cannot encode: {e}"),
-            })?;
-            write_frame(&mut self.out, &Frame::NodesLost(json))?;
+            write_frame(&mut self.out, &Frame::NodesLost(to_json(&rec.nodes_lost)?))?;
         }
         let frame = Frame::Tick(CompactTick::new(rec, self.prev_t));
         self.prev_t = rec.t;
@@ -298,28 +317,11 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
                 positions = Some((i, list));
             }
             Frame::Commands(json) => {
-                if commands.is_some() {
-                    return Err(bad(i, "two command frames without a tick between".into()));
-                }
-                let list = serde_json::from_str(&json)
-                    .map_err(|e| bad(i, format!("operator commands: {e}")))?;
-                commands = Some((i, list));
+                pending_json(&mut commands, i, &json, "command", "operator commands")?
             }
-            Frame::Drives(json) => {
-                if drives.is_some() {
-                    return Err(bad(i, "two drive frames without a tick between".into()));
-                }
-                let list = serde_json::from_str(&json)
-                    .map_err(|e| bad(i, format!("drive feedback: {e}")))?;
-                drives = Some((i, list));
-            }
+            Frame::Drives(json) => pending_json(&mut drives, i, &json, "drive", "drive feedback")?,
             Frame::NodesLost(json) => {
-                if nodes_lost.is_some() {
-                    return Err(bad(i, "two lost-node frames without a tick between".into()));
-                }
-                let list = serde_json::from_str(&json)
-                    .map_err(|e| bad(i, format!("lost I/O nodes: {e}")))?;
-                nodes_lost = Some((i, list));
+                pending_json(&mut nodes_lost, i, &json, "lost-node", "lost I/O nodes")?
             }
             Frame::Forced(list) => {
                 if forced.is_some() {
