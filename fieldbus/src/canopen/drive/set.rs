@@ -15,6 +15,14 @@
 //! SYNC its RPDO2 carries the touch probe function (probe 1 armed on the encoder's zero impulse,
 //! positive edge, first event, while [`DriveCommand::probe`]), and it has answered a SYNC only
 //! when TPDO1, TPDO2 (probe status and latched position) and TPDO3 (digital inputs) all came.
+//!
+//! **Late answers.** A TPDO carries no SYNC number, but a drive answers its SYNCs in order. A
+//! SYNC whose TPDO of a kind did not come before the next SYNC is sent is *owed*: the drive's next
+//! frame of that kind is that late answer and is dropped (it is not the answer to the SYNC now on
+//! the bus, and its position is older than that SYNC's target), until nothing is owed. So a late
+//! answer makes a SYNC unhealthy, never a stale position healthy. A drive whose answers are
+//! lost rather than late would have every later answer taken as owed: when it has not once
+//! answered a SYNC in time for a heartbeat consumer time, what it owes is written off.
 
 use tokio::time::{Duration, Instant};
 
@@ -146,6 +154,12 @@ struct Slot {
     /// The `603Fh` read is on the wire and unanswered (waited for within the tick only).
     code_wait: bool,
     enable_ticks: u32,
+    /// A SYNC was sent since the start (the answers before it owe nothing).
+    synced: bool,
+    /// Per TPDO (1, 2, 3): answers of earlier SYNCs that did not come before the next SYNC.
+    owed: [u32; 3],
+    /// Since when the drive owes answers without having answered a SYNC in time.
+    behind_since: Option<Instant>,
 }
 
 /// The drives of one bus and their per-tick logic.
@@ -186,6 +200,9 @@ impl DriveSet {
                 code_asked: false,
                 code_wait: false,
                 enable_ticks: 0,
+                synced: false,
+                owed: [0; 3],
+                behind_since: None,
             })
             .collect();
         DriveSet {
@@ -278,6 +295,7 @@ impl DriveSet {
             d[..2].copy_from_slice(&word.to_le_bytes());
             d[2..].copy_from_slice(&target.to_le_bytes());
             out.push(CanMsg::new(cob::rpdo(1, s.cfg.node_id), &d));
+            s.owe_missing(now);
             s.fresh = false;
             if s.homing() {
                 let probe = if s.cmd.probe { PROBE_ZERO_IMPULSE } else { 0 };
@@ -301,7 +319,13 @@ impl DriveSet {
         let d = m.payload();
         for s in &mut self.slots {
             let node = s.cfg.node_id;
-            if id == cob::tpdo(1, node) && d.len() >= 6 {
+            let kind = [1, 2, 3].into_iter().position(|p| id == cob::tpdo(p, node));
+            if let Some(k) = kind
+                && s.owed[k] > 0
+            {
+                // The late answer to an earlier SYNC: not this SYNC's.
+                s.owed[k] -= 1;
+            } else if id == cob::tpdo(1, node) && d.len() >= 6 {
                 let sw = u16::from_le_bytes([d[0], d[1]]);
                 let value = i32::from_le_bytes([d[2], d[3], d[4], d[5]]);
                 s.statusword = sw;
@@ -456,6 +480,38 @@ impl Slot {
     fn answered(&self) -> bool {
         self.fresh && (!self.homing() || self.fresh_homing == [true; 2])
     }
+
+    /// Right before a SYNC: the TPDOs of the previous SYNC that did not come are owed (by a drive
+    /// that answers SYNCs: operational, not lost); written off once the drive has been behind
+    /// for a heartbeat consumer time.
+    fn owe_missing(&mut self, now: Instant) {
+        let answers = self.nmt == nmt::OPERATIONAL
+            && self
+                .fault
+                .is_none_or(|f| f.cause != FaultCause::HeartbeatLost);
+        if !answers {
+            self.owed = [0; 3];
+            self.behind_since = None;
+        } else if self.synced {
+            let got = [self.fresh, self.fresh_homing[0], self.fresh_homing[1]];
+            let kinds = if self.homing() { 3 } else { 1 };
+            for k in 0..kinds {
+                if !got[k] {
+                    self.owed[k] = self.owed[k].saturating_add(1);
+                }
+            }
+            if self.answered() && self.owed == [0; 3] {
+                self.behind_since = None;
+            } else if self.owed != [0; 3] {
+                let since = *self.behind_since.get_or_insert(now);
+                if now.duration_since(since) > self.cfg.heartbeat * HEARTBEAT_FACTOR {
+                    self.owed = [0; 3];
+                    self.behind_since = None;
+                }
+            }
+        }
+        self.synced = true;
+    }
 }
 
 /// True when the cause of a latched master fault is gone at `now` (heartbeat back within the
@@ -484,6 +540,19 @@ pub fn scale(units: f64, counts_per_unit: f64) -> i32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    impl DriveSet {
+        /// A heartbeat of every drive at `now` (operational).
+        fn heartbeat_at(&mut self, now: Instant) {
+            let ids: Vec<u8> = self.slots.iter().map(|s| s.cfg.node_id).collect();
+            for id in ids {
+                self.on_frame(
+                    &CanMsg::new(cob::HEARTBEAT + u16::from(id), &[nmt::OPERATIONAL]),
+                    now,
+                );
+            }
+        }
+    }
 
     fn set() -> (DriveSet, Instant) {
         let d = CanDrive {
@@ -582,6 +651,80 @@ mod tests {
         assert!(s.on_frame(&CanMsg::new(0x583, &answer), now).is_empty());
         assert!(!s.code_pending());
         assert_eq!(s.feedback(x).and_then(|f| f.fault), fault(0x5530));
+    }
+
+    /// The three TPDOs of drive 3: Operation enabled at `counts`.
+    fn answer(s: &mut DriveSet, counts: u8, now: Instant) {
+        s.on_frame(&CanMsg::new(0x183, &[0x27, 0x02, counts, 0, 0, 0]), now);
+        s.on_frame(&CanMsg::new(0x283, &[0, 0, 0, 0, 0, 0]), now);
+        s.on_frame(&CanMsg::new(0x383, &[0, 0, 0, 0]), now);
+    }
+
+    /// (healthy, position) of X after the frames so far.
+    fn seen(s: &DriveSet) -> (bool, f64) {
+        let f = s.feedback(AxisId::new('X')).expect("X");
+        (f.healthy, f.position)
+    }
+
+    #[test]
+    fn a_late_answer_is_dropped_not_taken_for_the_next_sync() {
+        let (mut s, now) = set();
+        // SYNC 1, answered in time: 10 counts = 0.1 mm.
+        s.rpdos(now);
+        answer(&mut s, 10, now);
+        s.after_sync(now);
+        assert_eq!(seen(&s), (true, 0.1));
+        // SYNC 2: its answer does not come before SYNC 3 is sent.
+        s.rpdos(now);
+        s.after_sync(now);
+        assert_eq!(seen(&s), (false, 0.1));
+        s.rpdos(now);
+        // Now SYNC 2's answer (20 counts) arrives: it is not SYNC 3's.
+        answer(&mut s, 20, now);
+        assert!(!s.all_answered());
+        assert_eq!(seen(&s), (false, 0.1), "the late answer is not a position");
+        // SYNC 3's own answer.
+        answer(&mut s, 30, now);
+        assert!(s.all_answered());
+        s.after_sync(now);
+        assert_eq!(seen(&s), (true, 0.3));
+        // A drive two SYNCs behind: both late answers are dropped, oldest first.
+        s.rpdos(now);
+        s.after_sync(now);
+        s.rpdos(now);
+        s.after_sync(now);
+        s.rpdos(now);
+        answer(&mut s, 40, now);
+        answer(&mut s, 50, now);
+        assert_eq!(seen(&s), (false, 0.3));
+        answer(&mut s, 60, now);
+        assert_eq!(seen(&s), (true, 0.6));
+    }
+
+    #[test]
+    fn an_answer_lost_for_good_is_written_off_after_the_consumer_time() {
+        let (mut s, now) = set();
+        let sync = Duration::from_millis(10);
+        s.rpdos(now);
+        answer(&mut s, 10, now);
+        s.after_sync(now);
+        // SYNC 2's answer is lost; from then on each answer is taken as the one owed.
+        s.rpdos(now + sync);
+        let mut t = now + sync * 2;
+        let mut healthy_again = None;
+        for k in 3..30u8 {
+            s.rpdos(t);
+            answer(&mut s, k, t);
+            s.heartbeat_at(t);
+            if seen(&s).0 && healthy_again.is_none() {
+                healthy_again = Some(k);
+            }
+            t += sync;
+        }
+        // Behind since SYNC 3 (20 ms); written off at the first SYNC past 2 × 50 ms: SYNC 14
+        // (130 ms), whose own answer is taken.
+        assert_eq!(healthy_again, Some(14));
+        assert_eq!(seen(&s), (true, 0.29));
     }
 
     #[test]
