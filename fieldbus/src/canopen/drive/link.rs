@@ -5,7 +5,9 @@
 //! points of the tick's interpolation ticks and the power request. When the scan publishes, the
 //! master task runs [`MasterDrives::tick`]: for each interpolation tick n it commands every drive
 //! with set point n, sends the RPDOs, then SYNC n, and waits for the drives' TPDOs (and a
-//! pending `603Fh` read) up to the answer timeout; the answers to the tick's SYNCs go back as one
+//! pending `603Fh` read): in real time until SYNC n + 1 is due (after the tick's last SYNC until
+//! a quarter of an interpolation tick before the next tick), in lock-step up to the answer
+//! timeout; the answers to the tick's SYNCs go back as one
 //! [`DriveAnswers`], which the scan takes at its next latch. In lock-step mode (virtual time on
 //! the virtual bus) the scan waits for those answers before it latches, so a run is a function
 //! of its inputs; in real time it never waits and takes the answers that are there.
@@ -229,7 +231,7 @@ impl MasterDrives {
             }
             bus.send(&CanMsg::new(cob::SYNC, &[])).await?;
             self.syncs_sent = self.syncs_sent.saturating_add(1);
-            let deadline = Instant::now() + self.answer_timeout;
+            let deadline = self.answer_deadline(start, k, Instant::now());
             while !self.set.all_answered() || self.set.code_pending() {
                 let m = match tokio::time::timeout_at(deadline, bus.recv()).await {
                     Err(_) => break,
@@ -272,6 +274,27 @@ impl MasterDrives {
         self.answers.publish();
         self.done.store(seq, Ordering::Release);
         Ok(())
+    }
+
+    /// Until when the answers to SYNC `k` of a tick that began at `start` are waited for (the
+    /// SYNC was sent at `now`). Lock-step: the answer timeout. Real time: until the next SYNC is
+    /// due — an answer before it cannot be the next SYNC's, and a later one is owed
+    /// ([`DriveSet`]) — and after the tick's last SYNC until a quarter of an interpolation tick
+    /// before the next tick's orders are due, so that serving a tick never takes a whole
+    /// logic tick (orders published meanwhile would be superseded before they are sent); at
+    /// least an eighth of an interpolation tick after a SYNC that went out late.
+    fn answer_deadline(&self, start: Instant, k: usize, now: Instant) -> Instant {
+        if self.timing.lockstep {
+            return now + self.answer_timeout;
+        }
+        let period = self.timing.int_tick;
+        let syncs = self.timing.syncs.max(1);
+        let due = if k + 1 < syncs {
+            start + period * (k as u32 + 1)
+        } else {
+            start + period * syncs as u32 - period / 4
+        };
+        due.max(now + period / 8)
     }
 
     /// True for a frame of one of the drives (TPDO1, EMCY, heartbeat, SDO answer).
@@ -331,5 +354,69 @@ impl ScanDrives {
     /// The latest answers.
     pub fn answers(&mut self) -> &DriveAnswers {
         self.answers.read().0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn master(lockstep: bool) -> MasterDrives {
+        let cfg = [CanDrive {
+            process: 1,
+            axis: 'X',
+            node_id: 3,
+            counts_per_unit: 100.0,
+            mode: DriveMode::Csp,
+            heartbeat: Duration::from_millis(50),
+            sdo: Vec::new(),
+            simulate: Default::default(),
+            span: 0..0,
+            homing: false,
+        }];
+        let timing = DriveTiming {
+            int_tick: Duration::from_millis(2),
+            syncs: 5,
+            lockstep,
+        };
+        link(DriveSet::new(&cfg, timing.int_tick), &cfg, timing).0
+    }
+
+    #[test]
+    fn real_time_answers_are_waited_for_until_the_next_sync_is_due() {
+        let m = master(false);
+        let start = Instant::now();
+        let ms = |us: u64| Duration::from_micros(us);
+        // SYNC k of the tick is due at 2k ms: its answers are taken until SYNC k + 1 is due (an
+        // answer of 1.5 ms is no longer lost), those of the last one until 9.5 ms, a quarter of
+        // an interpolation tick before the next tick's orders.
+        for (k, sent, until) in [
+            (0, 0, 2000),
+            (1, 2300, 4000),
+            (2, 4900, 6000),
+            (3, 6000, 8000),
+            (4, 8400, 9500),
+        ] {
+            assert_eq!(
+                m.answer_deadline(start, k, start + ms(sent)),
+                start + ms(until),
+                "SYNC {k}"
+            );
+        }
+        // A SYNC that went out late still gets an eighth of an interpolation tick.
+        assert_eq!(
+            m.answer_deadline(start, 1, start + ms(3900)),
+            start + ms(4150)
+        );
+        assert_eq!(
+            m.answer_deadline(start, 4, start + ms(9400)),
+            start + ms(9650)
+        );
+        // Lock-step: the answer timeout after each SYNC.
+        let l = master(true);
+        assert_eq!(
+            l.answer_deadline(start, 4, start + ms(10)),
+            start + ms(100_010)
+        );
     }
 }
