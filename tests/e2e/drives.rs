@@ -14,7 +14,7 @@ fn s(p: &Path) -> &str {
 }
 
 /// stdout and stderr of a run.
-fn text(out: &std::process::Output) -> String {
+pub(crate) fn text(out: &std::process::Output) -> String {
     format!(
         "{}{}",
         String::from_utf8_lossy(&out.stdout),
@@ -23,7 +23,7 @@ fn text(out: &std::process::Output) -> String {
 }
 
 /// The last value of every axis in a text trace's `pos` records.
-fn final_positions(trace: &str) -> Vec<(String, f64)> {
+pub(crate) fn final_positions(trace: &str) -> Vec<(String, f64)> {
     let mut pos: Vec<(String, f64)> = Vec::new();
     for line in trace.lines().skip(1) {
         let rec: serde_json::Value = serde_json::from_str(line).expect("json");

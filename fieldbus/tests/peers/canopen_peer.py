@@ -38,16 +38,23 @@ class CannelloniBus(can.BusABC):
         super().__init__(channel="cannelloni", **kwargs)
 
     def send(self, msg, timeout=None):
-        cid = msg.arbitration_id
-        if msg.is_extended_id:
-            cid |= 0x80000000
-        if msg.is_remote_frame:
-            cid |= 0x40000000
-        data = b"" if msg.is_remote_frame else bytes(msg.data)
+        self.send_frames([msg])
+
+    def send_frames(self, msgs):
+        """Sends `msgs` in one datagram (the format carries any number of frames)."""
+        body = b""
+        for msg in msgs:
+            cid = msg.arbitration_id
+            if msg.is_extended_id:
+                cid |= 0x80000000
+            if msg.is_remote_frame:
+                cid |= 0x40000000
+            data = b"" if msg.is_remote_frame else bytes(msg.data)
+            body += struct.pack(">IB", cid, msg.dlc if msg.is_remote_frame else len(data)) + data
         with self.lock:
-            head = struct.pack(">BBBH", 2, 0, self.seq, 1)
+            head = struct.pack(">BBBH", 2, 0, self.seq, len(msgs))
             self.seq = (self.seq + 1) & 0xFF
-        self.sock.sendto(head + struct.pack(">IB", cid, msg.dlc if msg.is_remote_frame else len(data)) + data, self.remote)
+        self.sock.sendto(head + body, self.remote)
 
     def _recv_internal(self, timeout):
         if not self.pending:
