@@ -115,7 +115,7 @@ fn the_bundled_parts_run_on_drives_as_on_the_plant_and_replay_exactly() {
 }
 
 /// The ticks where a text trace records the input `name` changing, with its value.
-fn input_changes(trace: &str, name: &str) -> Vec<(u64, u64)> {
+pub(crate) fn input_changes(trace: &str, name: &str) -> Vec<(u64, u64)> {
     trace
         .lines()
         .skip(1)

@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 
 use crate::e2e_common;
-use e2e_common::{Killed, Ncplc, copy_dir, root};
+use e2e_common::{Killed, Ncplc, copy_dir, ncplc, root};
 
 /// The short part: the spindle must reach S1200 (M03 waits for the drive's 606Ch), a few moves of
 /// X (a diameter axis) and Z, M05, M30.
@@ -286,6 +286,51 @@ fn feedback_is_the_answers(o: &Outcome) -> (usize, usize) {
     (matched, nulls)
 }
 
+/// The I/O node: the scan reads its inputs from the TPDOs of a tick's SYNCs one or two logic
+/// ticks later (real time: the next latch, or the one after when the master was still sending);
+/// the outputs the scan published at tick t reach the node with the RPDO before SYNC 5t + 1, the
+/// tick's first (SYNCs count from 1).
+fn the_io_node_carries_the_panel_and_the_outputs(o: &Outcome) {
+    let tick_of = |sync: u64| (sync - 1) / SYNCS_PER_TICK;
+    let start = crate::drives::input_changes(&o.trace, "I0A3");
+    assert_eq!(start.len(), 2, "CYCLE START pressed once: {start:?}");
+    let (pressed, released) = (start[0], start[1]);
+    assert_eq!((pressed.1, released.1), (1, 0));
+    let (on, off) = (tick_of(START_AT), tick_of(START_AT + START_LEN));
+    assert!((on + 1..=on + 2).contains(&pressed.0), "{start:?}");
+    assert!((off + 1..=off + 2).contains(&released.0), "{start:?}");
+    // The spindle contactor (M03 → U4A0, OU4 byte 0 bit 0) on and off, at the exact SYNC.
+    let mut changes = Vec::new();
+    for line in o.trace.lines().skip(1) {
+        let r: serde_json::Value = serde_json::from_str(line).expect("json");
+        if let Some(v) = r.get("out").and_then(|out| out.get("U4A0")) {
+            changes.push((r["t"].as_u64().expect("t"), v.as_u64().expect("bit")));
+        }
+    }
+    assert_eq!(
+        changes.iter().map(|c| c.1).collect::<Vec<_>>(),
+        [1, 0],
+        "{changes:?}"
+    );
+    let mut bit = 0;
+    let mut applied = Vec::new();
+    for sync in &o.syncs {
+        let Some(out) = sync["io"][0].as_str() else {
+            continue;
+        };
+        let b = u64::from_str_radix(&out[..2], 16).expect("hex") & 1;
+        if b != bit {
+            applied.push((sync["n"].as_u64().expect("n"), b));
+            bit = b;
+        }
+    }
+    let want: Vec<(u64, u64)> = changes
+        .iter()
+        .map(|&(t, b)| (SYNCS_PER_TICK * t + 1, b))
+        .collect();
+    assert_eq!(applied, want, "SYNCs where the node applied U4A0");
+}
+
 #[test]
 fn python_canopen_nodes_run_a_part_driven_by_the_master() {
     if !have_peer() {
@@ -322,6 +367,7 @@ fn python_canopen_nodes_run_a_part_driven_by_the_master() {
         "{nulls} late answers of {}",
         matched + nulls
     );
+    the_io_node_carries_the_panel_and_the_outputs(&o);
     // Every drive walked Shutdown → Switch on → Enable operation and stayed enabled; the
     // script's state machine ended in Operation enabled (statusword 0227h, 551).
     for axis in ["X", "Z", "S"] {
@@ -338,5 +384,14 @@ fn python_canopen_nodes_run_a_part_driven_by_the_master() {
     assert_eq!(
         crate::drives::final_positions(&o.trace),
         [("1X".to_string(), -6.0), ("1Z".to_string(), -12.0)]
+    );
+    // `ncplc replay` re-runs the kernel from the recorded inputs and feedback, with no bus.
+    let trace = m.path().join("run.jsonl");
+    let out = ncplc(&["replay", s(m.path()), s(&trace)]);
+    let r = crate::drives::text(&out);
+    assert!(out.status.success(), "{r}");
+    assert!(
+        r.contains("outputs identical, kernel signals and axis positions identical"),
+        "{r}"
     );
 }

@@ -495,9 +495,9 @@ impl Slot {
         } else if self.synced {
             let got = [self.fresh, self.fresh_homing[0], self.fresh_homing[1]];
             let kinds = if self.homing() { 3 } else { 1 };
-            for k in 0..kinds {
-                if !got[k] {
-                    self.owed[k] = self.owed[k].saturating_add(1);
+            for (owed, got) in self.owed.iter_mut().zip(got).take(kinds) {
+                if !got {
+                    *owed = owed.saturating_add(1);
                 }
             }
             if self.answered() && self.owed == [0; 3] {
