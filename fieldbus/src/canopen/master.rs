@@ -335,6 +335,22 @@ impl PacketIo for CanopenIo {
                 }),
             );
         }
+        let (superseded, last) = self
+            .drives
+            .as_mut()
+            .map_or((0, 0), ScanDrives::take_superseded);
+        if superseded > 0 {
+            queue_alarm(
+                &mut self.alarms,
+                Some(IoAlarm {
+                    device: "canopen".into(),
+                    message: format!(
+                        "the master fell behind: the drives' set points of {superseded} logic tick(s) (the last tick {last}) were superseded before they were sent"
+                    ),
+                    cleared: false,
+                }),
+            );
+        }
         let (frame, _) = self.inputs.read();
         for (i, n) in self.nodes.iter_mut().enumerate() {
             let st = frame.nodes.get(i).copied().unwrap_or_default();

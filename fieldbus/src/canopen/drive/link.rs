@@ -13,7 +13,9 @@
 //! of its inputs; in real time it never waits and takes the answers that are there.
 //!
 //! Invariants: the target in the RPDO before SYNC n is set point n of the orders being served;
-//! an answer that is not healthy (faulted, silent, not operational) is `None`, never a position.
+//! an answer that is not healthy (faulted, silent, not operational) is `None`, never a position;
+//! orders that were superseded before the master served them (it fell a logic tick behind) are
+//! counted, and the scan reports them ([`ScanDrives::take_superseded`]): never skipped silently.
 
 use std::io;
 use std::sync::Arc;
@@ -59,6 +61,9 @@ pub struct DriveOrder {
 pub struct DriveOrders {
     /// The scan's publish count (0: nothing ordered yet).
     pub seq: u64,
+    /// When the scan published them: in real time the tick's SYNCs are due from then on, one
+    /// per interpolation tick.
+    pub published: Option<std::time::Instant>,
     /// Per drive.
     pub drives: Vec<DriveOrder>,
 }
@@ -106,6 +111,12 @@ pub(crate) struct MasterDrives {
     /// run in virtual time outpaces).
     base: Instant,
     syncs_sent: u32,
+    /// The `seq` of the last orders served.
+    served: u64,
+    /// Orders superseded by later ones before the master served them (shared with the scan).
+    superseded: Arc<AtomicU64>,
+    /// The scan tick of the last superseded orders (shared with the scan).
+    superseded_tick: Arc<AtomicU64>,
 }
 
 /// The scan's half.
@@ -116,6 +127,10 @@ pub struct ScanDrives {
     done: Arc<AtomicU64>,
     seq: u64,
     lockstep: bool,
+    superseded: Arc<AtomicU64>,
+    superseded_tick: Arc<AtomicU64>,
+    /// How many superseded orders [`ScanDrives::take_superseded`] has reported.
+    reported: u64,
 }
 
 /// Both halves around a started [`DriveSet`].
@@ -127,6 +142,7 @@ pub(crate) fn link(
     let n = cfg.len();
     let (otx, orx) = triple(DriveOrders {
         seq: 0,
+        published: None,
         drives: vec![DriveOrder::default(); n],
     });
     let (atx, arx) = triple(DriveAnswers {
@@ -134,6 +150,8 @@ pub(crate) fn link(
         drives: vec![DriveAnswer::default(); n],
     });
     let done = Arc::new(AtomicU64::new(0));
+    let superseded = Arc::new(AtomicU64::new(0));
+    let superseded_tick = Arc::new(AtomicU64::new(0));
     let answer_timeout = if timing.lockstep {
         Duration::from_millis(100)
     } else {
@@ -151,6 +169,9 @@ pub(crate) fn link(
             last_order: vec![DriveOrder::default(); n],
             base: Instant::now(),
             syncs_sent: 0,
+            served: 0,
+            superseded: superseded.clone(),
+            superseded_tick: superseded_tick.clone(),
         },
         ScanDrives {
             cfg: cfg.to_vec(),
@@ -159,6 +180,9 @@ pub(crate) fn link(
             done,
             seq: 0,
             lockstep: timing.lockstep,
+            superseded,
+            superseded_tick,
+            reported: 0,
         },
     )
 }
@@ -192,9 +216,22 @@ impl MasterDrives {
         if seq > 0 {
             self.last_order.clone_from(&orders.drives);
         }
+        let fresh = seq > self.served;
+        if fresh {
+            // Orders published while the master was still serving earlier ones are superseded
+            // by the latest: their set points never reach the drives.
+            let lost = seq - self.served - 1;
+            if lost > 0 {
+                self.superseded.fetch_add(lost, Ordering::AcqRel);
+                // The last superseded orders were the scan's tick seq − 2 (orders 1: tick 0).
+                self.superseded_tick.store(seq - 2, Ordering::Release);
+            }
+            self.served = seq;
+        }
+        let published = orders.published.map(Instant::from_std);
         let axes: Vec<AxisId> = self.set.axes().collect();
         let syncs = self.timing.syncs.max(1);
-        let start = Instant::now();
+        let start = tick_start(published.filter(|_| fresh), Instant::now());
         let mut out = DriveAnswers {
             seq,
             drives: vec![DriveAnswer::default(); axes.len()],
@@ -312,6 +349,14 @@ impl MasterDrives {
     }
 }
 
+/// When a tick's SYNC schedule starts: when the scan published its orders — so a master that
+/// starts serving them late (the previous tick overran) sends its first SYNC at once and the others
+/// on the publish's schedule, and lateness never accumulates from tick to tick — but not before
+/// `now`; at `now` for orders served again (the safe state's).
+fn tick_start(published: Option<Instant>, now: Instant) -> Instant {
+    published.map_or(now, |p| p.min(now))
+}
+
 impl ScanDrives {
     /// The drives, in io.toml order.
     pub fn drives(&self) -> &[CanDrive] {
@@ -327,6 +372,7 @@ impl ScanDrives {
     pub(crate) fn publish(&mut self) {
         self.seq += 1;
         self.orders.buf().seq = self.seq;
+        self.orders.buf().published = Some(std::time::Instant::now());
         self.orders.publish();
     }
 
@@ -344,6 +390,16 @@ impl ScanDrives {
             std::thread::sleep(std::time::Duration::from_micros(20));
         }
         true
+    }
+
+    /// Orders superseded before the master served them since the last call (their set points
+    /// never reached the drives: the master fell a whole logic tick behind), with the scan tick
+    /// of the last of them.
+    pub fn take_superseded(&mut self) -> (u64, u64) {
+        let total = self.superseded.load(Ordering::Acquire);
+        let new = total - self.reported.min(total);
+        self.reported = total;
+        (new, self.superseded_tick.load(Ordering::Acquire))
     }
 
     /// How many orders the scan has published (the `seq` of the last ones).
@@ -380,6 +436,82 @@ mod tests {
             lockstep,
         };
         link(DriveSet::new(&cfg, timing.int_tick), &cfg, timing).0
+    }
+
+    #[tokio::test]
+    async fn orders_superseded_before_the_master_served_them_are_counted() {
+        let cfg = [CanDrive {
+            process: 1,
+            axis: 'X',
+            node_id: 3,
+            counts_per_unit: 100.0,
+            mode: DriveMode::Csp,
+            heartbeat: Duration::from_millis(50),
+            sdo: Vec::new(),
+            simulate: Default::default(),
+            span: 0..0,
+            homing: false,
+        }];
+        let timing = DriveTiming {
+            int_tick: Duration::from_millis(1),
+            syncs: 2,
+            lockstep: false,
+        };
+        let (mut m, mut scan) = link(DriveSet::new(&cfg, timing.int_tick), &cfg, timing);
+        let bus = crate::canopen::virtual_bus::VirtualBus::new();
+        let (mut port, mut drive) = (bus.port(), bus.port());
+        let publish = |scan: &mut ScanDrives, at: f64| {
+            scan.orders()[0] = DriveOrder {
+                set_points: vec![at, at + 0.5],
+                enable: true,
+                ..DriveOrder::default()
+            };
+            scan.publish();
+        };
+        // The scan publishes three ticks before the master serves any: the latest is sent,
+        // the first two are superseded.
+        for at in [1.0, 2.0, 3.0] {
+            publish(&mut scan, at);
+        }
+        m.tick(&mut port, &mut Vec::new()).await.expect("tick");
+        assert_eq!(
+            scan.take_superseded(),
+            (2, 1),
+            "orders 1 and 2: ticks 0 and 1"
+        );
+        assert_eq!(scan.take_superseded().0, 0, "reported once");
+        // The RPDOs on the bus: tick 3's two set points (300 and 350 counts), nothing of 1 or 2.
+        let mut targets = Vec::new();
+        while let Ok(Ok(f)) = tokio::time::timeout(Duration::from_millis(5), drive.recv()).await {
+            if f.id == 0x203 {
+                let d = f.payload();
+                targets.push(i32::from_le_bytes([d[2], d[3], d[4], d[5]]));
+            }
+        }
+        assert_eq!(targets, [300, 350]);
+        // Served one by one, nothing is superseded.
+        publish(&mut scan, 4.0);
+        m.tick(&mut port, &mut Vec::new()).await.expect("tick");
+        assert_eq!(scan.take_superseded().0, 0);
+    }
+
+    #[test]
+    fn a_tick_served_late_keeps_the_schedule_of_its_publish() {
+        let now = Instant::now();
+        let ms = Duration::from_millis;
+        assert_eq!(tick_start(Some(now - ms(3)), now), now - ms(3));
+        assert_eq!(tick_start(Some(now + ms(1)), now), now);
+        assert_eq!(tick_start(None, now), now);
+        // Published 3 ms ago: SYNC 0 goes at once and its answers get the floor (an eighth of an
+        // interpolation tick: SYNC 1 is already due); SYNC 1 goes at once too, its answers are
+        // waited for until SYNC 2 is due, 4 ms after the publish.
+        let m = master(false);
+        let start = tick_start(Some(now - ms(3)), now);
+        assert_eq!(
+            m.answer_deadline(start, 0, now),
+            now + Duration::from_micros(250)
+        );
+        assert_eq!(m.answer_deadline(start, 1, now), now + ms(1));
     }
 
     #[test]
