@@ -377,6 +377,20 @@ fn python_canopen_nodes_run_a_part_driven_by_the_master() {
     }
     let last = o.syncs.last().expect("SYNCs");
     assert_eq!(last["X"][3], 0x0227);
+    // The spindle: ordered S1200 = 20 rev/s × 4096 = 81920 counts/s, which its 606Ch reached
+    // on the ramp; after M05 the orders ramp down (M30 does not wait for the stop).
+    let top = |i: usize| {
+        o.syncs
+            .iter()
+            .filter_map(|l| l["S"][i].as_i64())
+            .max()
+            .expect("S")
+    };
+    assert_eq!((top(1), top(3)), (81920, 81920));
+    let orders: Vec<i64> = o.syncs.iter().filter_map(|l| l["S"][1].as_i64()).collect();
+    let stop = orders.iter().rposition(|&v| v == 81920).expect("at speed");
+    assert!(orders[stop..].windows(2).all(|w| w[1] <= w[0]), "ramp down");
+    assert!(orders.last() < Some(&81920), "stopping at the end");
     // The end positions: the drives' answers (counts) and the trace's, the program's X-6 Z-12
     // (X a diameter, 10000 counts per mm).
     assert_eq!(
