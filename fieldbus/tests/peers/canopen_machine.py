@@ -111,7 +111,7 @@ class Machine:
         self.outputs = bytes(8)
         self.syncs = 0
         self.log = []
-        self.late = []  # per SYNC: µs from the SYNC's arrival to the answers' datagram
+        self.late = []  # per SYNC: µs from the SYNC callback's start to the answers' datagram
         for a in (*CSP, *CSV):
             self.nodes[a].sdo[0x6041].raw = SW["SOD"]
         network.subscribe(0x80, self.on_sync)
