@@ -15,7 +15,9 @@
 //! Invariants: the target in the RPDO before SYNC n is set point n of the orders being served;
 //! an answer that is not healthy (faulted, silent, not operational) is `None`, never a position;
 //! orders that were superseded before the master served them (it fell a logic tick behind) are
-//! counted, and the scan reports them ([`ScanDrives::take_superseded`]): never skipped silently.
+//! counted, and the scan reports them ([`ScanDrives::take_superseded`]): never skipped silently;
+//! a tick served without fresh orders holds the last set point of the last orders (never replays
+//! their earlier set points).
 
 use std::io;
 use std::sync::Arc;
@@ -246,9 +248,13 @@ impl MasterDrives {
                         DriveMode::Csp => f.position,
                         DriveMode::Csv => 0.0,
                     });
+                // Without fresh orders (the scan has not published since the last tick was
+                // served) every SYNC holds the last set point: replaying the served tick's set
+                // points from its first would move a csp axis back by a tick's travel.
                 let set_point = o
                     .set_points
                     .get(k)
+                    .filter(|_| fresh)
                     .or(o.set_points.last())
                     .copied()
                     .unwrap_or(held);
@@ -492,6 +498,55 @@ mod tests {
         // Served one by one, nothing is superseded.
         publish(&mut scan, 4.0);
         m.tick(&mut port, &mut Vec::new()).await.expect("tick");
+        assert_eq!(scan.take_superseded().0, 0);
+    }
+
+    /// The RPDO targets of drive X (node 3) on the bus until it is quiet.
+    async fn targets(drive: &mut crate::canopen::virtual_bus::VirtualPort) -> Vec<i32> {
+        let mut targets = Vec::new();
+        while let Ok(Ok(f)) = tokio::time::timeout(Duration::from_millis(5), drive.recv()).await {
+            if f.id == 0x203 {
+                let d = f.payload();
+                targets.push(i32::from_le_bytes([d[2], d[3], d[4], d[5]]));
+            }
+        }
+        targets
+    }
+
+    #[tokio::test]
+    async fn a_tick_without_fresh_orders_holds_the_last_set_point() {
+        let bus = crate::canopen::virtual_bus::VirtualBus::new();
+        let (mut port, mut drive) = (bus.port(), bus.port());
+        let cfg = [CanDrive {
+            process: 1,
+            axis: 'X',
+            node_id: 3,
+            counts_per_unit: 100.0,
+            mode: DriveMode::Csp,
+            heartbeat: Duration::from_millis(50),
+            sdo: Vec::new(),
+            simulate: Default::default(),
+            span: 0..0,
+            homing: false,
+        }];
+        let timing = DriveTiming {
+            int_tick: Duration::from_millis(1),
+            syncs: 3,
+            lockstep: false,
+        };
+        let (mut m, mut scan) = link(DriveSet::new(&cfg, timing.int_tick), &cfg, timing);
+        scan.orders()[0] = DriveOrder {
+            set_points: vec![1.0, 2.0, 3.0],
+            enable: true,
+            ..DriveOrder::default()
+        };
+        scan.publish();
+        m.tick(&mut port, &mut Vec::new()).await.expect("tick");
+        assert_eq!(targets(&mut drive).await, [100, 200, 300]);
+        // The scan is late: the master's next tick has nothing fresh and holds 3.0 (300 counts)
+        // at every SYNC, not 100, 200, 300 again (the axis would jump back by a tick's travel).
+        m.tick(&mut port, &mut Vec::new()).await.expect("tick");
+        assert_eq!(targets(&mut drive).await, [300, 300, 300]);
         assert_eq!(scan.take_superseded().0, 0);
     }
 
