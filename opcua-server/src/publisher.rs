@@ -181,6 +181,7 @@ pub async fn run(mut p: Publisher) {
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let mut prev: Option<Box<Frame>> = None;
     let mut events = 0u64;
+    let mut stages = crate::latency::Stages::default();
     loop {
         every.tick().await;
         while let Ok((raised, text, tick)) = p.side.alarms.try_recv() {
@@ -206,6 +207,7 @@ pub async fn run(mut p: Publisher) {
         let mut done = 0u32;
         while let Ok(frame) = p.side.frames.pop() {
             publish_frame(&mut p, &frame, prev.as_deref());
+            stages.applied(frame.wall_us);
             // The frame is the next one's previous; the one before goes back to the pool.
             if let Some(old) = prev.replace(frame) {
                 p.side.recycle(old);
