@@ -16,7 +16,11 @@ notification of each item is its current value, stamped when it last changed, an
   srv    the notification message's PublishTime − the value's server timestamp (the scan's
          copy of that tick): the server's part up to the publish cycle that took the value
   sock   the PublishResponse's last TCP segment on the loopback (tshark, `--tshark`) − the
-         server timestamp: the server's whole part
+         server timestamp: the server's whole part (with `waited_pct`, the share of data
+         responses sent within 1 ms of their Publish request's arrival: those values waited
+         for the client to ask)
+  own    sock for the values of the other responses: the server's part when the client had a
+         Publish request waiting
   recv   the client has decoded the PublishResponse − the server timestamp (asyncua: its
          subscription's publish callback; rust: the subscription callback)
   lat    the value reaches the client's data-change handler − the server timestamp (asyncua's
@@ -134,27 +138,42 @@ def start_capture(port, path):
 
 
 def socket_stage(port, path):
-    """Per value of every PublishResponse the server sent: its frame time − its server timestamp.
-    The first value of each client handle is skipped as the clients skip it."""
-    r = subprocess.run(["tshark", "-r", path, "-d", f"tcp.port=={port},opcua",
-                        "-Y", f"tcp.srcport=={port} && opcua.PublishTime", "-T", "fields",
-                        "-e", "frame.time_epoch", "-e", "opcua.ClientHandle",
-                        "-e", "opcua.datavalue.ServerTimestamp", "-E", "occurrence=a",
-                        "-E", "aggregator=;", "-t", "ud"], capture_output=True, text=True)
-    out, seen = [], set()
+    """From the capture: per value of every PublishResponse the server sent, its frame time − its
+    server timestamp (the first value of each client handle skipped, as the clients skip it), the
+    same for the responses not sent on their request's arrival, and the share of data responses sent within 1 ms of their Publish request's arrival (the
+    subscription had notifications but no request: the value waited for the client)."""
+    fields = ["frame.time_epoch", "tcp.srcport", "opcua.servicenodeid.numeric",
+              "opcua.RequestHandle", "opcua.ClientHandle", "opcua.datavalue.ServerTimestamp"]
+    cmd = ["tshark", "-r", path, "-d", f"tcp.port=={port},opcua", "-Y", "opcua", "-T", "fields",
+           "-E", "occurrence=a", "-E", "aggregator=;", "-t", "ud"]
+    for f in fields:
+        cmd += ["-e", f]
+    r = subprocess.run(cmd, capture_output=True, text=True)
+    out, own, seen, asked, data, waited = [], [], set(), {}, 0, 0
     for line in r.stdout.splitlines():
         cols = line.split("\t")
-        if len(cols) < 3 or not cols[2]:
+        if len(cols) < 6:
             continue
         t = float(cols[0])
-        handles = cols[1].split(";")
-        stamps = cols[2].split(";")
-        for h, s in zip(handles, stamps):
+        service = cols[2].split(";")[0]
+        handle = cols[3].split(";")[0]
+        if cols[1] != str(port):
+            if service == "826":  # PublishRequest
+                asked[handle] = t
+            continue
+        if service != "829" or not cols[5]:  # PublishResponse with values
+            continue
+        data += 1
+        on_arrival = handle in asked and t - asked[handle] < 0.001
+        waited += on_arrival
+        for h, s in zip(cols[4].split(";"), cols[5].split(";")):
             if h not in seen:
                 seen.add(h)
                 continue
             out.append(t - parse_abs(s))
-    return pct(out)
+            if not on_arrival:
+                own.append(t - parse_abs(s))
+    return pct(out), pct(own), round(100 * waited / max(data, 1), 1)
 
 
 def parse_abs(text):
@@ -214,10 +233,10 @@ def one(args, variant):
         if cap:
             cap.terminate()
             cap.wait()
-            stages["sock"] = socket_stage(port, path)
+            stages["sock"], stages["own"], r["waited_pct"] = socket_stage(port, path)
             os.unlink(path)
         r.update(items=got["items"], notes=got["notes"])
-        for stage in ["apply", "srv", "sock", "recv", "lat"]:
+        for stage in ["apply", "srv", "sock", "own", "recv", "lat"]:
             if stages.get(stage):
                 for k, v in stages[stage].items():
                     r[f"{stage}_{k}"] = v

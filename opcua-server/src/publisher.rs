@@ -1,4 +1,4 @@
-//! The server's side of the signals: a task that wakes five times a logic tick, takes every new
+//! The server's side of the signals: a task that wakes ten times a logic tick, takes every new
 //! [`Frame`] and sets the variables whose value changed (one `set_values` call, one lock of the
 //! address space, off the scan thread). Client writes are [`crate::node_manager`]'s.
 //!
@@ -174,7 +174,7 @@ pub struct Publisher {
     pub origin: i64,
 }
 
-/// Runs until cancelled: five times a tick ([`crate::limits::poll_ms`]), publishes the alarms and every frame's changes in tick
+/// Runs until cancelled: ten times a tick ([`crate::limits::poll_ms`]), publishes the alarms and every frame's changes in tick
 /// order (one `set_values`, one lock of the address space, per frame).
 pub async fn run(mut p: Publisher) {
     let mut every = tokio::time::interval(Duration::from_millis(crate::limits::poll_ms(p.tick_ms)));

@@ -3,7 +3,7 @@
 //! publisher on a thread of their own with a small tokio runtime. Dropping [`Running`] stops both.
 //!
 //! **Invariants:** the minimum publishing and sampling intervals are the logic tick (async-opcua's
-//! defaults are 100 ms), the subscription poll a fifth of it ([`crate::limits::poll_ms`]); the scan never calls into this module
+//! defaults are 100 ms), the subscription poll a tenth of it ([`crate::limits::poll_ms`]); the scan never calls into this module
 //! after [`start`] returned.
 
 use std::net::SocketAddr;
