@@ -7,7 +7,7 @@ Alternated real-time runs of `ncplc run MACHINE --ticks N --stats` without the s
 (`rust`, examples/opcua_latency.rs: `cargo build --release -p opcua-server --example
 opcua_latency`). Both clients hold 100 monitored items (Tick and 99 signal bytes of packet K) at a
 10 ms publishing and sampling interval and queue size 100. Prints, per run, the scan percentiles
-of `--stats` and the process's CPU time, and for the served runs the latency of every notified
+of `--stats` and the process's CPU time (`client_cpu_s`: the client's), and for the served runs the latency of every notified
 value, in ms, p50/p99/max, by stage (all clocks are this host's wall clock; the first
 notification of each item is its current value, stamped when it last changed, and not counted):
 
@@ -36,6 +36,7 @@ import asyncio
 import json
 import os
 import re
+import resource
 import shutil
 import statistics
 import subprocess
@@ -211,10 +212,15 @@ def one(args, variant):
             os.close(fd)
             cap = start_capture(port, path)
         seconds = args.ticks / 100 * 0.6
+        # The client's CPU time: this process's for asyncua, the reaped child's for rust.
+        cpu = lambda who: (lambda u: u.ru_utime + u.ru_stime)(resource.getrusage(who))
+        who = resource.RUSAGE_SELF if variant == "asyncua" else resource.RUSAGE_CHILDREN
+        before = cpu(who)
         if variant == "asyncua":
             asyncio.run(asyncua_client(url, seconds, got))
         else:
             rust_client(args.rust_client, url, seconds, got)
+        got["client_cpu_s"] = round(cpu(who) - before, 2)
     out = p.stdout.read()
     _, status, ru = os.wait4(p.pid, 0)
     m = SCAN.search(out)
@@ -235,7 +241,7 @@ def one(args, variant):
             cap.wait()
             stages["sock"], stages["own"], r["waited_pct"] = socket_stage(port, path)
             os.unlink(path)
-        r.update(items=got["items"], notes=got["notes"])
+        r.update(items=got["items"], notes=got["notes"], client_cpu_s=got["client_cpu_s"])
         for stage in ["apply", "srv", "sock", "own", "recv", "lat"]:
             if stages.get(stage):
                 for k, v in stages[stage].items():
