@@ -17,23 +17,13 @@ const BUCKET_US: i64 = 100;
 const BUCKETS: usize = 1001;
 
 /// The publisher's stage recorder.
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Stages {
+    /// Frames per bucket (`BUCKETS` of them from the first frame on).
     #[cfg(feature = "latency")]
     counts: Vec<u64>,
     #[cfg(feature = "latency")]
     max_us: i64,
-}
-
-impl Default for Stages {
-    fn default() -> Stages {
-        Stages {
-            #[cfg(feature = "latency")]
-            counts: vec![0; BUCKETS],
-            #[cfg(feature = "latency")]
-            max_us: 0,
-        }
-    }
 }
 
 /// µs since the Unix epoch, now.
@@ -56,6 +46,9 @@ impl Stages {
     #[cfg(feature = "latency")]
     pub fn record(&mut self, us: i64) {
         let us = us.max(0);
+        if self.counts.is_empty() {
+            self.counts = vec![0; BUCKETS];
+        }
         let at = usize::try_from(us / BUCKET_US).map_or(BUCKETS - 1, |i| i.min(BUCKETS - 1));
         if let Some(c) = self.counts.get_mut(at) {
             *c += 1;
