@@ -260,6 +260,14 @@ def main():
     ap.add_argument("--tshark", action="store_true")
     args = ap.parse_args()
     variants = ["off"] + [c for c in args.clients.split(",") if c]
+    unknown = [v for v in variants if v not in ("off", "asyncua", "rust")]
+    if unknown:
+        sys.exit(f"--clients: unknown {', '.join(unknown)} (asyncua, rust)")
+    if "rust" in variants and not os.access(args.rust_client, os.X_OK):
+        sys.exit(f"{args.rust_client} is missing: cargo build --release -p opcua-server "
+                 "--features latency --example opcua_latency (or --clients asyncua)")
+    if args.tshark and not shutil.which("dumpcap"):
+        sys.exit("--tshark: dumpcap is missing (apt-get install tshark)")
     rows = []
     for _ in range(args.runs):
         for v in variants:
