@@ -26,6 +26,7 @@ notification of each item is its current value, stamped when it last changed, an
   lat    the value reaches the client's data-change handler − the server timestamp (asyncua's
          handler runs as a task scheduled by the publish callback; rust: = recv)
 
+`--tshark` captures the loopback with dumpcap (apt-get install tshark; root or CAP_NET_RAW).
 Then the medians per variant. Usage:
   scan_cost.py NCPLC MACHINE [--runs 3] [--ticks 2000] [--clients asyncua,rust]
                [--rust-client target/release/examples/opcua_latency] [--tshark]
