@@ -10,8 +10,8 @@ use opcua::server::ServerBuilder;
 /// has elapsed since its last publish, and restarts its interval then: polled exactly at the
 /// interval, jitter made every other publish wait a whole second interval (20 ms at 10 ms);
 /// polled ten times a tick, a value waits at most a tenth of a tick for the publisher and a
-/// publishing interval plus a tenth for its publish (measured with `bench/scan_cost.py`: the
-/// publisher's stage p50 1.5–1.7 ms at five polls a tick, 0.6 ms at ten).
+/// publishing interval plus a tenth for its publish (`bench/scan_cost.py`: the publisher's stage
+/// is a per-run phase, run medians 0.6–1.7 ms at five polls a tick, 0.6–0.7 ms at ten).
 pub const POLLS_PER_TICK: u32 = 10;
 
 /// The poll period in ms for a logic tick of `tick_ms` (at least 1 ms).
