@@ -10,6 +10,7 @@ pub mod auth;
 pub mod config;
 pub mod derive;
 pub mod handoff;
+pub mod latency;
 pub mod limits;
 pub mod machine_tool;
 pub mod node_manager;

@@ -1,4 +1,4 @@
-//! The server's side of the signals: a task that wakes five times a logic tick, takes every new
+//! The server's side of the signals: a task that wakes ten times a logic tick, takes every new
 //! [`Frame`] and sets the variables whose value changed (one `set_values` call, one lock of the
 //! address space, off the scan thread). Client writes are [`crate::node_manager`]'s.
 //!
@@ -174,13 +174,14 @@ pub struct Publisher {
     pub origin: i64,
 }
 
-/// Runs until cancelled: five times a tick ([`crate::limits::poll_ms`]), publishes the alarms and every frame's changes in tick
+/// Runs until cancelled: ten times a tick ([`crate::limits::poll_ms`]), publishes the alarms and every frame's changes in tick
 /// order (one `set_values`, one lock of the address space, per frame).
 pub async fn run(mut p: Publisher) {
     let mut every = tokio::time::interval(Duration::from_millis(crate::limits::poll_ms(p.tick_ms)));
     every.set_missed_tick_behavior(tokio::time::MissedTickBehavior::Skip);
     let mut prev: Option<Box<Frame>> = None;
     let mut events = 0u64;
+    let mut stages = crate::latency::Stages::default();
     loop {
         every.tick().await;
         while let Ok((raised, text, tick)) = p.side.alarms.try_recv() {
@@ -206,6 +207,7 @@ pub async fn run(mut p: Publisher) {
         let mut done = 0u32;
         while let Ok(frame) = p.side.frames.pop() {
             publish_frame(&mut p, &frame, prev.as_deref());
+            stages.applied(frame.wall_us);
             // The frame is the next one's previous; the one before goes back to the pool.
             if let Some(old) = prev.replace(frame) {
                 p.side.recycle(old);
