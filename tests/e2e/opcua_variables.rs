@@ -20,14 +20,41 @@ fn the_plc_program_s_variables_are_read_only_nodes_with_the_values_of_each_tick(
         machine.path(),
     );
     let _ = std::fs::remove_dir_all(machine.path().join("traces"));
+    // The scripted feed hold (sim.toml: HOLD_PB at ticks 300..305, START at 400..405) moves to
+    // ticks 750..855, so that a client slow to subscribe under load (seen: after 3 s) still
+    // watches HOLD_REQ rise and fall; the run lasts 15 s.
+    let sim = machine.path().join("sim.toml");
+    let mut script = std::fs::read_to_string(&sim).expect("sim.toml");
+    for (from, to) in [
+        (
+            "tick = 300\nset = { I0A4 = 1 }",
+            "tick = 750\nset = { I0A4 = 1 }",
+        ),
+        (
+            "tick = 305\nset = { I0A4 = 0,",
+            "tick = 755\nset = { I0A4 = 0,",
+        ),
+        (
+            "tick = 400\nset = { I0A3 = 1,",
+            "tick = 850\nset = { I0A3 = 1,",
+        ),
+        (
+            "tick = 405\nset = { I0A3 = 0 }",
+            "tick = 855\nset = { I0A3 = 0 }",
+        ),
+    ] {
+        assert_eq!(script.matches(from).count(), 1, "sim.toml: {from}");
+        script = script.replace(from, to);
+    }
+    std::fs::write(&sim, script).expect("sim.toml");
     let trace = machine.path().join("session.jsonl");
     let mut c = Ncplc::run(machine.path())
         .args(["--overrun-limit", "0", "--opcua", "127.0.0.1:0"])
-        .args(["--ticks", "900", "--record"])
+        .args(["--ticks", "1500", "--record"])
         .args([trace.as_os_str()])
         .command();
     let (mut run, url) = spawn_opcua(&mut c);
-    let got = peer(&["variables", &url, "5"]);
+    let got = peer(&["variables", &url, "12"]);
     assert!(run.0.wait().expect("ncplc ends").success());
 
     // The lathe's DEF … : BOOL variables, its timers' Q and ET, its counter's CV and its pulses
@@ -110,8 +137,8 @@ fn the_plc_program_s_variables_are_read_only_nodes_with_the_values_of_each_tick(
         assert_eq!(n[1], Value::from(want), "{id} at tick {t}");
         seen.push((id.to_string(), t, n[1].as_i64().unwrap_or(-1)));
     }
-    // The scripted lathe holds the feed at tick 300 and resumes at 400 (sim.toml): HOLD_REQ went
-    // up and down while the client watched.
+    // The scripted lathe holds the feed at tick 750 and resumes at 850 (moved above): HOLD_REQ
+    // went up and down while the client watched.
     let hold: Vec<i64> = seen
         .iter()
         .filter(|s| s.0 == "Variables/HOLD_REQ")

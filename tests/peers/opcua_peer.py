@@ -294,7 +294,7 @@ async def methods(url, name, user, password):
 
 async def variables(url, seconds):
     """The PLC program's variables: the folder, a type and description, a refused write, and the
-    notifications of CHAIN_OK and HOLD_REQ while SECONDS pass."""
+    notifications of CHAIN_OK, HOLD_REQ and the blinker until HOLD_REQ fell (at most SECONDS)."""
     out = {}
     async with Client(url) as c:
         ns = await c.get_namespace_index(NS_SIGNALS)
@@ -312,7 +312,16 @@ async def variables(url, seconds):
         blink = [await folder.get_child([f"{ns}:BLINK_ON.Q"]), await folder.get_child([f"{ns}:BLINK_ON.ET"])]
         out["blink_description"] = (await blink[1].read_description()).Text
         await sub.subscribe_data_change([chain, hold] + blink, queuesize=1000, sampling_interval=10)
-        await asyncio.sleep(seconds)
+        # Watch until HOLD_REQ has risen and fallen and at least 4 s have passed (three blinks),
+        # at most SECONDS: a client slow to subscribe under load still sees the scripted hold.
+        loop = asyncio.get_running_loop()
+        start = loop.time()
+        while loop.time() - start < seconds:
+            await asyncio.sleep(0.1)
+            held = [n[1] for n in h.got if n[0] == "Variables/HOLD_REQ"]
+            fell = any(a == 1 and b == 0 for a, b in zip(held, held[1:]))
+            if fell and loop.time() - start >= 4:
+                break
         await sub.delete()
         out["notifications"] = h.got
     print(json.dumps(out))
