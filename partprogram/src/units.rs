@@ -7,8 +7,8 @@
 //! at the first error the blocks kept so far are dropped). What a rejected program holds per block
 //! is its number in two compressed bitmaps (file-wide for duplicates, per unit for jump targets;
 //! [`RoaringBitmap`], at most 2 bytes per number and at most 12.5 MB per bitmap whatever the file's
-//! length, since numbers are below 10^8) and, for a block with a literal jump, call or fixed cycle,
-//! one [`LinkRef`]. The diagnostics of each phase go to their own capped sink ([`Phases`]), merged
+//! length, since numbers are below 10^8) and, for a block with a literal jump forward (a jump back
+//! is resolved at once), a call or a fixed cycle, one [`LinkRef`] until linking. The diagnostics of each phase go to their own capped sink ([`Phases`]), merged
 //! at the end in the order the phases ran when the whole block list was checked phase after phase
 //! (units, block checks, links, M functions, recursion): the kept diagnostics and their order are
 //! the same as then.
