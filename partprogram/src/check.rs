@@ -8,15 +8,14 @@ use crate::ast::Val;
 use crate::codes;
 use crate::groups::{mefi_g_group, mefi_m_group};
 use crate::machine::MachineSpec;
-use crate::program::{Program, err, lit_int};
+use crate::program::{CBlock, Program, err, lit_int};
 
 fn is_axis(machine: &MachineSpec, a: char) -> bool {
     machine.axes().contains(&a)
 }
 
-/// Static checks of one MEFI block.
-pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Sink) {
-    let b = &prog.blocks[bi];
+/// Static checks of one MEFI block `b` of `prog` (which need not hold it).
+pub(crate) fn check_block(prog: &Program, b: &CBlock, diags: &mut Sink) {
     let f = &prog.files[b.file];
     let (file, src) = (f.name.as_str(), f.text.as_str());
     let m = &prog.machine;
@@ -241,7 +240,7 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Sink) {
                 }
             }
             'F' => {
-                if lit.negative || lit.milli > 99_999_000 {
+                if lit.negative || lit.milli() > 99_999_000 {
                     diags.push(err(
                         codes::OUT_OF_RANGE,
                         file,
@@ -253,7 +252,7 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Sink) {
                 }
             }
             _ => {
-                if lit.int_digits > 5 || lit.frac_digits > 3 {
+                if lit.int_digits() > 5 || lit.frac_digits > 3 {
                     diags.push(err(
                         codes::OUT_OF_RANGE,
                         file,
@@ -312,7 +311,8 @@ pub(crate) fn check_block(prog: &Program, bi: usize, diags: &mut Sink) {
     }
     if gl.contains(&79) {
         if let Some(w) = b.words.iter().find(|w| {
-            !(w.addr == 'L' || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == 79_000)))
+            !(w.addr == 'L'
+                || (w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli() == 79_000)))
         }) {
             diags.push(err(
                 codes::G79_BLOCK,

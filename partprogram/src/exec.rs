@@ -86,7 +86,7 @@ impl V {
     /// Count (literal integer part, parameter r).
     fn count(self) -> i64 {
         match self {
-            V::Lit(l) => l.milli / 1000,
+            V::Lit(l) => l.milli() / 1000,
             V::R(r) => r,
         }
     }

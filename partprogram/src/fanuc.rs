@@ -19,7 +19,7 @@ use crate::codes;
 use crate::groups::{fanuc_g_group, fanuc_m_group};
 use crate::machine::Dialect;
 use crate::parse::parse;
-use crate::program::{CBlock, Program, SourceFile, Unit, UnitKind};
+use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind};
 
 fn err(
     code: u32,
@@ -41,10 +41,14 @@ fn push_unit(
 ) {
     let start = prog.blocks.len();
     let unit = prog.units.len();
-    let mut index = HashMap::new();
+    let mut numbers = roaring::RoaringBitmap::new();
+    let mut index = BlockIndex::default();
     for b in blocks {
+        if let Some(n) = b.n {
+            index.push(n, prog.blocks.len());
+        }
         if let Some(n) = b.n
-            && index.insert(n, prog.blocks.len()).is_some()
+            && !numbers.insert(n)
         {
             let f = &prog.files[file];
             diags.push(crate::program::to_locate(Diagnostic::warning(
@@ -60,14 +64,16 @@ fn push_unit(
             unit,
             span: b.span,
             skip: b.skip,
-            words: b.words,
-            decls: b.decls,
+            words: b.words.into_boxed_slice(),
+            decls: b.decls.into_boxed_slice(),
             arith_ops: 0,
             native: None,
             mac: b.mac,
             jump: None,
         });
     }
+    // Of a number written twice the last block is the target (it replaced the first).
+    index.finish();
     prog.units.push(Unit {
         kind,
         l: number,
@@ -367,7 +373,7 @@ pub fn check(prog: &mut Program, diags: &mut Sink) {
                     format!("M{m} needs P"),
                     "M97 P<line number>, M98 P<program number>",
                 )),
-                (97, Some(n)) if !prog.units[b.unit].index.contains_key(&n) => {
+                (97, Some(n)) if !prog.units[b.unit].index.contains(n) => {
                     diags.push(err(
                         codes::MISSING_BLOCK,
                         f,

@@ -761,9 +761,9 @@ impl Ex<'_> {
         if ms.contains(&97) || ms.contains(&98) {
             let p = p.ok_or_else(|| run_err(b, codes::RUN_TARGET, "M97/M98 without P"))?;
             let (unit, target) = if ms.contains(&97) {
-                let t = *prog.units[b.unit]
+                let t = prog.units[b.unit]
                     .index
-                    .get(&p)
+                    .get(p)
                     .ok_or_else(|| run_err(b, codes::RUN_TARGET, format!("no block N{p}")))?;
                 (b.unit, t)
             } else {
@@ -806,7 +806,7 @@ impl Ex<'_> {
                         .frames
                         .last_mut()
                         .ok_or_else(|| run_err(b, codes::RUN_TARGET, "M99 P without a caller"))?;
-                    fr.pc = *prog.units[fr.unit].index.get(&n).ok_or_else(|| {
+                    fr.pc = prog.units[fr.unit].index.get(n).ok_or_else(|| {
                         run_err(
                             b,
                             codes::RUN_TARGET,
@@ -820,7 +820,7 @@ impl Ex<'_> {
                     .frames
                     .last_mut()
                     .ok_or_else(|| run_err(b, codes::RUN_TARGET, "no program"))?;
-                fr.pc = *prog.units[fr.unit].index.get(&n).ok_or_else(|| {
+                fr.pc = prog.units[fr.unit].index.get(n).ok_or_else(|| {
                     run_err(
                         b,
                         codes::RUN_TARGET,

@@ -4,8 +4,10 @@
 //! end of the line or at `;`. The groupers are resumable: [`Grouper::feed`] takes the items in file
 //! order as the parser hands them on, [`Grouper::finish`] closes the last block. They keep only the
 //! block being built (and, for MEFI, a `%` waiting for its number), so grouping a file holds the
-//! largest block, not the file's items (issue 23, item 4). Fed the items of a file in order, they
-//! push the same diagnostics in the same order as grouping the whole list at once did.
+//! largest block, not the file's items (issue 23, item 4). Every finished block is handed on at
+//! once through [`Out::emit`] (the compile checks it there and keeps it only while it may run).
+//! Fed the items of a file in order, they push the same diagnostics in the same order as grouping
+//! the whole list at once did.
 
 use std::ops::Range;
 
@@ -43,6 +45,7 @@ impl Grouper {
                 cur: Block::default(),
                 started: false,
                 after_slash: false,
+                emitted: 0,
             }),
         }
     }
@@ -63,10 +66,10 @@ impl Grouper {
     }
 
     /// Closes the file: the last block, and the checks that need the whole file.
-    pub(crate) fn finish(self, file: &str, out: &mut ParsedFile, diags: &mut Out) {
+    pub(crate) fn finish(self, file: &str, diags: &mut Out) {
         match self {
-            Grouper::Mefi(g) => g.finish(file, out, diags),
-            Grouper::Fanuc(g) => g.finish(out),
+            Grouper::Mefi(g) => g.finish(file, diags),
+            Grouper::Fanuc(g) => g.finish(diags),
         }
     }
 }
@@ -145,7 +148,7 @@ impl Mefi {
             }
             Item::Word('N', val, sp) => {
                 if let Some(b) = self.cur.take() {
-                    push_block(out, b);
+                    push_block(diags, b);
                 }
                 let n = match val {
                     Val::Lit(l) if !l.point && !l.signed && (1..=99_999_999).contains(&l.int) => {
@@ -205,15 +208,12 @@ impl Mefi {
         }
     }
 
-    fn finish(mut self, file: &str, out: &mut ParsedFile, diags: &mut Out) {
+    fn finish(mut self, file: &str, diags: &mut Out) {
         if let Some(sp) = self.percent.take() {
             diags.push(
                 Diagnostic::error(codes::HEADER, file, sp, "`%` without a program number")
                     .with_hint("write `%<number>`, e.g. `%35`"),
             );
-        }
-        if let Some(b) = self.cur.take() {
-            push_block(out, b);
         }
         if !self.header_seen && self.require_header {
             diags.push(
@@ -226,6 +226,10 @@ impl Mefi {
                 .with_hint("start the program with `%<number>`"),
             );
         }
+        // After the file's own diagnostics: the checks of the last block come after them.
+        if let Some(b) = self.cur.take() {
+            push_block(diags, b);
+        }
     }
 }
 
@@ -235,15 +239,18 @@ pub(crate) struct Fanuc {
     cur: Block,
     started: bool,
     after_slash: bool,
+    /// Blocks handed on so far.
+    emitted: usize,
 }
 
 impl Fanuc {
     /// Ends the current block: kept when it holds anything.
-    fn flush(&mut self, out: &mut ParsedFile) {
+    fn flush(&mut self, diags: &mut Out) {
         if self.started
             && (self.cur.n.is_some() || !self.cur.words.is_empty() || !self.cur.decls.is_empty())
         {
-            push_block(out, std::mem::take(&mut self.cur));
+            push_block(diags, std::mem::take(&mut self.cur));
+            self.emitted += 1;
         } else {
             self.cur = Block::default();
         }
@@ -260,12 +267,13 @@ impl Fanuc {
     fn feed(&mut self, file: &str, item: Item, out: &mut ParsedFile, diags: &mut Out) {
         let at = item_start(&item);
         while let Some(m) = self.macros.next_if(|m| m.span.0 <= at) {
-            self.flush(out);
-            out.blocks.push(m);
+            self.flush(diags);
+            diags.emit(m);
+            self.emitted += 1;
         }
         let was_slash = std::mem::replace(&mut self.after_slash, false);
         match item {
-            Item::Eob(_) => self.flush(out),
+            Item::Eob(_) => self.flush(diags),
             Item::Percent(_)
             | Item::Comment(_)
             | Item::Error(_)
@@ -288,11 +296,11 @@ impl Fanuc {
                 Val::Lit(l) if !l.point && !l.signed && (0..=99_999).contains(&l.int) => {
                     // An O word starts a program: the first names the main program, each later one
                     // a further program of the file (it must open its own block).
-                    self.flush(out);
-                    if out.number.is_none() && out.blocks.is_empty() && out.programs.is_empty() {
+                    self.flush(diags);
+                    if out.number.is_none() && self.emitted == 0 && out.programs.is_empty() {
                         out.number = Some(l.int as u32);
                     } else {
-                        out.programs.push((l.int as u32, out.blocks.len()));
+                        out.programs.push((l.int as u32, self.emitted));
                     }
                 }
                 _ => diags.push(
@@ -328,18 +336,20 @@ impl Fanuc {
         }
     }
 
-    fn finish(mut self, out: &mut ParsedFile) {
-        self.flush(out);
-        out.blocks.extend(self.macros);
+    fn finish(mut self, diags: &mut Out) {
+        self.flush(diags);
+        for m in self.macros {
+            diags.emit(m);
+        }
     }
 }
 
-/// Keeps a finished block, its words and declarations without spare capacity (a block of two words
-/// would otherwise hold room for four: a program keeps every block).
-fn push_block(out: &mut ParsedFile, mut b: Block) {
+/// Hands on a finished block, its words and declarations without spare capacity (a block of two
+/// words would otherwise hold room for four: a program keeps every block).
+fn push_block(diags: &mut Out, mut b: Block) {
     b.words.shrink_to_fit();
     b.decls.shrink_to_fit();
-    out.blocks.push(b);
+    diags.emit(b);
 }
 
 fn uint_of(src: &str, span: &Range<usize>) -> Option<u64> {
@@ -364,7 +374,7 @@ fn decl(file: &str, p: Lit, v: Lit, span: Range<usize>, diags: &mut Out) -> Opti
         return None;
     }
     let r = v.r_count();
-    if r.abs() > R_MAX || (!v.point && v.int_digits > 8) || (v.point && v.int_digits > 5) {
+    if r.abs() > R_MAX || (!v.point && v.int_digits() > 8) || (v.point && v.int_digits() > 5) {
         diags.push(
             Diagnostic::error(
                 codes::OUT_OF_RANGE,

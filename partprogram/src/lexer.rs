@@ -13,45 +13,69 @@ use logos::Logos;
 use crate::machine::Dialect;
 
 /// A number as written: sign, digits and whether it had a decimal point.
+///
+/// 16 bytes (a program keeps one per word): the integer part and the fraction rounded to three
+/// and to four digits are stored, the values in thousandths and ten-thousandths are computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Lit {
-    /// The value times 1000, fraction rounded half away from zero to three digits (`36.12` → 36120,
-    /// `100` → 100000, `1.2345` → 1235).
-    pub milli: i64,
-    /// The value times 10 000, rounded half away from zero (the 0.0001 in resolution of inch values).
-    pub e4: i64,
     /// The integer as written without a point (`100` → 100); for a number with a point, the digits
-    /// before the point.
+    /// before the point; negative for a negative number (at most 12 digits).
     pub int: i64,
+    /// The fraction in thousandths, rounded half away from zero (0..=1000).
+    frac3: u16,
+    /// The fraction in ten-thousandths, rounded half away from zero (0..=10000).
+    frac4: u16,
     /// True when the number had a decimal point.
     pub point: bool,
     /// True when a sign was written.
     pub signed: bool,
     /// True when the number was negative.
     pub negative: bool,
-    /// Number of digits before the point.
-    pub int_digits: u8,
     /// Number of digits after the point.
     pub frac_digits: u8,
-    /// The first fraction digit (for G7.1-style sub-codes), 0 when none.
-    pub first_frac: u8,
 }
 
 impl Lit {
+    /// The value times 1000, fraction rounded half away from zero to three digits (`36.12` → 36120,
+    /// `100` → 100000, `1.2345` → 1235).
+    pub fn milli(&self) -> i64 {
+        self.signed_value(self.int.abs() * 1000 + i64::from(self.frac3))
+    }
+
+    /// The value times 10 000, rounded half away from zero (the 0.0001 in resolution of inch values).
+    pub fn e4(&self) -> i64 {
+        self.signed_value(self.int.abs() * 10_000 + i64::from(self.frac4))
+    }
+
+    /// Number of digits before the point (leading zeros not counted).
+    pub fn int_digits(&self) -> u8 {
+        let mut n = self.int.unsigned_abs();
+        let mut digits = 0;
+        while n > 0 {
+            n /= 10;
+            digits += 1;
+        }
+        digits
+    }
+
+    fn signed_value(&self, magnitude: i64) -> i64 {
+        if self.negative { -magnitude } else { magnitude }
+    }
+
     /// The value as a thousandths count under the R-parameter rule: without a point the written integer,
     /// with a point the value times 1000.
     pub fn r_count(&self) -> i64 {
-        if self.point { self.milli } else { self.int }
+        if self.point { self.milli() } else { self.int }
     }
 
     /// The value as a float in the written unit, rounded to 0.001.
     pub fn value(&self) -> f64 {
-        self.milli as f64 / 1000.0
+        self.milli() as f64 / 1000.0
     }
 
     /// The value rounded to 0.0001 (inch programs, resolution 0.0001 in).
     pub fn value4(&self) -> f64 {
-        self.e4 as f64 / 10_000.0
+        self.e4() as f64 / 10_000.0
     }
 }
 
@@ -83,19 +107,16 @@ pub(crate) fn parse_number(s: &str) -> Option<Lit> {
     let digit = |i: usize| fp.as_bytes().get(i).map_or(0, |c| i64::from(c - b'0'));
     let frac3 = (0..3).fold(0, |f, i| f * 10 + digit(i)) + i64::from(digit(3) >= 5);
     let frac4 = (0..4).fold(0, |f, i| f * 10 + digit(i)) + i64::from(digit(4) >= 5);
-    let milli = int.checked_mul(1000)?.checked_add(frac3)?;
-    let e4 = int.checked_mul(10_000)?.checked_add(frac4)?;
+    // At most 12 integer digits: `milli()` and `e4()` cannot overflow.
     let sign = if negative { -1 } else { 1 };
     Some(Lit {
-        milli: sign * milli,
-        e4: sign * e4,
         int: sign * int,
+        frac3: u16::try_from(frac3).ok()?,
+        frac4: u16::try_from(frac4).ok()?,
         point,
         signed,
         negative,
-        int_digits: u8::try_from(ip_trim.len()).unwrap_or(u8::MAX),
         frac_digits: u8::try_from(fp.len()).unwrap_or(u8::MAX),
-        first_frac: fp.as_bytes().first().map_or(0, |c| c - b'0'),
     })
 }
 

@@ -36,6 +36,7 @@ pub mod program;
 pub mod radius;
 pub mod run;
 pub mod thread;
+mod units;
 
 pub use canon::{BlockModal, Canon, Css, Kind, Plane};
 pub use exec::{Backend, Plan, PlanOptions, RunError};

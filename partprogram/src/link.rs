@@ -1,19 +1,37 @@
 //! Linking: resolves literal jump and call targets, detects unbounded recursion in the static call
 //! graph and checks the M functions of every reachable unit against IOCFIL section 2.
+//!
+//! It works on what [`crate::units`] kept of each block while building ([`LinkRef`]s, the block
+//! numbers of each unit, the undeclared M functions of library blocks), not on the blocks, so a
+//! rejected program is linked without keeping its blocks.
 
-use diag::Sink;
+use diag::Diagnostic;
 
 use crate::ast::Val;
 use crate::codes;
-use crate::program::{Program, UnitKind, err, lit_int};
+use crate::program::{CBlock, Program, UnitKind, err, lit_int};
+use crate::units::Units;
 
-/// Resolves literal jump and call targets and detects recursion.
-pub(crate) fn link(prog: &mut Program, diags: &mut Sink) {
-    let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
-    for (bi, b) in prog.blocks.iter().enumerate() {
-        let f = &prog.files[b.file];
-        let (file, src) = (f.name.as_str(), f.text.as_str());
-        let unit = &prog.units[b.unit];
+/// What linking needs of a block with a literal `L` or a fixed cycle G81–G89.
+pub(crate) struct LinkRef {
+    unit: usize,
+    file: usize,
+    span: (usize, usize),
+    /// The literal `L`.
+    l: Option<i64>,
+    /// `L` is a jump target in the unit (G73, or a computed G without G71/G72/G79).
+    jump: bool,
+    /// G71: `L` is a subprogram.
+    sub: bool,
+    /// G72: `L` is a library unit.
+    macro_call: bool,
+    /// The fixed cycles G81–G89 written, in order.
+    cycles: Vec<u8>,
+}
+
+impl LinkRef {
+    /// What `b` asks of linking, when anything.
+    pub(crate) fn of(b: &CBlock) -> Option<LinkRef> {
         let l = b.word('L').and_then(|w| {
             if let Val::Lit(l) = w.val {
                 lit_int(&l)
@@ -21,70 +39,130 @@ pub(crate) fn link(prog: &mut Program, diags: &mut Sink) {
                 None
             }
         });
-        let gs: Vec<Option<i64>> = b
-            .words
-            .iter()
-            .filter(|w| w.addr == 'G')
-            .map(|w| {
-                if let Val::Lit(l) = w.val {
-                    lit_int(&l)
-                } else {
-                    None
-                }
-            })
+        let gs = b.words.iter().filter(|w| w.addr == 'G').map(|w| {
+            if let Val::Lit(l) = w.val {
+                lit_int(&l)
+            } else {
+                None
+            }
+        });
+        let cycles: Vec<u8> = gs
+            .clone()
+            .flatten()
+            .filter(|g| (81..=89).contains(g))
+            .map(|g| g as u8)
             .collect();
-        let dyn_g = gs.iter().any(Option::is_none);
-        if let Some(l) = l {
-            let l32 = l as u32;
-            if (gs.contains(&Some(73))
-                || (dyn_g
-                    && !gs
-                        .iter()
-                        .any(|g| matches!(g, Some(71) | Some(72) | Some(79)))))
-                && !unit.index.contains_key(&l32)
+        if l.is_none() && cycles.is_empty() {
+            return None;
+        }
+        let has = |g: i64| gs.clone().any(|x| x == Some(g));
+        let dyn_g = gs.clone().any(|x| x.is_none());
+        Some(LinkRef {
+            unit: b.unit,
+            file: b.file,
+            span: b.span,
+            l,
+            jump: has(73) || (dyn_g && !(has(71) || has(72) || has(79))),
+            sub: has(71),
+            macro_call: has(72),
+            cycles,
+        })
+    }
+}
+
+impl LinkRef {
+    /// Drops the jump check when the target is among `numbers` (the block numbers of the unit).
+    pub(crate) fn resolve_jump(&mut self, numbers: &roaring::RoaringBitmap) {
+        if let Some(l) = self.l
+            && self.jump
+            && numbers.contains(l as u32)
+        {
+            self.jump = false;
+        }
+    }
+
+    /// True while linking has something to do with the block.
+    pub(crate) fn pending(&self) -> bool {
+        self.jump || self.sub || self.macro_call || !self.cycles.is_empty()
+    }
+}
+
+/// The undeclared M functions of `b` (when the machine checks them), as diagnostics.
+pub(crate) fn undeclared_m(prog: &Program, b: &CBlock) -> Vec<Diagnostic> {
+    let f = &prog.files[b.file];
+    b.words
+        .iter()
+        .filter(|w| w.addr == 'M')
+        .filter_map(|w| {
+            if let Val::Lit(l) = w.val
+                && let Some(mv) = lit_int(&l).filter(|v| (0..=99).contains(v))
+                && prog.machine.m_timing(mv as u16).is_none()
             {
+                Some(err(codes::UNDECLARED_M, &f.name, "", w.span, format!("M{mv:02} is not declared for process 1 in IOCFIL section 2"), "declare it as `Mxx=m_type,m_request,class` in IOCFIL section 2, or do not use it"))
+            } else {
+                None
+            }
+        })
+        .collect()
+}
+
+/// Resolves literal jump and call targets and detects recursion.
+pub(crate) fn link(prog: &Program, units: &mut Units) {
+    let diags = &mut units.phases.link;
+    // Per unit, the calls out of it: (callee, index of the calling LinkRef).
+    let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
+    for (ri, r) in units.refs.iter().enumerate() {
+        let file = prog.files[r.file].name.as_str();
+        if let Some(l) = r.l {
+            let l32 = l as u32;
+            if r.jump && !units.numbers[r.unit].contains(l32) {
                 diags.push(err(
                     codes::MISSING_BLOCK,
                     file,
-                    src,
-                    b.span,
+                    "",
+                    r.span,
                     format!("jump to N{l}, which is not in this program unit"),
                     "jumps go to a block of the same main program, subprogram or macro",
                 ));
             }
-            if gs.contains(&Some(71)) {
+            if r.sub {
                 match prog.subs.get(&l32) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
+                    Some(&u) => edges[r.unit].push((u, ri)),
                     None => diags.push(err(
                         codes::MISSING_SUBPROGRAM,
                         file,
-                        src,
-                        b.span,
+                        "",
+                        r.span,
                         format!("subprogram L{l} does not exist in this file"),
                         "subprograms follow M02/M30 as `G79 L<n>` … `G70`",
                     )),
                 }
             }
-            if gs.contains(&Some(72)) {
+            if r.macro_call {
                 match prog.library.get(&l32) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
+                    Some(&u) => edges[r.unit].push((u, ri)),
                     None => diags.push(err(
                         codes::MISSING_MACRO,
                         file,
-                        src,
-                        b.span,
+                        "",
+                        r.span,
                         format!("macro L{l} is not in the machine's macro folder"),
                         "store the macro as file L<n> in the macro folder",
                     )),
                 }
             }
         }
-        for g in gs.iter().flatten() {
-            if (81..=89).contains(g) {
-                match prog.library.get(&(*g as u32)) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
-                    None => diags.push(err(codes::MISSING_MACRO, file, src, b.span, format!("fixed cycle G{g} has no unit L{g} in the macro folder"), "ship the fixed cycles as units G79 L81 … G70 in the machine's macro folder")),
-                }
+        for &g in &r.cycles {
+            match prog.library.get(&u32::from(g)) {
+                Some(&u) => edges[r.unit].push((u, ri)),
+                None => diags.push(err(
+                    codes::MISSING_MACRO,
+                    file,
+                    "",
+                    r.span,
+                    format!("fixed cycle G{g} has no unit L{g} in the macro folder"),
+                    "ship the fixed cycles as units G79 L81 … G70 in the machine's macro folder",
+                )),
             }
         }
     }
@@ -93,9 +171,9 @@ pub(crate) fn link(prog: &mut Program, diags: &mut Sink) {
     let mut state = vec![0u8; n];
     fn dfs(u: usize, edges: &[Vec<(usize, usize)>], state: &mut [u8], hit: &mut Vec<usize>) {
         state[u] = 1;
-        for &(v, bi) in &edges[u] {
+        for &(v, ri) in &edges[u] {
             if state[v] == 1 {
-                hit.push(bi);
+                hit.push(ri);
             } else if state[v] == 0 {
                 dfs(v, edges, state, hit);
             }
@@ -108,9 +186,10 @@ pub(crate) fn link(prog: &mut Program, diags: &mut Sink) {
             dfs(u, &edges, &mut state, &mut hits);
         }
     }
-    // M functions must be declared in IOCFIL section 2: checked in the main file and in every library
-    // unit the program reaches through literal calls (computed calls cannot be followed statically).
-    if prog.machine.check_m_declared {
+    // M functions must be declared in IOCFIL section 2: checked in the main file (while building)
+    // and in every library unit the program reaches through literal calls (computed calls cannot
+    // be followed statically).
+    if !units.lib_m.is_empty() {
         let mut reach = vec![false; n];
         let mut stack: Vec<usize> = (0..n)
             .filter(|&u| prog.units[u].kind != UnitKind::Library)
@@ -121,31 +200,21 @@ pub(crate) fn link(prog: &mut Program, diags: &mut Sink) {
             }
             stack.extend(edges[u].iter().map(|e| e.0));
         }
-        for b in &prog.blocks {
-            if !reach[b.unit] {
-                continue;
-            }
-            let f = &prog.files[b.file];
-            for w in b.words.iter().filter(|w| w.addr == 'M') {
-                if let Val::Lit(l) = w.val
-                    && let Some(mv) = lit_int(&l).filter(|v| (0..=99).contains(v))
-                    && prog.machine.m_timing(mv as u16).is_none()
-                {
-                    diags.push(err(codes::UNDECLARED_M, &f.name, &f.text, w.span, format!("M{mv:02} is not declared for process 1 in IOCFIL section 2"), "declare it as `Mxx=m_type,m_request,class` in IOCFIL section 2, or do not use it"));
-                }
+        for m in std::mem::take(&mut units.lib_m) {
+            if reach[m.unit] {
+                units.phases.m.push(m.diagnostic);
             }
         }
     }
     hits.sort_unstable();
     hits.dedup();
-    for bi in hits {
-        let b = &prog.blocks[bi];
-        let f = &prog.files[b.file];
-        diags.push(err(
+    for ri in hits {
+        let r = &units.refs[ri];
+        units.phases.rec.push(err(
             codes::RECURSION,
-            &f.name,
-            &f.text,
-            b.span,
+            &prog.files[r.file].name,
+            "",
+            r.span,
             "this call leads back to its own unit: unbounded recursion",
             "a subprogram or macro must not call itself directly or through other calls",
         ));

@@ -9,7 +9,7 @@
 use diag::{Diagnostic, Sink};
 use lalrpop_util::ParseError;
 
-use crate::ast::ParsedFile;
+use crate::ast::{Block, ParsedFile};
 use crate::codes;
 use crate::group::Grouper;
 use crate::lexer::{LexErrorKind, Lexer, Tok};
@@ -53,14 +53,18 @@ fn parse_chunked(
     chunk_tokens: usize,
 ) -> (ParsedFile, Vec<Diagnostic>) {
     let mut sink = Sink::unbounded();
-    let out = parse_unlocated(
+    let mut blocks = Vec::new();
+    let mut out = parse_unlocated(
         dialect,
         file,
         src,
         require_header,
         chunk_tokens,
-        &mut Out(&mut sink),
+        &mut Out::new(&mut sink, &mut |b, _| blocks.push(b)),
     );
+    // Without the spare room of the last doubling: the blocks live as long as the compile.
+    blocks.shrink_to_fit();
+    out.blocks = blocks;
     // Located in one pass at the end: scanning the text per diagnostic is quadratic (issue 12).
     let mut diags = sink.into_vec();
     let offsets: Vec<usize> = diags.iter().map(|d| d.span.start).collect();
@@ -74,19 +78,57 @@ fn parse_chunked(
 }
 
 /// [`parse`] with the diagnostics pushed into `diags` (a sink that may store only the first of
-/// them), marked to be located by [`crate::program::compile`] once it knows which it keeps.
-pub(crate) fn parse_into(dialect: Dialect, file: &str, src: &str, diags: &mut Sink) -> ParsedFile {
-    parse_unlocated(dialect, file, src, true, CHUNK_TOKENS, &mut Out(diags))
+/// them), marked to be located by [`crate::program::compile`] once it knows which it keeps, and
+/// every block handed to `block` as soon as it is complete, in file order, with the sink as it is
+/// then ([`ParsedFile::blocks`] stays empty).
+pub(crate) fn parse_streaming(
+    dialect: Dialect,
+    file: &str,
+    src: &str,
+    diags: &mut Sink,
+    block: &mut dyn FnMut(Block, &Sink),
+) -> ParsedFile {
+    parse_unlocated(
+        dialect,
+        file,
+        src,
+        true,
+        CHUNK_TOKENS,
+        &mut Out::new(diags, block),
+    )
 }
 
-/// Where the parser's diagnostics go: a sink, each marked to be located at the end (locating only
-/// the ones kept).
-pub(crate) struct Out<'a>(&'a mut Sink);
+/// [`parse`] with the diagnostics pushed into `diags` like [`parse_streaming`], the blocks kept in
+/// [`ParsedFile::blocks`].
+pub(crate) fn parse_into(dialect: Dialect, file: &str, src: &str, diags: &mut Sink) -> ParsedFile {
+    let mut blocks = Vec::new();
+    let mut out = parse_streaming(dialect, file, src, diags, &mut |b, _| blocks.push(b));
+    blocks.shrink_to_fit();
+    out.blocks = blocks;
+    out
+}
 
-impl Out<'_> {
+/// Where the parser's diagnostics go (a sink, each marked to be located at the end, locating only
+/// the ones kept) and where its finished blocks go (a callback, given the sink as it is then).
+pub(crate) struct Out<'a> {
+    sink: &'a mut Sink,
+    block: &'a mut dyn FnMut(Block, &Sink),
+}
+
+impl<'a> Out<'a> {
+    /// Diagnostics into `sink`, blocks to `block`.
+    pub(crate) fn new(sink: &'a mut Sink, block: &'a mut dyn FnMut(Block, &Sink)) -> Self {
+        Out { sink, block }
+    }
+
     /// Pushes `d`, to be located at the end.
     pub(crate) fn push(&mut self, d: Diagnostic) {
-        self.0.push(crate::program::to_locate(d));
+        self.sink.push(crate::program::to_locate(d));
+    }
+
+    /// Hands on the finished block `b`.
+    pub(crate) fn emit(&mut self, b: Block) {
+        (self.block)(b, self.sink);
     }
 }
 
@@ -158,8 +200,9 @@ impl Iterator for Chunk<'_, '_> {
 }
 
 /// [`parse_with`] with line and column of the diagnostics not yet filled in. The items are grouped
-/// into blocks chunk by chunk as the parser reads them: what is held besides the text and the
-/// blocks is one chunk of items (see [`Chunk`]).
+/// into blocks chunk by chunk as the parser reads them, and each block is handed on through
+/// `diags` ([`Out::emit`]) once complete: what is held besides the text is one chunk of items
+/// (see [`Chunk`]) and what the receiver of the blocks keeps.
 fn parse_unlocated(
     dialect: Dialect,
     file: &str,
@@ -273,9 +316,7 @@ fn parse_unlocated(
             break;
         }
     }
-    group.finish(file, &mut out, diags);
-    // Without the spare room of the last doubling: the blocks live as long as the compile.
-    out.blocks.shrink_to_fit();
+    group.finish(file, diags);
     out
 }
 

@@ -7,14 +7,14 @@
 //! targets written literally are resolved at compile time, computed ones at run time.
 
 use std::collections::HashMap;
-use std::path::Path;
 
 use diag::{Diagnostic, Hidden, Sink};
 
-use crate::ast::{Block, Decl, ParsedFile, Val, Word};
+use crate::ast::{Decl, Val, Word};
 use crate::codes;
 use crate::lexer::Lit;
 use crate::machine::{Dialect, MachineSpec};
+use crate::units::Units;
 
 /// What a program unit is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -41,7 +41,88 @@ pub struct Unit {
     /// One past the last block.
     pub end: usize,
     /// Block number → block index.
-    pub index: HashMap<u32, usize>,
+    pub index: BlockIndex,
+}
+
+/// The blocks of a unit by number: pairs (number, block index) sorted by number, 8 bytes per
+/// numbered block (a hash map took 20 to 40). Filled by [`BlockIndex::push`] in any order and
+/// sorted once by [`BlockIndex::finish`]; looked up by binary search.
+#[derive(Debug, Clone, Default)]
+pub struct BlockIndex {
+    entries: Vec<(u32, u32)>,
+    /// True while `entries` is sorted by number without repeats.
+    sorted: bool,
+}
+
+impl BlockIndex {
+    /// An index of the pairs (number, block index) in file order; of a number written twice the
+    /// last block is kept.
+    pub fn from_pairs(pairs: impl IntoIterator<Item = (u32, usize)>) -> Self {
+        let mut ix = BlockIndex::default();
+        for (n, b) in pairs {
+            ix.push(n, b);
+        }
+        ix.finish();
+        ix
+    }
+
+    /// Adds block `block` under number `n` (a later push of the same number replaces it once
+    /// [`BlockIndex::finish`] ran).
+    pub fn push(&mut self, n: u32, block: usize) {
+        // A program of more than 4 G blocks would need more than 8 GB of text and blocks.
+        let block = u32::try_from(block).unwrap_or(u32::MAX);
+        self.sorted =
+            self.entries.is_empty() || (self.sorted && self.entries[self.entries.len() - 1].0 < n);
+        self.entries.push((n, block));
+    }
+
+    /// Sorts the pairs by number (stable: of equal numbers the last pushed is kept) and drops the
+    /// spare room.
+    pub fn finish(&mut self) {
+        if !self.sorted {
+            self.entries.sort_by_key(|e| e.0);
+            let mut out: Vec<(u32, u32)> = Vec::with_capacity(self.entries.len());
+            for e in self.entries.drain(..) {
+                match out.last_mut() {
+                    Some(last) if last.0 == e.0 => *last = e,
+                    _ => out.push(e),
+                }
+            }
+            self.entries = out;
+            self.sorted = true;
+        }
+        self.entries.shrink_to_fit();
+    }
+
+    /// The block numbered `n`.
+    pub fn get(&self, n: u32) -> Option<usize> {
+        debug_assert!(
+            self.sorted || self.entries.is_empty(),
+            "BlockIndex read before finish"
+        );
+        let i = self.entries.binary_search_by_key(&n, |e| e.0).ok()?;
+        Some(self.entries[i].1 as usize)
+    }
+
+    /// True when a block is numbered `n`.
+    pub fn contains(&self, n: u32) -> bool {
+        self.get(n).is_some()
+    }
+
+    /// The pairs (number, block index) by number.
+    pub fn iter(&self) -> impl Iterator<Item = (u32, usize)> + '_ {
+        self.entries.iter().map(|&(n, b)| (n, b as usize))
+    }
+
+    /// Numbered blocks.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// True when no block has a number.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
 }
 
 /// A block ready to run.
@@ -58,9 +139,9 @@ pub struct CBlock {
     /// Block skip `/`.
     pub skip: bool,
     /// Words (not N, not declarations).
-    pub words: Vec<Word>,
+    pub words: Box<[Word]>,
     /// Declarations.
-    pub decls: Vec<Decl>,
+    pub decls: Box<[Decl]>,
     /// Number of arithmetic operations when G26..G29 is written literally (1..4), else 0.
     pub arith_ops: u8,
     /// Index of the native function for this block's arithmetic, when compiled.
@@ -82,7 +163,7 @@ impl CBlock {
     pub fn has_g(&self, g: i64) -> bool {
         self.words
             .iter()
-            .any(|w| w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli == g * 1000))
+            .any(|w| w.addr == 'G' && matches!(w.val, Val::Lit(l) if l.milli() == g * 1000))
     }
 }
 
@@ -122,10 +203,10 @@ pub struct Program {
 
 /// Integer value of a literal written for a count address (None when it has a fraction).
 pub fn lit_int(l: &Lit) -> Option<i64> {
-    if l.milli % 1000 != 0 {
+    if l.milli() % 1000 != 0 {
         None
     } else {
-        Some(l.milli / 1000)
+        Some(l.milli() / 1000)
     }
 }
 
@@ -208,19 +289,29 @@ pub fn compile_capped(
         macro_native: None,
     };
     let mut sink = Sink::new(max);
-    let parsed = crate::parse::parse_into(machine.dialect, name, src, &mut sink);
-    prog.number = parsed.number;
     if machine.dialect == Dialect::Fanuc {
+        let parsed = crate::parse::parse_into(machine.dialect, name, src, &mut sink);
+        prog.number = parsed.number;
         crate::fanuc::build_units(&mut prog, parsed, &mut sink);
         crate::fanuc::check(&mut prog, &mut sink);
         crate::macro_b::flow::link(&mut prog, &mut sink);
     } else {
-        build_main_units(&mut prog, 0, parsed, src, &mut sink);
-        load_library(&mut prog, &machine.macro_dir, &mut sink);
-        for b in 0..prog.blocks.len() {
-            crate::check::check_block(&prog, b, &mut sink);
-        }
-        crate::link::link(&mut prog, &mut sink);
+        // Each block is built into its unit and checked as the parser hands it on, and kept only
+        // while the program has no error (`units`).
+        let mut units = Units::new(max);
+        let mut f = units.start_file(&mut prog, 0);
+        let parsed = crate::parse::parse_streaming(
+            machine.dialect,
+            name,
+            src,
+            &mut sink,
+            &mut |b, parse| units.block(&mut prog, &mut f, b, parse.has_errors()),
+        );
+        prog.number = parsed.number;
+        units.end_file(&mut prog, f, src);
+        units.load_library(&mut prog, &machine.macro_dir, sink.has_errors());
+        crate::link::link(&prog, &mut units);
+        units.phases.merge_into(&mut sink);
     }
     let failed = sink.has_errors();
     let (mut diags, hidden) = sink.finish();
@@ -237,6 +328,11 @@ pub fn compile_capped(
         return (None, diags, hidden);
     }
     prog.files[0].text = src.to_string();
+    // Without the spare room of the last doubling: the blocks live as long as the program.
+    prog.blocks.shrink_to_fit();
+    for u in &mut prog.units {
+        u.index.finish();
+    }
     if machine.dialect == Dialect::Fanuc {
         match crate::macro_b::native::compile(&prog) {
             Ok(code) => prog.macro_native = code,
@@ -265,273 +361,4 @@ pub fn compile_capped(
         }
     }
     (Some(prog), diags, hidden)
-}
-
-fn g_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
-    b.words
-        .iter()
-        .filter(|w| w.addr == 'G')
-        .filter_map(|w| match w.val {
-            Val::Lit(l) => lit_int(&l),
-            Val::Param(_) | Val::Expr(_) => None,
-        })
-}
-
-fn m_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
-    b.words
-        .iter()
-        .filter(|w| w.addr == 'M')
-        .filter_map(|w| match w.val {
-            Val::Lit(l) => lit_int(&l),
-            Val::Param(_) | Val::Expr(_) => None,
-        })
-}
-
-fn lit_of(b: &Block, a: char) -> Option<i64> {
-    b.words
-        .iter()
-        .find(|w| w.addr == a)
-        .and_then(|w| match w.val {
-            Val::Lit(l) => lit_int(&l),
-            Val::Param(_) | Val::Expr(_) => None,
-        })
-}
-
-fn push_block(prog: &mut Program, file: usize, unit: usize, b: Block) {
-    let arith_ops = g_lits(&b)
-        .find(|g| (26..=29).contains(g))
-        .map_or(0, |g| (g - 25) as u8);
-    prog.blocks.push(CBlock {
-        n: b.n,
-        file,
-        unit,
-        span: b.span,
-        skip: b.skip,
-        words: b.words,
-        decls: b.decls,
-        arith_ops,
-        native: None,
-        mac: None,
-        jump: None,
-    });
-}
-
-/// Splits a parsed MEFI file into units. `file` 0 is the main file (main program + subprograms);
-/// other files are library files (units only).
-fn build_main_units(
-    prog: &mut Program,
-    file: usize,
-    parsed: ParsedFile,
-    src: &str,
-    diags: &mut Sink,
-) {
-    let fname = prog.files[file].name.clone();
-    let library = file != 0;
-    let mut cur: Option<usize> = None;
-    let mut main_ended = false;
-    if !library {
-        prog.units.push(Unit {
-            kind: UnitKind::Main,
-            l: 0,
-            file,
-            start: prog.blocks.len(),
-            end: prog.blocks.len(),
-            index: HashMap::new(),
-        });
-        cur = Some(prog.units.len() - 1);
-    }
-    prog.blocks.reserve_exact(parsed.blocks.len());
-    let mut subs = 0;
-    let first_unit = prog.units.len();
-    let mut closed = std::collections::HashSet::new();
-    for b in parsed.blocks {
-        let is_entry = g_lits(&b).any(|g| g == 79);
-        if is_entry {
-            if let Some(u) = cur
-                && prog.units[u].kind == UnitKind::Main
-                && !main_ended
-            {
-                diags.push(err(
-                    codes::AFTER_END,
-                    &fname,
-                    src,
-                    b.span,
-                    "subprogram before the end of the main program",
-                    "subprograms follow the block with M02 or M30",
-                ));
-            }
-            let l = lit_of(&b, 'L').unwrap_or(0);
-            let kind = if library {
-                UnitKind::Library
-            } else {
-                UnitKind::Sub
-            };
-            if !library {
-                subs += 1;
-                if subs == 100 {
-                    diags.push(err(
-                        codes::TOO_MANY_SUBPROGRAMS,
-                        &fname,
-                        src,
-                        b.span,
-                        "more than 99 subprograms",
-                        "a partprogram holds at most 99 subprograms",
-                    ));
-                }
-            }
-            let map = if library {
-                &mut prog.library
-            } else {
-                &mut prog.subs
-            };
-            if l > 0 && map.insert(l as u32, prog.units.len()).is_some() {
-                diags.push(err(
-                    codes::DUPLICATE_N,
-                    &fname,
-                    src,
-                    b.span,
-                    format!("unit L{l} is defined twice"),
-                    "every G79 L<n> number must be unique",
-                ));
-            }
-            prog.units.push(Unit {
-                kind,
-                l: l as u32,
-                file,
-                start: prog.blocks.len(),
-                end: prog.blocks.len(),
-                index: HashMap::new(),
-            });
-            cur = Some(prog.units.len() - 1);
-        }
-        let Some(u) = cur else {
-            diags.push(err(
-                codes::NO_BLOCK_NUMBER,
-                &fname,
-                src,
-                b.span,
-                "block outside a G79 … G70 unit",
-                "a macro file holds units that start with `G79 L<n>` and end with G70",
-            ));
-            continue;
-        };
-        if prog.units[u].kind == UnitKind::Main && main_ended {
-            diags.push(err(
-                codes::AFTER_END,
-                &fname,
-                src,
-                b.span,
-                "block after the end of the main program",
-                "only subprograms (G79 L<n> … G70) may follow M02/M30",
-            ));
-            continue;
-        }
-        let ends_main =
-            prog.units[u].kind == UnitKind::Main && m_lits(&b).any(|m| m == 2 || m == 30);
-        let ends_unit = prog.units[u].kind != UnitKind::Main && g_lits(&b).any(|g| g == 70);
-        let idx = prog.blocks.len();
-        if let Some(n) = b.n {
-            let dup = if library {
-                prog.units[u].index.contains_key(&n)
-            } else {
-                prog.units
-                    .iter()
-                    .filter(|x| x.file == file)
-                    .any(|x| x.index.contains_key(&n))
-            };
-            if dup {
-                diags.push(err(codes::DUPLICATE_N, &fname, src, b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
-            } else {
-                prog.units[u].index.insert(n, idx);
-            }
-        }
-        push_block(prog, file, u, b);
-        prog.units[u].end = prog.blocks.len();
-        if ends_main {
-            main_ended = true;
-        }
-        if ends_unit {
-            // A unit runs until the next G79 (the cycle files put blocks after an inner G70), but it
-            // must contain at least one G70.
-            closed.insert(u);
-        }
-    }
-    for (u, unit) in prog.units.iter().enumerate().skip(first_unit) {
-        if unit.kind != UnitKind::Main && !closed.contains(&u) {
-            let span = prog.blocks.get(unit.start).map_or((0, 0), |b| b.span);
-            diags.push(err(
-                codes::UNIT_NOT_CLOSED,
-                &fname,
-                src,
-                span,
-                format!("unit L{} has no G70", unit.l),
-                "end the unit with a block containing G70",
-            ));
-        }
-    }
-    // An empty file has one error saying so; "no M02/M30" would only repeat it.
-    if !library && !main_ended && !src.trim().is_empty() {
-        diags.push(
-            Diagnostic::warning(
-                codes::NO_END,
-                &fname,
-                0..0,
-                "the main program has no M02/M30 block",
-            )
-            .with_hint("end the main program with M02 or M30")
-            .locate(src),
-        );
-    }
-}
-
-/// Loads every macro file `L<n>` and every `$PC` cycle file of `dir`.
-fn load_library(prog: &mut Program, dir: &Path, diags: &mut Sink) {
-    if dir.as_os_str().is_empty() {
-        return;
-    }
-    let Ok(rd) = std::fs::read_dir(dir) else {
-        return;
-    };
-    let mut paths: Vec<_> = rd
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .filter(|p| p.is_file())
-        .collect();
-    paths.sort();
-    for path in paths {
-        let fname = path
-            .file_name()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
-        let is_l = stem.len() > 1
-            && stem.starts_with('L')
-            && stem[1..].bytes().all(|c| c.is_ascii_digit());
-        let text = match std::fs::read(&path) {
-            Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
-            Err(e) => {
-                diags.push(Diagnostic::error(
-                    codes::MACRO_IO,
-                    format!("macros/{fname}"),
-                    0..0,
-                    format!("cannot read: {e}"),
-                ));
-                continue;
-            }
-        };
-        let is_cycle = text.trim_start().starts_with("$PC");
-        if !is_l && !is_cycle {
-            continue;
-        }
-        let name = format!("macros/{fname}");
-        let (parsed, d) = crate::parse::parse_library(Dialect::Mefi, &name, &text);
-        diags.extend(d);
-        prog.files.push(SourceFile {
-            name,
-            text: String::new(),
-        });
-        let file = prog.files.len() - 1;
-        build_main_units(prog, file, parsed, &text, diags);
-        prog.files[file].text = text;
-    }
 }

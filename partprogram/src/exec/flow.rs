@@ -75,7 +75,7 @@ impl Exec<'_> {
             return Err(run_err(b, codes::RUN_TARGET, "G73 without L"));
         };
         let unit = &self.prog.units[b.unit];
-        let target = *unit.index.get(&(lv as u32)).ok_or_else(|| {
+        let target = unit.index.get(lv as u32).ok_or_else(|| {
             run_err(
                 b,
                 codes::RUN_TARGET,

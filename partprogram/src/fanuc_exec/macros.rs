@@ -395,7 +395,7 @@ impl Ex<'_> {
         let v = z(self.ev(b, t)?);
         let n = (v >= 0.0 && v.fract() == 0.0 && v <= 99_999_999.0).then_some(v as u32);
         let to = n
-            .and_then(|n| self.prog.units[b.unit].index.get(&n).copied())
+            .and_then(|n| self.prog.units[b.unit].index.get(n))
             .ok_or_else(|| {
                 run_err(
                     b,
@@ -501,7 +501,7 @@ impl Ex<'_> {
             unit: b.unit,
             span: b.span,
             skip: b.skip,
-            words,
+            words: words.into_boxed_slice(),
             decls: b.decls.clone(),
             arith_ops: b.arith_ops,
             native: b.native,

@@ -145,7 +145,7 @@ fn classify(prog: &Program, bi: usize) -> Option<PBlock> {
             },
             ('G', Val::Param(p)) if g7.is_none() => g7 = Some(G7::Param(param(&p))),
             ('L', Val::Lit(x)) if l.is_none() => l = Some(lit_int(&x)?),
-            ('Q', Val::Lit(x)) if q.is_none() => q = Some(Count::Lit(x.milli / 1000)),
+            ('Q', Val::Lit(x)) if q.is_none() => q = Some(Count::Lit(x.milli() / 1000)),
             ('Q', Val::Param(p)) if q.is_none() => q = Some(Count::Param(param(&p))),
             _ => return None,
         }
@@ -162,7 +162,7 @@ fn classify(prog: &Program, bi: usize) -> Option<PBlock> {
     let target = match g7 {
         Some(G7::Lit(73)) | Some(G7::Param(_)) => {
             let lv = u32::try_from(l?).ok()?;
-            Some(*prog.units[b.unit].index.get(&lv)?)
+            prog.units[b.unit].index.get(lv)
         }
         _ => None,
     };

@@ -88,7 +88,7 @@ pub fn link(prog: &mut Program, diags: &mut Sink) {
                     if let Some(v) = literal_target(t) {
                         let n = (v >= 0.0 && v.fract() == 0.0 && v <= 99_999_999.0)
                             .then_some(v as u32)
-                            .and_then(|n| unit.index.get(&n).copied());
+                            .and_then(|n| unit.index.get(n));
                         match n {
                             Some(t) => links.push((bi, t)),
                             None => diags.push(err(

@@ -501,7 +501,7 @@ impl<'a> P<'a> {
             if a == 'N' {
                 return Err(self.err("the block number comes first"));
             }
-            if a == 'G' && matches!(val, Val::Lit(l) if l.milli == 65_000) {
+            if a == 'G' && matches!(val, Val::Lit(l) if l.milli() == 65_000) {
                 g65 = true;
             }
             b.words.push(Word {
@@ -541,7 +541,7 @@ impl<'a> P<'a> {
                 Val::Param(_) => return Err(bad("R parameters are MEFI syntax".into())),
             };
             match w.addr {
-                'G' if matches!(w.val, Val::Lit(x) if x.milli == 65_000) => {}
+                'G' if matches!(w.val, Val::Lit(x) if x.milli() == 65_000) => {}
                 'P' => match w.val {
                     Val::Lit(x) if !x.point && (0..=99_999).contains(&x.int) => {
                         p = Some(x.int as u32);

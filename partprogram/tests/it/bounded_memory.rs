@@ -138,3 +138,160 @@ fn a_capped_compile_of_5_mb_holds_no_structure_per_input_byte() {
         );
     }
 }
+
+/// The shape of `tests/gen/numbered.py`'s DENSEN.nc: `%1`, then blocks N1, N2, … alternating
+/// `N<i> G01 X<a>. K1.` (K has no meaning in MEFI blocks: 2038) and a jump back
+/// `N<i> G73 L<1 + i/2 mod 5000>` (its target is a block before it), and no M02/M30 (2032).
+fn dense_numbered(blocks: usize) -> String {
+    let mut src = String::from("%1\n");
+    for i in 1..=blocks {
+        if i % 2 == 1 {
+            src.push_str(&format!("N{i} G01 X{}. K1.\n", i % 100));
+        } else {
+            src.push_str(&format!("N{i} G73 L{}\n", 1 + (i / 2) % 5000));
+        }
+    }
+    src
+}
+
+#[test]
+fn a_capped_compile_of_numbered_blocks_keeps_the_first_diagnostics_and_counts_the_rest() {
+    let blocks = 20_000;
+    let src = dense_numbered(blocks);
+    let (prog, kept, hidden) = compile_capped(&common::lathe(), "DENSE", &src, 6);
+    assert!(prog.is_none());
+    let got: Vec<(u32, u32, u32)> = kept.iter().map(|d| (d.code, d.line, d.column)).collect();
+    // `N1 G01 X1. K1.`: K in column 12; the last, `N19999 G01 X99. K1.` on line 20,000: 17.
+    assert_eq!(
+        got,
+        [
+            (2032, 1, 1),
+            (2038, 2, 12),
+            (2038, 4, 12),
+            (2038, 6, 12),
+            (2038, 8, 12),
+            (2038, 10, 12),
+        ]
+    );
+    // One error per odd block and the warning; 5 errors and the warning are kept.
+    assert_eq!(
+        hidden,
+        [Hidden {
+            file: "DENSE".into(),
+            errors: blocks / 2 - 5,
+            warnings: 0
+        }]
+    );
+    let (_, all) = compile(&common::lathe(), "DENSE", &src);
+    assert_eq!(all.len(), 1 + blocks / 2);
+    assert_eq!(all[..6], kept[..]);
+    assert_eq!((all[blocks / 2].line, all[blocks / 2].column), (20_000, 17));
+}
+
+#[test]
+fn numbered_blocks_are_checked_against_each_other_without_being_kept() {
+    // Errors first, so that no block is kept; then a duplicate number, a jump forward to a block
+    // that exists, one to a block that does not, and a subprogram call of a missing subprogram.
+    let src = "%1\nN1 K1.\nN2 G73 L5\nN3 G73 L9\nN2 X1.\nN5 G71 L7\nN6 M30\n";
+    let (prog, diags) = compile(&common::lathe(), "F", src);
+    assert!(prog.is_none());
+    let got: Vec<(u32, u32, u32)> = diags.iter().map(|d| (d.code, d.line, d.column)).collect();
+    assert_eq!(
+        got,
+        [(2038, 2, 4), (2018, 4, 1), (2005, 5, 1), (2019, 6, 1)]
+    );
+}
+
+/// Heap a compressed bitmap of block numbers may take per 65,536 numbers: an array container of
+/// up to 4,096 `u16` that has doubled once (16 KiB) while it becomes an 8 KiB bitmap.
+const BITMAP_CONTAINER: usize = 16 << 10;
+
+/// What a capped compile of the numbered error-dense program whose largest block number is
+/// `max_n` may hold at its peak besides the text: [`bound`] for the parser and the diagnostics of
+/// six phases (parse, units, checks, links, M functions, recursion: `max` each), and two bitmaps of
+/// block numbers (the file's, the unit's), a container per 65,536 numbers each. No block is kept
+/// (the first one has an error) and the jumps go back, so none waits for linking.
+fn bound_numbered(max: usize, max_n: usize) -> usize {
+    bound(6 * max) + 2 * BITMAP_CONTAINER * (max_n / 65_536 + 1)
+}
+
+#[test]
+fn a_capped_compile_of_numbered_blocks_holds_no_block() {
+    let max = 100;
+    let mut peaks = Vec::new();
+    for mb in [1, 5] {
+        // `N<i> G01 X<a>. K1.` and `N<i> G73 L<j>` average under 20 bytes.
+        let blocks = mb * 1_000_000 / 16;
+        let src = dense_numbered(blocks);
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&common::lathe(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        assert_eq!(kept.len(), max);
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, 1 + blocks.div_ceil(2));
+        let b = bound_numbered(max, blocks);
+        eprintln!("numbered {mb} MB ({blocks} blocks): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        peaks.push((peak, blocks));
+    }
+    // 5 MB may hold more than 1 MB only by the bitmap containers of its further numbers.
+    let [(p1, b1), (p5, b5)] = peaks[..] else {
+        unreachable!()
+    };
+    let margin = 2 * BITMAP_CONTAINER * (b5 / 65_536 - b1 / 65_536);
+    assert!(
+        p5 <= p1 + margin,
+        "1 MB: {p1} bytes, 5 MB: {p5} bytes (margin {margin})"
+    );
+}
+
+/// The shape of `tests/gen/numbered.py`'s VALIDN.nc: `%1`, `N1 G01 X0 Z0 F100.`, blocks
+/// `N<i> G01 X<a>. Z-<b>.` and `N<k> M30`.
+fn valid_numbered(blocks: usize) -> String {
+    let mut src = String::from("%1\nN1 G01 X0 Z0 F100.\n");
+    for i in 2..blocks {
+        src.push_str(&format!("N{i} G01 X{}. Z-{}.\n", i % 100, i % 97));
+    }
+    src.push_str(&format!("N{blocks} M30\n"));
+    src
+}
+
+#[test]
+fn a_valid_numbered_program_keeps_a_compact_block() {
+    use partprogram::ast::Word;
+    use partprogram::lexer::Lit;
+    use partprogram::program::CBlock;
+    use std::mem::size_of;
+    // A literal is its integer part and two rounded fractions; a word its address, value and span.
+    assert_eq!(size_of::<Lit>(), 16);
+    assert_eq!(size_of::<Word>(), 48);
+    let mut held = Vec::new();
+    for blocks in [1_000, 101_000] {
+        let src = valid_numbered(blocks);
+        let ((prog, diags, _), peak, h) = crate::peak_alloc::peak_and_held(|| {
+            compile_capped(&common::lathe(), "VALID", &src, 100)
+        });
+        assert!(prog.is_some(), "{diags:?}");
+        // The program holds a copy of the text.
+        held.push((h - src.len(), peak - src.len()));
+        drop(prog);
+    }
+    let per_block = (held[1].0 - held[0].0) / 100_000;
+    let peak_per_block = (held[1].1 - held[0].1) / 100_000;
+    // Each block: the compiled block, its three words (no spare room), 8 bytes of the unit's
+    // number index and 4 of the native code's region table (`region_of`); nothing else grows with
+    // the blocks.
+    let expected = size_of::<CBlock>() + 3 * size_of::<Word>() + 8 + 4;
+    eprintln!(
+        "held {per_block} B per block (CBlock {} B), peak {peak_per_block} B per block",
+        size_of::<CBlock>()
+    );
+    assert_eq!(per_block, expected);
+    // At the peak, the block vector may have doubled once beyond the blocks (and the word being
+    // parsed is one chunk: constant).
+    assert!(
+        peak_per_block <= expected + size_of::<CBlock>(),
+        "peak {peak_per_block} B per block"
+    );
+}

@@ -74,3 +74,11 @@ pub fn peak_during<R>(f: impl FnOnce() -> R) -> (R, usize) {
     TRACKING.with(|t| t.set(false));
     (r, PEAK.with(Cell::get).max(0) as usize)
 }
+
+/// Runs `f` and returns its result with the peak of the bytes this thread had allocated while it
+/// ran and the bytes still held when it returned (what its result keeps), both above what the
+/// thread held when `f` started.
+pub fn peak_and_held<R>(f: impl FnOnce() -> R) -> (R, usize, usize) {
+    let (r, peak) = peak_during(f);
+    (r, peak, LIVE.with(Cell::get).max(0) as usize)
+}

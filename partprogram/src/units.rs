@@ -1,0 +1,439 @@
+//! MEFI program units built block by block as the parser hands the blocks on: the split of a file
+//! into main program, subprograms `G79 L … G70` and library units, the block-number tables, the
+//! static checks of each block and what linking needs of it later ([`LinkRef`]).
+//!
+//! Invariants (issue 23): a block is checked as soon as it is complete and kept in
+//! [`Program::blocks`] only while the compile has no error (a program with an error never runs;
+//! at the first error the blocks kept so far are dropped). What a rejected program holds per block
+//! is its number in two compressed bitmaps (file-wide for duplicates, per unit for jump targets;
+//! [`RoaringBitmap`], at most 2 bytes per number and at most 12.5 MB per bitmap whatever the file's
+//! length, since numbers are below 10^8) and, for a block with a literal jump forward (a jump back
+//! is resolved at once), a call or a fixed cycle, one [`LinkRef`] until linking. The diagnostics of each phase go to their own capped sink ([`Phases`]), merged
+//! at the end in the order the phases ran when the whole block list was checked phase after phase
+//! (units, block checks, links, M functions, recursion): the kept diagnostics and their order are
+//! the same as then.
+
+use std::path::Path;
+
+use diag::{Diagnostic, Sink};
+use roaring::RoaringBitmap;
+
+use crate::ast::{Block, Val};
+use crate::codes;
+use crate::link::LinkRef;
+use crate::machine::Dialect;
+use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind, err, lit_int};
+
+/// The diagnostics of each compile phase after parsing, each capped like the compile's sink.
+pub(crate) struct Phases {
+    /// Units, block numbers, library files.
+    pub(crate) units: Sink,
+    /// The static checks of each block.
+    pub(crate) check: Sink,
+    /// Jump and call targets.
+    pub(crate) link: Sink,
+    /// M functions not declared in IOCFIL.
+    pub(crate) m: Sink,
+    /// Recursion.
+    pub(crate) rec: Sink,
+}
+
+impl Phases {
+    fn new(max: usize) -> Self {
+        Phases {
+            units: Sink::new(max),
+            check: Sink::new(max),
+            link: Sink::new(max),
+            m: Sink::new(max),
+            rec: Sink::new(max),
+        }
+    }
+
+    fn has_errors(&self) -> bool {
+        [&self.units, &self.check, &self.link, &self.m, &self.rec]
+            .iter()
+            .any(|s| s.has_errors())
+    }
+
+    /// Pushes the kept diagnostics of every phase into `sink`, phase after phase, and counts the
+    /// rest: `sink` keeps what it would have kept had every diagnostic been pushed in that order.
+    pub(crate) fn merge_into(self, sink: &mut Sink) {
+        for s in [self.units, self.check, self.link, self.m, self.rec] {
+            let (kept, hidden) = s.finish();
+            for d in kept {
+                sink.push(d);
+            }
+            sink.count_hidden(&hidden);
+        }
+    }
+}
+
+/// An M function of a library block not declared in IOCFIL: reported when a program reaches the
+/// unit (known once every call is linked).
+pub(crate) struct PendingM {
+    pub(crate) unit: usize,
+    pub(crate) diagnostic: Diagnostic,
+}
+
+/// The building state of a MEFI compile: every file's units, block by block.
+pub(crate) struct Units {
+    /// True once the compile has an error: blocks are no longer kept.
+    failed: bool,
+    /// Per unit: the block numbers of the unit.
+    pub(crate) numbers: Vec<RoaringBitmap>,
+    /// Per unit: the span of its `G79` block (the main program: none).
+    entry: Vec<(usize, usize)>,
+    /// Per unit: true once a block with G70 was seen in it.
+    closed: Vec<bool>,
+    /// The blocks with a literal jump, call or fixed cycle, in block order.
+    pub(crate) refs: Vec<LinkRef>,
+    /// Undeclared M functions of library blocks.
+    pub(crate) lib_m: Vec<PendingM>,
+    /// The diagnostics of the phases after parsing.
+    pub(crate) phases: Phases,
+}
+
+/// The building state of one file.
+pub(crate) struct FileUnits {
+    file: usize,
+    name: String,
+    library: bool,
+    cur: Option<usize>,
+    main_ended: bool,
+    subs: usize,
+    first_unit: usize,
+    /// The block numbers of the file (a main file's numbers are unique in the file).
+    numbers: RoaringBitmap,
+}
+
+fn g_lits(b: &Block) -> impl Iterator<Item = i64> + '_ {
+    lits(b, 'G')
+}
+
+fn lits(b: &Block, a: char) -> impl Iterator<Item = i64> + '_ {
+    b.words
+        .iter()
+        .filter(move |w| w.addr == a)
+        .filter_map(|w| match w.val {
+            Val::Lit(l) => lit_int(&l),
+            Val::Param(_) | Val::Expr(_) => None,
+        })
+}
+
+fn lit_of(b: &Block, a: char) -> Option<i64> {
+    b.words
+        .iter()
+        .find(|w| w.addr == a)
+        .and_then(|w| match w.val {
+            Val::Lit(l) => lit_int(&l),
+            Val::Param(_) | Val::Expr(_) => None,
+        })
+}
+
+fn cblock(file: usize, unit: usize, b: Block) -> CBlock {
+    let arith_ops = g_lits(&b)
+        .find(|g| (26..=29).contains(g))
+        .map_or(0, |g| (g - 25) as u8);
+    CBlock {
+        n: b.n,
+        file,
+        unit,
+        span: b.span,
+        skip: b.skip,
+        words: b.words.into_boxed_slice(),
+        decls: b.decls.into_boxed_slice(),
+        arith_ops,
+        native: None,
+        mac: None,
+        jump: None,
+    }
+}
+
+impl Units {
+    /// Building state for a compile keeping `max` diagnostics per file and phase (0: all).
+    pub(crate) fn new(max: usize) -> Self {
+        Units {
+            failed: false,
+            numbers: Vec::new(),
+            entry: Vec::new(),
+            closed: Vec::new(),
+            refs: Vec::new(),
+            lib_m: Vec::new(),
+            phases: Phases::new(max),
+        }
+    }
+
+    fn push_unit(&mut self, prog: &mut Program, unit: Unit, entry: (usize, usize)) -> usize {
+        prog.units.push(unit);
+        self.numbers.push(RoaringBitmap::new());
+        self.entry.push(entry);
+        self.closed.push(false);
+        prog.units.len() - 1
+    }
+
+    /// Starts file `file` of `prog`: 0 is the main file (main program, then subprograms), others
+    /// are library files (units only).
+    pub(crate) fn start_file(&mut self, prog: &mut Program, file: usize) -> FileUnits {
+        let library = file != 0;
+        let mut f = FileUnits {
+            file,
+            name: prog.files[file].name.clone(),
+            library,
+            cur: None,
+            main_ended: false,
+            subs: 0,
+            first_unit: prog.units.len(),
+            numbers: RoaringBitmap::new(),
+        };
+        if !library {
+            let unit = Unit {
+                kind: UnitKind::Main,
+                l: 0,
+                file,
+                start: prog.blocks.len(),
+                end: prog.blocks.len(),
+                index: BlockIndex::default(),
+            };
+            f.cur = Some(self.push_unit(prog, unit, (0, 0)));
+            f.first_unit = prog.units.len();
+        }
+        f
+    }
+
+    /// Takes the next block of file `f`; `parse_failed`: the parser reported an error.
+    pub(crate) fn block(
+        &mut self,
+        prog: &mut Program,
+        f: &mut FileUnits,
+        b: Block,
+        parse_failed: bool,
+    ) {
+        let diags = &mut self.phases.units;
+        let fname = f.name.as_str();
+        if g_lits(&b).any(|g| g == 79) {
+            if let Some(u) = f.cur
+                && prog.units[u].kind == UnitKind::Main
+                && !f.main_ended
+            {
+                diags.push(err(
+                    codes::AFTER_END,
+                    fname,
+                    "",
+                    b.span,
+                    "subprogram before the end of the main program",
+                    "subprograms follow the block with M02 or M30",
+                ));
+            }
+            let l = lit_of(&b, 'L').unwrap_or(0);
+            let kind = if f.library {
+                UnitKind::Library
+            } else {
+                f.subs += 1;
+                if f.subs == 100 {
+                    diags.push(err(
+                        codes::TOO_MANY_SUBPROGRAMS,
+                        fname,
+                        "",
+                        b.span,
+                        "more than 99 subprograms",
+                        "a partprogram holds at most 99 subprograms",
+                    ));
+                }
+                UnitKind::Sub
+            };
+            let map = if f.library {
+                &mut prog.library
+            } else {
+                &mut prog.subs
+            };
+            if l > 0 && map.insert(l as u32, prog.units.len()).is_some() {
+                diags.push(err(
+                    codes::DUPLICATE_N,
+                    fname,
+                    "",
+                    b.span,
+                    format!("unit L{l} is defined twice"),
+                    "every G79 L<n> number must be unique",
+                ));
+            }
+            let unit = Unit {
+                kind,
+                l: l as u32,
+                file: f.file,
+                start: prog.blocks.len(),
+                end: prog.blocks.len(),
+                index: BlockIndex::default(),
+            };
+            f.cur = Some(self.push_unit(prog, unit, b.span));
+        }
+        let diags = &mut self.phases.units;
+        let Some(u) = f.cur else {
+            diags.push(err(
+                codes::NO_BLOCK_NUMBER,
+                fname,
+                "",
+                b.span,
+                "block outside a G79 … G70 unit",
+                "a macro file holds units that start with `G79 L<n>` and end with G70",
+            ));
+            return;
+        };
+        let kind = prog.units[u].kind;
+        if kind == UnitKind::Main && f.main_ended {
+            diags.push(err(
+                codes::AFTER_END,
+                fname,
+                "",
+                b.span,
+                "block after the end of the main program",
+                "only subprograms (G79 L<n> … G70) may follow M02/M30",
+            ));
+            return;
+        }
+        let ends_main = kind == UnitKind::Main && lits(&b, 'M').any(|m| m == 2 || m == 30);
+        let ends_unit = kind != UnitKind::Main && g_lits(&b).any(|g| g == 70);
+        let idx = prog.blocks.len();
+        if let Some(n) = b.n {
+            // A library unit's numbers are unique in the unit, a main file's in the file.
+            let fresh = if f.library {
+                self.numbers[u].insert(n)
+            } else {
+                f.numbers.insert(n) && self.numbers[u].insert(n)
+            };
+            if !fresh {
+                diags.push(err(codes::DUPLICATE_N, fname, "", b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
+            } else if !self.failed {
+                prog.units[u].index.push(n, idx);
+            }
+        }
+        let cb = cblock(f.file, u, b);
+        crate::check::check_block(prog, &cb, &mut self.phases.check);
+        if let Some(mut r) = LinkRef::of(&cb) {
+            // A jump back to a block of the unit is resolved now: numbers are never removed.
+            r.resolve_jump(&self.numbers[u]);
+            if r.pending() {
+                self.refs.push(r);
+            }
+        }
+        if prog.machine.check_m_declared {
+            for d in crate::link::undeclared_m(prog, &cb) {
+                if kind == UnitKind::Library {
+                    self.lib_m.push(PendingM {
+                        unit: u,
+                        diagnostic: d,
+                    });
+                } else {
+                    // A unit of the main file always runs or may be called: it is reached.
+                    self.phases.m.push(d);
+                }
+            }
+        }
+        if ends_main {
+            f.main_ended = true;
+        }
+        if ends_unit {
+            // A unit runs until the next G79 (the cycle files put blocks after an inner G70), but
+            // it must contain at least one G70.
+            self.closed[u] = true;
+        }
+        if !self.failed && (parse_failed || self.phases.has_errors()) {
+            // The program will not run: what is left to do needs no block.
+            self.failed = true;
+            prog.blocks = Vec::new();
+            for unit in &mut prog.units {
+                unit.index = BlockIndex::default();
+            }
+        }
+        if !self.failed {
+            prog.blocks.push(cb);
+            prog.units[u].end = prog.blocks.len();
+        }
+    }
+
+    /// Ends file `f` (text `src`): units without G70, a main program without M02/M30.
+    pub(crate) fn end_file(&mut self, prog: &mut Program, f: FileUnits, src: &str) {
+        let diags = &mut self.phases.units;
+        for u in f.first_unit..prog.units.len() {
+            if prog.units[u].kind != UnitKind::Main && !self.closed[u] {
+                diags.push(err(
+                    codes::UNIT_NOT_CLOSED,
+                    &f.name,
+                    "",
+                    self.entry[u],
+                    format!("unit L{} has no G70", prog.units[u].l),
+                    "end the unit with a block containing G70",
+                ));
+            }
+        }
+        // An empty file has one error saying so; "no M02/M30" would only repeat it.
+        if !f.library && !f.main_ended && !src.trim().is_empty() {
+            diags.push(
+                Diagnostic::warning(
+                    codes::NO_END,
+                    &f.name,
+                    0..0,
+                    "the main program has no M02/M30 block",
+                )
+                .with_hint("end the main program with M02 or M30")
+                .locate(src),
+            );
+        }
+    }
+
+    /// Loads every macro file `L<n>` and every `$PC` cycle file of `dir`; `parse_failed`: the
+    /// main file's parse had an error.
+    pub(crate) fn load_library(&mut self, prog: &mut Program, dir: &Path, parse_failed: bool) {
+        if dir.as_os_str().is_empty() {
+            return;
+        }
+        let Ok(rd) = std::fs::read_dir(dir) else {
+            return;
+        };
+        let mut paths: Vec<_> = rd
+            .filter_map(|e| e.ok())
+            .map(|e| e.path())
+            .filter(|p| p.is_file())
+            .collect();
+        paths.sort();
+        for path in paths {
+            let fname = path
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
+            let is_l = stem.len() > 1
+                && stem.starts_with('L')
+                && stem[1..].bytes().all(|c| c.is_ascii_digit());
+            let text = match std::fs::read(&path) {
+                Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+                Err(e) => {
+                    self.phases.units.push(Diagnostic::error(
+                        codes::MACRO_IO,
+                        format!("macros/{fname}"),
+                        0..0,
+                        format!("cannot read: {e}"),
+                    ));
+                    continue;
+                }
+            };
+            let is_cycle = text.trim_start().starts_with("$PC");
+            if !is_l && !is_cycle {
+                continue;
+            }
+            let name = format!("macros/{fname}");
+            let (parsed, d) = crate::parse::parse_library(Dialect::Mefi, &name, &text);
+            self.phases.units.extend(d);
+            prog.files.push(SourceFile {
+                name,
+                text: String::new(),
+            });
+            let file = prog.files.len() - 1;
+            let mut f = self.start_file(prog, file);
+            for b in parsed.blocks {
+                self.block(prog, &mut f, b, parse_failed);
+            }
+            self.end_file(prog, f, &text);
+            prog.files[file].text = text;
+        }
+    }
+}
