@@ -76,7 +76,13 @@ fn example_machines_check_clean() {
 fn broken_machine_exits_1_with_located_diagnostics() {
     let dir = tempfile::tempdir().expect("temp dir");
     let lathe = PathBuf::from(machine("lathe"));
-    for f in ["FCRSYS", "MP0/AXCFIL", "MP0/PGCFIL", "MP0/IOCFIL", "MP0/MESSAG"] {
+    for f in [
+        "FCRSYS",
+        "MP0/AXCFIL",
+        "MP0/PGCFIL",
+        "MP0/IOCFIL",
+        "MP0/MESSAG",
+    ] {
         let to = dir.path().join(f);
         std::fs::create_dir_all(to.parent().expect("parent")).expect("mkdir");
         std::fs::copy(lathe.join(f), &to).expect("copy");
