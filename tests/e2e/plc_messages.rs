@@ -2,7 +2,8 @@
 //! level low) from U21K0 and message 2 (chuck guard open) from U21K1; `ncplc run` prints them at
 //! the tick the bit rose with the text of MP0/MESSAG; CWD 0004H switches them off; the web HMI
 //! lists them, its `ack` (HTTP POST) gives the logic the acknowledge bit for exactly one scan,
-//! recorded as the trace's input, and the recording replays exactly.
+//! recorded as the trace's input, the logic reacts in that scan (its lamp U5A3 goes out), and the
+//! recording replays exactly.
 
 use crate::e2e_common;
 use crate::hmi_common;
@@ -114,6 +115,14 @@ fn http_ack_reaches_the_logic_for_one_scan_and_the_run_replays_exactly() {
     // The tick the POST's answer names is the scan whose latch took the acknowledge.
     assert_eq!(Some(at), applied["tick"].as_u64(), "{applied}");
     assert!(at > raised_at);
+    // The logic saw it in that scan: its lamp "not acknowledged yet" (U5A3, lit with the
+    // message) went out in the same record.
+    let lamp: Vec<(u64, Value)> = recs
+        .iter()
+        .filter(|r| r["out"].get("U5A3").is_some())
+        .map(|r| (r["t"].as_u64().unwrap_or(0), r["out"]["U5A3"].clone()))
+        .collect();
+    assert_eq!(lamp, vec![(raised_at, json!(1)), (at, json!(0))]);
     let (ok, text) = replay(&lathe, &trace, &[]);
     assert!(ok, "{text}");
 }
