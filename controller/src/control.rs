@@ -219,10 +219,10 @@ impl Controller {
         }
         let go = observer.after_tick(s);
         if let Some(h) = &mut p.hmi {
-            if let Some(m) = &mut p.messages {
-                if m.take_changed() {
-                    h.set_messages(m.entries());
-                }
+            if let Some(m) = &mut p.messages
+                && m.take_changed()
+            {
+                h.set_messages(m.entries());
             }
             h.service(s);
             if let Some(m) = &mut p.messages {
