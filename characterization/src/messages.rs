@@ -206,6 +206,33 @@ mod tests {
         assert_eq!(f.texts.keys().copied().collect::<Vec<_>>(), vec![2]);
     }
 
+    proptest::proptest! {
+        /// Any bytes: no panic, and every line that is neither blank nor a comment is either a
+        /// message or exactly one diagnostic whose span lies inside the text.
+        #[test]
+        fn every_line_is_read_or_reported(bytes in proptest::collection::vec(
+            proptest::prop_oneof![
+                proptest::sample::select(b"0123456789 \t;\n\r".to_vec()),
+                proptest::num::u8::ANY,
+            ],
+            0..400,
+        )) {
+            let text = crate::decode::decode(&bytes);
+            let mut sink = Sink::unbounded();
+            let f = parse_into("M", &text, &mut sink);
+            let (kept, _) = sink.finish();
+            let lines = text
+                .split_inclusive('\n')
+                .map(|l| l.trim_end_matches(['\n', '\r']).trim_start_matches([' ', '\t']))
+                .filter(|l| !l.is_empty() && !l.starts_with(';'))
+                .count();
+            proptest::prop_assert_eq!(f.texts.len() + kept.len(), lines);
+            for d in &kept {
+                proptest::prop_assert!(d.span.end <= text.len() && d.line >= 1 && d.column >= 1);
+            }
+        }
+    }
+
     #[test]
     fn the_process_file_replaces_the_common_one_and_a_missing_text_is_named() {
         let common = MessageFile {
