@@ -207,9 +207,9 @@ impl Controller {
         }
         if let Some(m) = &mut p.messages {
             // The scan just run is tick `tick - 1`: the trace record holding the bits' edges.
-            let mut raised = Vec::new();
-            m.scan(s.image().bytes(), tick - 1, &mut raised);
-            for ev in &raised {
+            let mut happened = Vec::new();
+            m.scan(s.image().bytes(), tick - 1, &mut happened);
+            for ev in &happened {
                 for server in &mut p.servers {
                     server.on_message(ev);
                 }
@@ -225,8 +225,9 @@ impl Controller {
                 h.set_messages(m.entries());
             }
             h.service(s);
+            let acks = h.take_message_acks();
             if let Some(m) = &mut p.messages {
-                for process in h.take_message_acks() {
+                for process in acks {
                     m.acknowledge(process, s.forces_mut());
                 }
                 if m.take_changed() {

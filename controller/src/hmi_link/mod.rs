@@ -4,7 +4,9 @@
 //! plain copy of the image and a few numbers into a preallocated [`Frame`] of a triple buffer
 //! (no allocation, JSON or names on the scan thread); the render thread ([`render`]) builds the
 //! [`hmi::Snapshot`] from the newest frame and puts it into the server's latest-value channel, so
-//! the scan never waits for a browser.
+//! the scan never waits for a browser. The PLC messages' list comes from the controller
+//! ([`crate::plc_messages`]) when it changes, and the processes an `ack` acknowledged go back to
+//! it ([`HmiLink::take_message_acks`]).
 
 pub mod alarms;
 pub mod catalog;
