@@ -144,7 +144,7 @@ pub fn parse_into(name: &str, text: &str, diags: &mut Sink) -> MessageFile {
                     "message number {} is outside 1..{MAX_MESSAGE}",
                     &trimmed[..digits]
                 ),
-                "connectors 21K and 22K carry messages 1..64 (docs/plc-interface-map.md)",
+                "connectors 21K and 22K carry messages 1..64 (docs/plc-messages.md)",
             ));
             continue;
         };

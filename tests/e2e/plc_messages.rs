@@ -126,3 +126,53 @@ fn http_ack_reaches_the_logic_for_one_scan_and_the_run_replays_exactly() {
     let (ok, text) = replay(&lathe, &trace, &[]);
     assert!(ok, "{text}");
 }
+
+/// `ncplc check` reads the message file and locates every line it cannot use; `run` refuses the
+/// machine with the same errors.
+#[test]
+fn check_locates_the_bad_lines_of_the_message_file_and_run_refuses_it() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    copy_dir(&root().join("plc-programs/lathe"), dir.path());
+    std::fs::write(
+        dir.path().join("MP0/MESSAG"),
+        "; texts\n1 one\n1 again\n65 high\nno number\n2\n",
+    )
+    .expect("write");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(dir.path())
+        .args(["check", ".", "--format", "json"])
+        .output()
+        .expect("ncplc runs");
+    assert_eq!(out.status.code(), Some(1));
+    let got: Vec<(u64, String, u64, u64)> = String::from_utf8_lossy(&out.stdout)
+        .lines()
+        .chain(String::from_utf8_lossy(&out.stderr).lines())
+        .filter_map(|l| serde_json::from_str::<Value>(l).ok())
+        .map(|d| {
+            (
+                d["code"].as_u64().unwrap_or(0),
+                d["file"].as_str().unwrap_or("").to_string(),
+                d["line"].as_u64().unwrap_or(0),
+                d["column"].as_u64().unwrap_or(0),
+            )
+        })
+        .collect();
+    let f = "MP0/MESSAG".to_string();
+    assert_eq!(
+        got,
+        vec![
+            (948, f.clone(), 3, 1),
+            (947, f.clone(), 4, 1),
+            (946, f.clone(), 5, 1),
+            (946, f, 6, 1)
+        ]
+    );
+    // Refused before anything runs, as for any characterization error (exit 2).
+    let run = Ncplc::run(dir.path()).virtual_time().ticks(5).output();
+    assert_eq!(run.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        err.contains("error[E0947]: message number 65 is outside 1..64"),
+        "{err}"
+    );
+}
