@@ -51,6 +51,10 @@
 //! | 943 | AXCFIL: a section-3 FEG file does not exist or has a line that is not `Ennn=value` |
 //! | 944 | AXCFIL: bad `file/MPx` reference in FTP or FEG |
 //! | 945 | AXCFIL: a slave parallel axis homes (MCZ direction or speed) differently from its master |
+//! | 946 | PLC message file: a line that is not `nnn text` (or a text with a control character, or longer than 200 characters) |
+//! | 947 | PLC message file: message number outside 1..64 |
+//! | 948 | PLC message file: message number given twice |
+//! | 949 | PGCFIL FLC names a PLC message file that does not exist |
 
 /// Table 7.1 code 1: not enough sections.
 pub const MISSING_SECTIONS: u32 = 1;
@@ -183,6 +187,14 @@ pub const FEG_FILE: u32 = 943;
 pub const FILE_REF: u32 = 944;
 /// Project 945: slave homes differently from its master.
 pub const SLAVE_HOMING: u32 = 945;
+/// Project 946: a PLC message file line that is not `nnn text`.
+pub const MESSAGE_LINE: u32 = 946;
+/// Project 947: PLC message number outside 1..64.
+pub const MESSAGE_NUMBER: u32 = 947;
+/// Project 948: PLC message number given twice.
+pub const MESSAGE_TWICE: u32 = 948;
+/// Project 949: the PLC message file FLC names does not exist.
+pub const MESSAGE_FILE_MISSING: u32 = 949;
 
 // AXCFIL, Table 7.2 (numbers ≥ 101 are file-specific: these are the AXCFIL meanings).
 

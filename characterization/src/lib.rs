@@ -8,6 +8,7 @@
 //! * [`axcfil`]: the axis file, its typed model and the rules of the manual's Table 7.2.
 //! * [`pgcfil`], [`iocfil`]: the process and logic files (chapters 5 and 6), project codes 950–999.
 //! * [`machine`]: [`load_machine`] reads a whole machine directory in one run.
+//! * [`messages`]: the PLC message files (FCRSYS FILMS5, PGCFIL FLC).
 //! * [`codes`]: every diagnostic number used, with the project's own 900–949 range documented
 //!   (PGCFIL/IOCFIL use 950–999).
 //!
@@ -20,6 +21,7 @@ pub mod decode;
 pub mod fcrsys;
 pub mod iocfil;
 pub mod machine;
+pub mod messages;
 pub mod pgcfil;
 pub mod reader;
 pub mod values;

@@ -18,6 +18,7 @@ use crate::axcfil::{self, Axcfil, FileRef};
 use crate::codes;
 use crate::fcrsys::{self, Fcrsys};
 use crate::iocfil::{self, Iocfil};
+use crate::messages::{self, MessageFile, PlcMessages};
 use crate::pgcfil::{self, Pgcfil};
 use crate::reader::{self, Grammar, ParsedFile};
 
@@ -53,6 +54,9 @@ pub struct Machine {
     pub pgcfil: Option<Pgcfil>,
     /// IOCFIL, when FCRSYS names an existing file.
     pub iocfil: Option<Iocfil>,
+    /// The PLC message texts (FCRSYS FILMS5, PGCFIL FLC).
+    #[serde(default)]
+    pub messages: PlcMessages,
 }
 
 /// The result of [`load_machine`]: the machine (when its FCRSYS and AXCFIL could be read),
@@ -133,6 +137,56 @@ impl Loader<'_> {
         }
     }
 
+    /// Reads the PLC message file at `path` (at most [`reader::MAX_BYTES`]); its diagnostics
+    /// and text go to the load's; 902 when it cannot be read.
+    fn read_messages(&mut self, path: &Path) -> Option<MessageFile> {
+        use std::io::Read;
+        let name = display_name(self.dir, path);
+        let mut bytes = Vec::new();
+        let read = std::fs::File::open(path)
+            .and_then(|f| f.take(reader::MAX_BYTES as u64).read_to_end(&mut bytes));
+        if let Err(e) = read {
+            self.diagnostics.push(Diagnostic::error(
+                codes::FILE_UNREADABLE,
+                name.clone(),
+                0..0,
+                format!("cannot read {name}: {e}"),
+            ));
+            return None;
+        }
+        let text = crate::decode::decode(&bytes);
+        let mut diags = Sink::new(self.max);
+        let file = messages::parse_into(&name, &text, &mut diags);
+        self.sources.add(name, text);
+        self.add(diags);
+        Some(file)
+    }
+
+    /// Error 949 at the `FLC` record of `process` in PGCFIL: the file it names does not exist.
+    fn flc_missing(&mut self, pgcfil: &ParsedFile, process: u32, flc: &pgcfil::FileRef) {
+        let record = crate::pgcfil::locate::records(pgcfil, &[4])
+            .into_iter()
+            .find(|r| r.process == process && r.record.key == "FLC");
+        let span = record.map_or(0..0, |r| r.record.span.clone());
+        let d = Diagnostic::error(
+            codes::MESSAGE_FILE_MISSING,
+            pgcfil.name.clone(),
+            span,
+            format!(
+                "FLC of process {process} names the PLC message file {}/MP{}, which does not exist",
+                flc.name, flc.device
+            ),
+        )
+        .with_hint(format!(
+            "create MP{}/{} (one `nnn text` line per message, docs/plc-messages.md) or remove FLC",
+            flc.device, flc.name
+        ))
+        .with_section(4)
+        .with_process(process)
+        .locate(&pgcfil.text);
+        self.diagnostics.push(d);
+    }
+
     /// Moves the text of a file that is not kept into the sources (no copy of a large file).
     fn keep_text(&mut self, file: ParsedFile) {
         self.sources.add(file.name, file.text);
@@ -199,6 +253,7 @@ pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
     let axcfil_path = resolve("AXCONF", &mut fc_diags);
     let pgcfil_path = resolve("PGCONF", &mut fc_diags);
     let iocfil_path = resolve("IOCONF", &mut fc_diags);
+    let films5_path = resolve("FILMS5", &mut fc_diags);
     let plc_source = match fcrsys.binding("PLCSRC") {
         Some(_) => fcrsys
             .resolve(dir, "PLCSRC")
@@ -263,6 +318,26 @@ pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
         iocfil = Some(model);
         iocfil_file = Some(file);
     }
+    let mut plc_messages = PlcMessages {
+        common: films5_path.and_then(|p| l.read_messages(&p)),
+        ..PlcMessages::default()
+    };
+    if let (Some(pg), Some(file)) = (&pgcfil, &pgcfil_file) {
+        for proc in &pg.processes {
+            let (Some(flc), Ok(number)) = (&proc.flc, u8::try_from(proc.number)) else {
+                continue;
+            };
+            let path = fcrsys.mp_dir(dir, flc.device).map(|d| d.join(&flc.name));
+            match path.filter(|p| p.is_file()) {
+                Some(p) => {
+                    if let Some(m) = l.read_messages(&p) {
+                        plc_messages.processes.insert(number, m);
+                    }
+                }
+                None => l.flc_missing(file, proc.number, flc),
+            }
+        }
+    }
     let paths = MachinePaths {
         fcrsys: fcrsys_path,
         mp0,
@@ -278,6 +353,7 @@ pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
         axcfil,
         pgcfil,
         iocfil,
+        messages: plc_messages,
     });
     MachineLoad {
         machine,

@@ -282,6 +282,8 @@ impl Builder {
             until_end: self.part.as_ref().is_some_and(|p| p.until_end),
             handshakes: opened.handshakes,
             hmi,
+            messages: (!machine.messages.is_empty())
+                .then(|| crate::plc_messages::Messages::new(machine.messages.clone())),
             servers: self.servers,
             notes,
             retain,

@@ -14,10 +14,13 @@
 //! 2. **Operator** of a part run ([`crate::part_run::PartRun::each_tick`]): homing, MDI, program
 //!    selection, end and alarm watch; may end the run (`--until-end`).
 //! 3. **Events** of the tick (alarms, cleared alarms, swaps) to the web HMI, the other servers and
-//!    the [`Observer`]; then the **online-change notes** likewise.
+//!    the [`Observer`]; then the **online-change notes** likewise; then the **PLC messages**
+//!    (`crate::plc_messages`: raised and cleared from the scan's request bits, to the servers and
+//!    the observer; the acknowledge bits set at the last boundary written back to 0).
 //! 4. **Observer** ([`Observer::after_tick`]): the CLI's status line and its stop flag.
-//! 5. **Servers**: the web HMI's `service` (requests applied at this boundary, frame published),
-//!    then every other [`crate::servers::Server`].
+//! 5. **Servers**: the web HMI's `service` (requests applied at this boundary, frame published;
+//!    an `ack` acknowledges the PLC messages too: their acknowledge bits are written once for the
+//!    next scan), then every other [`crate::servers::Server`].
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -31,6 +34,7 @@ use sim::HandshakeCounts;
 
 use crate::hmi_link::HmiLink;
 use crate::part_run::PartRun;
+use crate::plc_messages::{MessageEvent, Messages};
 use crate::servers::Server;
 
 /// What the caller of [`Controller::run`] sees of each tick (the CLI prints it).
@@ -39,6 +43,8 @@ pub trait Observer {
     fn event(&mut self, _event: &Event) {}
     /// An online-change note.
     fn note(&mut self, _note: &Note) {}
+    /// A PLC message raised or cleared by the tick just run.
+    fn message(&mut self, _message: &MessageEvent) {}
     /// After the tick's events and notes; `false` stops the run.
     fn after_tick(&mut self, _sched: &Scheduler) -> bool {
         true
@@ -61,6 +67,8 @@ pub(crate) struct Parts {
     pub until_end: bool,
     pub handshakes: Option<HandshakeCounts>,
     pub hmi: Option<HmiLink>,
+    /// The PLC messages (None: no process has any).
+    pub messages: Option<Messages>,
     pub servers: Vec<Box<dyn Server>>,
     pub notes: mpsc::Receiver<Note>,
     pub retain: Option<(std::thread::JoinHandle<()>, PathBuf)>,
@@ -197,9 +205,35 @@ impl Controller {
             }
             observer.note(&note);
         }
+        if let Some(m) = &mut p.messages {
+            // The scan just run is tick `tick - 1`: the trace record holding the bits' edges.
+            let mut happened = Vec::new();
+            m.scan(s.image().bytes(), tick - 1, &mut happened);
+            for ev in &happened {
+                for server in &mut p.servers {
+                    server.on_message(ev);
+                }
+                observer.message(ev);
+            }
+            m.end_pulse(s.forces_mut());
+        }
         let go = observer.after_tick(s);
         if let Some(h) = &mut p.hmi {
+            if let Some(m) = &mut p.messages
+                && m.take_changed()
+            {
+                h.set_messages(m.entries());
+            }
             h.service(s);
+            let acks = h.take_message_acks();
+            if let Some(m) = &mut p.messages {
+                for process in acks {
+                    m.acknowledge(process, s.forces_mut());
+                }
+                if m.take_changed() {
+                    h.set_messages(m.entries());
+                }
+            }
         }
         for server in &mut p.servers {
             server.after_tick(s);

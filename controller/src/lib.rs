@@ -17,6 +17,7 @@
 //! | [`io`] | the `--io` dispatch: sim, Modbus TCP, CANopen (drives on the fieldbus plug in here) |
 //! | [`part_run`] | the CNC kernel behind the simulated I/O and the operator of a part run |
 //! | [`part_replay`] | the part run's kernel, plant and operator driven by a replay |
+//! | [`plc_messages`] | the PLC's messages: raised from the request bits, acknowledged to the logic |
 //! | [`hmi_link`] | a running scheduler connected to the `hmi` server (frames, requests, render thread) |
 //!
 //! **Invariants:** the only loop that runs a controller is [`Controller::run`] (with
@@ -32,6 +33,7 @@ pub mod io;
 pub mod machine;
 pub mod part_replay;
 pub mod part_run;
+pub mod plc_messages;
 pub mod replayer;
 pub mod retained;
 pub mod servers;

@@ -18,6 +18,8 @@ use runtime::online::CompileFn;
 use runtime::process_map::{self, MissingHandshakes};
 use sim::{CncSignals, Script};
 
+use crate::plc_messages::MessageSetup;
+
 /// Why a machine directory could not be opened for `run` or `replay`.
 #[derive(Debug, thiserror::Error)]
 pub enum OpenError {
@@ -56,6 +58,8 @@ pub struct Machine {
     pub signals: CncSignals,
     /// The interface map (builtin plus `<machine>/interface.toml`).
     pub interface: InterfaceMap,
+    /// The PLC messages' signals and texts.
+    pub messages: MessageSetup,
 }
 
 impl Machine {
@@ -90,12 +94,14 @@ impl Machine {
             }
         };
         let signals = CncSignals::from_map(&interface, process_map::nbp(&facts.machine));
+        let messages = MessageSetup::new(&facts, &interface);
         Ok(Machine {
             dir: dir.to_path_buf(),
             config,
             script,
             signals,
             interface,
+            messages,
         })
     }
 

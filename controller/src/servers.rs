@@ -43,6 +43,8 @@ pub trait Server: Send {
     fn on_event(&mut self, _event: &Event, _tick: u64) {}
     /// An online-change note (compiled, rejected, error).
     fn on_note(&mut self, _note: &Note) {}
+    /// A PLC message raised or cleared by the tick just run (docs/plc-messages.md).
+    fn on_message(&mut self, _message: &crate::plc_messages::MessageEvent) {}
     /// After every tick, on the scan thread: publish (copy only) and apply requests.
     fn after_tick(&mut self, sched: &mut Scheduler);
 }

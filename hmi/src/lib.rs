@@ -19,8 +19,8 @@ pub mod ws;
 pub use demand::Demand;
 pub use model::{
     AlarmEntry, AxisStatus, Catalog, Command, Envelope, HandshakeCounts, MachineStatus,
-    MdiCompiles, NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats, SharedSnapshot,
-    Snapshot, SourceLine, Toolpath,
+    MdiCompiles, MessageEntry, NamedSignal, PathPiece, ProcessStatus, Reply, Request, ScanStats,
+    SharedSnapshot, Snapshot, SourceLine, Toolpath,
 };
 pub use security::{Role, Tokens};
 pub use server::{Running, ServerConfig, StartError, is_loopback, start};

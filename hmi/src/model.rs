@@ -26,6 +26,8 @@ pub struct Snapshot {
     pub forced: Vec<(Signal, u8)>,
     /// Machine-wide alarms (I/O, overrun trips, the scripted CNC's timeouts) until acknowledged.
     pub alarms: Vec<AlarmEntry>,
+    /// The PLC's messages (docs/plc-messages.md) until acknowledged, oldest first.
+    pub messages: Vec<MessageEntry>,
     /// Online change: compiling, running since tick N, or the diagnostics of a refused edit.
     pub online: String,
     /// Per-process CNC state.
@@ -58,6 +60,26 @@ pub struct AlarmEntry {
     /// The operator acknowledged it while its cause held.
     pub acknowledged: bool,
     /// The tick it was (last) raised at.
+    pub tick: u64,
+}
+
+/// One PLC message (docs/plc-messages.md): listed from the tick its request bit rose until it is
+/// acknowledged and its bit has fallen, with the alarm lists' rules.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct MessageEntry {
+    /// The process whose request bits raised it (1..5).
+    pub process: u8,
+    /// The message number (1..64).
+    pub number: u8,
+    /// Its text from the message file (`PLC message n` without one).
+    pub text: String,
+    /// OPC UA severity 1..1000 (from MSGPRIO at the rising edge).
+    pub severity: u16,
+    /// Its request bit is still 1.
+    pub active: bool,
+    /// The operator acknowledged it while its bit was 1.
+    pub acknowledged: bool,
+    /// The tick whose scan raised it (the trace record with the bit's rising edge).
     pub tick: u64,
 }
 

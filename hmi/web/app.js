@@ -284,6 +284,11 @@ function alarmItems(list) {
   return list.map(a => el("li", { class: (a.active ? "active" : "gone") + (a.acknowledged ? " acked" : "") },
     a.text + " (tick " + a.tick + (a.active ? "" : ", gone") + (a.acknowledged ? ", acknowledged" : "") + ")"));
 }
+// A PLC message (docs/plc-messages.md): process, number, text, tick, state.
+function messageItems(list) {
+  return list.map(m => el("li", { class: (m.active ? "active" : "gone") + (m.acknowledged ? " acked" : ""), "data-number": m.number },
+    "P" + m.process + " #" + m.number + ": " + m.text + " (tick " + m.tick + (m.active ? "" : ", gone") + (m.acknowledged ? ", acknowledged" : "") + ")"));
+}
 function buildMachine(ps) {
   const div = document.getElementById("processes");
   div.replaceChildren();
@@ -322,6 +327,9 @@ function renderMachine() {
   const wide = document.getElementById("machine-alarms");
   const wideKey = JSON.stringify(state.snap.alarms);
   if (wide.dataset.key !== wideKey) { wide.replaceChildren(...alarmItems(state.snap.alarms)); wide.dataset.key = wideKey; }
+  const msgs = document.getElementById("plc-messages");
+  const msgKey = JSON.stringify(state.snap.messages);
+  if (msgs.dataset.key !== msgKey) { msgs.replaceChildren(...messageItems(state.snap.messages || [])); msgs.dataset.key = msgKey; }
   for (const p of ps) {
     const box = document.getElementById("proc-" + p.process);
     const f = v => v === null || v === undefined ? "—" : String(v);

@@ -63,6 +63,21 @@ pub type Write = (Signal, u8);
 /// An alarm raised (true) or cleared (false), its text and the tick it happened at.
 pub type AlarmNote = (bool, String, u64);
 
+/// A PLC message raised or cleared (docs/plc-messages.md): the `Messages` event's fields.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MessageNote {
+    /// Raised (true) or cleared.
+    pub raised: bool,
+    /// The process whose request bit it is (the event's source: its channel).
+    pub process: u8,
+    /// The message text.
+    pub text: String,
+    /// OPC UA severity 1..1000 (MSGPRIO).
+    pub severity: u16,
+    /// The tick whose scan raised or cleared it.
+    pub tick: u64,
+}
+
 /// A client's operator command (a method call) for the scan: the kernel's answer goes to `reply`
 /// (the tick it was applied at, or why it was refused).
 #[derive(Debug)]
@@ -106,6 +121,8 @@ pub struct ScanSide {
     pub vars: Layout,
     /// Alarms for the `Messages` events.
     pub alarms: mpsc::Sender<AlarmNote>,
+    /// PLC messages for the `Messages` events.
+    pub messages: mpsc::Sender<MessageNote>,
 }
 
 /// The server's half: the frames in tick order and where accepted writes go.
@@ -121,6 +138,8 @@ pub struct ServerSide {
     pub commands: mpsc::Sender<CommandRequest>,
     /// The alarms the scan saw.
     pub alarms: mpsc::Receiver<AlarmNote>,
+    /// The PLC messages the scan saw.
+    pub messages: mpsc::Receiver<MessageNote>,
 }
 
 /// A connected pair of halves.
@@ -134,6 +153,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
     let dropped = Arc::new(AtomicU64::new(0));
     let (tx, rx) = mpsc::channel();
     let (alarm_tx, alarm_rx) = mpsc::channel();
+    let (message_tx, message_rx) = mpsc::channel();
     let (cmd_tx, cmd_rx) = mpsc::channel();
     (
         ScanSide {
@@ -146,6 +166,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
             statuses: Vec::new(),
             vars: Layout::default(),
             alarms: alarm_tx,
+            messages: message_tx,
         },
         ServerSide {
             frames: consumer,
@@ -154,6 +175,7 @@ pub fn pair() -> (ScanSide, ServerSide) {
             writes: tx,
             commands: cmd_tx,
             alarms: alarm_rx,
+            messages: message_rx,
         },
     )
 }

@@ -188,6 +188,19 @@ impl Server for OpcuaServer {
         };
     }
 
+    fn on_message(&mut self, m: &controller::plc_messages::MessageEvent) {
+        if let Some(s) = &self.scan {
+            // A send only fails once the server has stopped.
+            let _ = s.messages.send(handoff::MessageNote {
+                raised: m.raised,
+                process: m.entry.process,
+                text: m.entry.text.clone(),
+                severity: m.entry.severity,
+                tick: m.tick,
+            });
+        }
+    }
+
     fn after_tick(&mut self, sched: &mut Scheduler) {
         if let Some(s) = &mut self.scan {
             s.after_tick(sched);

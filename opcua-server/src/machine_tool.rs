@@ -2,7 +2,7 @@
 //! `Objects/Machines` (OPC 40001-1): `MachineToolType` with `Identification`, `Monitoring`
 //! (`MachineTool`, one `Channel<n>` per process, `Stacklight`; in a part run one `Spindle<n>` per
 //! process and the channels' methods), `Production/ActiveProgram` (with the kernel's blocks
-//! executed in a part run) and `Notification/Messages` (alarms as events). The types come from the vendored NodeSets
+//! executed in a part run) and `Notification/Messages` (alarms and PLC messages as events). The types come from the vendored NodeSets
 //! ([`crate::nodesets`]); the instance nodes are in the server's namespace, with the browse names
 //! and type definitions the types declare. [`crate::values::Evaluator`] turns a frame into their
 //! values.
@@ -252,7 +252,7 @@ pub fn add(space: &mut AddressSpace, ns: Ns, inputs: &Inputs) -> Added {
     );
     let messages = b.id(MESSAGES);
     ObjectBuilder::new(&messages, QualifiedName::new(mt, "Messages"), "Messages")
-        .description("The kernel's and the I/O's alarms as events (raised and cleared)")
+        .description("The kernel's and the I/O's alarms and the PLC's messages as events (raised and cleared)")
         .has_type_definition(NodeId::new(mt, 38u32))
         .event_notifier(EventNotifier::SUBSCRIBE_TO_EVENTS)
         .component_of(b.id("MachineTool/Notification"))

@@ -204,6 +204,10 @@ pub async fn run(mut p: Publisher) {
             p.subs
                 .notify_events([(&evt as &dyn Event, &p.messages.0)].into_iter());
         }
+        while let Ok(m) = p.side.messages.try_recv() {
+            events += 1;
+            notify_message(&p, &m, events);
+        }
         let mut done = 0u32;
         while let Ok(frame) = p.side.frames.pop() {
             publish_frame(&mut p, &frame, prev.as_deref());
@@ -220,6 +224,33 @@ pub async fn run(mut p: Publisher) {
             }
         }
     }
+}
+
+/// A PLC message as an event of `Messages` (docs/plc-messages.md): the message text (`cleared: `
+/// before it when its bit fell), its severity (raised; 100 when cleared), the process's channel
+/// as the source (`SourceName` `process n`), stamped with the time of its tick.
+fn notify_message(p: &Publisher, m: &crate::handoff::MessageNote, n: u64) {
+    let time = tick_time(p.origin, m.tick, p.tick_ms);
+    let message = if m.raised {
+        m.text.clone()
+    } else {
+        format!("cleared: {}", m.text)
+    };
+    let channel = NodeId::new(
+        p.messages.0.namespace,
+        format!("MachineTool/Monitoring/Channel{}", m.process),
+    );
+    let evt = BaseEventType::new(
+        p.messages.1.clone(),
+        ByteString::from(n.to_be_bytes().to_vec()),
+        message.as_str(),
+        time,
+    )
+    .set_source_node(channel)
+    .set_source_name(format!("process {}", m.process).into())
+    .set_severity(if m.raised { m.severity } else { 100 });
+    p.subs
+        .notify_events([(&evt as &dyn Event, &p.messages.0)].into_iter());
 }
 
 /// Sets the values `frame` changed against `before`, the frame published last.

@@ -3,7 +3,7 @@
 use std::path::Path;
 use std::process::Command;
 
-/// A copy of the example lathe's characterization (FCRSYS, MP0/AXCFIL, PGCFIL, IOCFIL) with
+/// A copy of the example lathe's characterization (FCRSYS, MP0/AXCFIL, PGCFIL, IOCFIL, MESSAG) with
 /// `plc` as its PLC program.
 fn machine(plc: &[u8]) -> tempfile::TempDir {
     let lathe = Path::new(env!("CARGO_MANIFEST_DIR")).join("../plc-programs/lathe");
@@ -11,7 +11,7 @@ fn machine(plc: &[u8]) -> tempfile::TempDir {
     let mp0 = dir.path().join("MP0");
     std::fs::create_dir(&mp0).expect("mkdir");
     std::fs::copy(lathe.join("FCRSYS"), dir.path().join("FCRSYS")).expect("copy FCRSYS");
-    for f in ["AXCFIL", "PGCFIL", "IOCFIL"] {
+    for f in ["AXCFIL", "PGCFIL", "IOCFIL", "MESSAG"] {
         std::fs::copy(lathe.join("MP0").join(f), mp0.join(f))
             .expect("copy a characterization file");
     }

@@ -51,13 +51,14 @@ fn example_machines_check_clean() {
         let m = format!("plc-programs/{name}");
         // Both have an io.toml, which `check` validates too.
         // And sim.toml and the part-run tables (issue 23: check reads what run reads).
+        // The lathe's PLC message file (FCRSYS FILMS5) follows IOCFIL.
         let extra = if extra {
             format!(
                 ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
             )
         } else {
             format!(
-                ", {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
+                ", {m}/MP0/MESSAG, {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
             )
         };
         assert_eq!(
@@ -75,7 +76,13 @@ fn example_machines_check_clean() {
 fn broken_machine_exits_1_with_located_diagnostics() {
     let dir = tempfile::tempdir().expect("temp dir");
     let lathe = PathBuf::from(machine("lathe"));
-    for f in ["FCRSYS", "MP0/AXCFIL", "MP0/PGCFIL", "MP0/IOCFIL"] {
+    for f in [
+        "FCRSYS",
+        "MP0/AXCFIL",
+        "MP0/PGCFIL",
+        "MP0/IOCFIL",
+        "MP0/MESSAG",
+    ] {
         let to = dir.path().join(f);
         std::fs::create_dir_all(to.parent().expect("parent")).expect("mkdir");
         std::fs::copy(lathe.join(f), &to).expect("copy");

@@ -328,6 +328,7 @@ fn lathe_with_hmi(hmi: &str) -> tempfile::TempDir {
         "MP0/PGCFIL",
         "MP0/IOCFIL",
         "MP0/PLCPRG",
+        "MP0/MESSAG",
     ] {
         let to = dir.path().join(f);
         std::fs::create_dir_all(to.parent().expect("parent")).expect("mkdir");

@@ -62,7 +62,7 @@ fn every_interface_map_entry_is_in_the_documented_table() {
         .parse()
         .expect("interface-map.toml");
     let entries = map["signal"].as_array().expect("[[signal]] entries");
-    assert_eq!(entries.len(), 71);
+    assert_eq!(entries.len(), 76);
     for e in entries {
         let field = |k: &str| e[k].as_str().unwrap_or_default().to_string();
         let row = format!(

@@ -55,7 +55,7 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
         serde_json::json!([{"signal": "U5A2", "value": 1}])
     );
     // Power flow from the scan (PLCPRG): the e-stop chain is closed (lines 62–64 compute 1), and
-    // the LUBE_LAMP rung (line 123) shows what the logic computed — 0, lube level fine — while
+    // the LUBE_LAMP rung (line 133) shows what the logic computed — 0, lube level fine — while
     // the force holds the output at 1.
     let v = json(&hmi.http("GET", "/api/flow", None).1);
     let flow: Vec<(u64, f64)> = v["flow"]
@@ -76,7 +76,7 @@ fn the_api_forces_and_writes_and_a_recorded_session_replays_exactly() {
             .collect()
     };
     assert_eq!(
-        (at(62), at(63), at(64), at(123)),
+        (at(62), at(63), at(64), at(133)),
         (vec![1.0], vec![1.0], vec![1.0], vec![0.0]),
         "{v}"
     );

@@ -2,7 +2,8 @@
 //! the pages load without errors, a signal the sim changes changes on the page, a force set from
 //! the page reaches the image and the recorded trace, the timing diagram draws; on the Machine
 //! page of a part run, START moves the DRO and advances the block, FEED HOLD brings the path speed
-//! to 0 and stops the DRO, RESET returns to the first block. A failing step
+//! to 0 and stops the DRO, RESET returns to the first block; the PLC messages are listed there and
+//! "Acknowledge all" acknowledges them. A failing step
 //! leaves a screenshot in `target/browser-failures/`. Without `/usr/bin/chromium` the test is
 //! skipped with a loud message, except under `CI=true`, where it fails.
 //! `HMI_SCREENSHOTS=DIR` keeps a screenshot of every page.
@@ -367,6 +368,52 @@ async fn start_and_feed_hold_on_the_machine_page_drive_the_simulated_lathe() {
     let hmi = Hmi::start(lathe.path(), &["--program", "PART1"]);
     in_browser(hmi, "hmi-machine", |c, h, keep| {
         Box::pin(machine_steps(c, h, keep))
+    })
+    .await;
+}
+
+/// The Machine page lists the PLC's messages beside the machine alarms, and its "Acknowledge all"
+/// acknowledges them (docs/plc-messages.md).
+async fn message_steps(c: &Browser, hmi: &Hmi, _keep: Option<&Path>) -> Result<(), String> {
+    open_with_token(c, hmi).await?;
+    page(c, "machine").await?;
+    let item = "#plc-messages li[data-number='1']";
+    let shown = until("message 1 on the page", 20, || async {
+        let t = text(c, item).await?;
+        t.contains("P1 #1: Lubrication level low: refill the tank, then RESET (tick ")
+            .then_some(t)
+    })
+    .await?;
+    if shown.contains("acknowledged") {
+        return Err(format!("acknowledged before the click: {shown}"));
+    }
+    let class = format!("return document.querySelector(\"{item}\").className");
+    if js(c, &class).await? != serde_json::json!("active") {
+        return Err("message 1 is not shown active".into());
+    }
+    click(c, "#ack-all").await?;
+    until("message 1 acknowledged on the page", 10, || async {
+        let t = text(c, item).await?;
+        t.ends_with(", acknowledged)").then_some(())
+    })
+    .await?;
+    if js(c, &class).await? != serde_json::json!("active acked") {
+        return Err("message 1 is not shown active and acknowledged".into());
+    }
+    Ok(())
+}
+
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_machine_page_lists_the_plc_messages_and_acknowledges_them() {
+    if !have_browser() {
+        return;
+    }
+    let hmi = Hmi::start(&root().join("plc-programs/lathe"), &[]);
+    // The lubrication level goes low (forced): message 1 follows 2 s later and stays.
+    let (code, _) = hmi.http("POST", "/api/force", Some(r#"{"signal":"I0A7","value":0}"#));
+    assert_eq!(code, 200);
+    in_browser(hmi, "hmi-messages", |c, h, keep| {
+        Box::pin(message_steps(c, h, keep))
     })
     .await;
 }

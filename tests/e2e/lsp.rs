@@ -317,7 +317,7 @@ fn the_lathe_program_through_every_request() {
     assert_eq!(
         lines,
         vec![
-            45, 61, 62, 63, 66, 67, 72, 74, 76, 79, 80, 81, 100, 109, 121
+            45, 61, 62, 63, 66, 67, 72, 74, 76, 79, 80, 81, 100, 109, 131
         ]
     );
     assert!(edits.iter().all(|e| e["newText"] == "CHAIN_CLOSED"));
@@ -335,7 +335,8 @@ fn the_lathe_program_through_every_request() {
         "{r}"
     );
 
-    // Document symbols: FAST with its 32 DEFs (18 aliases, 14 variables and blocks), SLOW with none.
+    // Document symbols: FAST with its 35 DEFs (20 aliases, 15 variables and blocks), SLOW with the
+    // 3 aliases of the PLC messages' request bits.
     let s = c.request(
         "textDocument/documentSymbol",
         json!({"textDocument": {"uri": u}}),
@@ -346,8 +347,8 @@ fn the_lathe_program_through_every_request() {
         (s[0]["name"].as_str(), s[1]["name"].as_str()),
         (Some("FAST"), Some("SLOW"))
     );
-    assert_eq!(s[0]["children"].as_array().map(Vec::len), Some(32));
-    assert_eq!(s[1]["children"].as_array().map(Vec::len), Some(0));
+    assert_eq!(s[0]["children"].as_array().map(Vec::len), Some(35));
+    assert_eq!(s[1]["children"].as_array().map(Vec::len), Some(3));
 
     // An edit that reads an undeclared connector: error 1104 at once (debounce 0), at its place.
     c.notify(
@@ -392,6 +393,8 @@ fn the_lathe_program_through_every_request() {
     assert_eq!(
         names,
         vec![
+            "LUBE_ACKED",
+            "LUBE_ACK_LAMP",
             "LUBE_ALARM",
             "LUBE_CLOCK",
             "LUBE_LAMP",

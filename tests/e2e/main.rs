@@ -41,6 +41,7 @@ mod part_contour;
 mod part_prop;
 mod part_replay;
 mod part_spindle;
+mod plc_messages;
 mod plot;
 mod process2;
 mod record_crash;

@@ -597,6 +597,53 @@ fn alarms_reach_an_asyncua_client_as_events_of_the_messages_object() {
     }
 }
 
+/// The PLC's messages are events of `Notification/Messages` too (docs/plc-messages.md): the
+/// lathe's lubrication level goes low at tick 500 here (not 1000), so message 1 is raised at
+/// tick 700 (the 2 s filter): its text from MP0/MESSAG, severity 500 (MSGPRIO 0), source
+/// `process 1`, stamped with the time of tick 700.
+#[test]
+fn plc_messages_reach_an_asyncua_client_as_events_of_the_messages_object() {
+    if !have_asyncua() {
+        return;
+    }
+    let _serial = serial();
+    let machine = lathe();
+    let sim = machine.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim).expect("sim.toml");
+    let low = "tick = 1000\nset = { I0A7 = 0 }";
+    assert!(text.contains(low));
+    std::fs::write(&sim, text.replace(low, "tick = 500\nset = { I0A7 = 0 }")).expect("sim.toml");
+    let name = machine
+        .path()
+        .file_name()
+        .expect("name")
+        .to_string_lossy()
+        .into_owned();
+    let (run, url) = opcua_run(machine.path(), &["--ticks", "3000"]);
+    let got = peer(&["events", &url, &name, "9"]);
+    drop(run);
+    let t0 = got["tick"][0].as_i64().expect("tick");
+    let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    let events = got["events"].as_array().expect("events");
+    let lube: Vec<&Value> = events
+        .iter()
+        .filter(|e| e[0].as_str().is_some_and(|m| m.contains("Lubrication")))
+        .collect();
+    assert_eq!(lube.len(), 1, "{got}");
+    let e = lube[0];
+    assert_eq!(
+        (&e[0], &e[1], &e[3]),
+        (
+            &serde_json::json!("Lubrication level low: refill the tank, then RESET"),
+            &serde_json::json!(500),
+            &serde_json::json!("process 1")
+        ),
+        "{e}"
+    );
+    let us = e[2].as_i64().expect("time") - origin;
+    assert_eq!(us, 700 * 10_000, "the event's time is tick 700's: {e}");
+}
+
 /// `ncplc check` reports the OPC UA tables' errors of io.toml with their codes and lines.
 #[test]
 fn check_reports_the_opcua_tables_of_io_toml() {

@@ -69,6 +69,7 @@ fn the_plc_program_s_variables_are_read_only_nodes_with_the_values_of_each_tick(
             "CHAIN_OK",
             "COOL_REQ",
             "HOLD_REQ",
+            "LUBE_ACKED",
             "LUBE_ALARM",
             "LUBE_CLOCK.ET",
             "LUBE_CLOCK.Q",

@@ -94,7 +94,7 @@ class Events:
 
     def event_notification(self, event):
         ts = event.Time
-        self.got.append([event.Message.Text, event.Severity, int(ts.timestamp() * 1_000_000)])
+        self.got.append([event.Message.Text, event.Severity, int(ts.timestamp() * 1_000_000), event.SourceName])
 
     def datachange_notification(self, node, val, data):
         pass

@@ -32,7 +32,7 @@ fn dense_copy(
     let dir = tempfile::tempdir().expect("temp dir");
     fs::create_dir_all(dir.path().join("MP0")).expect("mkdir");
     fs::copy(lathe().join("FCRSYS"), dir.path().join("FCRSYS")).expect("FCRSYS");
-    for f in ["AXCFIL", "PGCFIL", "IOCFIL", "PLCPRG"] {
+    for f in ["AXCFIL", "PGCFIL", "IOCFIL", "PLCPRG", "MESSAG"] {
         fs::copy(lathe().join("MP0").join(f), dir.path().join("MP0").join(f)).expect("copy");
     }
     // Bytes: the lathe's comments are CP866.

@@ -119,6 +119,7 @@ fn errors_of_all_files_come_out_of_one_run() {
         ("MP0/PGCFIL", &read("MP0/PGCFIL")),
         ("MP0/IOCFIL", &io),
         ("MP0/PLCPRG", ""),
+        ("MP0/MESSAG", "1 text\n"),
     ]);
     let load = load_machine(dir.path());
     let got: Vec<(u32, &str)> = load
@@ -157,4 +158,63 @@ fn plcsrc_names_the_plc_program() {
         "{:?}",
         load.diagnostics
     );
+}
+
+#[test]
+fn lathe_message_file_gives_the_texts() {
+    let m = load_machine(&machine("lathe"))
+        .machine
+        .expect("lathe loads");
+    let common = m.messages.common.as_ref().expect("FILMS5 read");
+    assert_eq!(common.name, "MP0/MESSAG");
+    assert_eq!(
+        m.messages.text(1, 1),
+        Some("Lubrication level low: refill the tank, then RESET")
+    );
+    assert_eq!(m.messages.shown(1, 4), "PLC message 4");
+}
+
+/// FILMS5 naming a missing file is 915; the lines of a message file and a missing FLC file
+/// (949, at the FLC record of its process) are located.
+#[test]
+fn p915_p946_p948_p949_plc_message_files() {
+    let fc = FCRSYS.replace("*\n", "") + "FILMS5, MESSAG/MP0\n*\n";
+    let dir = temp_machine(&[("FCRSYS", &fc)]);
+    assert!(
+        codes(dir.path()).contains(&(915, "FCRSYS".to_string(), 9, 1)),
+        "{:?}",
+        codes(dir.path())
+    );
+    let lathe = machine("lathe");
+    let read = |f: &str| {
+        String::from_utf8_lossy(&fs::read(lathe.join(f)).expect("lathe file")).into_owned()
+    };
+    let pg = read("MP0/PGCFIL").replacen("NDD=MP1\n", "NDD=MP1\nFLC=,,FI1MSG/MP0,\n", 1);
+    let flc_line = pg.lines().position(|l| l.starts_with("FLC")).expect("FLC") + 1;
+    let dir = temp_machine(&[
+        ("FCRSYS", &read("FCRSYS")),
+        ("MP0/AXCFIL", &read("MP0/AXCFIL")),
+        ("MP0/PGCFIL", &pg),
+        ("MP0/IOCFIL", &read("MP0/IOCFIL")),
+        ("MP0/PLCPRG", ""),
+        ("MP0/MESSAG", "1 one\n; note\n1 again\nlow\n"),
+    ]);
+    assert_eq!(
+        codes(dir.path()),
+        [
+            (948, "MP0/MESSAG".to_string(), 3, 1),
+            (946, "MP0/MESSAG".to_string(), 4, 1),
+            (
+                949,
+                "MP0/PGCFIL".to_string(),
+                u32::try_from(flc_line).unwrap_or(0),
+                1
+            ),
+        ]
+    );
+    // With the process's file present, it replaces the common one for process 1.
+    fs::write(dir.path().join("MP0/FI1MSG"), "2 own text\n").expect("write");
+    let m = load_machine(dir.path()).machine.expect("loads");
+    assert_eq!(m.messages.text(1, 2), Some("own text"));
+    assert_eq!(m.messages.text(1, 1), None);
 }

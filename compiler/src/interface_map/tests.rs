@@ -21,8 +21,9 @@ fn codes_of(text: &str) -> Vec<u32> {
 #[test]
 fn builtin_map_has_the_documented_entries() {
     let map = InterfaceMap::parse("default", DEFAULT_MAP_TOML).expect("the shipped map parses");
-    // 49 of plc-interface-map.md §1 and 20 request signals of the CNC kernel.
-    assert_eq!(map.len(), 71);
+    // 49 of plc-interface-map.md §1, 20 request signals of the CNC kernel and 5 of the PLC
+    // messages.
+    assert_eq!(map.len(), 76);
     assert_eq!(map.signal("mstb"), Some(sig("I1K0")));
     assert_eq!(map.signal("MFIN"), Some(sig("U11K0")));
     assert_eq!(map.signal("RABI3"), Some(sig("U10K10")));
@@ -50,7 +51,7 @@ fn overrides_replace_and_extend() {
     )
     .expect("valid override");
     let map = InterfaceMap::builtin().with_overrides(o).expect("no clash");
-    assert_eq!(map.len(), 72);
+    assert_eq!(map.len(), 77);
     assert_eq!(map.signal("MFIN"), Some(sig("U12K0")));
     assert_eq!(map.role(1, "MFIN").map(|s| s.signal), Some(sig("U12K0")));
     let door = map.get("door").expect("DOOR");
@@ -68,8 +69,8 @@ fn a_role_renames_a_fixed_signal_and_process_two_gets_its_own() {
         + &entry("name='MFIN2'\nrole='MFIN'\nprocess=2\naddress='U30K0'\nwidth='bit'\ndir='out'");
     let o = InterfaceMap::parse("o", &text).expect("valid");
     let map = InterfaceMap::builtin().with_overrides(o).expect("no clash");
-    // MSTROBE replaced MSTB (same process and role): 71 - 1 + 4.
-    assert_eq!(map.len(), 74);
+    // MSTROBE replaced MSTB (same process and role): 76 - 1 + 4.
+    assert_eq!(map.len(), 79);
     assert_eq!(map.get("MSTB"), None);
     assert_eq!(
         map.role(1, "MSTB").map(|s| s.name.as_str()),

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use compiler::ir::flow::FlowMap;
-use hmi::AlarmEntry;
+use hmi::{AlarmEntry, MessageEntry};
 use packets::Signal;
 use partprogram::canon::Canon;
 
@@ -31,6 +31,8 @@ pub struct Frame {
     pub forced: Vec<(Signal, u8)>,
     /// The machine-wide alarm list.
     pub alarms: Vec<AlarmEntry>,
+    /// The PLC messages' list.
+    pub messages: Vec<MessageEntry>,
     /// The online-change status.
     pub online: String,
     /// The overrun limit tripped the safe state.

@@ -4,7 +4,9 @@
 //! plain copy of the image and a few numbers into a preallocated [`Frame`] of a triple buffer
 //! (no allocation, JSON or names on the scan thread); the render thread ([`render`]) builds the
 //! [`hmi::Snapshot`] from the newest frame and puts it into the server's latest-value channel, so
-//! the scan never waits for a browser.
+//! the scan never waits for a browser. The PLC messages' list comes from the controller
+//! ([`crate::plc_messages`]) when it changes, and the processes an `ack` acknowledged go back to
+//! it ([`HmiLink::take_message_acks`]).
 
 pub mod alarms;
 pub mod catalog;
@@ -91,6 +93,8 @@ pub struct HmiLink {
     last_publish: Option<Instant>,
     alarms: AlarmList,
     acks: [u64; MAX_PROCESSES],
+    /// The PLC messages as last listed, and the processes acknowledged since the last take.
+    messages: (Vec<hmi::MessageEntry>, Vec<u8>),
     online: String,
     flow: Option<FlowSwitch>,
     _render: RenderThread,
@@ -125,6 +129,7 @@ impl HmiLink {
             last_publish: None,
             alarms: AlarmList::default(),
             acks: [0; MAX_PROCESSES],
+            messages: (Vec::new(), Vec::new()),
             online: "running".into(),
             flow,
             _render: render,
@@ -226,6 +231,18 @@ impl HmiLink {
             self.alarms.acknowledge();
         }
         self.acks[usize::from(process).min(MAX_PROCESSES - 1)] += 1;
+        self.messages.1.push(process);
+    }
+
+    /// The processes whose acknowledge the HMI applied since the last call (0: every process),
+    /// for the PLC messages.
+    pub fn take_message_acks(&mut self) -> Vec<u8> {
+        std::mem::take(&mut self.messages.1)
+    }
+
+    /// The PLC messages' list changed: the next frame shows `entries`.
+    pub fn set_messages(&mut self, entries: &[hmi::MessageEntry]) {
+        copy_into(&mut self.messages.0, entries);
     }
 
     /// Publishes the current state now: copies it into the scan's frame and hands the frame to
@@ -251,6 +268,7 @@ impl HmiLink {
         f.forced.clear();
         f.forced.extend_from_slice(sched.forces().forced());
         copy_into(&mut f.alarms, self.alarms.entries());
+        copy_into(&mut f.messages, &self.messages.0);
         f.online.clone_from(&self.online);
         f.tripped = sched.tripped();
         f.flow_enabled = self.flow.as_ref().is_some_and(FlowSwitch::wanted);

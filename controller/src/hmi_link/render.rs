@@ -89,6 +89,7 @@ impl Renderer {
             image: f.image.clone(),
             forced: f.forced.clone(),
             alarms: f.alarms.clone(),
+            messages: f.messages.clone(),
             online: f.online.clone(),
             machine,
             tripped: f.tripped,

@@ -71,7 +71,17 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
                 "MACROVARS",
             ] {
                 files.extend(load.sources.names().filter(|f| f.ends_with(name)));
+                if name == "IOCFIL" {
+                    // The PLC message files (FILMS5, FLC), named as the user chose.
+                    let messages = load.machine.as_ref().map(|m| &m.messages);
+                    let common = messages.and_then(|m| m.common.as_ref());
+                    let own = messages.into_iter().flat_map(|m| m.processes.values());
+                    for f in common.into_iter().chain(own) {
+                        files.extend(load.sources.names().filter(|n| n.ends_with(&f.name)));
+                    }
+                }
             }
+            files.dedup();
             format!("{}: no problems found\n", files.join(", "))
         }
         Format::Human => super::output::render_diagnostics_capped_with(

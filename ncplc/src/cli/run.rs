@@ -300,6 +300,22 @@ impl Observer for Status {
         }
     }
 
+    fn message(&mut self, m: &controller::plc_messages::MessageEvent) {
+        let clear = self.clear;
+        let e = &m.entry;
+        if m.raised {
+            eprintln!(
+                "{clear}message: P{} #{} at tick {}: {}",
+                e.process, e.number, m.tick, e.text
+            );
+        } else {
+            eprintln!(
+                "{clear}message cleared: P{} #{} at tick {}: {}",
+                e.process, e.number, m.tick, e.text
+            );
+        }
+    }
+
     fn note(&mut self, note: &Note) {
         let clear = self.clear;
         match note {
