@@ -16,6 +16,7 @@ mod cli;
 mod docs;
 mod drives;
 mod drives_homing;
+mod drives_parts;
 mod drives_peer;
 mod e2e_common;
 mod generated_parsers;
