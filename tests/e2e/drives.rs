@@ -45,11 +45,22 @@ pub(crate) fn final_positions(trace: &str) -> Vec<(String, f64)> {
 
 /// Runs PART1 of `machine` to its end on `io`, recording a text trace; (output, trace text).
 fn part1(machine: &Path, io: &str, dir: &Path) -> (String, String, bool) {
+    run_to_end(machine, "PART1", io, dir)
+}
+
+/// Runs `part` of `machine` to its end on `io` in virtual time, recording `<dir>/<io>.jsonl`;
+/// (output, trace text, success).
+pub(crate) fn run_to_end(
+    machine: &Path,
+    part: &str,
+    io: &str,
+    dir: &Path,
+) -> (String, String, bool) {
     let trace = dir.join(format!("{io}.jsonl"));
     let out = Ncplc::run(machine)
         .args(["--io", io])
         .virtual_time()
-        .program("PART1")
+        .program(part)
         .until_end()
         .record(&trace)
         .output();

@@ -6,27 +6,8 @@
 //! bus run replays exactly without the bus. (Every other bundled part was run the same way when
 //! this test was written: docs/drives.md lists them; the long ones stay out of the suite's time.)
 
-use crate::drives::{final_positions, text};
-use crate::e2e_common::{Ncplc, ncplc, root};
-
-/// Runs `part` of `machine` to its end on `io` in virtual time; (output, trace text, success).
-fn run(
-    machine: &std::path::Path,
-    part: &str,
-    io: &str,
-    dir: &std::path::Path,
-) -> (String, String, bool) {
-    let trace = dir.join(format!("{io}.jsonl"));
-    let out = Ncplc::run(machine)
-        .args(["--io", io])
-        .virtual_time()
-        .program(part)
-        .until_end()
-        .record(&trace)
-        .output();
-    let t = std::fs::read_to_string(&trace).expect("trace");
-    (text(&out), t, out.status.success())
-}
+use crate::drives::{final_positions, run_to_end as run, text};
+use crate::e2e_common::{ncplc, root};
 
 #[test]
 fn a_g96_facing_a_thread_and_a_fanuc_mill_part_run_on_drives_and_replay_exactly() {

@@ -566,17 +566,7 @@ fn alarms_reach_an_asyncua_client_as_events_of_the_messages_object() {
         text.replace("strobe_timeout_ms = 5000", "strobe_timeout_ms = 6000"),
     )
     .expect("sim.toml");
-    let name = machine
-        .path()
-        .file_name()
-        .expect("name")
-        .to_string_lossy()
-        .into_owned();
-    let (run, url) = opcua_run(machine.path(), &["--ticks", "3000"]);
-    let got = peer(&["events", &url, &name, "9"]);
-    drop(run);
-    let t0 = got["tick"][0].as_i64().expect("tick");
-    let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    let (got, origin) = machine_events(machine.path());
     let events = got["events"].as_array().expect("events");
     let raised: Vec<&Value> = events
         .iter()
@@ -613,17 +603,7 @@ fn plc_messages_reach_an_asyncua_client_as_events_of_the_messages_object() {
     let low = "tick = 1000\nset = { I0A7 = 0 }";
     assert!(text.contains(low));
     std::fs::write(&sim, text.replace(low, "tick = 500\nset = { I0A7 = 0 }")).expect("sim.toml");
-    let name = machine
-        .path()
-        .file_name()
-        .expect("name")
-        .to_string_lossy()
-        .into_owned();
-    let (run, url) = opcua_run(machine.path(), &["--ticks", "3000"]);
-    let got = peer(&["events", &url, &name, "9"]);
-    drop(run);
-    let t0 = got["tick"][0].as_i64().expect("tick");
-    let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    let (got, origin) = machine_events(machine.path());
     let events = got["events"].as_array().expect("events");
     let lube: Vec<&Value> = events
         .iter()
@@ -666,4 +646,20 @@ fn check_reports_the_opcua_tables_of_io_toml() {
         all.contains("E3402") && all.contains("unknown stack-light colour `pink`"),
         "{all}"
     );
+}
+
+/// Runs `machine` for 3,000 ticks with the server while the peer collects the events of
+/// `Notification/Messages` for 9 s: the peer's answer and the server time (µs) of tick 0.
+fn machine_events(machine: &Path) -> (Value, i64) {
+    let name = machine
+        .file_name()
+        .expect("name")
+        .to_string_lossy()
+        .into_owned();
+    let (run, url) = opcua_run(machine, &["--ticks", "3000"]);
+    let got = peer(&["events", &url, &name, "9"]);
+    drop(run);
+    let t0 = got["tick"][0].as_i64().expect("tick");
+    let origin = got["tick"][1].as_i64().expect("ts") - t0 * 10_000;
+    (got, origin)
 }

@@ -423,8 +423,9 @@ impl ScanDrives {
 mod tests {
     use super::*;
 
-    fn master(lockstep: bool) -> MasterDrives {
-        let cfg = [CanDrive {
+    /// Drive X on node 3, csp, 100 counts per mm.
+    fn x_drive() -> CanDrive {
+        CanDrive {
             process: 1,
             axis: 'X',
             node_id: 3,
@@ -435,7 +436,11 @@ mod tests {
             simulate: Default::default(),
             span: 0..0,
             homing: false,
-        }];
+        }
+    }
+
+    fn master(lockstep: bool) -> MasterDrives {
+        let cfg = [x_drive()];
         let timing = DriveTiming {
             int_tick: Duration::from_millis(2),
             syncs: 5,
@@ -446,18 +451,7 @@ mod tests {
 
     #[tokio::test]
     async fn orders_superseded_before_the_master_served_them_are_counted() {
-        let cfg = [CanDrive {
-            process: 1,
-            axis: 'X',
-            node_id: 3,
-            counts_per_unit: 100.0,
-            mode: DriveMode::Csp,
-            heartbeat: Duration::from_millis(50),
-            sdo: Vec::new(),
-            simulate: Default::default(),
-            span: 0..0,
-            homing: false,
-        }];
+        let cfg = [x_drive()];
         let timing = DriveTiming {
             int_tick: Duration::from_millis(1),
             syncs: 2,
@@ -517,18 +511,7 @@ mod tests {
     async fn a_tick_without_fresh_orders_holds_the_last_set_point() {
         let bus = crate::canopen::virtual_bus::VirtualBus::new();
         let (mut port, mut drive) = (bus.port(), bus.port());
-        let cfg = [CanDrive {
-            process: 1,
-            axis: 'X',
-            node_id: 3,
-            counts_per_unit: 100.0,
-            mode: DriveMode::Csp,
-            heartbeat: Duration::from_millis(50),
-            sdo: Vec::new(),
-            simulate: Default::default(),
-            span: 0..0,
-            homing: false,
-        }];
+        let cfg = [x_drive()];
         let timing = DriveTiming {
             int_tick: Duration::from_millis(1),
             syncs: 3,
