@@ -40,20 +40,12 @@ fn s(p: &Path) -> &str {
 
 /// Whether python-canopen is there; without it, skip loudly (fail under CI).
 fn have_peer() -> bool {
-    let ok = Command::new("python3")
-        .args(["-c", "import canopen, can"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "python-canopen is missing under CI (python3 -m pip install canopen python-can)"
-        );
-        eprintln!(
-            "SKIPPED: no python-canopen for python3; python3 -m pip install canopen python-can"
-        );
-    }
-    ok
+    e2e_common::python_peer(
+        "python3",
+        "import canopen, can",
+        "python-canopen",
+        "python3 -m pip install canopen python-can",
+    )
 }
 
 /// Two distinct free UDP ports on loopback.

@@ -206,3 +206,21 @@ pub fn spawn_until(
         said.push(line);
     }
 }
+
+/// Whether `python` can import `imports` (an independent peer such as pymodbus or asyncua);
+/// without it the caller skips loudly, and under `CI=true` this fails instead (`.ci/run` installs
+/// every peer). `what` names the package, `install` the command that installs it.
+pub fn python_peer(python: &str, imports: &str, what: &str, install: &str) -> bool {
+    let ok = Command::new(python)
+        .args(["-c", imports])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    if !ok {
+        assert!(
+            std::env::var("CI").as_deref() != Ok("true"),
+            "{what} is missing under CI ({install})"
+        );
+        eprintln!("SKIPPED: no {what} for {python}; {install}");
+    }
+    ok
+}

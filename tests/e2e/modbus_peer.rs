@@ -26,20 +26,12 @@ const PYTHON: &str = "/usr/bin/python3";
 
 /// Whether pymodbus is there; without it, skip loudly (fail under CI).
 fn have_pymodbus() -> bool {
-    let ok = Command::new(PYTHON)
-        .args(["-c", "import pymodbus.client, pymodbus.server"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "pymodbus is missing under CI (apt-get install python3-pymodbus python3-serial python3-serial-asyncio)"
-        );
-        eprintln!(
-            "SKIPPED: no pymodbus for {PYTHON}; apt-get install python3-pymodbus python3-serial python3-serial-asyncio"
-        );
-    }
-    ok
+    e2e_common::python_peer(
+        PYTHON,
+        "import pymodbus.client, pymodbus.server",
+        "pymodbus",
+        "apt-get install python3-pymodbus python3-serial python3-serial-asyncio",
+    )
 }
 
 fn peer(args: &[&str]) -> Command {

@@ -22,18 +22,12 @@ const PYTHON: &str = "python3";
 
 /// Whether asyncua is there; without it, skip loudly (fail under CI).
 pub(crate) fn have_asyncua() -> bool {
-    let ok = Command::new(PYTHON)
-        .args(["-c", "import asyncua"])
-        .output()
-        .is_ok_and(|o| o.status.success());
-    if !ok {
-        assert!(
-            std::env::var("CI").as_deref() != Ok("true"),
-            "asyncua is missing under CI (python3 -m pip install \"asyncua>=2.1,<2.2\")"
-        );
-        eprintln!("SKIPPED: no asyncua for {PYTHON}; python3 -m pip install \"asyncua>=2.1,<2.2\"");
-    }
-    ok
+    crate::e2e_common::python_peer(
+        PYTHON,
+        "import asyncua",
+        "asyncua",
+        "python3 -m pip install \"asyncua>=2.1,<2.2\"",
+    )
 }
 
 /// A copy of the lathe without its traces.
