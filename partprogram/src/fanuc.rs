@@ -140,25 +140,7 @@ fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Sink) {
 pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Sink) {
     let number = parsed.number.unwrap_or(0);
     push_file(prog, 0, parsed, Some((UnitKind::Main, number)), diags);
-    let dir = prog.machine.macro_dir.clone();
-    if dir.as_os_str().is_empty() {
-        return;
-    }
-    let Ok(rd) = std::fs::read_dir(&dir) else {
-        return;
-    };
-    let mut paths: Vec<_> = rd
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .filter(|p| p.is_file())
-        .collect();
-    paths.sort();
-    for path in paths {
-        let fname = path
-            .file_name()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
+    for (path, fname, stem) in crate::program::macro_folder_files(&prog.machine.macro_dir) {
         let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else {
             continue;
         };

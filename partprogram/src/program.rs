@@ -228,6 +228,37 @@ pub(crate) fn err(
 }
 
 /// Marks `d` (about one of the program's files) to be located by [`compile`] at the end.
+/// The files of a machine's macro folder in name order, each with its file name and its
+/// upper-case stem (the name before the first `.`): what MEFI's `L<n>`/`$PC` and Fanuc's `O<n>`
+/// loaders both walk. An empty path or an unreadable folder has none.
+pub(crate) fn macro_folder_files(
+    dir: &std::path::Path,
+) -> Vec<(std::path::PathBuf, String, String)> {
+    if dir.as_os_str().is_empty() {
+        return Vec::new();
+    }
+    let Ok(rd) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    let mut paths: Vec<_> = rd
+        .filter_map(|e| e.ok())
+        .map(|e| e.path())
+        .filter(|p| p.is_file())
+        .collect();
+    paths.sort();
+    paths
+        .into_iter()
+        .map(|path| {
+            let fname = path
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
+            (path, fname, stem)
+        })
+        .collect()
+}
+
 pub(crate) fn to_locate(mut d: Diagnostic) -> Diagnostic {
     d.column = TO_LOCATE;
     d

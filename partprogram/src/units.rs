@@ -383,24 +383,7 @@ impl Units {
     /// Loads every macro file `L<n>` and every `$PC` cycle file of `dir`; `parse_failed`: the
     /// main file's parse had an error.
     pub(crate) fn load_library(&mut self, prog: &mut Program, dir: &Path, parse_failed: bool) {
-        if dir.as_os_str().is_empty() {
-            return;
-        }
-        let Ok(rd) = std::fs::read_dir(dir) else {
-            return;
-        };
-        let mut paths: Vec<_> = rd
-            .filter_map(|e| e.ok())
-            .map(|e| e.path())
-            .filter(|p| p.is_file())
-            .collect();
-        paths.sort();
-        for path in paths {
-            let fname = path
-                .file_name()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let stem = fname.split('.').next().unwrap_or("").to_ascii_uppercase();
+        for (path, fname, stem) in crate::program::macro_folder_files(dir) {
             let is_l = stem.len() > 1
                 && stem.starts_with('L')
                 && stem[1..].bytes().all(|c| c.is_ascii_digit());
