@@ -134,7 +134,7 @@ pub(crate) fn render_map_error(machine_dir: &Path, diagnostics: Vec<diag::Diagno
 fn map_error(machine_dir: &Path, diagnostics: Vec<diag::Diagnostic>) -> IoOpenError {
     let map = machine_dir.join("io.toml");
     let mut sources = diag::Sources::new();
-    if let Ok(text) = std::fs::read_to_string(&map) {
+    if let Ok(text) = diag::read_config(&map) {
         for d in &diagnostics {
             sources.add(d.file.clone(), text.clone());
         }

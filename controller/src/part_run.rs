@@ -78,7 +78,7 @@ pub struct PartRun {
 /// start with N; Fanuc's N is optional), and no M02/M30 is asked for.
 fn mdi_program(dir: &std::path::Path, dialect: Option<&str>, text: &str) -> String {
     let fanuc = dialect.is_some_and(|d| d.eq_ignore_ascii_case("fanuc"))
-        || std::fs::read_to_string(sim::machine_view::dialect_file(dir))
+        || diag::read_config(&sim::machine_view::dialect_file(dir))
             .is_ok_and(|d| d.trim().eq_ignore_ascii_case("fanuc"));
     if fanuc {
         return format!("O9999\n{text}\n");

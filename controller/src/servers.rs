@@ -84,7 +84,7 @@ pub fn kernel_command(
 pub fn hmi_token(hmi: &Hmi) -> Result<hmi::Tokens, String> {
     match &hmi.token_file {
         Some(path) => {
-            let t = std::fs::read_to_string(path)
+            let t = diag::read_config(path)
                 .map_err(|e| format!("error: --hmi-token-file {}: {e}", path.display()))?;
             hmi::Tokens::parse(&t)
                 .map_err(|e| format!("error: --hmi-token-file {}:{e}", path.display()))

@@ -29,6 +29,7 @@ use std::ops::Range;
 use serde::{Deserialize, Serialize};
 
 mod cap;
+mod config_file;
 mod lines;
 mod random_text;
 mod sink;
@@ -38,6 +39,7 @@ pub use cap::{
     DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, json_lines_capped_with,
     render_human_capped, render_human_capped_with,
 };
+pub use config_file::{CONFIG_MAX_BYTES, read_config, read_config_bytes};
 pub use lines::{Indexed, LineIndex, line_columns};
 pub use random_text::random_text;
 pub use sink::{Sink, merge_hidden};

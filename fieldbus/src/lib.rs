@@ -216,7 +216,7 @@ pub fn open_canopen(
                 .map_or(0..0, |c| c.span.clone());
             // Located in io.toml's text as it was read (a file changed since reads as unlocated).
             let diag = d.diagnostic(span);
-            return vec![match std::fs::read_to_string(machine_dir.join("io.toml")) {
+            return vec![match diag::read_config(&machine_dir.join("io.toml")) {
                 Ok(text) => {
                     let index = diag::LineIndex::new(&text);
                     diag.locate_in(&text, &index)

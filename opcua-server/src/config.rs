@@ -173,7 +173,7 @@ pub fn parse(file: &str, text: &str) -> Result<Tables, Vec<Diagnostic>> {
 
 /// Reads the tables of `<machine>/io.toml` (none without the file).
 pub fn load(machine_dir: &std::path::Path) -> Result<Tables, Vec<Diagnostic>> {
-    match std::fs::read_to_string(machine_dir.join("io.toml")) {
+    match diag::read_config(&machine_dir.join("io.toml")) {
         Ok(text) => parse("io.toml", &text),
         Err(_) => Ok(Tables::default()),
     }

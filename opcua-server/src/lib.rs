@@ -118,7 +118,7 @@ impl Server for OpcuaServer {
         let table = signals::table(&named_signals(machine)?, &window);
         let users = match &self.settings.users {
             Some(path) => {
-                let text = std::fs::read_to_string(path)
+                let text = diag::read_config(path)
                     .map_err(|e| format!("error: --opcua-users {}: {e}", path.display()))?;
                 users::Users::parse(&text)
                     .map_err(|e| format!("error: --opcua-users {}:{e}", path.display()))?
@@ -211,7 +211,7 @@ impl Server for OpcuaServer {
 /// io.toml's diagnostics rendered with its lines.
 fn render_map_errors(dir: &std::path::Path, diagnostics: &[diag::Diagnostic]) -> String {
     let mut sources = diag::Sources::new();
-    if let Ok(text) = std::fs::read_to_string(dir.join("io.toml")) {
+    if let Ok(text) = diag::read_config(&dir.join("io.toml")) {
         for d in diagnostics {
             sources.add(d.file.clone(), text.clone());
         }

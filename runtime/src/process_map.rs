@@ -84,7 +84,7 @@ pub fn check(dir: &Path, machine: &Machine, sources: &mut Sources) -> Vec<Diagno
     let path = dir.join("interface.toml");
     let map = if path.exists() {
         let name = "interface.toml";
-        let text = match std::fs::read_to_string(&path) {
+        let text = match diag::read_config(&path) {
             Ok(t) => t,
             Err(e) => {
                 let err = compiler::interface_map::InterfaceMapError::Io {

@@ -52,7 +52,7 @@ pub fn constants_file(dir: &Path) -> PathBuf {
 /// out of range is an error naming the file (and the line).
 pub fn complex_speed(dir: &Path) -> Result<motion::complex::ComplexSpeed, String> {
     let path = constants_file(dir);
-    match std::fs::read_to_string(&path) {
+    match diag::read_config(&path) {
         Ok(text) => motion::complex::from_constants(&text)
             .map_err(|e| format!("{}: {e}", runtime::render::user_path(&path).display())),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(Default::default()),
@@ -78,7 +78,7 @@ pub fn macro_vars_file(dir: &Path) -> PathBuf {
 /// The text of the machine's retained-variables file; `None` when it does not exist (every
 /// variable null).
 pub fn read_macro_vars(dir: &Path) -> std::io::Result<Option<String>> {
-    match std::fs::read(macro_vars_file(dir)) {
+    match diag::read_config_bytes(&macro_vars_file(dir)) {
         Ok(b) => Ok(Some(String::from_utf8_lossy(&b).into_owned())),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
         Err(e) => Err(e),
@@ -177,7 +177,7 @@ pub fn machine_spec(
     program_text: &str,
 ) -> Result<MachineSpec, MachineError> {
     let facts = Facts::load(dir)?;
-    let option = std::fs::read_to_string(dialect_file(dir)).ok();
+    let option = diag::read_config(&dialect_file(dir)).ok();
     let dialect: Dialect = match dialect.or(option.as_deref().map(str::trim)) {
         Some(d) => d.parse().map_err(MachineError::Dialect)?,
         None => detect_dialect(program_text),
@@ -223,7 +223,7 @@ pub fn machine_spec(
     spec.diameter_x = lathe;
     spec.macro_dir = dir.join("macros");
     spec.check_m_declared = true;
-    match std::fs::read_to_string(constants_file(dir)) {
+    match diag::read_config(&constants_file(dir)) {
         Ok(text) => {
             for (n, v) in partprogram::machine::parse_constants(&text)? {
                 spec.set_constant(n, v)?;

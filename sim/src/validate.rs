@@ -436,7 +436,7 @@ pub fn load(
     interface: &compiler::InterfaceMap,
 ) -> Loaded {
     let path = dir.join(FILE);
-    let bytes = match std::fs::read(&path) {
+    let bytes = match diag::read_config_bytes(&path) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             return Loaded {
@@ -449,8 +449,13 @@ pub fn load(
             };
         }
         Err(e) => {
+            let hint = if e.kind() == std::io::ErrorKind::FileTooLarge {
+                "a scenario is a few kilobytes of [[at]] tables: shorten it, or record the inputs once and replay the trace"
+            } else {
+                "make the file readable or remove it"
+            };
             let d = Diagnostic::error(codes::IO, FILE, 0..0, format!("cannot read sim.toml: {e}"))
-                .with_hint("make the file readable or remove it");
+                .with_hint(hint);
             return Loaded {
                 script: None,
                 diagnostics: vec![d],

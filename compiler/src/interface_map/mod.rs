@@ -272,7 +272,7 @@ impl InterfaceMap {
             return Ok(Self::builtin());
         }
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(&path).map_err(|e| {
+        let text = diag::read_config(&path).map_err(|e| {
             vec![InterfaceMapError::Io {
                 file: file.clone(),
                 message: e.to_string(),

@@ -197,11 +197,21 @@ pub fn load_map_with_axes(
     axes: Option<&[DeclaredAxis]>,
 ) -> (Option<IoMap>, Vec<Diagnostic>) {
     let path = machine_dir.join("io.toml");
-    match std::fs::read_to_string(&path) {
+    match diag::read_config(&path) {
         Ok(text) => parse_map_with_axes(&text, "io.toml", declared, axes),
         Err(e) => {
-            let d = Diagnostic::error(codes::UNREADABLE, "io.toml", 0..0, format!("cannot read {}: {e}", path.display()))
-                .with_hint("write an I/O map <machine>/io.toml (see fieldbus/DIAGNOSTICS.md) or run with --io sim");
+            let hint = if e.kind() == std::io::ErrorKind::FileTooLarge {
+                "an I/O map is a few kilobytes of tables describing this machine's devices and signals (docs/io-toml.md)"
+            } else {
+                "write an I/O map <machine>/io.toml (see fieldbus/DIAGNOSTICS.md) or run with --io sim"
+            };
+            let d = Diagnostic::error(
+                codes::UNREADABLE,
+                "io.toml",
+                0..0,
+                format!("cannot read {}: {e}", path.display()),
+            )
+            .with_hint(hint);
             (None, vec![d])
         }
     }

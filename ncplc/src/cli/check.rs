@@ -115,7 +115,7 @@ pub fn check_io_map(
     };
     let axes = runtime::machine_facts::declared_axes(machine);
     let (map, mut diags) = fieldbus::load_map_with_axes(machine_dir, &declared, Some(&axes));
-    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    let text = diag::read_config(&path).unwrap_or_default();
     if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {
         diags.push(w);
     }
