@@ -40,6 +40,25 @@ pub struct Compilation {
     pub text: String,
 }
 
+/// The largest PLC source compiled, in bytes (2 MiB). A program addresses a bounded set of
+/// signals (packets A, K, N and T, at most 5,000 symbolic names by IOCFIL SPL) and the bundled
+/// ones are a few kilobytes; 2 MiB is about 60,000 statement lines. A parsed source takes about 40
+/// times its size, so without the limit a 50 MB file took 2 GB to reject (issue 23); with it any
+/// source is checked in about 100 MB.
+pub const MAX_SOURCE_BYTES: usize = 2 << 20;
+
+/// The error for a source of `len` bytes over [`MAX_SOURCE_BYTES`], at the start of the file.
+fn too_large(file_name: &str, len: usize) -> Diagnostic {
+    Diagnostic::error(
+        sema::codes::TOO_LARGE,
+        file_name,
+        0..0,
+        format!("the PLC program has {len} bytes; a PLC source may have at most {MAX_SOURCE_BYTES} bytes (2 MiB)"),
+    )
+    .with_hint("a PLC program of this machine is a few thousand lines: split generated logic or generate less of it")
+    .locate("")
+}
+
 /// Compiles `source` (the bytes of `file_name`) for the machine `ctx`.
 pub fn compile(file_name: &str, source: &[u8], ctx: &MachineContext) -> Compilation {
     compile_with_threads(file_name, source, ctx, 1)
@@ -54,6 +73,14 @@ pub fn compile_with_threads(
     threads: usize,
 ) -> Compilation {
     let start = Instant::now();
+    if source.len() > MAX_SOURCE_BYTES {
+        return Compilation {
+            program: None,
+            diagnostics: vec![too_large(file_name, source.len())],
+            stats: CompileStats::default(),
+            text: String::new(),
+        };
+    }
     let text = lexer::decode_source(source);
     let (ast, diagnostics) = parser::parse_with_threads(file_name, &text, threads);
     check_parsed(file_name, text, &ast, diagnostics, ctx, start)
@@ -72,6 +99,12 @@ pub fn diagnose_incremental(
     check: &mut CheckCache,
 ) -> (Vec<Diagnostic>, ast::Program) {
     let text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
+    if text.len() > MAX_SOURCE_BYTES {
+        return (
+            vec![too_large(file_name, text.len())],
+            ast::Program::default(),
+        );
+    }
     let (ast, mut diagnostics) = parser::parse_cached(file_name, text, parse);
     if parser::stopped_early(&diagnostics) {
         stop_first(&mut diagnostics);

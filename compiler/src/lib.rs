@@ -20,7 +20,10 @@ pub mod synth;
 
 pub use context::MachineContext;
 pub use engine::Engine;
-pub use front::{Compilation, CompileStats, compile, compile_with_threads, diagnose_incremental};
+pub use front::{
+    Compilation, CompileStats, MAX_SOURCE_BYTES, compile, compile_with_threads,
+    diagnose_incremental,
+};
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;
 pub use jit::{JitError, JitProgram};

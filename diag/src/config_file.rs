@@ -1,5 +1,6 @@
 //! Reading a machine's configuration files (`io.toml`, `sim.toml`, `interface.toml`, `nc/DIALECT`,
-//! `nc/CONSTANTS`, token and user files) with a size limit.
+//! `nc/CONSTANTS`, `nc/MACROVARS`, the tables `TAB0.KOR` and `TAB0.POS`, token and user files)
+//! with a size limit.
 //!
 //! These files are read whole and parsed into trees that take tens of times their size (a TOML
 //! document of 4 MB of small tables takes about 300 MB once parsed), so a file of any size would

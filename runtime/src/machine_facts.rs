@@ -107,15 +107,7 @@ impl Facts {
 
     /// What the PLC compiler needs: declared packet-A connectors, SPL, CLO and the interface map.
     pub fn compiler_context(&self) -> Result<compiler::MachineContext, MachineError> {
-        let io = self.iocfil();
-        Ok(compiler::MachineContext {
-            a_inputs: io.input_connectors(),
-            a_outputs: io.output_connectors(),
-            spl: io.spl_or_default(),
-            tick_ms: io.tick_logic_ms,
-            time_slow_ms: io.time_slow_ms,
-            interface: compiler::InterfaceMap::load_for_machine(&self.machine.dir)?,
-        })
+        compiler_context(&self.machine.dir, self.iocfil())
     }
 
     /// The packet-A connectors IOCFIL declares, for the fieldbus I/O map.
@@ -160,6 +152,20 @@ pub fn declared_axes(machine: &Machine) -> Vec<fieldbus::DeclaredAxis> {
             })
         })
         .collect()
+}
+
+/// The PLC compiler's view of the machine in `dir` with IOCFIL `io`: declared packet-A
+/// connectors, SPL, CLO and the interface map (`ncplc check` builds it from the machine it
+/// loaded, a run from its [`Facts`]).
+pub fn compiler_context(dir: &Path, io: &Iocfil) -> Result<compiler::MachineContext, MachineError> {
+    Ok(compiler::MachineContext {
+        a_inputs: io.input_connectors(),
+        a_outputs: io.output_connectors(),
+        spl: io.spl_or_default(),
+        tick_ms: io.tick_logic_ms,
+        time_slow_ms: io.time_slow_ms,
+        interface: compiler::InterfaceMap::load_for_machine(dir)?,
+    })
 }
 
 #[cfg(test)]

@@ -261,7 +261,7 @@ pub fn load_corrections(
 ) -> Vec<(String, String, Vec<diag::Diagnostic>)> {
     let mut files = Vec::new();
     if let Some((path, name)) = kor_file(dir, kor) {
-        files.push(match std::fs::read(&path) {
+        files.push(match diag::read_config_bytes(&path) {
             Ok(bytes) => {
                 let text = String::from_utf8_lossy(&bytes).into_owned();
                 let (table, diags) = partprogram::parse_kor(&name, &text, &spec.axes());
@@ -274,7 +274,7 @@ pub fn load_corrections(
     let pos = pos_file(dir);
     if pos.is_file() {
         let name = runtime::render::user_path(&pos).display().to_string();
-        files.push(match std::fs::read(&pos) {
+        files.push(match diag::read_config_bytes(&pos) {
             Ok(bytes) => {
                 let text = String::from_utf8_lossy(&bytes).into_owned();
                 let (table, diags) = partprogram::parse_pos(&name, &text, &spec.axes());

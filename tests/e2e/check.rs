@@ -51,14 +51,14 @@ fn example_machines_check_clean() {
         let m = format!("plc-programs/{name}");
         // Both have an io.toml, which `check` validates too.
         // And sim.toml and the part-run tables (issue 23: check reads what run reads).
-        // The lathe's PLC message file (FCRSYS FILMS5) follows IOCFIL.
+        // The lathe's PLC message file (FCRSYS FILMS5) follows IOCFIL; the PLC program comes last.
         let extra = if extra {
             format!(
-                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
+                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG"
             )
         } else {
             format!(
-                ", {m}/MP0/MESSAG, {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS"
+                ", {m}/MP0/MESSAG, {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG"
             )
         };
         assert_eq!(
@@ -666,4 +666,35 @@ fn oversized_sim_and_io_toml_are_refused_naming_their_size() {
         err.contains(&format!("the file has {sim_len} bytes; {limit}")),
         "{err}"
     );
+}
+
+/// The PLC program `run` loads is read by `check` too: an undefined name is a located error of
+/// `check` (the front end `build` runs), and `run` refuses the same program.
+#[test]
+fn check_compiles_the_plc_program_run_would_load() {
+    let dir = copy_machine("lathe");
+    let plc = dir.path().join("MP0/PLCPRG");
+    let text = std::fs::read(&plc).expect("PLCPRG");
+    // Before the program's end `$` (the last line).
+    let end = text.iter().rposition(|b| *b == b'$').expect("$");
+    let line = text[..end].split(|b| *b == b'\n').count();
+    let mut edited = text[..end].to_vec();
+    edited.extend_from_slice(b"MSG_LUBE = NOSUCHNAME\n");
+    edited.extend_from_slice(&text[end..]);
+    std::fs::write(&plc, &edited).expect("write");
+    let d = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&d]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(got.len(), 1, "{got:?}");
+    let (code, file, l, column, message) = &got[0];
+    assert_eq!(
+        (*code, file.as_str(), *l, *column),
+        (1207, "MP0/PLCPRG", line as u64, 12)
+    );
+    assert!(message.contains("NOSUCHNAME"), "{message}");
+    let out = ncplc(&["run", &d, "--virtual-time", "--ticks", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("NOSUCHNAME"), "{err}");
 }

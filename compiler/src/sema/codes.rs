@@ -25,6 +25,8 @@ pub const DOLLAR_IN_IF: u32 = 1009;
 pub const NOT_TEXT: u32 = 1010;
 /// Too many statement lines in a row with errors: not a PLC program (reading stops there).
 pub const GAVE_UP: u32 = 1011;
+/// The source is larger than [`crate::front::MAX_SOURCE_BYTES`]: not read at all.
+pub const TOO_LARGE: u32 = 1012;
 
 /// A connector number past the packet's last connector.
 pub const CONNECTOR_RANGE: u32 = 1101;

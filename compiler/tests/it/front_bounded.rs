@@ -100,3 +100,21 @@ fn an_if_block_across_chunks_compiles_whole() {
     assert_eq!(c.stats.statements, 602);
     assert!(c.program.is_some());
 }
+
+#[test]
+fn a_source_over_2_mib_is_refused_unread_and_one_at_the_limit_is_read() {
+    // A comment line of 64 bytes repeated: exactly the limit, then one byte more.
+    let line = format!("; {}\n", "c".repeat(61));
+    let at_limit = line.repeat(compiler::MAX_SOURCE_BYTES / line.len());
+    assert_eq!(at_limit.len(), compiler::MAX_SOURCE_BYTES);
+    let read = codes(at_limit.as_bytes());
+    assert!(!read.iter().any(|&(c, _, _)| c == 1012), "{read:?}");
+    let over = format!("{at_limit} ");
+    assert_eq!(codes(over.as_bytes()), [(1012, 1, 1)]);
+    let c = compile("PLCPRG", over.as_bytes(), &MachineContext::lathe_like());
+    assert_eq!(
+        c.diagnostics[0].message,
+        "the PLC program has 2097153 bytes; a PLC source may have at most 2097152 bytes (2 MiB)"
+    );
+    assert!(c.program.is_none());
+}

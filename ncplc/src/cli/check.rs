@@ -13,7 +13,8 @@
 //! `sim.toml` is checked against the machine once the interface map is valid (codes 3600–3610,
 //! `sim::validate`, the same validation `run` refuses with), and the other files a run reads
 //! (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables, `nc/MACROVARS`,
-//! `retain.bin`) through [`super::check_files`].
+//! `retain.bin`) through [`super::check_files`], and the PLC program `run` loads through the
+//! compiler's front end ([`super::check_plc`], codes 1000–1999, as `ncplc build` reports them).
 //!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
 //! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
@@ -81,6 +82,13 @@ pub fn render(load: &characterization::MachineLoad, format: Format, max_errors: 
                     }
                 }
             }
+            // The PLC program, named as FCRSYS binds it (any name).
+            let rest: Vec<&str> = load
+                .sources
+                .names()
+                .filter(|n| !files.contains(n))
+                .collect();
+            files.extend(rest);
             files.dedup();
             format!("{}: no problems found\n", files.join(", "))
         }
@@ -189,6 +197,11 @@ pub fn run(args: Args) -> ExitCode {
             tables,
             &mut load.sources,
         ));
+        // The PLC program `run` would load, through the front end `build` runs.
+        if runnable {
+            let plc = super::check_plc::check(&args.machine_dir, &machine, &mut load.sources);
+            load.diagnostics.extend(plc);
+        }
         load.machine = Some(machine);
     }
     super::output::relocate(&mut load, &args.machine_dir);

@@ -10,7 +10,8 @@
 //! - `retain.bin`: a damaged record is a warning (3622), as `run` warns and starts without it.
 //!
 //! Every file that exists is added to the sources under its name relative to the machine
-//! directory; a missing file is not a problem (each has a default).
+//! directory; a missing file is not a problem (each has a default). Each is read with the limit of
+//! a machine configuration file (`diag::read_config`: 1 MiB; a larger one is error 3623).
 
 use std::path::Path;
 
@@ -29,7 +30,7 @@ pub mod codes {
 }
 
 fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
-    match std::fs::read(dir.join(rel)) {
+    match diag::read_config_bytes(&dir.join(rel)) {
         Ok(b) => Some(String::from_utf8_lossy(&b).into_owned()),
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
         Err(e) => {

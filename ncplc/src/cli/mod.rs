@@ -7,6 +7,7 @@ use clap::{Parser, Subcommand};
 pub mod build;
 pub mod check;
 pub mod check_files;
+pub mod check_plc;
 pub mod hmi_args;
 pub mod nc;
 pub mod nc_plot;
@@ -33,7 +34,7 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
-    /// Read and validate a machine's characterization files (FCRSYS, AXCFIL, PGCFIL, IOCFIL).
+    /// Read and validate a machine: its characterization files (FCRSYS, AXCFIL, PGCFIL, IOCFIL) and every other file `run` reads (maps, sim.toml, tables, the PLC program).
     #[command(after_help = output::EXIT_CODES_HELP)]
     Check(check::Args),
     /// Compile the machine's PLC program and report diagnostics.
