@@ -149,6 +149,7 @@ pub const ALL: &[(u32, &str)] = &[
     (DOLLAR_IN_IF, "`$` inside `IF`"),
     (NOT_TEXT, "not a text file"),
     (GAVE_UP, "not a PLC program: reading stopped"),
+    (TOO_LARGE, "source over 2 MiB: not read"),
     (CONNECTOR_RANGE, "connector out of range"),
     (CONTACT_RANGE, "contact out of range"),
     (BYTE_RANGE, "byte out of range"),
