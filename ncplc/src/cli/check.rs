@@ -197,8 +197,10 @@ pub fn run(args: Args) -> ExitCode {
             tables,
             &mut load.sources,
         ));
-        // The PLC program `run` would load, through the front end `build` runs.
-        if runnable {
+        // The PLC program `run` would load, through the front end `build` runs, once the map it
+        // is compiled against is valid (as for sim.toml: its names would only be follow-on errors,
+        // and `run` refuses the map first).
+        if runnable && map_ok {
             let plc = super::check_plc::check(&args.machine_dir, &machine, &mut load.sources);
             load.diagnostics.extend(plc);
         }
