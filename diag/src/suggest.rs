@@ -228,8 +228,8 @@ mod tests {
         for (i, row) in d.iter_mut().enumerate() {
             row[0] = i;
         }
-        for j in 0..=b.len() {
-            d[0][j] = j;
+        for (j, cell) in d[0].iter_mut().enumerate() {
+            *cell = j;
         }
         for i in 1..=a.len() {
             for j in 1..=b.len() {
@@ -279,7 +279,7 @@ mod tests {
             (state >> 33) % n
         };
         let alphabet: Vec<char> = "ABCDEabc_1!Ж".chars().collect();
-        let mut word = |next: &mut dyn FnMut(u64) -> u64| -> String {
+        let word = |next: &mut dyn FnMut(u64) -> u64| -> String {
             let len = next(9);
             (0..len)
                 .map(|_| alphabet[next(alphabet.len() as u64) as usize])
