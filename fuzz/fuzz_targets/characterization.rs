@@ -5,16 +5,15 @@
 //! CPU time (generous for sanitizer builds; a quadratic path on a 64 KB input blows it by orders
 //! of magnitude).
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = ncplc_fuzz::CpuClock::start();
-    use characterization::reader::{Grammar, read, read_with};
-    let (fc, mut d) = read_with("FCRSYS", data, Grammar::FCRSYS);
-    d.extend(characterization::fcrsys::validate(&fc).1);
-    let (ax, more) = read("AXCFIL", data);
-    d.extend(more);
-    d.extend(characterization::axcfil::validate(&ax).1);
-    for x in &d {
-        assert!(x.span.end <= fc.text.len().max(ax.text.len()));
-    }
-    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
-    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
+    ncplc_fuzz::within_linear_budget(data.len(), || {
+        use characterization::reader::{Grammar, read, read_with};
+        let (fc, mut d) = read_with("FCRSYS", data, Grammar::FCRSYS);
+        d.extend(characterization::fcrsys::validate(&fc).1);
+        let (ax, more) = read("AXCFIL", data);
+        d.extend(more);
+        d.extend(characterization::axcfil::validate(&ax).1);
+        for x in &d {
+            assert!(x.span.end <= fc.text.len().max(ax.text.len()));
+        }
+    });
 });

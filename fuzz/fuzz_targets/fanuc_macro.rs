@@ -2,10 +2,10 @@
 //! Fanuc Macro B programs built from Macro B tokens (each input byte picks one) never panic the
 //! compiler or the planner, and the native back end plans them exactly as the interpreter does.
 const TOKENS: [&str; 48] = [
-    "\n", "\n", "\n", "#1", "#2", "#3", "#100", "#500", "#0", "#[", "[", "]", " = ", "+", "-", "*", "/",
-    " MOD ", " AND ", " OR ", " XOR ", " EQ ", " NE ", " GT ", " LE ", "SIN[", "SQRT[", "ATAN[", "ROUND[",
-    "BCD[", "1", "2.5", "0", "10", "IF ", " GOTO ", " THEN ", "WHILE ", " DO1", "END1", " DO2", "END2",
-    "N10 ", "G01 X", "Y", "G65 P1 A", "M99", ",",
+    "\n", "\n", "\n", "#1", "#2", "#3", "#100", "#500", "#0", "#[", "[", "]", " = ", "+", "-", "*",
+    "/", " MOD ", " AND ", " OR ", " XOR ", " EQ ", " NE ", " GT ", " LE ", "SIN[", "SQRT[",
+    "ATAN[", "ROUND[", "BCD[", "1", "2.5", "0", "10", "IF ", " GOTO ", " THEN ", "WHILE ", " DO1",
+    "END1", " DO2", "END2", "N10 ", "G01 X", "Y", "G65 P1 A", "M99", ",",
 ];
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
@@ -26,7 +26,10 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
             match partprogram::plan(&p, opts) {
                 Ok(plan) => Ok((
                     plan.blocks,
-                    plan.macro_vars.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                    plan.macro_vars
+                        .iter()
+                        .map(|v| v.to_bits())
+                        .collect::<Vec<_>>(),
                 )),
                 Err((blocks, d)) => Err((blocks, d.code, d.message, d.line)),
             }

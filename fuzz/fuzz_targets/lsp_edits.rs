@@ -52,8 +52,14 @@ libfuzzer_sys::fuzz_target!(|data: &[u8]| {
         let offset = doc.text.offset(start);
         let (a, text, m) = doc.parts();
         assert_eq!(
-            a.diagnostics.iter().map(|d| (d.code, d.span.clone())).collect::<Vec<_>>(),
-            full.diagnostics.iter().map(|d| (d.code, d.span.clone())).collect::<Vec<_>>()
+            a.diagnostics
+                .iter()
+                .map(|d| (d.code, d.span.clone()))
+                .collect::<Vec<_>>(),
+            full.diagnostics
+                .iter()
+                .map(|d| (d.code, d.span.clone()))
+                .collect::<Vec<_>>()
         );
         let _ = plc_lsp::hover::hover(a, m, text, offset);
         let _ = plc_lsp::complete::complete(a, m, text, offset);

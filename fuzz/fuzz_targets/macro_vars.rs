@@ -6,20 +6,26 @@
 use partprogram::macro_b::retained::{format_retained, parse_retained};
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = ncplc_fuzz::CpuClock::start();
-    let text = String::from_utf8_lossy(data);
-    let (vars, diags) = parse_retained("MACROVARS", &text);
-    assert!(diags.iter().all(|d| d.span.end <= text.len()));
-    assert!(vars.values.iter().all(|(n, v)| (500..=999).contains(n) && v.is_finite()));
-    if diags.is_empty() {
-        let again = format_retained(&vars);
-        let (back, diags) = parse_retained("MACROVARS", &again);
-        assert!(diags.is_empty(), "{again}");
-        let bits = |r: &partprogram::macro_b::retained::Retained| {
-            r.values.iter().map(|(n, v)| (*n, v.to_bits())).collect::<Vec<_>>()
-        };
-        assert_eq!(bits(&back), bits(&vars));
-    }
-    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
-    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
+    ncplc_fuzz::within_linear_budget(data.len(), || {
+        let text = String::from_utf8_lossy(data);
+        let (vars, diags) = parse_retained("MACROVARS", &text);
+        assert!(diags.iter().all(|d| d.span.end <= text.len()));
+        assert!(
+            vars.values
+                .iter()
+                .all(|(n, v)| (500..=999).contains(n) && v.is_finite())
+        );
+        if diags.is_empty() {
+            let again = format_retained(&vars);
+            let (back, diags) = parse_retained("MACROVARS", &again);
+            assert!(diags.is_empty(), "{again}");
+            let bits = |r: &partprogram::macro_b::retained::Retained| {
+                r.values
+                    .iter()
+                    .map(|(n, v)| (*n, v.to_bits()))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&back), bits(&vars));
+        }
+    });
 });

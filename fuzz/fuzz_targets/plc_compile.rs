@@ -10,12 +10,11 @@ static CTX: std::sync::LazyLock<compiler::MachineContext> =
     std::sync::LazyLock::new(compiler::MachineContext::lathe_like);
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = ncplc_fuzz::CpuClock::start();
-    let c = compiler::compile("fuzz", data, &CTX);
-    match &c.program {
-        None => assert!(c.diagnostics.iter().any(|d| d.is_error() && d.line > 0)),
-        Some(p) => assert_eq!(p.validate(), Ok(())),
-    }
-    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
-    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
+    ncplc_fuzz::within_linear_budget(data.len(), || {
+        let c = compiler::compile("fuzz", data, &CTX);
+        match &c.program {
+            None => assert!(c.diagnostics.iter().any(|d| d.is_error() && d.line > 0)),
+            Some(p) => assert_eq!(p.validate(), Ok(())),
+        }
+    });
 });

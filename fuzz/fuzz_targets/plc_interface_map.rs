@@ -9,21 +9,20 @@ static BUILTIN: std::sync::LazyLock<compiler::InterfaceMap> =
     std::sync::LazyLock::new(compiler::InterfaceMap::builtin);
 
 libfuzzer_sys::fuzz_target!(|data: &[u8]| {
-    let started = ncplc_fuzz::CpuClock::start();
-    if let Ok(s) = std::str::from_utf8(data) {
-        let checked = compiler::InterfaceMap::parse_all("interface.toml", s)
-            .and_then(|o| BUILTIN.clone().with_overrides(o));
-        if let Err(errors) = checked {
-            assert!(!errors.is_empty());
-            for e in &errors {
-                assert!((1601..=1608).contains(&e.code()));
-                if let Some(span) = e.span() {
-                    assert!(span.start <= span.end && span.end <= s.len());
+    ncplc_fuzz::within_linear_budget(data.len(), || {
+        if let Ok(s) = std::str::from_utf8(data) {
+            let checked = compiler::InterfaceMap::parse_all("interface.toml", s)
+                .and_then(|o| BUILTIN.clone().with_overrides(o));
+            if let Err(errors) = checked {
+                assert!(!errors.is_empty());
+                for e in &errors {
+                    assert!((1601..=1608).contains(&e.code()));
+                    if let Some(span) = e.span() {
+                        assert!(span.start <= span.end && span.end <= s.len());
+                    }
+                    let _ = e.to_diagnostic(Some(s));
                 }
-                let _ = e.to_diagnostic(Some(s));
             }
         }
-    }
-    let budget = std::time::Duration::from_micros(100_000 + 20 * data.len() as u64);
-    assert!(started.elapsed() <= budget, "{} bytes took {:?}", data.len(), started.elapsed());
+    });
 });
