@@ -55,6 +55,10 @@
 //! | 947 | PLC message file: message number outside 1..64 |
 //! | 948 | PLC message file: message number given twice |
 //! | 949 | PGCFIL FLC names a PLC message file that does not exist |
+//! | 975 | warning: FCRSYS binds FILMS1–FILMS4 or FORMAT to an existing file, which ncplc does not read (its own messages and table formats) |
+//! | 976 | FCRSYS binds FILCMD or FILMAS to an existing file: programs and blocks started on PLC request are not implemented |
+//!
+//! (975–979 are machine loading's too: 900–949 is full, its free numbers being retired codes.)
 
 /// Table 7.1 code 1: not enough sections.
 pub const MISSING_SECTIONS: u32 = 1;
@@ -195,6 +199,10 @@ pub const MESSAGE_NUMBER: u32 = 947;
 pub const MESSAGE_TWICE: u32 = 948;
 /// Project 949: the PLC message file FLC names does not exist.
 pub const MESSAGE_FILE_MISSING: u32 = 949;
+/// Project 975 (warning): a section-2 file ncplc does not read exists (FILMS1–4, FORMAT).
+pub const FILE_NOT_READ: u32 = 975;
+/// Project 976: FILCMD or FILMAS binds an existing file (PLC-requested programs: not implemented).
+pub const FILE_NOT_IMPLEMENTED: u32 = 976;
 
 // AXCFIL, Table 7.2 (numbers ≥ 101 are file-specific: these are the AXCFIL meanings).
 

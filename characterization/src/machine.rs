@@ -85,6 +85,66 @@ impl MachineLoad {
     }
 }
 
+/// The section-2 bindings whose files ncplc does not read, when the file exists (never silently
+/// ignored input): FILMS1–FILMS4 and FORMAT are a warning (ncplc words its own messages and reads
+/// its tables in its own formats: a missing file is the manual's normal fallback, 003:665), FILCMD
+/// and FILMAS an error (programs and blocks started on PLC request are not implemented).
+fn unread_bindings(dir: &Path, fcrsys: &Fcrsys, ctx: &crate::values::Ctx, diags: &mut Sink) {
+    const WHY: [(&str, &str); 7] = [
+        (
+            "FILMS1",
+            "the system's messages are ncplc's own (its diagnostics and alarms)",
+        ),
+        (
+            "FILMS2",
+            "the system's messages are ncplc's own (its diagnostics and alarms)",
+        ),
+        (
+            "FILMS3",
+            "the system's messages are ncplc's own (its diagnostics and alarms)",
+        ),
+        (
+            "FILMS4",
+            "the system's messages are ncplc's own (its diagnostics and alarms)",
+        ),
+        (
+            "FORMAT",
+            "ncplc reads its zero-offset and correction tables in their own formats (TAB0.POS, TAB0.KOR)",
+        ),
+        (
+            "FILCMD",
+            "part programs started on PLC request are not implemented",
+        ),
+        (
+            "FILMAS",
+            "blocks executed on PLC request are not implemented",
+        ),
+    ];
+    for (logical, why) in WHY {
+        let Some(path) = fcrsys.resolve(dir, logical).filter(|p| p.is_file()) else {
+            continue;
+        };
+        let span = fcrsys.binding(logical).map_or(0..0, |b| b.span.clone());
+        let name = display_name(dir, &path);
+        let message = format!("{logical} binds {name}, which ncplc does not read: {why}");
+        diags.push(if logical.starts_with("FIL") && !logical.starts_with("FILMS") {
+            ctx.error(
+                codes::FILE_NOT_IMPLEMENTED,
+                span,
+                message,
+                format!("remove the {logical} line (and the PLC requests that rely on it)"),
+            )
+        } else {
+            ctx.warning(
+                codes::FILE_NOT_READ,
+                span,
+                message,
+                format!("remove the {logical} line or the file; nothing in {name} changes what ncplc does"),
+            )
+        });
+    }
+}
+
 /// The name a file gets in diagnostics: its path relative to `dir`, with `/` separators.
 pub fn display_name(dir: &Path, path: &Path) -> String {
     let rel = path.strip_prefix(dir).unwrap_or(path);
@@ -279,6 +339,7 @@ pub fn load_machine_capped(dir: &Path, max: usize) -> MachineLoad {
             .with_hint(hint),
         });
     }
+    unread_bindings(dir, &fcrsys, &ctx, &mut fc_diags);
     l.add(fc_diags);
     let mut axcfil = None;
     if let Some(path) = &axcfil_path

@@ -698,3 +698,47 @@ fn check_compiles_the_plc_program_run_would_load() {
     assert_ne!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("NOSUCHNAME"), "{err}");
 }
+
+/// FCRSYS bindings of files ncplc does not read are never silently ignored when the file exists:
+/// a system message file (FILMS1) is a warning, a file of PLC-requested programs (FILCMD) an
+/// error; a binding whose file does not exist (the lathe's FORMAT) is the manual's fallback.
+#[test]
+fn bound_files_ncplc_does_not_read_are_reported_when_they_exist() {
+    let dir = copy_machine("lathe");
+    std::fs::write(dir.path().join("MP0/RUMES1"), "1 Сообщение\n").expect("RUMES1");
+    std::fs::write(dir.path().join("MP0/FILCMD"), "PROG1\n").expect("FILCMD");
+    let fcrsys = dir.path().join("FCRSYS");
+    // The file has CRLF line ends, as the CNC writes them.
+    let text = std::fs::read_to_string(&fcrsys).expect("FCRSYS");
+    let text = text.replace(
+        "FILMS5, MESSAG/MP0\r\n",
+        "FILMS5, MESSAG/MP0\r\nFILCMD, FILCMD/MP0\r\n",
+    );
+    assert!(text.contains("FILCMD"));
+    std::fs::write(&fcrsys, &text).expect("write");
+    let line_of =
+        |what: &str| 1 + text.lines().position(|l| l.starts_with(what)).expect(what) as u64;
+    let d = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&d]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [
+            (
+                975,
+                "FCRSYS".to_string(),
+                line_of("FILMS1"),
+                1,
+                "FILMS1 binds MP0/RUMES1, which ncplc does not read: the system's messages are ncplc's own (its diagnostics and alarms)".to_string()
+            ),
+            (
+                976,
+                "FCRSYS".to_string(),
+                line_of("FILCMD"),
+                1,
+                "FILCMD binds MP0/FILCMD, which ncplc does not read: part programs started on PLC request are not implemented".to_string()
+            ),
+        ]
+    );
+}
