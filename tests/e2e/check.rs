@@ -165,6 +165,14 @@ fn copy_machine(name: &str) -> tempfile::TempDir {
     dir
 }
 
+/// Runs the machine in `dir` for one tick; asserts that `run` refuses it and returns its stderr.
+fn run_refuses(dir: &str) -> String {
+    let out = ncplc(&["run", dir, "--virtual-time", "--ticks", "1"]);
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    err
+}
+
 /// The JSON lines of `ncplc check <args>` as (code, file, line, column, message).
 fn json_check(args: &[&str]) -> (Option<i32>, Vec<serde_json::Value>) {
     let mut all = vec!["check"];
@@ -417,9 +425,7 @@ fn sim_toml_signal_on_an_undeclared_connector_is_a_located_error() {
             "I29A3 is not an input signal of this machine".to_string()
         )]
     );
-    let out = ncplc(&["run", &d, "--virtual-time", "--ticks", "1"]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_ne!(out.status.code(), Some(0), "{err}");
+    let err = run_refuses(&d);
     assert!(
         err.contains("error[E3602]: I29A3 is not an input signal of this machine")
             && err.contains(&format!("sim.toml:{line}:9")),
@@ -659,9 +665,7 @@ fn oversized_sim_and_io_toml_are_refused_naming_their_size() {
             ),
         ]
     );
-    let out = ncplc(&["run", &d, "--virtual-time", "--ticks", "1"]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_ne!(out.status.code(), Some(0), "{err}");
+    let err = run_refuses(&d);
     assert!(
         err.contains(&format!("the file has {sim_len} bytes; {limit}")),
         "{err}"
@@ -693,9 +697,7 @@ fn check_compiles_the_plc_program_run_would_load() {
         (1207, "MP0/PLCPRG", line as u64, 12)
     );
     assert!(message.contains("NOSUCHNAME"), "{message}");
-    let out = ncplc(&["run", &d, "--virtual-time", "--ticks", "1"]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_ne!(out.status.code(), Some(0), "{err}");
+    let err = run_refuses(&d);
     assert!(err.contains("NOSUCHNAME"), "{err}");
 }
 
