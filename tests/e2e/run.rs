@@ -77,7 +77,8 @@ fn a_program_that_does_not_compile_is_not_run() {
         "--ticks".as_ref(),
         "10".as_ref(),
     ]);
-    assert_eq!(out.status.code(), Some(1));
+    // Refused to start, like a machine with errors (`ncplc build` exits 1 on the same program).
+    assert_eq!(out.status.code(), Some(2));
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("error"), "{err}");
     assert!(err.contains("PLCPRG"), "{err}");

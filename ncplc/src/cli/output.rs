@@ -19,7 +19,7 @@ pub const PROBLEMS: u8 = 1;
 pub const USAGE: u8 = 2;
 
 /// The exit-code table shown at the end of `--help`.
-pub const EXIT_CODES_HELP: &str = "Exit codes: 0 ok; 1 problems found in the input (errors, a diverging replay, a tripped run); 2 usage or environment error (bad arguments, missing machine directory or file).\nOutput: results (--dump, --emit, plan blocks, trace text, --stats) on stdout; diagnostics (any --format), progress and summaries on stderr.";
+pub const EXIT_CODES_HELP: &str = "Exit codes: 0 ok; 1 problems found in the input (the errors check, build, nc check/plan and trace report; a diverging replay; a tripped run); 2 usage or environment error (bad arguments, missing machine directory or file), and a run or replay that refuses to start (its machine, PLC program, part program or trace has errors: check, build and nc check list them with exit 1).\nOutput: results (--dump, --emit, plan blocks, trace text, --stats) on stdout; diagnostics (any --format), progress and summaries on stderr.";
 
 pub use runtime::render::{
     Color, colored, colorize, relocate, render_diagnostics, render_diagnostics_capped,

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 
 use controller::io::IoKind;
 use controller::settings::{self, PartSpec, VarsSource};
-use controller::{BuildError, Controller, Ending, Observer};
+use controller::{Controller, Ending, Observer};
 use runtime::compiled::EngineKind;
 use runtime::online::Note;
 use runtime::scheduler::{Event, Scheduler};
@@ -206,10 +206,8 @@ pub fn part_spec(args: &Args) -> PartSpec {
 fn run_inner(args: Args) -> Result<ExitCode, String> {
     let mut controller = match builder(&args).build() {
         Ok(c) => c,
-        Err(BuildError::Program(diags)) => {
-            eprintln!("{diags}");
-            return Ok(ExitCode::from(1));
-        }
+        // Refused to start (exit 2, as for every other error of the machine, its part program or
+        // the choices): `ncplc build` reports the program's errors with exit 1.
         Err(e) => return Err(e.to_string()),
     };
     install_stop_handler();
