@@ -123,6 +123,11 @@ where
     // Rank: distance, then "first letter differs" (false sorts first).
     let mut best: Option<((usize, bool), &str)> = None;
     for c in candidates {
+        // A candidate of n characters has n to 4n bytes: one whose byte length rules out every
+        // length within the limit is skipped without reading it.
+        if c.len() + limit < len || c.len() > 4 * (len + limit) {
+            continue;
+        }
         // A candidate longer than any within the limit is skipped without reading it all.
         let Some(upper) = upper_into(c, &mut cand_buf) else {
             continue;
