@@ -17,7 +17,7 @@ use crate::ast::{Block, Decl, Item, ParsedFile, Val, Word};
 use crate::codes;
 use crate::lexer::Lit;
 use crate::machine::Dialect;
-use crate::parse::{Out, R_MAX};
+use crate::parse::{Out, Piece, R_MAX};
 
 /// The grouping state of one file in either dialect.
 pub(crate) enum Grouper {
@@ -297,10 +297,13 @@ impl Fanuc {
                     // An O word starts a program: the first names the main program, each later one
                     // a further program of the file (it must open its own block).
                     self.flush(diags);
+                    let num = l.int as u32;
                     if out.number.is_none() && self.emitted == 0 && out.programs.is_empty() {
-                        out.number = Some(l.int as u32);
+                        out.number = Some(num);
+                        diags.piece(Piece::Number(num));
                     } else {
-                        out.programs.push((l.int as u32, self.emitted));
+                        out.programs.push((num, self.emitted));
+                        diags.piece(Piece::Program(num));
                     }
                 }
                 _ => diags.push(

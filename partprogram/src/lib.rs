@@ -20,6 +20,7 @@ pub mod codes;
 pub mod exec;
 pub mod fanuc;
 pub mod fanuc_exec;
+mod fanuc_units;
 pub mod geom;
 mod group;
 pub mod groups;
@@ -36,6 +37,7 @@ pub mod program;
 pub mod radius;
 pub mod run;
 pub mod thread;
+mod unit_table;
 mod units;
 
 pub use canon::{BlockModal, Canon, Css, Kind, Plane};

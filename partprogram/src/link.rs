@@ -108,14 +108,14 @@ pub(crate) fn undeclared_m(prog: &Program, b: &CBlock) -> Vec<Diagnostic> {
 
 /// Resolves literal jump and call targets and detects recursion.
 pub(crate) fn link(prog: &Program, units: &mut Units) {
-    let diags = &mut units.phases.link;
+    let diags = &mut units.table.phases.link;
     // Per unit, the calls out of it: (callee, index of the calling LinkRef).
     let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
     for (ri, r) in units.refs.iter().enumerate() {
         let file = prog.files[r.file].name.as_str();
         if let Some(l) = r.l {
             let l32 = l as u32;
-            if r.jump && !units.numbers[r.unit].contains(l32) {
+            if r.jump && !units.table.numbers[r.unit].contains(l32) {
                 diags.push(err(
                     codes::MISSING_BLOCK,
                     file,
@@ -202,7 +202,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
         }
         for m in std::mem::take(&mut units.lib_m) {
             if reach[m.unit] {
-                units.phases.m.push(m.diagnostic);
+                units.table.phases.m.push(m.diagnostic);
             }
         }
     }
@@ -210,7 +210,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
     hits.dedup();
     for ri in hits {
         let r = &units.refs[ri];
-        units.phases.rec.push(err(
+        units.table.phases.rec.push(err(
             codes::RECURSION,
             &prog.files[r.file].name,
             "",

@@ -246,6 +246,81 @@ fn a_capped_compile_of_numbered_blocks_holds_no_block() {
     );
 }
 
+/// The shape of `tests/gen/numbered.py`'s DENSENF.nc: `O0001`, then `N<i> G01 X<a>. E1.` (address
+/// E is refused: 2008 on every block).
+fn dense_numbered_fanuc(blocks: usize) -> String {
+    let mut src = String::from("O0001\n");
+    for i in 1..=blocks {
+        src.push_str(&format!("N{i} G01 X{}. E1.\n", i % 100));
+    }
+    src
+}
+
+/// [`bound_numbered`] for Fanuc: the parser, the diagnostics of seven sinks (parse, units, checks,
+/// links, M functions, recursion, control flow: `max` each) and one bitmap of block numbers (the
+/// unit's: Fanuc numbers are unique per program, not per file). No block is kept and no block
+/// calls or jumps, so nothing waits for a target.
+fn bound_numbered_fanuc(max: usize, max_n: usize) -> usize {
+    bound(7 * max) + BITMAP_CONTAINER * (max_n / 65_536 + 1)
+}
+
+#[test]
+fn a_capped_fanuc_compile_of_numbered_blocks_holds_no_block() {
+    let max = 100;
+    let mut peaks = Vec::new();
+    for mb in [1, 5] {
+        // `N<i> G01 X<a>. E1.` averages over 16 bytes.
+        let blocks = mb * 1_000_000 / 16;
+        let src = dense_numbered_fanuc(blocks);
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&fanuc_mill(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        assert_eq!(kept.len(), max);
+        // `N1 G01 X1. E1.`: E in column 12 of line 2; one error per block.
+        assert_eq!((kept[0].code, kept[0].line, kept[0].column), (2008, 2, 12));
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, blocks);
+        let b = bound_numbered_fanuc(max, blocks);
+        eprintln!("numbered Fanuc {mb} MB ({blocks} blocks): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        peaks.push((peak, blocks));
+    }
+    // 5 MB may hold more than 1 MB only by the bitmap containers of its further numbers.
+    let [(p1, b1), (p5, b5)] = peaks[..] else {
+        unreachable!()
+    };
+    let margin = BITMAP_CONTAINER * (b5 / 65_536 - b1 / 65_536);
+    assert!(
+        p5 <= p1 + margin,
+        "1 MB: {p1} bytes, 5 MB: {p5} bytes (margin {margin})"
+    );
+}
+
+#[test]
+fn numbered_fanuc_blocks_are_checked_against_each_other_without_being_kept() {
+    // An error first, so that no block is kept; then an M97 forward to a line that exists and one
+    // to a line that does not, a duplicate number (a warning), GOTOs back and forward to blocks
+    // that exist and one to a block that does not, a loop never closed and an M98 of a missing
+    // program.
+    let src = "O0001\nN1 G01 X1. E1.\nN2 M97 P5\nN3 M97 P19\nN2 G00 X2.\nN5 GOTO 3\nN6 GOTO 8\n\
+               N7 IF [#1 GT 1] GOTO 99\nN8 WHILE [#1 LT 2] DO 1\nN9 M98 P4444\nM30\n";
+    let (prog, diags) = compile(&fanuc_mill(), "F", src);
+    assert!(prog.is_none());
+    let got: Vec<(u32, u32, u32)> = diags.iter().map(|d| (d.code, d.line, d.column)).collect();
+    assert_eq!(
+        got,
+        [
+            (2008, 2, 12),
+            (2018, 4, 1),
+            (2005, 5, 1),
+            (2018, 8, 1),
+            (2037, 9, 1),
+            (2019, 10, 1)
+        ]
+    );
+}
+
 /// The shape of `tests/gen/numbered.py`'s VALIDN.nc: `%1`, `N1 G01 X0 Z0 F100.`, blocks
 /// `N<i> G01 X<a>. Z-<b>.` and `N<k> M30`.
 fn valid_numbered(blocks: usize) -> String {

@@ -272,7 +272,21 @@ fn report(out: &mut String, title: &str, m: &MachineSpec, src: &str) {
     }
 }
 
+/// Writes the generated variants as files `V<seed>.nc` / `C<seed>.nc` into `dir` (to compare the
+/// `ncplc nc check` output of two builds).
+fn dump_variants(dir: &std::path::Path) {
+    for seed in 0..240u64 {
+        std::fs::write(dir.join(format!("V{seed}.nc")), variant(seed)).expect("written");
+    }
+    for seed in 0..80u64 {
+        std::fs::write(dir.join(format!("C{seed}.nc")), clean_variant(seed)).expect("written");
+    }
+}
+
 fn golden_text() -> String {
+    if let Some(dir) = std::env::var_os("FANUC_VARIANTS_DIR") {
+        dump_variants(std::path::Path::new(&dir));
+    }
     let mut out = String::new();
     let root = machines();
     let mut repo: Vec<PathBuf> = ["mill/nc", "lathe/nc"]
@@ -330,6 +344,9 @@ fn fanuc_compiles_give_the_recorded_diagnostics_and_programs() {
     }
     let want = std::fs::read_to_string(&path).expect("golden file");
     if got != want {
+        if let Some(out) = std::env::var_os("GOLDEN_GOT") {
+            std::fs::write(out, &got).expect("written");
+        }
         let line = got
             .lines()
             .zip(want.lines())
