@@ -370,3 +370,62 @@ fn a_valid_numbered_program_keeps_a_compact_block() {
         "peak {peak_per_block} B per block"
     );
 }
+
+#[test]
+fn checking_the_plan_of_a_valid_program_holds_no_canonical_block() {
+    // `nc check` runs a valid program to find its geometric errors: besides the compiled program
+    // it holds the executor's state and the radius compensation's look-ahead, not the plan, so
+    // 100,000 more blocks add to its peak only the MEFI frame's jump counter of each block of the
+    // unit (an `i64`: 800,000 bytes), not the plan's 101,000 canonical blocks of several hundred
+    // bytes each.
+    let mut peaks = Vec::new();
+    for blocks in [1_000, 101_000] {
+        let src = valid_numbered(blocks);
+        let (prog, diags) = compile(&common::lathe(), "VALID", &src);
+        let Some(prog) = prog else {
+            panic!("{diags:?}")
+        };
+        let (checked, peak) = crate::peak_alloc::peak_during(|| {
+            partprogram::check_plan(&prog, partprogram::PlanOptions::default())
+        });
+        // Every block runs once: N1, N2 … N<blocks> (M30).
+        assert_eq!(checked, Ok(blocks as u64));
+        let planned = partprogram::plan(&prog, partprogram::PlanOptions::default());
+        assert_eq!(planned.map(|p| p.executed).ok(), Some(blocks as u64));
+        eprintln!("check_plan of {blocks} blocks: peak {peak} bytes");
+        peaks.push(peak);
+    }
+    let counters = 100_000 * std::mem::size_of::<i64>();
+    assert!(peaks[1] <= peaks[0] + counters + 4096, "peaks {peaks:?}");
+}
+
+#[test]
+fn a_planned_canonical_block_of_a_valid_program_has_a_known_size() {
+    // What `run --program` holds per block of a valid program (it plans the whole program before
+    // the first tick): the canonical block and its end point, one (axis, mm) pair of 16 bytes per
+    // axis of the lathe (X, Z); the plan has no spare room. 100,000 more blocks hold exactly
+    // 100,000 times that.
+    use partprogram::Canon;
+    use std::mem::size_of;
+    assert_eq!(size_of::<Canon>(), 288);
+    let mut held = Vec::new();
+    for blocks in [1_000, 101_000] {
+        let src = valid_numbered(blocks);
+        let (prog, _) = compile(&common::lathe(), "VALID", &src);
+        let Some(prog) = prog else {
+            panic!("not compiled")
+        };
+        let (plan, _, h) = crate::peak_alloc::peak_and_held(|| {
+            partprogram::plan(&prog, partprogram::PlanOptions::default())
+                .map(|p| p.blocks)
+                .map_err(|(_, d)| d)
+        });
+        let Ok(plan) = plan else {
+            panic!("not planned")
+        };
+        // One canonical block per block: N1 … N<blocks> (M30 is an auxiliary block).
+        assert_eq!((plan.len(), plan.capacity()), (blocks, blocks));
+        held.push(h);
+    }
+    assert_eq!(held[1] - held[0], 100_000 * (size_of::<Canon>() + 2 * 16));
+}
