@@ -28,9 +28,13 @@ pub(crate) enum Grouper {
 }
 
 impl Grouper {
-    /// A grouper for `dialect`; `macro_blocks` (Fanuc, in file order) are placed among the blocks
-    /// by their position.
-    pub(crate) fn new(dialect: Dialect, require_header: bool, macro_blocks: Vec<Block>) -> Self {
+    /// A grouper for `dialect`; `macro_pieces` (Fanuc: the byte ranges of the Macro B blocks, in
+    /// file order, blanked for the lexer) are read and placed among the blocks by their position.
+    pub(crate) fn new(
+        dialect: Dialect,
+        require_header: bool,
+        macro_pieces: Vec<(usize, usize)>,
+    ) -> Self {
         match dialect {
             Dialect::Mefi => Grouper::Mefi(Mefi {
                 require_header,
@@ -41,7 +45,7 @@ impl Grouper {
                 stopped: false,
             }),
             Dialect::Fanuc => Grouper::Fanuc(Fanuc {
-                macros: macro_blocks.into_iter().peekable(),
+                macros: macro_pieces.into_iter().peekable(),
                 cur: Block::default(),
                 started: false,
                 after_slash: false,
@@ -61,15 +65,15 @@ impl Grouper {
     ) {
         match self {
             Grouper::Mefi(g) => g.feed(file, src, item, out, diags),
-            Grouper::Fanuc(g) => g.feed(file, item, out, diags),
+            Grouper::Fanuc(g) => g.feed(file, src, item, out, diags),
         }
     }
 
     /// Closes the file: the last block, and the checks that need the whole file.
-    pub(crate) fn finish(self, file: &str, diags: &mut Out) {
+    pub(crate) fn finish(self, file: &str, src: &str, diags: &mut Out) {
         match self {
             Grouper::Mefi(g) => g.finish(file, diags),
-            Grouper::Fanuc(g) => g.finish(diags),
+            Grouper::Fanuc(g) => g.finish(file, src, diags),
         }
     }
 }
@@ -235,7 +239,8 @@ impl Mefi {
 
 /// Fanuc grouping state.
 pub(crate) struct Fanuc {
-    macros: std::iter::Peekable<std::vec::IntoIter<Block>>,
+    /// The Macro B pieces not reached yet: each is read when the items reach it.
+    macros: std::iter::Peekable<std::vec::IntoIter<(usize, usize)>>,
     cur: Block,
     started: bool,
     after_slash: bool,
@@ -264,12 +269,24 @@ impl Fanuc {
         }
     }
 
-    fn feed(&mut self, file: &str, item: Item, out: &mut ParsedFile, diags: &mut Out) {
+    /// Reads the Macro B piece `span` of `src`: its block is handed on, or its error pushed.
+    fn macro_piece(&mut self, file: &str, src: &str, span: (usize, usize), diags: &mut Out) {
+        let text = src.get(span.0..span.1).unwrap_or("");
+        match crate::macro_b::syntax::parse_block(file, text, span.0) {
+            Ok(m) => {
+                self.flush(diags);
+                diags.emit(m);
+                self.emitted += 1;
+            }
+            Err(d) => diags.push(d),
+        }
+    }
+
+    fn feed(&mut self, file: &str, src: &str, item: Item, out: &mut ParsedFile, diags: &mut Out) {
         let at = item_start(&item);
-        while let Some(m) = self.macros.next_if(|m| m.span.0 <= at) {
-            self.flush(diags);
-            diags.emit(m);
-            self.emitted += 1;
+        // A piece is blanked for the lexer: no item lies inside it, so its start orders it.
+        while let Some(m) = self.macros.next_if(|m| m.0 <= at) {
+            self.macro_piece(file, src, m, diags);
         }
         let was_slash = std::mem::replace(&mut self.after_slash, false);
         match item {
@@ -339,10 +356,10 @@ impl Fanuc {
         }
     }
 
-    fn finish(mut self, diags: &mut Out) {
+    fn finish(mut self, file: &str, src: &str, diags: &mut Out) {
         self.flush(diags);
-        for m in self.macros {
-            diags.emit(m);
+        while let Some(m) = self.macros.next() {
+            self.macro_piece(file, src, m, diags);
         }
     }
 }

@@ -269,7 +269,7 @@ fn parse_unlocated(
     }
     // Fanuc Macro B blocks are read by `macro_b::syntax`; the lexer sees them as blank text.
     let (blanked, macro_blocks) = if dialect == Dialect::Fanuc {
-        crate::macro_b::syntax::prepass(file, src, &mut |d| diags.push(d))
+        crate::macro_b::syntax::prepass(src)
     } else {
         (None, Vec::new())
     };
@@ -328,7 +328,7 @@ fn parse_unlocated(
             break;
         }
     }
-    group.finish(file, diags);
+    group.finish(file, src, diags);
     out
 }
 

@@ -645,16 +645,12 @@ pub fn parse_block(file: &str, text: &str, base: usize) -> Result<Block, Diagnos
 }
 
 /// Finds the macro blocks of Fanuc text `src`: returns the text with them blanked out (None when
-/// there is none), the blocks (in file order), and pushes the errors of those that could not be
-/// read (their text is blanked too) into `diags`. One pass over the pieces of the text (lines and
-/// `;`-separated blocks) as they end: nothing is held per piece.
-pub fn prepass(
-    file: &str,
-    src: &str,
-    diags: &mut dyn FnMut(Diagnostic),
-) -> (Option<String>, Vec<Block>) {
+/// there is none) and their byte ranges in file order, to be read ([`parse_block`]) when the
+/// grouping reaches them (issue 23: 16 bytes per macro block are held until then, not the block).
+/// One pass over the pieces of the text (lines and `;`-separated blocks) as they end.
+pub fn prepass(src: &str) -> (Option<String>, Vec<(usize, usize)>) {
     let bytes = src.as_bytes();
-    let mut blocks = Vec::new();
+    let mut pieces = Vec::new();
     let mut text: Option<Vec<u8>> = None;
     let mut piece = |s: usize, e: usize| {
         let Some(piece) = src.get(s..e) else {
@@ -665,10 +661,7 @@ pub fn prepass(
         {
             return;
         }
-        match parse_block(file, piece, s) {
-            Ok(b) => blocks.push(b),
-            Err(d) => diags(d),
-        }
+        pieces.push((s, e));
         blank(text.get_or_insert_with(|| bytes.to_vec()), (s, e));
     };
     let (mut start, mut comment) = (0, false);
@@ -694,5 +687,5 @@ pub fn prepass(
         Ok(s) => s,
         Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
     });
-    (text, blocks)
+    (text, pieces)
 }

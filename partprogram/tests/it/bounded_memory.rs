@@ -297,6 +297,47 @@ fn a_capped_fanuc_compile_of_numbered_blocks_holds_no_block() {
     );
 }
 
+/// A numbered Fanuc program where every other block is a Macro B statement: `O0001`, then pairs
+/// `N<i> #1 = #1 + <k>` and `N<i+1> G01 X<a>. E1.` (2008 on every second block).
+fn dense_macro_fanuc(pairs: usize) -> String {
+    let mut src = String::from("O0001\n");
+    for i in 0..pairs {
+        let n = 2 * i + 1;
+        src.push_str(&format!(
+            "N{n} #1 = #1 + {}\nN{} G01 X{}. E1.\n",
+            i % 7,
+            n + 1,
+            i % 100
+        ));
+    }
+    src
+}
+
+#[test]
+fn a_capped_compile_of_macro_blocks_holds_their_places_not_their_blocks() {
+    // The Macro B blocks are found before lexing (their text is blanked in a copy of the text)
+    // and read when the grouping reaches them: until then each is its byte range, 16 bytes (the
+    // vector may have doubled: 32). Besides the text and its blanked copy, the peak is the
+    // numbered bound and those ranges.
+    let max = 100;
+    for mb in [1, 5] {
+        // A pair averages over 32 bytes.
+        let pairs = mb * 1_000_000 / 32;
+        let src = dense_macro_fanuc(pairs);
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&fanuc_mill(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        // `N2 G01 X0. E1.`: E in column 12 of line 3.
+        assert_eq!((kept[0].code, kept[0].line, kept[0].column), (2008, 3, 12));
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, pairs);
+        let b = src.len() + bound_numbered_fanuc(max, 2 * pairs) + 32 * pairs;
+        eprintln!("macro Fanuc {mb} MB ({pairs} pairs): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+    }
+}
+
 #[test]
 fn numbered_fanuc_blocks_are_checked_against_each_other_without_being_kept() {
     // An error first, so that no block is kept; then an M97 forward to a line that exists and one
