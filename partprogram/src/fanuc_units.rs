@@ -6,11 +6,13 @@
 //!
 //! Invariants (issue 23): a block is kept only while the compile has no error ([`UnitTable`]);
 //! what a rejected program holds per block is its number in its unit's bitmap, and only for the
-//! blocks that need it: an `M97 P` whose line is not yet in the unit (until the unit ends), an
-//! `M98 P` or `G65 P` call (until every program is loaded), a forward `GOTO` and an open `DO`. The
+//! blocks that need it: an `M97 P` or a `GOTO` whose line has not come (until it comes, or the
+//! unit ends), an `M98 P` or `G65 P` call (until every program is loaded) and an open `DO`. The
 //! diagnostics go to the phases' sinks: units (duplicate `N` and `O`, the macro files' parse
 //! errors), block checks, `M97`/`M98` targets, recursion, control flow; merged in that order they
 //! are what checking the whole block list phase after phase gave.
+
+use std::collections::BTreeMap;
 
 use diag::{Diagnostic, Sink};
 
@@ -41,7 +43,8 @@ struct Line {
 struct Cur {
     unit: usize,
     file: usize,
-    m97: Vec<Line>,
+    /// The `M97 P` calls whose line has not come (yet), by line number.
+    m97: BTreeMap<u32, Vec<Line>>,
     flow: UnitFlow,
 }
 
@@ -85,7 +88,7 @@ impl FanucUnits {
         self.cur = Some(Cur {
             unit,
             file,
-            m97: Vec::new(),
+            m97: BTreeMap::new(),
             flow: UnitFlow::default(),
         });
     }
@@ -101,18 +104,17 @@ impl FanucUnits {
             prog.units[u].index.finish();
         }
         let numbers = &self.table.numbers[u];
-        for m in cur.m97 {
-            if !numbers.contains(m.n) {
-                let n = m.n;
-                self.table.phases.link.push(crate::program::err(
-                    codes::MISSING_BLOCK,
-                    &prog.files[m.file].name,
-                    "",
-                    m.span,
-                    format!("M97 P{n}: no block N{n} in this program"),
-                    "M97 calls a line number of the same program",
-                ));
-            }
+        // Every line that came was taken out: these never came.
+        for m in cur.m97.into_values().flatten() {
+            let n = m.n;
+            self.table.phases.link.push(crate::program::err(
+                codes::MISSING_BLOCK,
+                &prog.files[m.file].name,
+                "",
+                m.span,
+                format!("M97 P{n}: no block N{n} in this program"),
+                "M97 calls a line number of the same program",
+            ));
         }
         cur.flow
             .end(prog, u, kept, numbers, &mut self.table.phases.flow);
@@ -179,6 +181,10 @@ impl FanucUnits {
                     )));
             }
             self.table.index(prog, u, n, idx);
+            if !cur.m97.is_empty() {
+                cur.m97.remove(&n);
+            }
+            cur.flow.arrived(n);
         }
         let mut cb = CBlock {
             n: b.n,
@@ -198,7 +204,7 @@ impl FanucUnits {
         for (m, p) in crate::fanuc::check_block(prog, &cb, &self.axes, &mut self.table.phases.check)
         {
             match (m, p) {
-                (97, Some(n)) if !numbers.contains(n) => cur.m97.push(Line {
+                (97, Some(n)) if !numbers.contains(n) => cur.m97.entry(n).or_default().push(Line {
                     file,
                     span: cb.span,
                     n,

@@ -7,9 +7,12 @@
 //! Invariants (issue 23): a pair is linked when its `END` arrives; a `GOTO` is checked against the
 //! unit's number bitmap, at once when its target is already there (numbers are never removed) and
 //! otherwise when the unit ends, and it is linked when the unit ends (of a number written twice the
-//! last block is the target). Once the compile has an error ([`UnitFlow::dropped`]) a `GOTO` whose
-//! target exists is forgotten: what a rejected unit holds is its open loops and its forward `GOTO`s.
+//! last block is the target). Once the compile has an error ([`UnitFlow::dropped`]) a `GOTO` waits
+//! only until its target arrives ([`UnitFlow::arrived`]): what a rejected unit holds is its open
+//! loops and the `GOTO`s whose target has not come (yet).
 //! `G65 P` targets are checked when every program is loaded ([`check_calls`]).
+
+use std::collections::BTreeMap;
 
 use diag::{Diagnostic, Sink};
 use roaring::RoaringBitmap;
@@ -72,7 +75,10 @@ pub(crate) struct MacroCall {
 #[derive(Default)]
 pub(crate) struct UnitFlow {
     open: Vec<Open>,
+    /// While blocks are kept: every literal `GOTO`, to link.
     gotos: Vec<Goto>,
+    /// Once the compile has an error: the `GOTO`s whose target has not come, by target.
+    waiting: BTreeMap<u32, Vec<Goto>>,
 }
 
 impl UnitFlow {
@@ -165,13 +171,21 @@ impl UnitFlow {
                 if let Some(v) = literal_target(t) {
                     let n = (v >= 0.0 && v.fract() == 0.0 && v <= 99_999_999.0).then_some(v as u32);
                     match n {
-                        // Found now or not: linked, or checked, when the unit ends.
-                        Some(n) if kept || !numbers.contains(n) => self.gotos.push(Goto {
+                        // Linked, or checked, when the unit ends.
+                        Some(n) if kept => self.gotos.push(Goto {
                             at,
                             block: idx,
                             v,
                             n,
                         }),
+                        Some(n) if !numbers.contains(n) => {
+                            self.waiting.entry(n).or_default().push(Goto {
+                                at,
+                                block: idx,
+                                v,
+                                n,
+                            })
+                        }
                         Some(_) => {}
                         None => diags.push(missing_goto(prog, at, v)),
                     }
@@ -183,9 +197,20 @@ impl UnitFlow {
     }
 
     /// The compile got an error: blocks are no longer kept, a `GOTO` whose target is among
-    /// `numbers` needs nothing more.
+    /// `numbers` needs nothing more, the others wait for theirs.
     pub(crate) fn dropped(&mut self, numbers: &RoaringBitmap) {
-        self.gotos.retain(|g| !numbers.contains(g.n));
+        for g in std::mem::take(&mut self.gotos) {
+            if !numbers.contains(g.n) {
+                self.waiting.entry(g.n).or_default().push(g);
+            }
+        }
+    }
+
+    /// Block number `n` came: the `GOTO`s waiting for it are resolved.
+    pub(crate) fn arrived(&mut self, n: u32) {
+        if !self.waiting.is_empty() {
+            self.waiting.remove(&n);
+        }
     }
 
     /// Ends unit `u` (its block numbers `numbers`): checks and, while blocks are kept, links its
@@ -198,6 +223,9 @@ impl UnitFlow {
         numbers: &RoaringBitmap,
         diags: &mut Sink,
     ) {
+        for g in self.waiting.into_values().flatten() {
+            diags.push(missing_goto(prog, g.at, g.v));
+        }
         for g in self.gotos {
             if !numbers.contains(g.n) {
                 diags.push(missing_goto(prog, g.at, g.v));

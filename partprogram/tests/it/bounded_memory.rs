@@ -339,6 +339,44 @@ fn a_capped_compile_of_macro_blocks_holds_their_places_not_their_blocks() {
 }
 
 #[test]
+fn a_capped_compile_of_forward_gotos_holds_only_those_still_waiting() {
+    // Pairs `N<n> IF [#1 GT 1] GOTO <n+2>` and `N<n+1> G01 X<a>. E1.`: each GOTO jumps forward to
+    // the next pair and waits for its target only until it comes, so at most one waits at a time;
+    // the last one's target never comes (2018 at the end). The peak is that of the macro blocks
+    // above: a record per GOTO (56 bytes) would exceed it.
+    let max = 100;
+    for mb in [1, 5] {
+        let pairs = mb * 1_000_000 / 40;
+        let mut src = String::from("O0001\n");
+        for i in 0..pairs {
+            let n = 2 * i + 1;
+            src.push_str(&format!(
+                "N{n} IF [#1 GT 1] GOTO {}\nN{} G01 X{}. E1.\n",
+                n + 2,
+                n + 1,
+                i % 100
+            ));
+        }
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, _, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&fanuc_mill(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, pairs + 1);
+        let b = src.len() + bound_numbered_fanuc(max, 2 * pairs) + 32 * pairs;
+        eprintln!("forward GOTOs {mb} MB ({pairs} pairs): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        // The one that never came is reported (with the cap 0: every diagnostic).
+        if mb == 1 {
+            let (_, all) = compile(&fanuc_mill(), "DENSE", &src);
+            let last = all.iter().filter(|d| d.code == 2018).collect::<Vec<_>>();
+            assert_eq!(last.len(), 1);
+            assert_eq!(last[0].line as usize, 2 * pairs);
+        }
+    }
+}
+
+#[test]
 fn numbered_fanuc_blocks_are_checked_against_each_other_without_being_kept() {
     // An error first, so that no block is kept; then an M97 forward to a line that exists and one
     // to a line that does not, a duplicate number (a warning), GOTOs back and forward to blocks
