@@ -270,7 +270,10 @@ pub fn load_part(
 ) -> Result<Part, String> {
     let path = program_path(dir, program);
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let hash = crc32_hex(&bytes);
+    // The bytes become the text (a copy only when they are not UTF-8): the run holds one.
+    let text = String::from_utf8(bytes)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
     let name = source_name(&path);
     let compiled = compile_text(dir, &name, &text, dialect, None, vars)?;
     let (blocks, end_plain) = compiled.plan(false, &[])?;
@@ -283,7 +286,7 @@ pub fn load_part(
     };
     Ok(Part {
         name: program.display().to_string(),
-        hash: crc32_hex(&bytes),
+        hash,
         path,
         blocks,
         skipped,
