@@ -314,24 +314,8 @@ impl FanucUnits {
                 )),
             }
         }
-        let mut state = vec![0u8; n];
-        let mut hits = Vec::new();
-        fn dfs(u: usize, e: &[Vec<(usize, usize)>], s: &mut [u8], hits: &mut Vec<usize>) {
-            s[u] = 1;
-            for &(v, ci) in &e[u] {
-                if s[v] == 1 {
-                    hits.push(ci);
-                } else if s[v] == 0 {
-                    dfs(v, e, s, hits);
-                }
-            }
-            s[u] = 2;
-        }
-        for u in 0..n {
-            if state[u] == 0 {
-                dfs(u, &edges, &mut state, &mut hits);
-            }
-        }
+        // Recursion through M98: a cycle in the static call graph never terminates.
+        let hits = crate::unit_table::back_edges(&edges);
         for ci in hits {
             let c = &self.calls[ci];
             self.table.phases.rec.push(crate::program::err(

@@ -168,24 +168,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
     }
     // Recursion: a cycle in the static call graph never terminates.
     let n = prog.units.len();
-    let mut state = vec![0u8; n];
-    fn dfs(u: usize, edges: &[Vec<(usize, usize)>], state: &mut [u8], hit: &mut Vec<usize>) {
-        state[u] = 1;
-        for &(v, ri) in &edges[u] {
-            if state[v] == 1 {
-                hit.push(ri);
-            } else if state[v] == 0 {
-                dfs(v, edges, state, hit);
-            }
-        }
-        state[u] = 2;
-    }
-    let mut hits = Vec::new();
-    for u in 0..n {
-        if state[u] == 0 {
-            dfs(u, &edges, &mut state, &mut hits);
-        }
-    }
+    let mut hits = crate::unit_table::back_edges(&edges);
     // M functions must be declared in IOCFIL section 2: checked in the main file (while building)
     // and in every library unit the program reaches through literal calls (computed calls cannot
     // be followed statically).

@@ -152,3 +152,69 @@ impl UnitTable {
         dropped
     }
 }
+
+/// The calls that close a cycle in the static call graph `edges` (per unit, its calls in block
+/// order: callee and the call's index), found by a depth-first walk from every unit in order: each
+/// call to a unit still on the walk's path, in the order the walk meets them. Iterative, so a long
+/// chain of calls cannot exhaust the stack.
+pub(crate) fn back_edges(edges: &[Vec<(usize, usize)>]) -> Vec<usize> {
+    // 0: not visited, 1: on the path, 2: done.
+    let mut state = vec![0u8; edges.len()];
+    let mut hits = Vec::new();
+    let mut path: Vec<(usize, usize)> = Vec::new();
+    for root in 0..edges.len() {
+        if state[root] != 0 {
+            continue;
+        }
+        state[root] = 1;
+        path.push((root, 0));
+        while let Some((u, next)) = path.last_mut() {
+            let u = *u;
+            match edges[u].get(*next) {
+                Some(&(v, call)) => {
+                    *next += 1;
+                    match state[v] {
+                        1 => hits.push(call),
+                        0 => {
+                            state[v] = 1;
+                            path.push((v, 0));
+                        }
+                        _ => {}
+                    }
+                }
+                None => {
+                    state[u] = 2;
+                    path.pop();
+                }
+            }
+        }
+    }
+    hits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::back_edges;
+
+    #[test]
+    fn back_edges_are_the_calls_that_close_a_cycle_in_walk_order() {
+        // 0 → 1 (call 0), 1 → 2 (call 1), 2 → 1 (call 2: back to the path), 1 → 1 (call 3: itself),
+        // 0 → 2 (call 4: done already, no cycle), 3 → 0 (call 5: 0 is done, no cycle).
+        let edges = vec![
+            vec![(1, 0), (2, 4)],
+            vec![(2, 1), (1, 3)],
+            vec![(1, 2)],
+            vec![(0, 5)],
+        ];
+        assert_eq!(back_edges(&edges), [2, 3]);
+    }
+
+    #[test]
+    fn a_chain_of_a_million_calls_does_not_exhaust_the_stack() {
+        let n = 1_000_000;
+        let mut edges: Vec<Vec<(usize, usize)>> = (0..n).map(|u| vec![(u + 1, u)]).collect();
+        // The last unit calls the first: one cycle through every unit.
+        edges[n - 1] = vec![(0, n - 1)];
+        assert_eq!(back_edges(&edges), [n - 1]);
+    }
+}
