@@ -20,20 +20,21 @@ use crate::machine::Dialect;
 use crate::parse::{Out, Piece, R_MAX};
 
 /// The grouping state of one file in either dialect.
-pub(crate) enum Grouper {
+pub(crate) enum Grouper<'p> {
     /// MEFI: blocks from `N` to `N`.
     Mefi(Mefi),
     /// Fanuc: blocks to the end of the line, with the Macro B blocks read before parsing.
-    Fanuc(Fanuc),
+    Fanuc(Fanuc<'p>),
 }
 
-impl Grouper {
+impl<'p> Grouper<'p> {
     /// A grouper for `dialect`; `macro_pieces` (Fanuc: the byte ranges of the Macro B blocks, in
-    /// file order, blanked for the lexer) are read and placed among the blocks by their position.
+    /// file order, which the lexer steps over) are read and placed among the blocks by their
+    /// position.
     pub(crate) fn new(
         dialect: Dialect,
         require_header: bool,
-        macro_pieces: Vec<(usize, usize)>,
+        macro_pieces: &'p [(usize, usize)],
     ) -> Self {
         match dialect {
             Dialect::Mefi => Grouper::Mefi(Mefi {
@@ -45,7 +46,8 @@ impl Grouper {
                 stopped: false,
             }),
             Dialect::Fanuc => Grouper::Fanuc(Fanuc {
-                macros: macro_pieces.into_iter().peekable(),
+                macros: macro_pieces,
+                next_macro: 0,
                 cur: Block::default(),
                 started: false,
                 after_slash: false,
@@ -238,9 +240,11 @@ impl Mefi {
 }
 
 /// Fanuc grouping state.
-pub(crate) struct Fanuc {
-    /// The Macro B pieces not reached yet: each is read when the items reach it.
-    macros: std::iter::Peekable<std::vec::IntoIter<(usize, usize)>>,
+pub(crate) struct Fanuc<'p> {
+    /// The Macro B pieces of the file: each is read when the items reach it.
+    macros: &'p [(usize, usize)],
+    /// The first piece not reached yet.
+    next_macro: usize,
     cur: Block,
     started: bool,
     after_slash: bool,
@@ -248,7 +252,7 @@ pub(crate) struct Fanuc {
     emitted: usize,
 }
 
-impl Fanuc {
+impl Fanuc<'_> {
     /// Ends the current block: kept when it holds anything.
     fn flush(&mut self, diags: &mut Out) {
         if self.started
@@ -284,8 +288,9 @@ impl Fanuc {
 
     fn feed(&mut self, file: &str, src: &str, item: Item, out: &mut ParsedFile, diags: &mut Out) {
         let at = item_start(&item);
-        // A piece is blanked for the lexer: no item lies inside it, so its start orders it.
-        while let Some(m) = self.macros.next_if(|m| m.0 <= at) {
+        // The lexer steps over a piece: no item lies inside it, so its start orders it.
+        while let Some(&m) = self.macros.get(self.next_macro).filter(|m| m.0 <= at) {
+            self.next_macro += 1;
             self.macro_piece(file, src, m, diags);
         }
         let was_slash = std::mem::replace(&mut self.after_slash, false);
@@ -358,7 +363,8 @@ impl Fanuc {
 
     fn finish(mut self, file: &str, src: &str, diags: &mut Out) {
         self.flush(diags);
-        while let Some(m) = self.macros.next() {
+        while let Some(&m) = self.macros.get(self.next_macro) {
+            self.next_macro += 1;
             self.macro_piece(file, src, m, diags);
         }
     }

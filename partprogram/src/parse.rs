@@ -267,15 +267,19 @@ fn parse_unlocated(
             );
         }
     }
-    // Fanuc Macro B blocks are read by `macro_b::syntax`; the lexer sees them as blank text.
-    let (blanked, macro_blocks) = if dialect == Dialect::Fanuc {
+    // Fanuc Macro B blocks are read by `macro_b::syntax`; the lexer steps over them as if they
+    // were blank text, and the grouping reads each where the items reach it.
+    let pieces = if dialect == Dialect::Fanuc {
         crate::macro_b::syntax::prepass(src)
     } else {
-        (None, Vec::new())
+        Vec::new()
     };
-    let lex_src = blanked.as_deref().unwrap_or(src);
-    let mut lexer = Lexer::new(dialect, lex_src, start);
-    let mut group = Grouper::new(dialect, require_header, macro_blocks);
+    let mut lexer = if dialect == Dialect::Fanuc {
+        Lexer::skipping(src, &pieces)
+    } else {
+        Lexer::new(dialect, src, start)
+    };
+    let mut group = Grouper::new(dialect, require_header, &pieces);
     let parser = grammar::ItemsParser::new();
     let mut recovered = Vec::new();
     let mut chunk = Chunk {
