@@ -105,6 +105,9 @@ pub struct Exec<'p> {
     rc: Compensator,
     executed: u64,
     ended: bool,
+    /// True when the canonical blocks are only checked ([`check`]): `out` is emptied after each
+    /// block, so the run holds the look-ahead of the compensation, not the plan.
+    discard: bool,
 }
 
 fn run_err(b: &CBlock, code: u32, message: impl Into<String>) -> RunError {
@@ -136,6 +139,8 @@ fn limit_err(b: &CBlock, max_blocks: u64) -> RunError {
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
     let mut ex = Exec::new(prog, opts);
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
+    // Without the spare room of the last doubling (up to as much again): a part run holds its plans.
+    ex.out.shrink_to_fit();
     match done {
         Ok(()) => Ok(Plan {
             blocks: ex.out,
@@ -146,6 +151,15 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
         }),
         Err(e) => Err((ex.out, e)),
     }
+}
+
+/// Runs `prog` as [`plan`] does, keeping none of its canonical blocks: the run-time error
+/// [`plan`] would give, or the number of blocks executed.
+pub fn check(prog: &Program, opts: PlanOptions) -> Result<u64, RunError> {
+    let mut ex = Exec::new(prog, opts);
+    ex.discard = true;
+    ex.run().and_then(|()| ex.rc.finish(&mut ex.out))?;
+    Ok(ex.executed)
 }
 
 impl<'p> Exec<'p> {
@@ -203,6 +217,7 @@ impl<'p> Exec<'p> {
             rc: Compensator::new(opts.radius),
             executed: 0,
             ended: false,
+            discard: false,
         }
     }
 
@@ -369,6 +384,9 @@ impl<'p> Exec<'p> {
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+        if self.discard {
+            self.out.clear();
+        }
     }
 
     /// The block's modal record: G90/G91, G94–G97, the zero offset G53–G57, G40–G42 with D.
@@ -423,5 +441,8 @@ impl<'p> Exec<'p> {
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+        if self.discard {
+            self.out.clear();
+        }
     }
 }

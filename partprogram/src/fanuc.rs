@@ -14,12 +14,10 @@ use std::collections::HashMap;
 
 use diag::{Diagnostic, Sink};
 
-use crate::ast::{Block, ParsedFile, Val};
+use crate::ast::Val;
 use crate::codes;
 use crate::groups::{fanuc_g_group, fanuc_m_group};
-use crate::machine::Dialect;
-use crate::parse::parse;
-use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind};
+use crate::program::{CBlock, Program, SourceFile};
 
 fn err(
     code: u32,
@@ -31,132 +29,6 @@ fn err(
     crate::program::err(code, &f.name, &f.text, span, msg, hint)
 }
 
-fn push_unit(
-    prog: &mut Program,
-    file: usize,
-    blocks: Vec<Block>,
-    kind: UnitKind,
-    number: u32,
-    diags: &mut Sink,
-) {
-    let start = prog.blocks.len();
-    let unit = prog.units.len();
-    let mut numbers = roaring::RoaringBitmap::new();
-    let mut index = BlockIndex::default();
-    for b in blocks {
-        if let Some(n) = b.n {
-            index.push(n, prog.blocks.len());
-        }
-        if let Some(n) = b.n
-            && !numbers.insert(n)
-        {
-            let f = &prog.files[file];
-            diags.push(crate::program::to_locate(Diagnostic::warning(
-                codes::DUPLICATE_N,
-                f.name.clone(),
-                b.span.0..b.span.1,
-                format!("block number N{n} is used twice"),
-            )));
-        }
-        prog.blocks.push(CBlock {
-            n: b.n,
-            file,
-            unit,
-            span: b.span,
-            skip: b.skip,
-            words: b.words.into_boxed_slice(),
-            decls: b.decls.into_boxed_slice(),
-            arith_ops: 0,
-            native: None,
-            mac: b.mac,
-            jump: None,
-        });
-    }
-    // Of a number written twice the last block is the target (it replaced the first).
-    index.finish();
-    prog.units.push(Unit {
-        kind,
-        l: number,
-        file,
-        start,
-        end: prog.blocks.len(),
-        index,
-    });
-}
-
-/// Pushes the programs of one parsed file: the blocks before the second `O<n>` form the first unit
-/// (`first`: the main program, or the library program of a macro file), every further `O<n>` of
-/// the file a library unit that M98 P<n> calls.
-fn push_file(
-    prog: &mut Program,
-    file: usize,
-    parsed: ParsedFile,
-    first: Option<(UnitKind, u32)>,
-    diags: &mut Sink,
-) {
-    let mut blocks = parsed.blocks;
-    let mut rest = Vec::new();
-    for &(num, at) in parsed.programs.iter().rev() {
-        let tail = blocks.split_off(at.min(blocks.len()));
-        rest.push((num, tail));
-    }
-    rest.reverse();
-    if let Some((kind, number)) = first {
-        if kind == UnitKind::Library {
-            register(prog, file, number, diags);
-        }
-        push_unit(prog, file, blocks, kind, number, diags);
-    }
-    for (num, tail) in rest {
-        register(prog, file, num, diags);
-        push_unit(prog, file, tail, UnitKind::Library, num, diags);
-    }
-}
-
-/// Registers the next unit as program O`num`; a number already loaded keeps its first program.
-fn register(prog: &mut Program, file: usize, num: u32, diags: &mut Sink) {
-    let unit = prog.units.len();
-    if prog.library.contains_key(&num)
-        || (prog.units.first().is_some_and(|u| u.l == num && num != 0))
-    {
-        let f = &prog.files[file];
-        diags.push(
-            Diagnostic::warning(
-                codes::DUPLICATE_N,
-                f.name.clone(),
-                0..0,
-                format!("program O{num} is loaded twice: the first one is called"),
-            )
-            .with_hint("every O number names one program (the main file's programs load first)")
-            .locate(&f.text),
-        );
-        return;
-    }
-    prog.library.insert(num, unit);
-}
-
-/// Builds the units of a Fanuc main file (its main program and every further `O<n>` program of the
-/// file) and loads the `O<n>` programs of the macro folder for M98.
-pub fn build_units(prog: &mut Program, parsed: ParsedFile, diags: &mut Sink) {
-    let number = parsed.number.unwrap_or(0);
-    push_file(prog, 0, parsed, Some((UnitKind::Main, number)), diags);
-    for (path, fname, stem) in crate::program::macro_folder_files(&prog.machine.macro_dir) {
-        let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else {
-            continue;
-        };
-        let Ok(bytes) = std::fs::read(&path) else {
-            continue;
-        };
-        let text = String::from_utf8_lossy(&bytes).into_owned();
-        let name = format!("macros/{fname}");
-        let (parsed, d) = parse(Dialect::Fanuc, &name, &text);
-        diags.extend(d);
-        prog.files.push(SourceFile { name, text });
-        let file = prog.files.len() - 1;
-        push_file(prog, file, parsed, Some((UnitKind::Library, num)), diags);
-    }
-}
-
 fn lit(v: &Val) -> Option<f64> {
     match v {
         Val::Lit(l) => Some(l.value()),
@@ -164,251 +36,209 @@ fn lit(v: &Val) -> Option<f64> {
     }
 }
 
-/// Static checks of a Fanuc program.
-pub fn check(prog: &mut Program, diags: &mut Sink) {
-    let axes = prog.machine.axes();
+/// An `M97`/`M98` call of a block with its literal `P` (None: none written): what the unit
+/// builder ([`crate::fanuc_units`]) checks once the targets are known.
+pub(crate) type MCall = (i64, Option<u32>);
+
+/// The static checks of block `b` of `prog` on a machine with `axes` into `diags`; returns its
+/// `M97`/`M98` calls.
+pub(crate) fn check_block(
+    prog: &Program,
+    b: &CBlock,
+    axes: &[char],
+    diags: &mut Sink,
+) -> Vec<MCall> {
     // On a lathe H is the incremental C address, not a length register.
     let lathe = !axes.contains(&'Y');
-    let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
-    for (bi, b) in prog.blocks.iter().enumerate() {
-        let f = &prog.files[b.file];
-        let mut seen: HashMap<char, ()> = HashMap::new();
-        let mut groups: HashMap<u8, ()> = HashMap::new();
-        let mut m_calls = Vec::new();
-        for w in &b.words {
-            if let Val::Param(_) = w.val {
-                diags.push(err(
-                    codes::UNKNOWN_ADDRESS,
-                    f,
-                    w.span,
-                    "`R<n>` parameters are MEFI syntax",
-                    "write literal values in the Fanuc/HAAS dialect",
-                ));
-                continue;
-            }
-            let v = lit(&w.val).unwrap_or(0.0);
-            let known = matches!(
-                w.addr,
-                'G' | 'M' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'H' | 'P' | 'Q' | 'L'
-            ) || (lathe && matches!(w.addr, 'U' | 'W'))
-                || axes.contains(&w.addr);
-            if w.addr == 'E' {
-                diags.push(err(
-                    codes::UNKNOWN_ADDRESS,
-                    f,
-                    w.span,
-                    "address E (G187 corner accuracy) is not supported",
-                    "see docs/fanuc-conformance.md",
-                ));
-                continue;
-            }
-            if !known {
-                diags.push(err(
-                    codes::UNKNOWN_ADDRESS,
-                    f,
-                    w.span,
-                    format!("unknown address `{}`", w.addr),
-                    "Fanuc/HAAS addresses: O N G M X Y Z A B C I J K R F S T D H P Q L E",
-                ));
-                continue;
-            }
-            match w.addr {
-                'G' => {
-                    let key = (v * 10.0).round() as i64;
-                    match u16::try_from(key).ok().and_then(fanuc_g_group) {
-                        Some(gr) => {
-                            if gr != 0 && groups.insert(gr, ()).is_some() {
-                                diags.push(err(
-                                    codes::GROUP_CONFLICT,
-                                    f,
-                                    w.span,
-                                    "two G codes of the same group",
-                                    "one G code per modal group per block",
-                                ));
-                            }
-                        }
-                        None => diags.push(err(
-                            codes::UNKNOWN_G,
-                            f,
-                            w.span,
-                            format!("G{v} is not supported by the Fanuc/HAAS dialect"),
-                            "see gcode-haas-fanuc.md §4",
-                        )),
-                    }
-                }
-                'M' => {
-                    let m = v as i64;
-                    if !(0..=199).contains(&m) || v.fract() != 0.0 {
-                        diags.push(err(
-                            codes::OUT_OF_RANGE,
-                            f,
-                            w.span,
-                            "M code out of range",
-                            "M0..M199",
-                        ));
-                    } else if m == 96 {
-                        diags.push(err(
-                            codes::UNKNOWN_G,
-                            f,
-                            w.span,
-                            "M96 (jump if no input) is not supported: a plan cannot read inputs",
-                            "see docs/fanuc-conformance.md",
-                        ));
-                    } else {
-                        if prog.machine.check_m_declared
-                            && m < 97
-                            && prog.machine.m_timing(m as u16).is_none()
-                        {
-                            diags.push(err(
-                                codes::UNDECLARED_M,
-                                f,
-                                w.span,
-                                format!(
-                                    "M{m:02} is not declared for process 1 in IOCFIL section 2"
-                                ),
-                                "declare it in IOCFIL section 2",
-                            ));
-                        }
-                        if let Some(g) = fanuc_m_group(m)
-                            && m_calls.iter().any(|&o| fanuc_m_group(o) == Some(g))
-                        {
+    let f = &prog.files[b.file];
+    let mut seen: HashMap<char, ()> = HashMap::new();
+    let mut groups: HashMap<u8, ()> = HashMap::new();
+    let mut m_calls = Vec::new();
+    for w in &b.words {
+        if let Val::Param(_) = w.val {
+            diags.push(err(
+                codes::UNKNOWN_ADDRESS,
+                f,
+                w.span,
+                "`R<n>` parameters are MEFI syntax",
+                "write literal values in the Fanuc/HAAS dialect",
+            ));
+            continue;
+        }
+        let v = lit(&w.val).unwrap_or(0.0);
+        let known = matches!(
+            w.addr,
+            'G' | 'M' | 'I' | 'J' | 'K' | 'R' | 'F' | 'S' | 'T' | 'D' | 'H' | 'P' | 'Q' | 'L'
+        ) || (lathe && matches!(w.addr, 'U' | 'W'))
+            || axes.contains(&w.addr);
+        if w.addr == 'E' {
+            diags.push(err(
+                codes::UNKNOWN_ADDRESS,
+                f,
+                w.span,
+                "address E (G187 corner accuracy) is not supported",
+                "see docs/fanuc-conformance.md",
+            ));
+            continue;
+        }
+        if !known {
+            diags.push(err(
+                codes::UNKNOWN_ADDRESS,
+                f,
+                w.span,
+                format!("unknown address `{}`", w.addr),
+                "Fanuc/HAAS addresses: O N G M X Y Z A B C I J K R F S T D H P Q L E",
+            ));
+            continue;
+        }
+        match w.addr {
+            'G' => {
+                let key = (v * 10.0).round() as i64;
+                match u16::try_from(key).ok().and_then(fanuc_g_group) {
+                    Some(gr) => {
+                        if gr != 0 && groups.insert(gr, ()).is_some() {
                             diags.push(err(
                                 codes::GROUP_CONFLICT,
                                 f,
                                 w.span,
-                                format!("M{m:02} contradicts an M code of its group in the block"),
-                                "one of M03 M04 M05 M19, of M07 M08 M09, of M00 M01 M02 M30, of M97 M98 M99 per block",
+                                "two G codes of the same group",
+                                "one G code per modal group per block",
                             ));
                         }
-                        m_calls.push(m);
                     }
-                }
-                'N' | 'D' | 'H' | 'T' | 'L' if v < 0.0 => diags.push(err(
-                    codes::OUT_OF_RANGE,
-                    f,
-                    w.span,
-                    format!("{} must not be negative", w.addr),
-                    "",
-                )),
-                'H' if v > 99.0 && !lathe => diags.push(err(
-                    codes::OUT_OF_RANGE,
-                    f,
-                    w.span,
-                    format!("H{v}: tool lengths come from the correction table, entries 0..99"),
-                    "HAAS allows registers up to 200; this controller's table (TAB0.KOR) ends at 99",
-                )),
-                'D' if v > 200.0 => diags.push(err(
-                    codes::OUT_OF_RANGE,
-                    f,
-                    w.span,
-                    format!("D{v}: offset registers are D0..D200"),
-                    "D0..D200",
-                )),
-                _ => {}
-            }
-            if w.addr != 'G' && w.addr != 'M' && seen.insert(w.addr, ()).is_some() {
-                diags.push(err(
-                    codes::DUPLICATE_ADDRESS,
-                    f,
-                    w.span,
-                    format!("address {} appears twice in the block", w.addr),
-                    "each address once per block",
-                ));
-            }
-        }
-        let p = b.word('P').and_then(|w| lit(&w.val)).map(|v| v as u32);
-        let g43 = b
-            .words
-            .iter()
-            .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 43.0 || g == 44.0));
-        if g43 && !lathe && b.word('H').is_none() {
-            diags.push(err(
-                codes::G43_WITHOUT_H,
-                f,
-                b.span,
-                "G43/G44 without H",
-                "write the length register with it: G43 H01 Z2.",
-            ));
-        }
-        let arc = b
-            .words
-            .iter()
-            .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 2.0 || g == 3.0));
-        let comp = b.words.iter().any(|w| {
-            w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 40.0 || g == 41.0 || g == 42.0)
-        });
-        if arc && comp {
-            diags.push(err(
-                codes::COMP_ON_ARC,
-                f,
-                b.span,
-                "cutter compensation G41/G42/G40 in a circular block",
-                "switch compensation on or off on a G01/G00 line",
-            ));
-        }
-        for m in m_calls {
-            match (m, p) {
-                (97 | 98, None) => diags.push(err(
-                    codes::MISSING_L,
-                    f,
-                    b.span,
-                    format!("M{m} needs P"),
-                    "M97 P<line number>, M98 P<program number>",
-                )),
-                (97, Some(n)) if !prog.units[b.unit].index.contains(n) => {
-                    diags.push(err(
-                        codes::MISSING_BLOCK,
-                        f,
-                        b.span,
-                        format!("M97 P{n}: no block N{n} in this program"),
-                        "M97 calls a line number of the same program",
-                    ));
-                }
-                (98, Some(n)) => match prog.library.get(&n) {
-                    Some(&u) => edges[b.unit].push((u, bi)),
-                    None if prog.units[0].l == n && n != 0 => edges[b.unit].push((0, bi)),
                     None => diags.push(err(
-                        codes::MISSING_SUBPROGRAM,
+                        codes::UNKNOWN_G,
                         f,
-                        b.span,
-                        format!("M98 P{n}: program O{n} not found"),
-                        "store subprograms as files O<n> in the machine's macro folder",
+                        w.span,
+                        format!("G{v} is not supported by the Fanuc/HAAS dialect"),
+                        "see gcode-haas-fanuc.md §4",
                     )),
-                },
-                _ => {}
+                }
             }
-        }
-    }
-    // Recursion through M98.
-    let n = prog.units.len();
-    let mut state = vec![0u8; n];
-    let mut hits = Vec::new();
-    fn dfs(u: usize, e: &[Vec<(usize, usize)>], s: &mut [u8], hits: &mut Vec<usize>) {
-        s[u] = 1;
-        for &(v, bi) in &e[u] {
-            if s[v] == 1 {
-                hits.push(bi);
-            } else if s[v] == 0 {
-                dfs(v, e, s, hits);
+            'M' => {
+                let m = v as i64;
+                if !(0..=199).contains(&m) || v.fract() != 0.0 {
+                    diags.push(err(
+                        codes::OUT_OF_RANGE,
+                        f,
+                        w.span,
+                        "M code out of range",
+                        "M0..M199",
+                    ));
+                } else if m == 96 {
+                    diags.push(err(
+                        codes::UNKNOWN_G,
+                        f,
+                        w.span,
+                        "M96 (jump if no input) is not supported: a plan cannot read inputs",
+                        "see docs/fanuc-conformance.md",
+                    ));
+                } else {
+                    if prog.machine.check_m_declared
+                        && m < 97
+                        && prog.machine.m_timing(m as u16).is_none()
+                    {
+                        diags.push(err(
+                            codes::UNDECLARED_M,
+                            f,
+                            w.span,
+                            format!("M{m:02} is not declared for process 1 in IOCFIL section 2"),
+                            "declare it in IOCFIL section 2",
+                        ));
+                    }
+                    if let Some(g) = fanuc_m_group(m)
+                        && m_calls.iter().any(|&o| fanuc_m_group(o) == Some(g))
+                    {
+                        diags.push(err(
+                            codes::GROUP_CONFLICT,
+                            f,
+                            w.span,
+                            format!("M{m:02} contradicts an M code of its group in the block"),
+                            "one of M03 M04 M05 M19, of M07 M08 M09, of M00 M01 M02 M30, of M97 M98 M99 per block",
+                        ));
+                    }
+                    m_calls.push(m);
+                }
             }
+            'N' | 'D' | 'H' | 'T' | 'L' if v < 0.0 => diags.push(err(
+                codes::OUT_OF_RANGE,
+                f,
+                w.span,
+                format!("{} must not be negative", w.addr),
+                "",
+            )),
+            'H' if v > 99.0 && !lathe => diags.push(err(
+                codes::OUT_OF_RANGE,
+                f,
+                w.span,
+                format!("H{v}: tool lengths come from the correction table, entries 0..99"),
+                "HAAS allows registers up to 200; this controller's table (TAB0.KOR) ends at 99",
+            )),
+            'D' if v > 200.0 => diags.push(err(
+                codes::OUT_OF_RANGE,
+                f,
+                w.span,
+                format!("D{v}: offset registers are D0..D200"),
+                "D0..D200",
+            )),
+            _ => {}
         }
-        s[u] = 2;
-    }
-    for u in 0..n {
-        if state[u] == 0 {
-            dfs(u, &edges, &mut state, &mut hits);
+        if w.addr != 'G' && w.addr != 'M' && seen.insert(w.addr, ()).is_some() {
+            diags.push(err(
+                codes::DUPLICATE_ADDRESS,
+                f,
+                w.span,
+                format!("address {} appears twice in the block", w.addr),
+                "each address once per block",
+            ));
         }
     }
-    for bi in hits {
-        let b = &prog.blocks[bi];
+    let p = b.word('P').and_then(|w| lit(&w.val)).map(|v| v as u32);
+    let g43 = b
+        .words
+        .iter()
+        .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 43.0 || g == 44.0));
+    if g43 && !lathe && b.word('H').is_none() {
         diags.push(err(
-            codes::RECURSION,
-            &prog.files[b.file],
+            codes::G43_WITHOUT_H,
+            f,
             b.span,
-            "M98 call leads back to its own program: unbounded recursion",
-            "a subprogram must not call itself",
+            "G43/G44 without H",
+            "write the length register with it: G43 H01 Z2.",
         ));
     }
+    let arc = b
+        .words
+        .iter()
+        .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 2.0 || g == 3.0));
+    let comp = b
+        .words
+        .iter()
+        .any(|w| w.addr == 'G' && lit(&w.val).is_some_and(|g| g == 40.0 || g == 41.0 || g == 42.0));
+    if arc && comp {
+        diags.push(err(
+            codes::COMP_ON_ARC,
+            f,
+            b.span,
+            "cutter compensation G41/G42/G40 in a circular block",
+            "switch compensation on or off on a G01/G00 line",
+        ));
+    }
+    let mut out = Vec::new();
+    for m in m_calls {
+        match (m, p) {
+            (97 | 98, None) => diags.push(err(
+                codes::MISSING_L,
+                f,
+                b.span,
+                format!("M{m} needs P"),
+                "M97 P<line number>, M98 P<program number>",
+            )),
+            (97 | 98, _) => out.push((m, p)),
+            _ => {}
+        }
+    }
+    out
 }
 
 pub use crate::fanuc_exec::plan;

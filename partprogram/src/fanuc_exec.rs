@@ -77,6 +77,9 @@ struct Ex<'p> {
     rc: Compensator,
     executed: u64,
     ended: bool,
+    /// True when the canonical blocks are only checked ([`check`]): `out` is emptied after each
+    /// block, so the run holds the look-ahead of the compensation, not the plan.
+    discard: bool,
     /// G61 exact stop (modal, group 13) until G64.
     exact_modal: bool,
     /// G09 in the current block.
@@ -104,73 +107,10 @@ fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
 
 /// Plans a Fanuc/HAAS program.
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
-    let axes = prog.machine.axes();
-    let lathe = !axes.contains(&'Y');
-    let mut ex = Ex {
-        prog,
-        opts,
-        axes: axes.iter().copied().take(6).collect(),
-        machine: opts.start,
-        // G54–G59 from the machine's zero-offset table (rows G54..G59 of `TAB0.POS`).
-        work: (0..offsets::WORK_ROWS)
-            .map(|k| {
-                prog.machine
-                    .zero_offsets
-                    .rows
-                    .get(k + 1)
-                    .copied()
-                    .unwrap_or([0.0; 6])
-            })
-            .collect(),
-        wsel: 0,
-        local: [0.0; 6],
-        g92: [0.0; 6],
-        motion: 0,
-        plane: if lathe { Plane::ZX } else { Plane::XY },
-        abs: true,
-        inch: false,
-        feed: None,
-        s: None,
-        css: false,
-        max_rpm: None,
-        t: None,
-        cycle: None,
-        g99: false,
-        init_z: 0.0,
-        cyc: (0.0, 0.0, 0.0, 0.0),
-        cyl: None,
-        diameter: prog.machine.diameter_x,
-        tlo: [0.0; 6],
-        tlo_due: [0.0; 6],
-        tlo_sign: None,
-        tlo_h: 0,
-        frames: Vec::new(),
-        out: Vec::new(),
-        comp: 40,
-        d: 0,
-        corrections: {
-            let mut rows = prog.machine.corrections.rows();
-            rows.resize(comp::REGISTERS, [0.0; 5]);
-            rows
-        },
-        wear: vec![[0.0; 2]; comp::REGISTERS],
-        // Fanuc keeps the programmed feed at the tool centre on compensated arcs (no F·R'/R).
-        rc: Compensator::new(crate::radius::RadiusOptions {
-            adapt_arc_feed: false,
-            ..opts.radius
-        }),
-        executed: 0,
-        ended: false,
-        exact_modal: false,
-        exact_once: false,
-        tolerance: None,
-        contour: false,
-        vars: macros::VarTable::default(),
-        ext: [0.0; 6],
-        last_m: None,
-    };
-    prog.machine.retained.load_into(&mut ex.vars.slots);
+    let mut ex = Ex::new(prog, opts);
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
+    // Without the spare room of the last doubling (up to as much again): a part run holds its plans.
+    ex.out.shrink_to_fit();
     match done {
         Ok(()) => Ok(Plan {
             blocks: ex.out,
@@ -180,6 +120,89 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunE
             macro_vars: std::mem::take(&mut ex.vars.slots),
         }),
         Err(e) => Err((ex.out, e)),
+    }
+}
+
+/// Runs `prog` as [`plan`] does, keeping none of its canonical blocks: the run-time error
+/// [`plan`] would give, or the number of blocks executed.
+pub fn check(prog: &Program, opts: PlanOptions) -> Result<u64, RunError> {
+    let mut ex = Ex::new(prog, opts);
+    ex.discard = true;
+    ex.run().and_then(|()| ex.rc.finish(&mut ex.out))?;
+    Ok(ex.executed)
+}
+
+impl<'p> Ex<'p> {
+    /// A fresh executor at program start, the retained variables loaded.
+    fn new(prog: &'p Program, opts: PlanOptions) -> Self {
+        let axes = prog.machine.axes();
+        let lathe = !axes.contains(&'Y');
+        let mut ex = Ex {
+            prog,
+            opts,
+            axes: axes.iter().copied().take(6).collect(),
+            machine: opts.start,
+            // G54–G59 from the machine's zero-offset table (rows G54..G59 of `TAB0.POS`).
+            work: (0..offsets::WORK_ROWS)
+                .map(|k| {
+                    prog.machine
+                        .zero_offsets
+                        .rows
+                        .get(k + 1)
+                        .copied()
+                        .unwrap_or([0.0; 6])
+                })
+                .collect(),
+            wsel: 0,
+            local: [0.0; 6],
+            g92: [0.0; 6],
+            motion: 0,
+            plane: if lathe { Plane::ZX } else { Plane::XY },
+            abs: true,
+            inch: false,
+            feed: None,
+            s: None,
+            css: false,
+            max_rpm: None,
+            t: None,
+            cycle: None,
+            g99: false,
+            init_z: 0.0,
+            cyc: (0.0, 0.0, 0.0, 0.0),
+            cyl: None,
+            diameter: prog.machine.diameter_x,
+            tlo: [0.0; 6],
+            tlo_due: [0.0; 6],
+            tlo_sign: None,
+            tlo_h: 0,
+            frames: Vec::new(),
+            out: Vec::new(),
+            comp: 40,
+            d: 0,
+            corrections: {
+                let mut rows = prog.machine.corrections.rows();
+                rows.resize(comp::REGISTERS, [0.0; 5]);
+                rows
+            },
+            wear: vec![[0.0; 2]; comp::REGISTERS],
+            // Fanuc keeps the programmed feed at the tool centre on compensated arcs (no F·R'/R).
+            rc: Compensator::new(crate::radius::RadiusOptions {
+                adapt_arc_feed: false,
+                ..opts.radius
+            }),
+            executed: 0,
+            ended: false,
+            discard: false,
+            exact_modal: false,
+            exact_once: false,
+            tolerance: None,
+            contour: false,
+            vars: macros::VarTable::default(),
+            ext: [0.0; 6],
+            last_m: None,
+        };
+        prog.machine.retained.load_into(&mut ex.vars.slots);
+        ex
     }
 }
 
@@ -343,6 +366,9 @@ impl Ex<'_> {
         };
         let ctx = self.comp_ctx(b);
         self.rc.push(c, &ctx, &mut self.out);
+        if self.discard {
+            self.out.clear();
+        }
     }
 
     /// The block's modal record: G90/G91, G94 (the only feed mode), the work offset, G40–G42

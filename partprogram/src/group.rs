@@ -17,20 +17,25 @@ use crate::ast::{Block, Decl, Item, ParsedFile, Val, Word};
 use crate::codes;
 use crate::lexer::Lit;
 use crate::machine::Dialect;
-use crate::parse::{Out, R_MAX};
+use crate::parse::{Out, Piece, R_MAX};
 
 /// The grouping state of one file in either dialect.
-pub(crate) enum Grouper {
+pub(crate) enum Grouper<'p> {
     /// MEFI: blocks from `N` to `N`.
     Mefi(Mefi),
     /// Fanuc: blocks to the end of the line, with the Macro B blocks read before parsing.
-    Fanuc(Fanuc),
+    Fanuc(Fanuc<'p>),
 }
 
-impl Grouper {
-    /// A grouper for `dialect`; `macro_blocks` (Fanuc, in file order) are placed among the blocks
-    /// by their position.
-    pub(crate) fn new(dialect: Dialect, require_header: bool, macro_blocks: Vec<Block>) -> Self {
+impl<'p> Grouper<'p> {
+    /// A grouper for `dialect`; `macro_pieces` (Fanuc: the byte ranges of the Macro B blocks, in
+    /// file order, which the lexer steps over) are read and placed among the blocks by their
+    /// position.
+    pub(crate) fn new(
+        dialect: Dialect,
+        require_header: bool,
+        macro_pieces: &'p [(usize, usize)],
+    ) -> Self {
         match dialect {
             Dialect::Mefi => Grouper::Mefi(Mefi {
                 require_header,
@@ -41,7 +46,8 @@ impl Grouper {
                 stopped: false,
             }),
             Dialect::Fanuc => Grouper::Fanuc(Fanuc {
-                macros: macro_blocks.into_iter().peekable(),
+                macros: macro_pieces,
+                next_macro: 0,
                 cur: Block::default(),
                 started: false,
                 after_slash: false,
@@ -61,15 +67,15 @@ impl Grouper {
     ) {
         match self {
             Grouper::Mefi(g) => g.feed(file, src, item, out, diags),
-            Grouper::Fanuc(g) => g.feed(file, item, out, diags),
+            Grouper::Fanuc(g) => g.feed(file, src, item, out, diags),
         }
     }
 
     /// Closes the file: the last block, and the checks that need the whole file.
-    pub(crate) fn finish(self, file: &str, diags: &mut Out) {
+    pub(crate) fn finish(self, file: &str, src: &str, diags: &mut Out) {
         match self {
             Grouper::Mefi(g) => g.finish(file, diags),
-            Grouper::Fanuc(g) => g.finish(diags),
+            Grouper::Fanuc(g) => g.finish(file, src, diags),
         }
     }
 }
@@ -234,8 +240,11 @@ impl Mefi {
 }
 
 /// Fanuc grouping state.
-pub(crate) struct Fanuc {
-    macros: std::iter::Peekable<std::vec::IntoIter<Block>>,
+pub(crate) struct Fanuc<'p> {
+    /// The Macro B pieces of the file: each is read when the items reach it.
+    macros: &'p [(usize, usize)],
+    /// The first piece not reached yet.
+    next_macro: usize,
     cur: Block,
     started: bool,
     after_slash: bool,
@@ -243,7 +252,7 @@ pub(crate) struct Fanuc {
     emitted: usize,
 }
 
-impl Fanuc {
+impl Fanuc<'_> {
     /// Ends the current block: kept when it holds anything.
     fn flush(&mut self, diags: &mut Out) {
         if self.started
@@ -264,12 +273,25 @@ impl Fanuc {
         }
     }
 
-    fn feed(&mut self, file: &str, item: Item, out: &mut ParsedFile, diags: &mut Out) {
+    /// Reads the Macro B piece `span` of `src`: its block is handed on, or its error pushed.
+    fn macro_piece(&mut self, file: &str, src: &str, span: (usize, usize), diags: &mut Out) {
+        let text = src.get(span.0..span.1).unwrap_or("");
+        match crate::macro_b::syntax::parse_block(file, text, span.0) {
+            Ok(m) => {
+                self.flush(diags);
+                diags.emit(m);
+                self.emitted += 1;
+            }
+            Err(d) => diags.push(d),
+        }
+    }
+
+    fn feed(&mut self, file: &str, src: &str, item: Item, out: &mut ParsedFile, diags: &mut Out) {
         let at = item_start(&item);
-        while let Some(m) = self.macros.next_if(|m| m.span.0 <= at) {
-            self.flush(diags);
-            diags.emit(m);
-            self.emitted += 1;
+        // The lexer steps over a piece: no item lies inside it, so its start orders it.
+        while let Some(&m) = self.macros.get(self.next_macro).filter(|m| m.0 <= at) {
+            self.next_macro += 1;
+            self.macro_piece(file, src, m, diags);
         }
         let was_slash = std::mem::replace(&mut self.after_slash, false);
         match item {
@@ -297,10 +319,13 @@ impl Fanuc {
                     // An O word starts a program: the first names the main program, each later one
                     // a further program of the file (it must open its own block).
                     self.flush(diags);
+                    let num = l.int as u32;
                     if out.number.is_none() && self.emitted == 0 && out.programs.is_empty() {
-                        out.number = Some(l.int as u32);
+                        out.number = Some(num);
+                        diags.piece(Piece::Number(num));
                     } else {
-                        out.programs.push((l.int as u32, self.emitted));
+                        out.programs.push((num, self.emitted));
+                        diags.piece(Piece::Program(num));
                     }
                 }
                 _ => diags.push(
@@ -336,10 +361,11 @@ impl Fanuc {
         }
     }
 
-    fn finish(mut self, diags: &mut Out) {
+    fn finish(mut self, file: &str, src: &str, diags: &mut Out) {
         self.flush(diags);
-        for m in self.macros {
-            diags.emit(m);
+        while let Some(&m) = self.macros.get(self.next_macro) {
+            self.next_macro += 1;
+            self.macro_piece(file, src, m, diags);
         }
     }
 }

@@ -223,6 +223,16 @@ pub struct Lexer<'a> {
     done: bool,
     /// Lexer errors seen so far.
     pub errors: Vec<LexError>,
+    /// Fanuc: the Macro B pieces the lexer steps over ([`Lexer::skipping`]).
+    gaps: Option<Gaps<'a>>,
+}
+
+/// The text between the pieces a lexer steps over: the whole text, the pieces (byte ranges in
+/// file order, none inside another) and the next piece to step over.
+struct Gaps<'a> {
+    src: &'a str,
+    pieces: &'a [(usize, usize)],
+    next: usize,
 }
 
 enum Inner<'a> {
@@ -243,27 +253,43 @@ impl<'a> Lexer<'a> {
             offset,
             done: false,
             errors: Vec::new(),
+            gaps: None,
         }
     }
-}
 
-fn letter(c: char) -> Tok {
-    match c {
-        'N' => Tok::N,
-        'R' => Tok::R,
-        'O' => Tok::O,
-        c => Tok::Addr(c),
+    /// Lexes Fanuc text `src` without the byte ranges `pieces` (in file order, each after a line
+    /// end or `;` and ending at one or at the end: no token runs into one), as if they were blank:
+    /// the tokens of the text between them, with their places in `src`. The Macro B blocks are
+    /// stepped over this way instead of being blanked in a copy of the text.
+    pub fn skipping(src: &'a str, pieces: &'a [(usize, usize)]) -> Self {
+        let first = pieces.first().map_or(src.len(), |p| p.0);
+        let mut lx = Lexer::new(Dialect::Fanuc, src.get(..first).unwrap_or(""), 0);
+        lx.gaps = Some(Gaps {
+            src,
+            pieces,
+            next: 0,
+        });
+        lx
     }
-}
 
-impl Iterator for Lexer<'_> {
-    type Item = Result<(usize, Tok, usize), LexError>;
+    /// Moves on to the text after the next piece; false when there is none.
+    fn next_gap(&mut self) -> bool {
+        let Some(g) = &mut self.gaps else {
+            return false;
+        };
+        let Some(&(_, start)) = g.pieces.get(g.next) else {
+            return false;
+        };
+        g.next += 1;
+        let end = g.pieces.get(g.next).map_or(g.src.len(), |p| p.0);
+        self.offset = start;
+        self.inner = Inner::Fanuc(FanucTok::lexer(g.src.get(start..end).unwrap_or("")).spanned());
+        true
+    }
 
-    fn next(&mut self) -> Option<Self::Item> {
-        if self.done {
-            return None;
-        }
-        let (res, span) = match &mut self.inner {
+    /// The next raw token of the current text, mapped to a parser token.
+    fn raw(&mut self) -> Option<(Result<Tok, LexErrorKind>, Range<usize>)> {
+        Some(match &mut self.inner {
             Inner::Mefi(it) => {
                 let (r, s) = it.next()?;
                 let t = r.map(|t| match t {
@@ -292,6 +318,33 @@ impl Iterator for Lexer<'_> {
                 });
                 (t, s)
             }
+        })
+    }
+}
+
+fn letter(c: char) -> Tok {
+    match c {
+        'N' => Tok::N,
+        'R' => Tok::R,
+        'O' => Tok::O,
+        c => Tok::Addr(c),
+    }
+}
+
+impl Iterator for Lexer<'_> {
+    type Item = Result<(usize, Tok, usize), LexError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.done {
+            return None;
+        }
+        let (res, span) = loop {
+            if let Some(t) = self.raw() {
+                break t;
+            }
+            if !self.next_gap() {
+                return None;
+            }
         };
         let span = span.start + self.offset..span.end + self.offset;
         Some(Ok(match res {
@@ -308,5 +361,39 @@ impl Iterator for Lexer<'_> {
                 (span.start, Tok::LexError, span.end)
             }
         }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The tokens (with their places) and errors of `lx`.
+    fn all(mut lx: Lexer) -> (Vec<(usize, Tok, usize)>, Vec<LexError>) {
+        let toks = lx.by_ref().filter_map(Result::ok).collect();
+        (toks, lx.errors)
+    }
+
+    #[test]
+    fn stepping_over_pieces_lexes_as_the_text_with_them_blank() {
+        let src = "O1\n#1=2\nN1 G01 X1.@ (a;b) ; #2=[#1]\r\nWHILE [#1 LT 3] DO 1\nX2.\n#3=1";
+        let pieces = crate::macro_b::syntax::prepass(src);
+        // `#1=2`, `#2=[#1]` (after the `;` outside the comment), the WHILE line, `#3=1` at the end.
+        assert_eq!(pieces.len(), 4);
+        let mut blanked = src.as_bytes().to_vec();
+        for &(s, e) in &pieces {
+            blanked[s..e].fill(b' ');
+        }
+        let blanked = String::from_utf8(blanked).unwrap_or_default();
+        let want = all(Lexer::new(Dialect::Fanuc, &blanked, 0));
+        let got = all(Lexer::skipping(src, &pieces));
+        assert_eq!(got.0, want.0);
+        assert_eq!(
+            got.1.iter().map(|e| e.span.clone()).collect::<Vec<_>>(),
+            want.1.iter().map(|e| e.span.clone()).collect::<Vec<_>>()
+        );
+        // The `@` is the one error, at its place in the text.
+        assert_eq!(got.1.len(), 1);
+        assert_eq!(&src[got.1[0].span.clone()], "@");
     }
 }

@@ -20,6 +20,7 @@ pub mod codes;
 pub mod exec;
 pub mod fanuc;
 pub mod fanuc_exec;
+mod fanuc_units;
 pub mod geom;
 mod group;
 pub mod groups;
@@ -36,6 +37,7 @@ pub mod program;
 pub mod radius;
 pub mod run;
 pub mod thread;
+mod unit_table;
 mod units;
 
 pub use canon::{BlockModal, Canon, Css, Kind, Plane};
@@ -53,5 +55,16 @@ pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, diag
     match prog.dialect {
         Dialect::Mefi => exec::plan(prog, opts).map_err(|(b, e)| (b, e.to_diagnostic(prog))),
         Dialect::Fanuc => fanuc::plan(prog, opts).map_err(|(b, e)| (b, e.to_diagnostic(prog))),
+    }
+}
+
+/// Runs a compiled program as [`plan`] does without keeping its canonical blocks (the executor
+/// empties them after each block; the radius compensation holds only its look-ahead): the number
+/// of blocks executed, or the run-time error [`plan`] would give. `ncplc nc check` finds the
+/// geometric errors this way in memory that does not grow with the plan.
+pub fn check_plan(prog: &Program, opts: PlanOptions) -> Result<u64, diag::Diagnostic> {
+    match prog.dialect {
+        Dialect::Mefi => exec::check(prog, opts).map_err(|e| e.to_diagnostic(prog)),
+        Dialect::Fanuc => fanuc_exec::check(prog, opts).map_err(|e| e.to_diagnostic(prog)),
     }
 }

@@ -108,14 +108,14 @@ pub(crate) fn undeclared_m(prog: &Program, b: &CBlock) -> Vec<Diagnostic> {
 
 /// Resolves literal jump and call targets and detects recursion.
 pub(crate) fn link(prog: &Program, units: &mut Units) {
-    let diags = &mut units.phases.link;
+    let diags = &mut units.table.phases.link;
     // Per unit, the calls out of it: (callee, index of the calling LinkRef).
     let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
     for (ri, r) in units.refs.iter().enumerate() {
         let file = prog.files[r.file].name.as_str();
         if let Some(l) = r.l {
             let l32 = l as u32;
-            if r.jump && !units.numbers[r.unit].contains(l32) {
+            if r.jump && !units.table.numbers[r.unit].contains(l32) {
                 diags.push(err(
                     codes::MISSING_BLOCK,
                     file,
@@ -168,24 +168,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
     }
     // Recursion: a cycle in the static call graph never terminates.
     let n = prog.units.len();
-    let mut state = vec![0u8; n];
-    fn dfs(u: usize, edges: &[Vec<(usize, usize)>], state: &mut [u8], hit: &mut Vec<usize>) {
-        state[u] = 1;
-        for &(v, ri) in &edges[u] {
-            if state[v] == 1 {
-                hit.push(ri);
-            } else if state[v] == 0 {
-                dfs(v, edges, state, hit);
-            }
-        }
-        state[u] = 2;
-    }
-    let mut hits = Vec::new();
-    for u in 0..n {
-        if state[u] == 0 {
-            dfs(u, &edges, &mut state, &mut hits);
-        }
-    }
+    let mut hits = crate::unit_table::back_edges(&edges);
     // M functions must be declared in IOCFIL section 2: checked in the main file (while building)
     // and in every library unit the program reaches through literal calls (computed calls cannot
     // be followed statically).
@@ -202,7 +185,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
         }
         for m in std::mem::take(&mut units.lib_m) {
             if reach[m.unit] {
-                units.phases.m.push(m.diagnostic);
+                units.table.phases.m.push(m.diagnostic);
             }
         }
     }
@@ -210,7 +193,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
     hits.dedup();
     for ri in hits {
         let r = &units.refs[ri];
-        units.phases.rec.push(err(
+        units.table.phases.rec.push(err(
             codes::RECURSION,
             &prog.files[r.file].name,
             "",

@@ -60,7 +60,11 @@ fn parse_chunked(
         src,
         require_header,
         chunk_tokens,
-        &mut Out::new(&mut sink, &mut |b, _| blocks.push(b)),
+        &mut Out::new(&mut sink, &mut |p, _| {
+            if let Piece::Block(b) = p {
+                blocks.push(b)
+            }
+        }),
     );
     // Without the spare room of the last doubling: the blocks live as long as the compile.
     blocks.shrink_to_fit();
@@ -79,14 +83,14 @@ fn parse_chunked(
 
 /// [`parse`] with the diagnostics pushed into `diags` (a sink that may store only the first of
 /// them), marked to be located by [`crate::program::compile`] once it knows which it keeps, and
-/// every block handed to `block` as soon as it is complete, in file order, with the sink as it is
-/// then ([`ParsedFile::blocks`] stays empty).
+/// every block (and Fanuc program start) handed to `block` as soon as it is complete, in file
+/// order, with the sink as it is then ([`ParsedFile::blocks`] stays empty).
 pub(crate) fn parse_streaming(
     dialect: Dialect,
     file: &str,
     src: &str,
     diags: &mut Sink,
-    block: &mut dyn FnMut(Block, &Sink),
+    block: &mut dyn FnMut(Piece, &Sink),
 ) -> ParsedFile {
     parse_unlocated(
         dialect,
@@ -98,26 +102,29 @@ pub(crate) fn parse_streaming(
     )
 }
 
-/// [`parse`] with the diagnostics pushed into `diags` like [`parse_streaming`], the blocks kept in
-/// [`ParsedFile::blocks`].
-pub(crate) fn parse_into(dialect: Dialect, file: &str, src: &str, diags: &mut Sink) -> ParsedFile {
-    let mut blocks = Vec::new();
-    let mut out = parse_streaming(dialect, file, src, diags, &mut |b, _| blocks.push(b));
-    blocks.shrink_to_fit();
-    out.blocks = blocks;
-    out
+/// What the parser hands on as it reads a file, in file order.
+pub(crate) enum Piece {
+    /// A finished block.
+    Block(Block),
+    /// Fanuc: the `O<n>` naming the file's first program ([`ParsedFile::number`]), before its
+    /// first block.
+    Number(u32),
+    /// Fanuc: an `O<n>` starting a further program of the file ([`ParsedFile::programs`]); the
+    /// blocks after it belong to it.
+    Program(u32),
 }
 
 /// Where the parser's diagnostics go (a sink, each marked to be located at the end, locating only
-/// the ones kept) and where its finished blocks go (a callback, given the sink as it is then).
+/// the ones kept) and where its blocks and program starts go (a callback, given the sink as it is
+/// then).
 pub(crate) struct Out<'a> {
     sink: &'a mut Sink,
-    block: &'a mut dyn FnMut(Block, &Sink),
+    block: &'a mut dyn FnMut(Piece, &Sink),
 }
 
 impl<'a> Out<'a> {
-    /// Diagnostics into `sink`, blocks to `block`.
-    pub(crate) fn new(sink: &'a mut Sink, block: &'a mut dyn FnMut(Block, &Sink)) -> Self {
+    /// Diagnostics into `sink`, blocks and program starts to `block`.
+    pub(crate) fn new(sink: &'a mut Sink, block: &'a mut dyn FnMut(Piece, &Sink)) -> Self {
         Out { sink, block }
     }
 
@@ -128,7 +135,12 @@ impl<'a> Out<'a> {
 
     /// Hands on the finished block `b`.
     pub(crate) fn emit(&mut self, b: Block) {
-        (self.block)(b, self.sink);
+        (self.block)(Piece::Block(b), self.sink);
+    }
+
+    /// Hands on a program start (Fanuc `O<n>`).
+    pub(crate) fn piece(&mut self, p: Piece) {
+        (self.block)(p, self.sink);
     }
 }
 
@@ -255,15 +267,19 @@ fn parse_unlocated(
             );
         }
     }
-    // Fanuc Macro B blocks are read by `macro_b::syntax`; the lexer sees them as blank text.
-    let (blanked, macro_blocks) = if dialect == Dialect::Fanuc {
-        crate::macro_b::syntax::prepass(file, src, &mut |d| diags.push(d))
+    // Fanuc Macro B blocks are read by `macro_b::syntax`; the lexer steps over them as if they
+    // were blank text, and the grouping reads each where the items reach it.
+    let pieces = if dialect == Dialect::Fanuc {
+        crate::macro_b::syntax::prepass(src)
     } else {
-        (None, Vec::new())
+        Vec::new()
     };
-    let lex_src = blanked.as_deref().unwrap_or(src);
-    let mut lexer = Lexer::new(dialect, lex_src, start);
-    let mut group = Grouper::new(dialect, require_header, macro_blocks);
+    let mut lexer = if dialect == Dialect::Fanuc {
+        Lexer::skipping(src, &pieces)
+    } else {
+        Lexer::new(dialect, src, start)
+    };
+    let mut group = Grouper::new(dialect, require_header, &pieces);
     let parser = grammar::ItemsParser::new();
     let mut recovered = Vec::new();
     let mut chunk = Chunk {
@@ -316,7 +332,7 @@ fn parse_unlocated(
             break;
         }
     }
-    group.finish(file, diags);
+    group.finish(file, src, diags);
     out
 }
 

@@ -12,8 +12,10 @@ use diag::{Diagnostic, Hidden, Sink};
 
 use crate::ast::{Decl, Val, Word};
 use crate::codes;
+use crate::fanuc_units::FanucUnits;
 use crate::lexer::Lit;
 use crate::machine::{Dialect, MachineSpec};
+use crate::parse::Piece;
 use crate::units::Units;
 
 /// What a program unit is.
@@ -321,11 +323,11 @@ pub fn compile_capped(
     };
     let mut sink = Sink::new(max);
     if machine.dialect == Dialect::Fanuc {
-        let parsed = crate::parse::parse_into(machine.dialect, name, src, &mut sink);
-        prog.number = parsed.number;
-        crate::fanuc::build_units(&mut prog, parsed, &mut sink);
-        crate::fanuc::check(&mut prog, &mut sink);
-        crate::macro_b::flow::link(&mut prog, &mut sink);
+        // Like MEFI: each block is built into its unit and checked as the parser hands it on.
+        let mut units = FanucUnits::new(&mut prog, max);
+        prog.number = units.main_file(&mut prog, name, src, &mut sink);
+        units.load_library(&mut prog, sink.has_errors());
+        units.finish(&mut prog, &mut sink);
     } else {
         // Each block is built into its unit and checked as the parser hands it on, and kept only
         // while the program has no error (`units`).
@@ -336,16 +338,24 @@ pub fn compile_capped(
             name,
             src,
             &mut sink,
-            &mut |b, parse| units.block(&mut prog, &mut f, b, parse.has_errors()),
+            &mut |p, parse| {
+                if let Piece::Block(b) = p {
+                    units.block(&mut prog, &mut f, b, parse.has_errors())
+                }
+            },
         );
         prog.number = parsed.number;
         units.end_file(&mut prog, f, src);
         units.load_library(&mut prog, &machine.macro_dir, sink.has_errors());
         crate::link::link(&prog, &mut units);
-        units.phases.merge_into(&mut sink);
+        units.table.phases.merge_into(&mut sink);
     }
     let failed = sink.has_errors();
-    let (mut diags, hidden) = sink.finish();
+    let (mut diags, mut hidden) = sink.finish();
+    // The notes of what the cap hid come in the order of the diagnostics: the main file first,
+    // then the macro files by name (the phases are merged at the end, so the order in which files
+    // first overflowed is not the order the checks found their diagnostics in).
+    hidden.sort_by(|a, b| (a.file != name, &a.file).cmp(&(b.file != name, &b.file)));
     locate_pending(&prog.files, src, &mut diags);
     diags.sort_by(|a, b| {
         (a.file != name, &a.file, a.line, a.column).cmp(&(

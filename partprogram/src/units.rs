@@ -2,20 +2,17 @@
 //! into main program, subprograms `G79 L … G70` and library units, the block-number tables, the
 //! static checks of each block and what linking needs of it later ([`LinkRef`]).
 //!
-//! Invariants (issue 23): a block is checked as soon as it is complete and kept in
-//! [`Program::blocks`] only while the compile has no error (a program with an error never runs;
-//! at the first error the blocks kept so far are dropped). What a rejected program holds per block
-//! is its number in two compressed bitmaps (file-wide for duplicates, per unit for jump targets;
-//! [`RoaringBitmap`], at most 2 bytes per number and at most 12.5 MB per bitmap whatever the file's
-//! length, since numbers are below 10^8) and, for a block with a literal jump forward (a jump back
-//! is resolved at once), a call or a fixed cycle, one [`LinkRef`] until linking. The diagnostics of each phase go to their own capped sink ([`Phases`]), merged
-//! at the end in the order the phases ran when the whole block list was checked phase after phase
-//! (units, block checks, links, M functions, recursion): the kept diagnostics and their order are
-//! the same as then.
+//! Invariants (issue 23): a block is checked as soon as it is complete and kept only while the
+//! compile has no error ([`UnitTable`]: a program with an error never runs). What a rejected
+//! program holds per block is its number in two compressed bitmaps (file-wide for duplicates, per
+//! unit for jump targets; [`RoaringBitmap`]) and, for a block with a literal jump forward (a jump
+//! back is resolved at once), a call or a fixed cycle, one [`LinkRef`] until linking. The
+//! diagnostics of each phase go to their own capped sink ([`crate::unit_table::Phases`]), merged
+//! at the end in the order the phases ran (units, block checks, links, M functions, recursion).
 
 use std::path::Path;
 
-use diag::{Diagnostic, Sink};
+use diag::Diagnostic;
 use roaring::RoaringBitmap;
 
 use crate::ast::{Block, Val};
@@ -23,50 +20,7 @@ use crate::codes;
 use crate::link::LinkRef;
 use crate::machine::Dialect;
 use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind, err, lit_int};
-
-/// The diagnostics of each compile phase after parsing, each capped like the compile's sink.
-pub(crate) struct Phases {
-    /// Units, block numbers, library files.
-    pub(crate) units: Sink,
-    /// The static checks of each block.
-    pub(crate) check: Sink,
-    /// Jump and call targets.
-    pub(crate) link: Sink,
-    /// M functions not declared in IOCFIL.
-    pub(crate) m: Sink,
-    /// Recursion.
-    pub(crate) rec: Sink,
-}
-
-impl Phases {
-    fn new(max: usize) -> Self {
-        Phases {
-            units: Sink::new(max),
-            check: Sink::new(max),
-            link: Sink::new(max),
-            m: Sink::new(max),
-            rec: Sink::new(max),
-        }
-    }
-
-    fn has_errors(&self) -> bool {
-        [&self.units, &self.check, &self.link, &self.m, &self.rec]
-            .iter()
-            .any(|s| s.has_errors())
-    }
-
-    /// Pushes the kept diagnostics of every phase into `sink`, phase after phase, and counts the
-    /// rest: `sink` keeps what it would have kept had every diagnostic been pushed in that order.
-    pub(crate) fn merge_into(self, sink: &mut Sink) {
-        for s in [self.units, self.check, self.link, self.m, self.rec] {
-            let (kept, hidden) = s.finish();
-            for d in kept {
-                sink.push(d);
-            }
-            sink.count_hidden(&hidden);
-        }
-    }
-}
+use crate::unit_table::UnitTable;
 
 /// An M function of a library block not declared in IOCFIL: reported when a program reaches the
 /// unit (known once every call is linked).
@@ -77,10 +31,8 @@ pub(crate) struct PendingM {
 
 /// The building state of a MEFI compile: every file's units, block by block.
 pub(crate) struct Units {
-    /// True once the compile has an error: blocks are no longer kept.
-    failed: bool,
-    /// Per unit: the block numbers of the unit.
-    pub(crate) numbers: Vec<RoaringBitmap>,
+    /// The units, their block numbers, the kept blocks and the phases' diagnostics.
+    pub(crate) table: UnitTable,
     /// Per unit: the span of its `G79` block (the main program: none).
     entry: Vec<(usize, usize)>,
     /// Per unit: true once a block with G70 was seen in it.
@@ -89,8 +41,6 @@ pub(crate) struct Units {
     pub(crate) refs: Vec<LinkRef>,
     /// Undeclared M functions of library blocks.
     pub(crate) lib_m: Vec<PendingM>,
-    /// The diagnostics of the phases after parsing.
-    pub(crate) phases: Phases,
 }
 
 /// The building state of one file.
@@ -153,22 +103,18 @@ impl Units {
     /// Building state for a compile keeping `max` diagnostics per file and phase (0: all).
     pub(crate) fn new(max: usize) -> Self {
         Units {
-            failed: false,
-            numbers: Vec::new(),
+            table: UnitTable::new(max),
             entry: Vec::new(),
             closed: Vec::new(),
             refs: Vec::new(),
             lib_m: Vec::new(),
-            phases: Phases::new(max),
         }
     }
 
     fn push_unit(&mut self, prog: &mut Program, unit: Unit, entry: (usize, usize)) -> usize {
-        prog.units.push(unit);
-        self.numbers.push(RoaringBitmap::new());
         self.entry.push(entry);
         self.closed.push(false);
-        prog.units.len() - 1
+        self.table.push_unit(prog, unit)
     }
 
     /// Starts file `file` of `prog`: 0 is the main file (main program, then subprograms), others
@@ -208,7 +154,7 @@ impl Units {
         b: Block,
         parse_failed: bool,
     ) {
-        let diags = &mut self.phases.units;
+        let diags = &mut self.table.phases.units;
         let fname = f.name.as_str();
         if g_lits(&b).any(|g| g == 79) {
             if let Some(u) = f.cur
@@ -266,7 +212,7 @@ impl Units {
             };
             f.cur = Some(self.push_unit(prog, unit, b.span));
         }
-        let diags = &mut self.phases.units;
+        let diags = &mut self.table.phases.units;
         let Some(u) = f.cur else {
             diags.push(err(
                 codes::NO_BLOCK_NUMBER,
@@ -296,21 +242,21 @@ impl Units {
         if let Some(n) = b.n {
             // A library unit's numbers are unique in the unit, a main file's in the file.
             let fresh = if f.library {
-                self.numbers[u].insert(n)
+                self.table.number(u, n)
             } else {
-                f.numbers.insert(n) && self.numbers[u].insert(n)
+                f.numbers.insert(n) && self.table.number(u, n)
             };
             if !fresh {
-                diags.push(err(codes::DUPLICATE_N, fname, "", b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
-            } else if !self.failed {
-                prog.units[u].index.push(n, idx);
+                self.table.phases.units.push(err(codes::DUPLICATE_N, fname, "", b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
+            } else {
+                self.table.index(prog, u, n, idx);
             }
         }
         let cb = cblock(f.file, u, b);
-        crate::check::check_block(prog, &cb, &mut self.phases.check);
+        crate::check::check_block(prog, &cb, &mut self.table.phases.check);
         if let Some(mut r) = LinkRef::of(&cb) {
             // A jump back to a block of the unit is resolved now: numbers are never removed.
-            r.resolve_jump(&self.numbers[u]);
+            r.resolve_jump(&self.table.numbers[u]);
             if r.pending() {
                 self.refs.push(r);
             }
@@ -324,7 +270,7 @@ impl Units {
                     });
                 } else {
                     // A unit of the main file always runs or may be called: it is reached.
-                    self.phases.m.push(d);
+                    self.table.phases.m.push(d);
                 }
             }
         }
@@ -336,23 +282,12 @@ impl Units {
             // it must contain at least one G70.
             self.closed[u] = true;
         }
-        if !self.failed && (parse_failed || self.phases.has_errors()) {
-            // The program will not run: what is left to do needs no block.
-            self.failed = true;
-            prog.blocks = Vec::new();
-            for unit in &mut prog.units {
-                unit.index = BlockIndex::default();
-            }
-        }
-        if !self.failed {
-            prog.blocks.push(cb);
-            prog.units[u].end = prog.blocks.len();
-        }
+        self.table.keep(prog, u, cb, parse_failed);
     }
 
     /// Ends file `f` (text `src`): units without G70, a main program without M02/M30.
     pub(crate) fn end_file(&mut self, prog: &mut Program, f: FileUnits, src: &str) {
-        let diags = &mut self.phases.units;
+        let diags = &mut self.table.phases.units;
         for u in f.first_unit..prog.units.len() {
             if prog.units[u].kind != UnitKind::Main && !self.closed[u] {
                 diags.push(err(
@@ -390,7 +325,7 @@ impl Units {
             let text = match std::fs::read(&path) {
                 Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
                 Err(e) => {
-                    self.phases.units.push(Diagnostic::error(
+                    self.table.phases.units.push(Diagnostic::error(
                         codes::MACRO_IO,
                         format!("macros/{fname}"),
                         0..0,
@@ -405,7 +340,7 @@ impl Units {
             }
             let name = format!("macros/{fname}");
             let (parsed, d) = crate::parse::parse_library(Dialect::Mefi, &name, &text);
-            self.phases.units.extend(d);
+            self.table.phases.units.extend(d);
             prog.files.push(SourceFile {
                 name,
                 text: String::new(),

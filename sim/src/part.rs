@@ -270,14 +270,23 @@ pub fn load_part(
 ) -> Result<Part, String> {
     let path = program_path(dir, program);
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let text = String::from_utf8_lossy(&bytes).into_owned();
+    let hash = crc32_hex(&bytes);
+    // The bytes become the text (a copy only when they are not UTF-8): the run holds one.
+    let text = String::from_utf8(bytes)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
     let name = source_name(&path);
     let compiled = compile_text(dir, &name, &text, dialect, None, vars)?;
     let (blocks, end_plain) = compiled.plan(false, &[])?;
-    let (skipped, end_skipped) = compiled.plan(true, &[])?;
+    // Block skip changes only the blocks marked `/`: without one the second plan is the first
+    // (planning it again would hold a third plan's growing vector at the peak).
+    let (skipped, end_skipped) = if compiled.prog.blocks.iter().any(|b| b.skip) {
+        compiled.plan(true, &[])?
+    } else {
+        (blocks.clone(), end_plain.clone())
+    };
     Ok(Part {
         name: program.display().to_string(),
-        hash: crc32_hex(&bytes),
+        hash,
         path,
         blocks,
         skipped,
@@ -285,4 +294,39 @@ pub fn load_part(
         vars_start: compiled.prog.machine.retained.clone(),
         vars_end: [end_plain, end_skipped],
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn machine(name: &str) -> PathBuf {
+        PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+            .join("../plc-programs")
+            .join(name)
+    }
+
+    /// The two plans of a part are those planned without and with block skip, whether the
+    /// second is planned (a program with `/` blocks) or taken from the first (one without).
+    #[test]
+    fn a_part_holds_the_plans_without_and_with_block_skip() {
+        for (m, program, has_skip) in [("mill", "O00023.nc", true), ("lathe", "PART1", false)] {
+            let dir = machine(m);
+            let part = load_part(&dir, Path::new(program), None, None).expect("part");
+            let text =
+                std::fs::read_to_string(program_path(&dir, Path::new(program))).expect("program");
+            let name = source_name(&program_path(&dir, Path::new(program)));
+            let compiled = compile_text(&dir, &name, &text, None, None, None).expect("compiled");
+            assert_eq!(
+                compiled.prog.blocks.iter().any(|b| b.skip),
+                has_skip,
+                "{program}"
+            );
+            let (plain, _) = compiled.plan(false, &[]).expect("plan");
+            let (skipped, _) = compiled.plan(true, &[]).expect("plan with skip");
+            assert_eq!(part.blocks, plain, "{program}");
+            assert_eq!(part.skipped, skipped, "{program}");
+            assert_eq!(part.blocks != part.skipped, has_skip, "{program}");
+        }
+    }
 }

@@ -9,11 +9,13 @@ Writes, in NC_DIR (e.g. the `nc/` folder of a copy of plc-programs/lathe):
                `N<i> G73 L<1 + i/2 mod 5000>`; no M02/M30 (warning 2032)
   DENSENF.nc   Fanuc `O0001`, then `N<i> G01 X<a>. E1.` (address E is refused: error 2008 on
                every block)
+  DENSEMF.nc   Fanuc `O0001`, then alternating a Macro B block `N<i> #1 = #1 + <k>` and
+               `N<i> G01 X<a>. E1.` (2008 on every other block)
   VALIDN.nc    a valid MEFI lathe program: `%1`, `N1 G01 X0 Z0 F100.`, then
                `N<i> G01 X<a>. Z<b>.` and last `N<k> M30`
 Each file is MEGABYTES (default 50) long (VALIDN.nc a block more); the same SEED (default 1)
 gives the same bytes. Measure with `/usr/bin/time -v ncplc nc check MACHINE NC_DIR/DENSEN.nc`,
-`... --dialect fanuc NC_DIR/DENSENF.nc` and `ncplc run MACHINE --program NC_DIR/<file> --ticks 10
+`... --dialect fanuc NC_DIR/DENSENF.nc` (and DENSEMF.nc) and `ncplc run MACHINE --program NC_DIR/<file> --ticks 10
 --virtual-time`.
 """
 import os
@@ -43,6 +45,9 @@ fill(os.path.join(nc, "DENSEN.nc"), "%1\n",
      else f"N{i} G73 L{1 + (i // 2) % 5000}\n")
 fill(os.path.join(nc, "DENSENF.nc"), "O0001\n",
      lambda r, i: f"N{i} G01 X{r.randrange(100)}. E1.\n")
+fill(os.path.join(nc, "DENSEMF.nc"), "O0001\n",
+     lambda r, i: f"N{i} #1 = #1 + {r.randrange(7)}\n" if i % 2
+     else f"N{i} G01 X{r.randrange(100)}. E1.\n")
 fill(os.path.join(nc, "VALIDN.nc"), "%1\n",
      lambda r, i: f"N{i} G01 X0 Z0 F100.\n" if i == 1
      else f"N{i} G01 X{r.randrange(100)}. Z{-r.randrange(100)}.\n",

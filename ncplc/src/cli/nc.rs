@@ -151,8 +151,9 @@ pub fn run(args: Args) -> ExitCode {
     };
     let Some(opts) = plan_opts else {
         // The geometric checks need the program executed: an arc whose end point is not on its
-        // circle is a mistake of the text, so `check` refuses it as `plan` does (issue 12).
-        if let Err((_, d)) = partprogram::plan(&prog, PlanOptions::default())
+        // circle is a mistake of the text, so `check` refuses it as `plan` does (issue 12). The
+        // run keeps none of the canonical blocks (issue 23).
+        if let Err(d) = partprogram::check_plan(&prog, PlanOptions::default())
             && partprogram::codes::is_geometric(d.code)
         {
             print_diags(&[d], json);

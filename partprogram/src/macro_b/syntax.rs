@@ -157,15 +157,6 @@ fn strip_comments(text: &str) -> String {
     out
 }
 
-/// Replaces bytes `span` of `text` with spaces.
-pub fn blank(text: &mut [u8], span: (usize, usize)) {
-    for c in &mut text[span.0..span.1] {
-        if *c != b'\n' {
-            *c = b' ';
-        }
-    }
-}
-
 struct P<'a> {
     toks: Vec<(T<'a>, (usize, usize))>,
     at: usize,
@@ -644,18 +635,15 @@ pub fn parse_block(file: &str, text: &str, base: usize) -> Result<Block, Diagnos
     Ok(b)
 }
 
-/// Finds the macro blocks of Fanuc text `src`: returns the text with them blanked out (None when
-/// there is none), the blocks (in file order), and pushes the errors of those that could not be
-/// read (their text is blanked too) into `diags`. One pass over the pieces of the text (lines and
-/// `;`-separated blocks) as they end: nothing is held per piece.
-pub fn prepass(
-    file: &str,
-    src: &str,
-    diags: &mut dyn FnMut(Diagnostic),
-) -> (Option<String>, Vec<Block>) {
+/// Finds the macro blocks of Fanuc text `src`: their byte ranges in file order, which the lexer
+/// steps over ([`crate::lexer::Lexer::skipping`]) and the grouping reads ([`parse_block`]) when it
+/// reaches them (issue 23: 16 bytes per macro block are held until then, not the block, and the
+/// text is not copied). One pass over the pieces of the text (lines and `;`-separated blocks, a
+/// comment's `;` not counted) as they end: each range starts after a line end or `;` and ends at
+/// one or at the end of the text.
+pub fn prepass(src: &str) -> Vec<(usize, usize)> {
     let bytes = src.as_bytes();
-    let mut blocks = Vec::new();
-    let mut text: Option<Vec<u8>> = None;
+    let mut pieces = Vec::new();
     let mut piece = |s: usize, e: usize| {
         let Some(piece) = src.get(s..e) else {
             return;
@@ -665,11 +653,7 @@ pub fn prepass(
         {
             return;
         }
-        match parse_block(file, piece, s) {
-            Ok(b) => blocks.push(b),
-            Err(d) => diags(d),
-        }
-        blank(text.get_or_insert_with(|| bytes.to_vec()), (s, e));
+        pieces.push((s, e));
     };
     let (mut start, mut comment) = (0, false);
     for (i, &c) in bytes.iter().enumerate() {
@@ -689,10 +673,5 @@ pub fn prepass(
         }
     }
     piece(start, bytes.len());
-    // Blanking writes ASCII spaces over whole pieces, whose ends are ASCII: still UTF-8.
-    let text = text.map(|t| match String::from_utf8(t) {
-        Ok(s) => s,
-        Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
-    });
-    (text, blocks)
+    pieces
 }

@@ -246,6 +246,160 @@ fn a_capped_compile_of_numbered_blocks_holds_no_block() {
     );
 }
 
+/// The shape of `tests/gen/numbered.py`'s DENSENF.nc: `O0001`, then `N<i> G01 X<a>. E1.` (address
+/// E is refused: 2008 on every block).
+fn dense_numbered_fanuc(blocks: usize) -> String {
+    let mut src = String::from("O0001\n");
+    for i in 1..=blocks {
+        src.push_str(&format!("N{i} G01 X{}. E1.\n", i % 100));
+    }
+    src
+}
+
+/// [`bound_numbered`] for Fanuc: the parser, the diagnostics of seven sinks (parse, units, checks,
+/// links, M functions, recursion, control flow: `max` each) and one bitmap of block numbers (the
+/// unit's: Fanuc numbers are unique per program, not per file). No block is kept and no block
+/// calls or jumps, so nothing waits for a target.
+fn bound_numbered_fanuc(max: usize, max_n: usize) -> usize {
+    bound(7 * max) + BITMAP_CONTAINER * (max_n / 65_536 + 1)
+}
+
+#[test]
+fn a_capped_fanuc_compile_of_numbered_blocks_holds_no_block() {
+    let max = 100;
+    let mut peaks = Vec::new();
+    for mb in [1, 5] {
+        // `N<i> G01 X<a>. E1.` averages over 16 bytes.
+        let blocks = mb * 1_000_000 / 16;
+        let src = dense_numbered_fanuc(blocks);
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&fanuc_mill(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        assert_eq!(kept.len(), max);
+        // `N1 G01 X1. E1.`: E in column 12 of line 2; one error per block.
+        assert_eq!((kept[0].code, kept[0].line, kept[0].column), (2008, 2, 12));
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, blocks);
+        let b = bound_numbered_fanuc(max, blocks);
+        eprintln!("numbered Fanuc {mb} MB ({blocks} blocks): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        peaks.push((peak, blocks));
+    }
+    // 5 MB may hold more than 1 MB only by the bitmap containers of its further numbers.
+    let [(p1, b1), (p5, b5)] = peaks[..] else {
+        unreachable!()
+    };
+    let margin = BITMAP_CONTAINER * (b5 / 65_536 - b1 / 65_536);
+    assert!(
+        p5 <= p1 + margin,
+        "1 MB: {p1} bytes, 5 MB: {p5} bytes (margin {margin})"
+    );
+}
+
+/// A numbered Fanuc program where every other block is a Macro B statement: `O0001`, then pairs
+/// `N<i> #1 = #1 + <k>` and `N<i+1> G01 X<a>. E1.` (2008 on every second block).
+fn dense_macro_fanuc(pairs: usize) -> String {
+    let mut src = String::from("O0001\n");
+    for i in 0..pairs {
+        let n = 2 * i + 1;
+        src.push_str(&format!(
+            "N{n} #1 = #1 + {}\nN{} G01 X{}. E1.\n",
+            i % 7,
+            n + 1,
+            i % 100
+        ));
+    }
+    src
+}
+
+#[test]
+fn a_capped_compile_of_macro_blocks_holds_their_places_not_their_blocks() {
+    // The Macro B blocks are found before lexing (the lexer steps over them) and read when the
+    // grouping reaches them: until then each is its byte range, 16 bytes (the vector may have
+    // doubled: 32). Besides the text, the peak is the numbered bound and those ranges: no copy of
+    // the text (5 MB would exceed it).
+    let max = 100;
+    for mb in [1, 5] {
+        // A pair averages over 32 bytes.
+        let pairs = mb * 1_000_000 / 32;
+        let src = dense_macro_fanuc(pairs);
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&fanuc_mill(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        // `N2 G01 X0. E1.`: E in column 12 of line 3.
+        assert_eq!((kept[0].code, kept[0].line, kept[0].column), (2008, 3, 12));
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, pairs);
+        let b = bound_numbered_fanuc(max, 2 * pairs) + 32 * pairs;
+        eprintln!("macro Fanuc {mb} MB ({pairs} pairs): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+    }
+}
+
+#[test]
+fn a_capped_compile_of_forward_gotos_holds_only_those_still_waiting() {
+    // Pairs `N<n> IF [#1 GT 1] GOTO <n+2>` and `N<n+1> G01 X<a>. E1.`: each GOTO jumps forward to
+    // the next pair and waits for its target only until it comes, so at most one waits at a time;
+    // the last one's target never comes (2018 at the end). The peak is that of the macro blocks
+    // above: a record per GOTO (56 bytes) would exceed it.
+    let max = 100;
+    for mb in [1, 5] {
+        let pairs = mb * 1_000_000 / 40;
+        let mut src = String::from("O0001\n");
+        for i in 0..pairs {
+            let n = 2 * i + 1;
+            src.push_str(&format!(
+                "N{n} IF [#1 GT 1] GOTO {}\nN{} G01 X{}. E1.\n",
+                n + 2,
+                n + 1,
+                i % 100
+            ));
+        }
+        assert!(src.len() >= mb * 1_000_000, "{mb} MB: {} bytes", src.len());
+        let ((prog, _, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&fanuc_mill(), "DENSE", &src, max));
+        assert!(prog.is_none());
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, pairs + 1);
+        let b = bound_numbered_fanuc(max, 2 * pairs) + 32 * pairs;
+        eprintln!("forward GOTOs {mb} MB ({pairs} pairs): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        // The one that never came is reported (with the cap 0: every diagnostic).
+        if mb == 1 {
+            let (_, all) = compile(&fanuc_mill(), "DENSE", &src);
+            let last = all.iter().filter(|d| d.code == 2018).collect::<Vec<_>>();
+            assert_eq!(last.len(), 1);
+            assert_eq!(last[0].line as usize, 2 * pairs);
+        }
+    }
+}
+
+#[test]
+fn numbered_fanuc_blocks_are_checked_against_each_other_without_being_kept() {
+    // An error first, so that no block is kept; then an M97 forward to a line that exists and one
+    // to a line that does not, a duplicate number (a warning), GOTOs back and forward to blocks
+    // that exist and one to a block that does not, a loop never closed and an M98 of a missing
+    // program.
+    let src = "O0001\nN1 G01 X1. E1.\nN2 M97 P5\nN3 M97 P19\nN2 G00 X2.\nN5 GOTO 3\nN6 GOTO 8\n\
+               N7 IF [#1 GT 1] GOTO 99\nN8 WHILE [#1 LT 2] DO 1\nN9 M98 P4444\nM30\n";
+    let (prog, diags) = compile(&fanuc_mill(), "F", src);
+    assert!(prog.is_none());
+    let got: Vec<(u32, u32, u32)> = diags.iter().map(|d| (d.code, d.line, d.column)).collect();
+    assert_eq!(
+        got,
+        [
+            (2008, 2, 12),
+            (2018, 4, 1),
+            (2005, 5, 1),
+            (2018, 8, 1),
+            (2037, 9, 1),
+            (2019, 10, 1)
+        ]
+    );
+}
+
 /// The shape of `tests/gen/numbered.py`'s VALIDN.nc: `%1`, `N1 G01 X0 Z0 F100.`, blocks
 /// `N<i> G01 X<a>. Z-<b>.` and `N<k> M30`.
 fn valid_numbered(blocks: usize) -> String {
@@ -294,4 +448,63 @@ fn a_valid_numbered_program_keeps_a_compact_block() {
         peak_per_block <= expected + size_of::<CBlock>(),
         "peak {peak_per_block} B per block"
     );
+}
+
+#[test]
+fn checking_the_plan_of_a_valid_program_holds_no_canonical_block() {
+    // `nc check` runs a valid program to find its geometric errors: besides the compiled program
+    // it holds the executor's state and the radius compensation's look-ahead, not the plan, so
+    // 100,000 more blocks add to its peak only the MEFI frame's jump counter of each block of the
+    // unit (an `i64`: 800,000 bytes), not the plan's 101,000 canonical blocks of several hundred
+    // bytes each.
+    let mut peaks = Vec::new();
+    for blocks in [1_000, 101_000] {
+        let src = valid_numbered(blocks);
+        let (prog, diags) = compile(&common::lathe(), "VALID", &src);
+        let Some(prog) = prog else {
+            panic!("{diags:?}")
+        };
+        let (checked, peak) = crate::peak_alloc::peak_during(|| {
+            partprogram::check_plan(&prog, partprogram::PlanOptions::default())
+        });
+        // Every block runs once: N1, N2 … N<blocks> (M30).
+        assert_eq!(checked, Ok(blocks as u64));
+        let planned = partprogram::plan(&prog, partprogram::PlanOptions::default());
+        assert_eq!(planned.map(|p| p.executed).ok(), Some(blocks as u64));
+        eprintln!("check_plan of {blocks} blocks: peak {peak} bytes");
+        peaks.push(peak);
+    }
+    let counters = 100_000 * std::mem::size_of::<i64>();
+    assert!(peaks[1] <= peaks[0] + counters + 4096, "peaks {peaks:?}");
+}
+
+#[test]
+fn a_planned_canonical_block_of_a_valid_program_has_a_known_size() {
+    // What `run --program` holds per block of a valid program (it plans the whole program before
+    // the first tick): the canonical block and its end point, one (axis, mm) pair of 16 bytes per
+    // axis of the lathe (X, Z); the plan has no spare room. 100,000 more blocks hold exactly
+    // 100,000 times that.
+    use partprogram::Canon;
+    use std::mem::size_of;
+    assert_eq!(size_of::<Canon>(), 288);
+    let mut held = Vec::new();
+    for blocks in [1_000, 101_000] {
+        let src = valid_numbered(blocks);
+        let (prog, _) = compile(&common::lathe(), "VALID", &src);
+        let Some(prog) = prog else {
+            panic!("not compiled")
+        };
+        let (plan, _, h) = crate::peak_alloc::peak_and_held(|| {
+            partprogram::plan(&prog, partprogram::PlanOptions::default())
+                .map(|p| p.blocks)
+                .map_err(|(_, d)| d)
+        });
+        let Ok(plan) = plan else {
+            panic!("not planned")
+        };
+        // One canonical block per block: N1 … N<blocks> (M30 is an auxiliary block).
+        assert_eq!((plan.len(), plan.capacity()), (blocks, blocks));
+        held.push(h);
+    }
+    assert_eq!(held[1] - held[0], 100_000 * (size_of::<Canon>() + 2 * 16));
 }

@@ -52,7 +52,11 @@ fn fails(m: &MachineSpec, src: &str, o: PlanOptions) -> (u32, u32, String) {
     };
     match plan(&prog, o) {
         Ok(p) => panic!("planned without error: {:?}", steps(&p)),
-        Err((_, d)) => (d.code, d.line, d.message),
+        Err((_, d)) => {
+            // `nc check` runs the program without keeping the plan: the same error.
+            assert_eq!(partprogram::check_plan(&prog, o), Err(d.clone()));
+            (d.code, d.line, d.message)
+        }
     }
 }
 

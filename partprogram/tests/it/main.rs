@@ -14,6 +14,7 @@ mod diagnostics;
 mod differential;
 mod examples;
 mod fanuc_classes;
+mod fanuc_golden;
 mod fanuc_programs;
 mod gouge;
 mod lathe_cycles;
