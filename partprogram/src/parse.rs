@@ -102,6 +102,25 @@ pub(crate) fn parse_streaming(
     )
 }
 
+/// [`parse_streaming`] for a macro file: a MEFI file without `%` header starts at its first
+/// byte (as [`parse_library`]).
+pub(crate) fn parse_streaming_library(
+    dialect: Dialect,
+    file: &str,
+    src: &str,
+    diags: &mut Sink,
+    block: &mut dyn FnMut(Piece, &Sink),
+) -> ParsedFile {
+    parse_unlocated(
+        dialect,
+        file,
+        src,
+        false,
+        CHUNK_TOKENS,
+        &mut Out::new(diags, block),
+    )
+}
+
 /// What the parser hands on as it reads a file, in file order.
 pub(crate) enum Piece {
     /// A finished block.

@@ -232,6 +232,13 @@ pub(crate) fn err(
 /// Marks `d` (about one of the program's files) to be located by [`compile`] at the end.
 /// The files of a machine's macro folder in name order, each with its file name and its
 /// upper-case stem (the name before the first `.`): what MEFI's `L<n>`/`$PC` and Fanuc's `O<n>`
+
+/// The text of a macro file's `bytes`, taking them over when they are UTF-8 (no copy of a large
+/// file) and replacing invalid sequences otherwise.
+pub(crate) fn text_of(bytes: Vec<u8>) -> String {
+    String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
+}
+
 /// loaders both walk. An empty path or an unreadable folder has none.
 pub(crate) fn macro_folder_files(
     dir: &std::path::Path,

@@ -12,13 +12,14 @@
 
 use std::path::Path;
 
-use diag::Diagnostic;
+use diag::{Diagnostic, Sink};
 use roaring::RoaringBitmap;
 
 use crate::ast::{Block, Val};
 use crate::codes;
 use crate::link::LinkRef;
 use crate::machine::Dialect;
+use crate::parse::Piece;
 use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind, err, lit_int};
 use crate::unit_table::UnitTable;
 
@@ -41,6 +42,8 @@ pub(crate) struct Units {
     pub(crate) refs: Vec<LinkRef>,
     /// Undeclared M functions of library blocks.
     pub(crate) lib_m: Vec<PendingM>,
+    /// Diagnostics kept per file and phase (0: all).
+    max: usize,
 }
 
 /// The building state of one file.
@@ -108,6 +111,7 @@ impl Units {
             closed: Vec::new(),
             refs: Vec::new(),
             lib_m: Vec::new(),
+            max,
         }
     }
 
@@ -323,7 +327,7 @@ impl Units {
                 && stem.starts_with('L')
                 && stem[1..].bytes().all(|c| c.is_ascii_digit());
             let text = match std::fs::read(&path) {
-                Ok(bytes) => String::from_utf8_lossy(&bytes).into_owned(),
+                Ok(bytes) => crate::program::text_of(bytes),
                 Err(e) => {
                     self.table.phases.units.push(Diagnostic::error(
                         codes::MACRO_IO,
@@ -339,17 +343,34 @@ impl Units {
                 continue;
             }
             let name = format!("macros/{fname}");
-            let (parsed, d) = crate::parse::parse_library(Dialect::Mefi, &name, &text);
-            self.table.phases.units.extend(d);
             prog.files.push(SourceFile {
-                name,
+                name: name.clone(),
                 text: String::new(),
             });
             let file = prog.files.len() - 1;
             let mut f = self.start_file(prog, file);
-            for b in parsed.blocks {
-                self.block(prog, &mut f, b, parse_failed);
+            // Each block is built as the parser hands it on (an error-dense macro file is held
+            // no more than a main file). The file's parse errors come after what the units phase
+            // holds so far and before the units diagnostics of its blocks, as when it was parsed
+            // whole first.
+            let mut parse = std::mem::replace(&mut self.table.phases.units, Sink::new(self.max));
+            crate::parse::parse_streaming_library(
+                Dialect::Mefi,
+                &name,
+                &text,
+                &mut parse,
+                &mut |p, s| {
+                    if let Piece::Block(b) = p {
+                        self.block(prog, &mut f, b, parse_failed || s.has_errors())
+                    }
+                },
+            );
+            let units = std::mem::replace(&mut self.table.phases.units, parse);
+            let (kept, hidden) = units.finish();
+            for d in kept {
+                self.table.phases.units.push(d);
             }
+            self.table.phases.units.count_hidden(&hidden);
             self.end_file(prog, f, &text);
             prog.files[file].text = text;
         }

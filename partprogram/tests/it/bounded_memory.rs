@@ -508,3 +508,71 @@ fn a_planned_canonical_block_of_a_valid_program_has_a_known_size() {
     }
     assert_eq!(held[1] - held[0], 100_000 * (size_of::<Canon>() + 2 * 16));
 }
+
+/// An error-dense macro file `L9002` of the shape of [`dense_numbered`] (`%9002`, `N1 G79 L9002`,
+/// then `N<i> G01 X<a>. K1.` and `N<i> G73 L<j>` alternating, `G70` last) in a MEFI machine's
+/// macro folder.
+fn dense_macro_folder(blocks: usize) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut src = String::from("%9002\nN1 G79 L9002\n");
+    for i in 2..=blocks {
+        if i % 2 == 1 {
+            src.push_str(&format!("N{i} G01 X{}. K1.\n", i % 100));
+        } else {
+            src.push_str(&format!("N{i} G73 L{}\n", 2 + (i / 2) % 5000));
+        }
+    }
+    src.push_str(&format!("N{} G70\n", blocks + 1));
+    std::fs::write(dir.path().join("L9002"), src).expect("write");
+    dir
+}
+
+#[test]
+fn an_error_dense_macro_file_is_held_no_more_than_a_main_file() {
+    let max = 100;
+    let mut peaks = Vec::new();
+    for mb in [1, 5] {
+        let blocks = mb * 1_000_000 / 16;
+        let folder = dense_macro_folder(blocks);
+        let len = std::fs::metadata(folder.path().join("L9002"))
+            .expect("L9002")
+            .len() as usize;
+        assert!(len >= mb * 1_000_000, "{mb} MB: {len} bytes");
+        let mut m = common::lathe();
+        m.macro_dir = folder.path().to_path_buf();
+        let main = "%1\nN1 G01 X1. F100.\nN2 M30\n";
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&m, "MAIN", main, max));
+        assert!(prog.is_none());
+        // The macro file's first `max` errors are kept, the rest counted: one error (2038) per
+        // block with K, as in a main file.
+        assert_eq!(kept.len(), max);
+        let first: Vec<_> = kept
+            .iter()
+            .take(4)
+            .map(|d| (d.file.as_str(), d.code, d.line, d.column))
+            .collect();
+        assert!(
+            kept.iter()
+                .all(|d| d.file == "macros/L9002" && d.code == 2038),
+            "{first:?}"
+        );
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        assert_eq!(counted + max, (blocks - 1) / 2);
+        // The file's text (read whole, kept to locate the diagnostics) and what a main file of
+        // the same blocks may hold; no block, no uncapped diagnostic list.
+        let b = 2 * len + bound_numbered(max, blocks);
+        eprintln!("macro file {mb} MB ({blocks} blocks): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        peaks.push((peak, len, blocks));
+    }
+    // 5 MB holds more than 1 MB only by its text and the bitmap containers of its numbers.
+    let [(p1, l1, b1), (p5, l5, b5)] = peaks[..] else {
+        unreachable!()
+    };
+    let margin = 2 * (l5 - l1) + 2 * BITMAP_CONTAINER * (b5 / 65_536 - b1 / 65_536);
+    assert!(
+        p5 <= p1 + margin,
+        "1 MB: {p1} bytes, 5 MB: {p5} bytes (margin {margin})"
+    );
+}
