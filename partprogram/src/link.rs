@@ -81,6 +81,13 @@ impl LinkRef {
         }
     }
 
+    /// The block number a jump of the block still waits for, if any.
+    pub(crate) fn jump_target(&self) -> Option<u32> {
+        self.l
+            .filter(|_| self.jump)
+            .and_then(|l| u32::try_from(l).ok())
+    }
+
     /// True while linking has something to do with the block.
     pub(crate) fn pending(&self) -> bool {
         self.jump || self.sub || self.macro_call || !self.cycles.is_empty()
@@ -108,10 +115,11 @@ pub(crate) fn undeclared_m(prog: &Program, b: &CBlock) -> Vec<Diagnostic> {
 
 /// Resolves literal jump and call targets and detects recursion.
 pub(crate) fn link(prog: &Program, units: &mut Units) {
+    let refs = units.take_refs();
     let diags = &mut units.table.phases.link;
     // Per unit, the calls out of it: (callee, index of the calling LinkRef).
     let mut edges: Vec<Vec<(usize, usize)>> = vec![Vec::new(); prog.units.len()];
-    for (ri, r) in units.refs.iter().enumerate() {
+    for (ri, r) in refs.iter().enumerate() {
         let file = prog.files[r.file].name.as_str();
         if let Some(l) = r.l {
             let l32 = l as u32;
@@ -192,7 +200,7 @@ pub(crate) fn link(prog: &Program, units: &mut Units) {
     hits.sort_unstable();
     hits.dedup();
     for ri in hits {
-        let r = &units.refs[ri];
+        let r = &refs[ri];
         units.table.phases.rec.push(err(
             codes::RECURSION,
             &prog.files[r.file].name,

@@ -10,6 +10,7 @@
 //! diagnostics of each phase go to their own capped sink ([`crate::unit_table::Phases`]), merged
 //! at the end in the order the phases ran (units, block checks, links, M functions, recursion).
 
+use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
 use diag::{Diagnostic, Sink};
@@ -38,8 +39,14 @@ pub(crate) struct Units {
     entry: Vec<(usize, usize)>,
     /// Per unit: true once a block with G70 was seen in it.
     closed: Vec<bool>,
-    /// The blocks with a literal jump, call or fixed cycle, in block order.
-    pub(crate) refs: Vec<LinkRef>,
+    /// The blocks with a literal jump, call or fixed cycle still to link, by block order (a
+    /// forward jump leaves once its target arrives: a record per jump still waiting, not per
+    /// jump). [`Units::take_refs`] hands them to linking.
+    refs: BTreeMap<u64, LinkRef>,
+    /// Forward jumps waiting for their target: (unit, number) → their keys in `refs`.
+    waiting: HashMap<(usize, u32), Vec<u64>>,
+    /// The key of the next entry of `refs`.
+    next_ref: u64,
     /// Undeclared M functions of library blocks.
     pub(crate) lib_m: Vec<PendingM>,
     /// Diagnostics kept per file and phase (0: all).
@@ -109,10 +116,32 @@ impl Units {
             table: UnitTable::new(max),
             entry: Vec::new(),
             closed: Vec::new(),
-            refs: Vec::new(),
+            refs: BTreeMap::new(),
+            waiting: HashMap::new(),
+            next_ref: 0,
             lib_m: Vec::new(),
             max,
         }
+    }
+
+    /// Block number `n` arrived in unit `u`: the forward jumps to it are resolved, and those with
+    /// nothing else to link leave.
+    fn arrived(&mut self, u: usize, n: u32) {
+        for key in self.waiting.remove(&(u, n)).unwrap_or_default() {
+            if let Some(r) = self.refs.get_mut(&key) {
+                r.resolve_jump(&self.table.numbers[u]);
+                if !r.pending() {
+                    self.refs.remove(&key);
+                }
+            }
+        }
+    }
+
+    /// What linking checks, in block order: the calls, the fixed cycles and the jumps whose
+    /// target never arrived.
+    pub(crate) fn take_refs(&mut self) -> Vec<LinkRef> {
+        self.waiting = HashMap::new();
+        std::mem::take(&mut self.refs).into_values().collect()
     }
 
     fn push_unit(&mut self, prog: &mut Program, unit: Unit, entry: (usize, usize)) -> usize {
@@ -254,6 +283,7 @@ impl Units {
                 self.table.phases.units.push(err(codes::DUPLICATE_N, fname, "", b.span, format!("block number N{n} is used twice"), "block numbers must be unique within a partprogram file (within a unit of a macro file)"));
             } else {
                 self.table.index(prog, u, n, idx);
+                self.arrived(u, n);
             }
         }
         let cb = cblock(f.file, u, b);
@@ -262,7 +292,12 @@ impl Units {
             // A jump back to a block of the unit is resolved now: numbers are never removed.
             r.resolve_jump(&self.table.numbers[u]);
             if r.pending() {
-                self.refs.push(r);
+                let key = self.next_ref;
+                self.next_ref += 1;
+                if let Some(target) = r.jump_target() {
+                    self.waiting.entry((u, target)).or_default().push(key);
+                }
+                self.refs.insert(key, r);
             }
         }
         if prog.machine.check_m_declared {

@@ -576,3 +576,47 @@ fn an_error_dense_macro_file_is_held_no_more_than_a_main_file() {
         "1 MB: {p1} bytes, 5 MB: {p5} bytes (margin {margin})"
     );
 }
+
+#[test]
+fn a_capped_compile_of_forward_jumps_holds_only_those_still_waiting() {
+    // `N<i> G01 X<a>. K1.` (2038) and `N<i> G73 L<i + 5>`: every jump waits for a block three
+    // lines on, then leaves; before, each stayed until linking (a 50 MB file took 235 MB).
+    let max = 100;
+    let mut peaks = Vec::new();
+    for mb in [1, 5] {
+        let blocks: usize = mb * 1_000_000 / 16;
+        let mut src = String::from("%1\n");
+        for i in 1..=blocks {
+            if i % 2 == 1 {
+                src.push_str(&format!("N{i} G01 X{}. K1.\n", i % 100));
+            } else {
+                src.push_str(&format!("N{i} G73 L{}\n", i + 5));
+            }
+        }
+        src.push_str(&format!("N{} M30\n", blocks + 10));
+        let ((prog, kept, hidden), peak) =
+            crate::peak_alloc::peak_during(|| compile_capped(&common::lathe(), "FWD", &src, max));
+        assert!(prog.is_none());
+        assert_eq!(kept.len(), max);
+        // One 2038 per odd block; L is at most 9999 (2009 for each jump beyond); the jumps of
+        // the last blocks go beyond the last block and miss their target (2018).
+        let counted: usize = hidden.iter().map(|h| h.errors + h.warnings).sum();
+        let jumps =
+            |keep: &dyn Fn(usize) -> bool| (2..=blocks).step_by(2).filter(|&i| keep(i)).count();
+        let out_of_range = jumps(&|i| i + 5 > 9999);
+        let missing = jumps(&|i| i + 5 > blocks);
+        assert_eq!(counted + max, blocks.div_ceil(2) + out_of_range + missing);
+        let b = bound_numbered(max, blocks);
+        eprintln!("forward jumps {mb} MB ({blocks} blocks): peak {peak} bytes, bound {b}");
+        assert!(peak <= b, "{mb} MB: peak {peak} bytes (bound {b})");
+        peaks.push((peak, blocks));
+    }
+    let [(p1, b1), (p5, b5)] = peaks[..] else {
+        unreachable!()
+    };
+    let margin = 2 * BITMAP_CONTAINER * (b5 / 65_536 - b1 / 65_536);
+    assert!(
+        p5 <= p1 + margin,
+        "1 MB: {p1} bytes, 5 MB: {p5} bytes (margin {margin})"
+    );
+}
