@@ -51,8 +51,6 @@ struct Cur {
 /// The building state of a Fanuc compile.
 pub(crate) struct FanucUnits {
     table: UnitTable,
-    /// The diagnostics cap of each phase.
-    max: usize,
     axes: Vec<char>,
     cur: Option<Cur>,
     calls: Vec<Call>,
@@ -65,7 +63,6 @@ impl FanucUnits {
     pub(crate) fn new(prog: &mut Program, max: usize) -> Self {
         let mut f = FanucUnits {
             table: UnitTable::new(max),
-            max,
             axes: prog.machine.axes(),
             cur: None,
             calls: Vec::new(),
@@ -247,9 +244,10 @@ impl FanucUnits {
         src: &str,
         sink: &mut Sink,
     ) -> Option<u32> {
-        let parsed = crate::parse::parse_streaming(Dialect::Fanuc, name, src, sink, &mut |p, s| {
-            self.piece(prog, 0, p, s.has_errors())
-        });
+        let parsed =
+            crate::parse::parse_streaming(Dialect::Fanuc, name, src, true, sink, &mut |p, s| {
+                self.piece(prog, 0, p, s.has_errors())
+            });
         self.end_unit(prog);
         parsed.number
     }
@@ -289,17 +287,17 @@ impl FanucUnits {
             }
             // The file's parse errors come after what the units phase holds so far and before the
             // file's own units diagnostics (its units were built after it was parsed).
-            let mut parse = std::mem::replace(&mut self.table.phases.units, Sink::new(self.max));
-            crate::parse::parse_streaming(Dialect::Fanuc, &name, &text, &mut parse, &mut |p, s| {
-                self.piece(prog, file, p, main_failed || s.has_errors())
-            });
+            let mut parse = self.table.begin_file_parse();
+            crate::parse::parse_streaming(
+                Dialect::Fanuc,
+                &name,
+                &text,
+                true,
+                &mut parse,
+                &mut |p, s| self.piece(prog, file, p, main_failed || s.has_errors()),
+            );
             self.end_unit(prog);
-            let units = std::mem::replace(&mut self.table.phases.units, parse);
-            let (kept, hidden) = units.finish();
-            for d in kept {
-                self.table.phases.units.push(d);
-            }
-            self.table.phases.units.count_hidden(&hidden);
+            self.table.end_file_parse(parse);
             prog.files[file].text = text;
         }
     }

@@ -84,11 +84,13 @@ fn parse_chunked(
 /// [`parse`] with the diagnostics pushed into `diags` (a sink that may store only the first of
 /// them), marked to be located by [`crate::program::compile`] once it knows which it keeps, and
 /// every block (and Fanuc program start) handed to `block` as soon as it is complete, in file
-/// order, with the sink as it is then ([`ParsedFile::blocks`] stays empty).
+/// order, with the sink as it is then ([`ParsedFile::blocks`] stays empty); `require_header`: a
+/// MEFI file must start with `%` (a macro file without one starts at its first byte).
 pub(crate) fn parse_streaming(
     dialect: Dialect,
     file: &str,
     src: &str,
+    require_header: bool,
     diags: &mut Sink,
     block: &mut dyn FnMut(Piece, &Sink),
 ) -> ParsedFile {
@@ -96,26 +98,7 @@ pub(crate) fn parse_streaming(
         dialect,
         file,
         src,
-        true,
-        CHUNK_TOKENS,
-        &mut Out::new(diags, block),
-    )
-}
-
-/// [`parse_streaming`] for a macro file: a MEFI file without `%` header starts at its first
-/// byte (as [`parse_library`]).
-pub(crate) fn parse_streaming_library(
-    dialect: Dialect,
-    file: &str,
-    src: &str,
-    diags: &mut Sink,
-    block: &mut dyn FnMut(Piece, &Sink),
-) -> ParsedFile {
-    parse_unlocated(
-        dialect,
-        file,
-        src,
-        false,
+        require_header,
         CHUNK_TOKENS,
         &mut Out::new(diags, block),
     )

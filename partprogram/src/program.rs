@@ -229,16 +229,14 @@ pub(crate) fn err(
     to_locate(Diagnostic::error(code, file, span.0..span.1, msg).with_hint(hint))
 }
 
-/// Marks `d` (about one of the program's files) to be located by [`compile`] at the end.
-/// The files of a machine's macro folder in name order, each with its file name and its
-/// upper-case stem (the name before the first `.`): what MEFI's `L<n>`/`$PC` and Fanuc's `O<n>`
-
 /// The text of a macro file's `bytes`, taking them over when they are UTF-8 (no copy of a large
 /// file) and replacing invalid sequences otherwise.
 pub(crate) fn text_of(bytes: Vec<u8>) -> String {
     String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 
+/// The files of a machine's macro folder in name order, each with its file name and its
+/// upper-case stem (the name before the first `.`): what MEFI's `L<n>`/`$PC` and Fanuc's `O<n>`
 /// loaders both walk. An empty path or an unreadable folder has none.
 pub(crate) fn macro_folder_files(
     dir: &std::path::Path,
@@ -268,6 +266,7 @@ pub(crate) fn macro_folder_files(
         .collect()
 }
 
+/// Marks `d` (about one of the program's files) to be located by [`compile`] at the end.
 pub(crate) fn to_locate(mut d: Diagnostic) -> Diagnostic {
     d.column = TO_LOCATE;
     d
@@ -344,6 +343,7 @@ pub fn compile_capped(
             machine.dialect,
             name,
             src,
+            true,
             &mut sink,
             &mut |p, parse| {
                 if let Piece::Block(b) = p {

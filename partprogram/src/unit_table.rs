@@ -85,6 +85,8 @@ pub(crate) struct UnitTable {
     pub(crate) numbers: Vec<RoaringBitmap>,
     /// The diagnostics of the phases after parsing.
     pub(crate) phases: Phases,
+    /// Diagnostics kept per file and phase (0: all).
+    max: usize,
 }
 
 impl UnitTable {
@@ -94,7 +96,27 @@ impl UnitTable {
             failed: false,
             numbers: Vec::new(),
             phases: Phases::new(max),
+            max,
         }
+    }
+
+    /// Starts the streamed parse of a macro file: returns the units phase's sink for the
+    /// parser's diagnostics and collects the units diagnostics of the file's blocks apart, so
+    /// that [`UnitTable::end_file_parse`] puts the parse errors first, as when a file was parsed
+    /// whole before its blocks were built.
+    pub(crate) fn begin_file_parse(&mut self) -> Sink {
+        std::mem::replace(&mut self.phases.units, Sink::new(self.max))
+    }
+
+    /// Ends what [`UnitTable::begin_file_parse`] began: `parse` (holding the parse errors)
+    /// becomes the units phase's sink again, followed by the file's units diagnostics.
+    pub(crate) fn end_file_parse(&mut self, parse: Sink) {
+        let units = std::mem::replace(&mut self.phases.units, parse);
+        let (kept, hidden) = units.finish();
+        for d in kept {
+            self.phases.units.push(d);
+        }
+        self.phases.units.count_hidden(&hidden);
     }
 
     /// True once the compile has an error (blocks are dropped).

@@ -13,7 +13,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use diag::{Diagnostic, Sink};
+use diag::Diagnostic;
 use roaring::RoaringBitmap;
 
 use crate::ast::{Block, Val};
@@ -49,8 +49,6 @@ pub(crate) struct Units {
     next_ref: u64,
     /// Undeclared M functions of library blocks.
     pub(crate) lib_m: Vec<PendingM>,
-    /// Diagnostics kept per file and phase (0: all).
-    max: usize,
 }
 
 /// The building state of one file.
@@ -120,7 +118,6 @@ impl Units {
             waiting: HashMap::new(),
             next_ref: 0,
             lib_m: Vec::new(),
-            max,
         }
     }
 
@@ -388,11 +385,14 @@ impl Units {
             // no more than a main file). The file's parse errors come after what the units phase
             // holds so far and before the units diagnostics of its blocks, as when it was parsed
             // whole first.
-            let mut parse = std::mem::replace(&mut self.table.phases.units, Sink::new(self.max));
-            crate::parse::parse_streaming_library(
+            let mut parse = self.table.begin_file_parse();
+            // A macro file without `%` header starts at its first byte.
+            let header = false;
+            crate::parse::parse_streaming(
                 Dialect::Mefi,
                 &name,
                 &text,
+                header,
                 &mut parse,
                 &mut |p, s| {
                     if let Piece::Block(b) = p {
@@ -400,12 +400,7 @@ impl Units {
                     }
                 },
             );
-            let units = std::mem::replace(&mut self.table.phases.units, parse);
-            let (kept, hidden) = units.finish();
-            for d in kept {
-                self.table.phases.units.push(d);
-            }
-            self.table.phases.units.count_hidden(&hidden);
+            self.table.end_file_parse(parse);
             self.end_file(prog, f, &text);
             prog.files[file].text = text;
         }
