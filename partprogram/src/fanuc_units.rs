@@ -260,20 +260,9 @@ impl FanucUnits {
             let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else {
                 continue;
             };
-            let bytes = match std::fs::read(&path) {
-                Ok(b) => b,
-                Err(e) => {
-                    // Never skipped in silence: a program may call it.
-                    self.table.phases.units.push(Diagnostic::error(
-                        codes::MACRO_IO,
-                        format!("macros/{fname}"),
-                        0..0,
-                        format!("cannot read: {e}"),
-                    ));
-                    continue;
-                }
+            let Some(text) = self.table.read_macro(&path, &fname) else {
+                continue;
             };
-            let text = crate::program::text_of(bytes);
             let name = format!("macros/{fname}");
             prog.files.push(SourceFile {
                 name: name.clone(),

@@ -11,7 +11,7 @@
 //! The phases' diagnostics are merged at the end in the order the phases ran when the whole block
 //! list was checked phase after phase: the kept diagnostics and their order are the same as then.
 
-use diag::Sink;
+use diag::{Diagnostic, Sink};
 use roaring::RoaringBitmap;
 
 use crate::program::{BlockIndex, CBlock, Program, Unit};
@@ -97,6 +97,23 @@ impl UnitTable {
             numbers: Vec::new(),
             phases: Phases::new(max),
             max,
+        }
+    }
+
+    /// The text of macro file `path` (`fname` in the macro folder), or `None` after an error
+    /// (2031) in the units phase: a file that cannot be read is never skipped in silence.
+    pub(crate) fn read_macro(&mut self, path: &std::path::Path, fname: &str) -> Option<String> {
+        match std::fs::read(path) {
+            Ok(bytes) => Some(crate::program::text_of(bytes)),
+            Err(e) => {
+                self.phases.units.push(Diagnostic::error(
+                    crate::codes::MACRO_IO,
+                    format!("macros/{fname}"),
+                    0..0,
+                    format!("cannot read: {e}"),
+                ));
+                None
+            }
         }
     }
 

@@ -358,17 +358,8 @@ impl Units {
             let is_l = stem.len() > 1
                 && stem.starts_with('L')
                 && stem[1..].bytes().all(|c| c.is_ascii_digit());
-            let text = match std::fs::read(&path) {
-                Ok(bytes) => crate::program::text_of(bytes),
-                Err(e) => {
-                    self.table.phases.units.push(Diagnostic::error(
-                        codes::MACRO_IO,
-                        format!("macros/{fname}"),
-                        0..0,
-                        format!("cannot read: {e}"),
-                    ));
-                    continue;
-                }
+            let Some(text) = self.table.read_macro(&path, &fname) else {
+                continue;
             };
             let is_cycle = text.trim_start().starts_with("$PC");
             if !is_l && !is_cycle {
