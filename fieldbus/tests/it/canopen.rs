@@ -231,7 +231,10 @@ fn a_lost_node_gets_its_safe_outputs_until_it_answers_again() {
         &mut image,
         Duration::from_secs(5),
         &mut alarms,
-        |_, _, _| node.state().outputs[..4] == [0xA5; 4],
+        // The scan's view of the node's health comes with the next tick after the master's own
+        // (which already sends the safe values): wait for both, or a loaded machine sees the
+        // outputs before the tick that reports the loss.
+        |_, io, _| node.state().outputs[..4] == [0xA5; 4] && io.lost_nodes().next().is_some(),
     )
     .expect("safe outputs");
     let lost: Vec<_> = io
