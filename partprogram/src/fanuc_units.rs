@@ -21,7 +21,7 @@ use crate::codes;
 use crate::machine::Dialect;
 use crate::macro_b::flow::{MacroCall, UnitFlow, check_calls};
 use crate::parse::Piece;
-use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind};
+use crate::program::{BlockIndex, CBlock, Program, Unit, UnitKind};
 use crate::unit_table::UnitTable;
 
 /// An `M98 P` call, linked once every program is loaded.
@@ -264,11 +264,7 @@ impl FanucUnits {
                 continue;
             };
             let name = format!("macros/{fname}");
-            prog.files.push(SourceFile {
-                name: name.clone(),
-                text: String::new(),
-            });
-            let file = prog.files.len() - 1;
+            let file = prog.add_macro_file(&name);
             let lib = self.register(prog, file, num);
             self.start_unit(prog, file, UnitKind::Library, num);
             if lib {

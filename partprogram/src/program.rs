@@ -203,6 +203,17 @@ pub struct Program {
     pub macro_native: Option<crate::macro_b::native::MacroCode>,
 }
 
+impl Program {
+    /// Adds the macro file `name` (its text is set once it is read through) and returns its index.
+    pub(crate) fn add_macro_file(&mut self, name: &str) -> usize {
+        self.files.push(SourceFile {
+            name: name.to_string(),
+            text: String::new(),
+        });
+        self.files.len() - 1
+    }
+}
+
 /// Integer value of a literal written for a count address (None when it has a fraction).
 pub fn lit_int(l: &Lit) -> Option<i64> {
     if l.milli() % 1000 != 0 {

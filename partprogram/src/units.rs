@@ -21,7 +21,7 @@ use crate::codes;
 use crate::link::LinkRef;
 use crate::machine::Dialect;
 use crate::parse::Piece;
-use crate::program::{BlockIndex, CBlock, Program, SourceFile, Unit, UnitKind, err, lit_int};
+use crate::program::{BlockIndex, CBlock, Program, Unit, UnitKind, err, lit_int};
 use crate::unit_table::UnitTable;
 
 /// An M function of a library block not declared in IOCFIL: reported when a program reaches the
@@ -366,11 +366,7 @@ impl Units {
                 continue;
             }
             let name = format!("macros/{fname}");
-            prog.files.push(SourceFile {
-                name: name.clone(),
-                text: String::new(),
-            });
-            let file = prog.files.len() - 1;
+            let file = prog.add_macro_file(&name);
             let mut f = self.start_file(prog, file);
             // Each block is built as the parser hands it on (an error-dense macro file is held
             // no more than a main file). The file's parse errors come after what the units phase
