@@ -3,6 +3,8 @@
 //! [`compile`] is what the runtime and the CLI call. It never panics on input: whatever the
 //! bytes, it returns a [`Compilation`] with either a program or at least one located error.
 
+use std::io::Read;
+use std::path::Path;
 use std::time::Instant;
 
 use diag::Diagnostic;
@@ -47,13 +49,27 @@ pub struct Compilation {
 /// source is checked in about 100 MB.
 pub const MAX_SOURCE_BYTES: usize = 2 << 20;
 
-/// The error for a source of `len` bytes over [`MAX_SOURCE_BYTES`], at the start of the file.
-fn too_large(file_name: &str, len: usize) -> Diagnostic {
+/// The bytes of the PLC source `path`: all of them up to [`MAX_SOURCE_BYTES`], and for a larger
+/// file only the limit plus one byte, which [`compile`] refuses (1012). Every reader of a PLC
+/// source (`check`, `build`, `run`, online change, the language server) reads through this, so a
+/// file of any size is rejected in constant memory.
+pub fn read_source(path: &Path) -> std::io::Result<Vec<u8>> {
+    let file = std::fs::File::open(path)?;
+    let size = file.metadata().map(|m| m.len()).unwrap_or(0);
+    let cap = MAX_SOURCE_BYTES as u64 + 1;
+    let mut bytes = Vec::with_capacity(usize::try_from(size.min(cap)).unwrap_or(0));
+    file.take(cap).read_to_end(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// The error for a source over [`MAX_SOURCE_BYTES`] (the length is not named: [`read_source`]
+/// stops reading one byte past the limit), at the start of the file.
+fn too_large(file_name: &str) -> Diagnostic {
     Diagnostic::error(
         sema::codes::TOO_LARGE,
         file_name,
         0..0,
-        format!("the PLC program has {len} bytes; a PLC source may have at most {MAX_SOURCE_BYTES} bytes (2 MiB)"),
+        format!("the PLC program has more than {MAX_SOURCE_BYTES} bytes (2 MiB), the most a PLC source may have"),
     )
     .with_hint("a PLC program of this machine is a few thousand lines: split generated logic or generate less of it")
     .locate("")
@@ -76,7 +92,7 @@ pub fn compile_with_threads(
     if source.len() > MAX_SOURCE_BYTES {
         return Compilation {
             program: None,
-            diagnostics: vec![too_large(file_name, source.len())],
+            diagnostics: vec![too_large(file_name)],
             stats: CompileStats::default(),
             text: String::new(),
         };
@@ -100,10 +116,7 @@ pub fn diagnose_incremental(
 ) -> (Vec<Diagnostic>, ast::Program) {
     let text = text.strip_prefix('\u{FEFF}').unwrap_or(text);
     if text.len() > MAX_SOURCE_BYTES {
-        return (
-            vec![too_large(file_name, text.len())],
-            ast::Program::default(),
-        );
+        return (vec![too_large(file_name)], ast::Program::default());
     }
     let (ast, mut diagnostics) = parser::parse_cached(file_name, text, parse);
     if parser::stopped_early(&diagnostics) {

@@ -22,7 +22,7 @@ pub use context::MachineContext;
 pub use engine::Engine;
 pub use front::{
     Compilation, CompileStats, MAX_SOURCE_BYTES, compile, compile_with_threads,
-    diagnose_incremental,
+    diagnose_incremental, read_source,
 };
 pub use interface_map::InterfaceMap;
 pub use interp::Interpreter;

@@ -124,7 +124,7 @@ impl Machine {
 
     /// Reads the PLC source.
     pub fn read_source(&self) -> Result<Vec<u8>, OpenError> {
-        std::fs::read(&self.config.plc_source).map_err(|source| OpenError::Source {
+        compiler::read_source(&self.config.plc_source).map_err(|source| OpenError::Source {
             path: self.config.plc_source.clone(),
             source,
         })

@@ -575,9 +575,13 @@ impl Server<'_> {
             if seen.iter().any(|s| s == src) {
                 continue;
             }
-            let (Ok(bytes), Some(u)) = (std::fs::read(src), uri::from_path(src)) else {
+            let (Ok(bytes), Some(u)) = (compiler::read_source(src), uri::from_path(src)) else {
                 continue;
             };
+            if bytes.len() > compiler::MAX_SOURCE_BYTES {
+                // Refused by the compiler (1012): nothing to index.
+                continue;
+            }
             let t = compiler::lexer::decode_source(&bytes);
             let (ast, _) = compiler::parser::parse(&src.display().to_string(), &t);
             let index = Index::new(&ast, &m.ctx);

@@ -158,14 +158,25 @@ pub fn declared_axes(machine: &Machine) -> Vec<fieldbus::DeclaredAxis> {
 /// connectors, SPL, CLO and the interface map (`ncplc check` builds it from the machine it
 /// loaded, a run from its [`Facts`]).
 pub fn compiler_context(dir: &Path, io: &Iocfil) -> Result<compiler::MachineContext, MachineError> {
-    Ok(compiler::MachineContext {
+    Ok(compiler_context_with(
+        io,
+        compiler::InterfaceMap::load_for_machine(dir)?,
+    ))
+}
+
+/// [`compiler_context`] with the interface map already loaded (`ncplc check` reads it once).
+pub fn compiler_context_with(
+    io: &Iocfil,
+    interface: compiler::InterfaceMap,
+) -> compiler::MachineContext {
+    compiler::MachineContext {
         a_inputs: io.input_connectors(),
         a_outputs: io.output_connectors(),
         spl: io.spl_or_default(),
         tick_ms: io.tick_logic_ms,
         time_slow_ms: io.time_slow_ms,
-        interface: compiler::InterfaceMap::load_for_machine(dir)?,
-    })
+        interface,
+    }
 }
 
 #[cfg(test)]

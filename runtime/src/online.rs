@@ -101,7 +101,7 @@ fn compile_loop(
                 Err(RecvTimeoutError::Disconnected) => return,
             }
         }
-        let bytes = match std::fs::read(source) {
+        let bytes = match compiler::read_source(source) {
             Ok(b) => b,
             Err(e) => {
                 let _ = notes.send(Note::Error(format!("{}: {e}", source.display())));

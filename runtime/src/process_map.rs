@@ -79,8 +79,14 @@ pub fn missing(machine: &Machine, map: &InterfaceMap) -> Vec<Diagnostic> {
 }
 
 /// What `ncplc check` adds for the map of `dir`: the override file's errors (named
-/// `interface.toml`, its text added to `sources`), or else the roles processes 2..NBP lack.
-pub fn check(dir: &Path, machine: &Machine, sources: &mut Sources) -> Vec<Diagnostic> {
+/// `interface.toml`, its text added to `sources`), or else the roles processes 2..NBP lack. Also
+/// the map when it loaded (the built-in one without an override file), for the checks of the
+/// files compiled or read against it (`sim.toml`, the PLC program): the file is read once.
+pub fn check(
+    dir: &Path,
+    machine: &Machine,
+    sources: &mut Sources,
+) -> (Vec<Diagnostic>, Option<InterfaceMap>) {
     let path = dir.join("interface.toml");
     let map = if path.exists() {
         let name = "interface.toml";
@@ -91,7 +97,7 @@ pub fn check(dir: &Path, machine: &Machine, sources: &mut Sources) -> Vec<Diagno
                     file: name.into(),
                     message: e.to_string(),
                 };
-                return vec![err.to_diagnostic(None)];
+                return (vec![err.to_diagnostic(None)], None);
             }
         };
         sources.add(name, text.clone());
@@ -100,10 +106,13 @@ pub fn check(dir: &Path, machine: &Machine, sources: &mut Sources) -> Vec<Diagno
         match parsed {
             Ok(map) => map,
             Err(errors) => {
-                return errors
-                    .iter()
-                    .map(|e| e.to_diagnostic(Some(&text)))
-                    .collect();
+                return (
+                    errors
+                        .iter()
+                        .map(|e| e.to_diagnostic(Some(&text)))
+                        .collect(),
+                    None,
+                );
             }
         }
     } else {
@@ -115,7 +124,7 @@ pub fn check(dir: &Path, machine: &Machine, sources: &mut Sources) -> Vec<Diagno
             *d = d.clone().locate(text);
         }
     }
-    out
+    (out, Some(map))
 }
 
 /// `ncplc run`'s refusal: processes 2..NBP lack handshake signals in the interface map.

@@ -114,7 +114,21 @@ fn a_source_over_2_mib_is_refused_unread_and_one_at_the_limit_is_read() {
     let c = compile("PLCPRG", over.as_bytes(), &MachineContext::lathe_like());
     assert_eq!(
         c.diagnostics[0].message,
-        "the PLC program has 2097153 bytes; a PLC source may have at most 2097152 bytes (2 MiB)"
+        "the PLC program has more than 2097152 bytes (2 MiB), the most a PLC source may have"
     );
     assert!(c.program.is_none());
+    // From a file: a 50 MB source is read only to the limit plus one byte, and refused the same.
+    let dir = std::env::temp_dir().join(format!("front-bounded-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("dir");
+    let path = dir.join("PLCPRG");
+    std::fs::write(&path, line.repeat(50_000_000 / line.len())).expect("write");
+    let bytes = compiler::read_source(&path).expect("read");
+    assert_eq!(bytes.len(), compiler::MAX_SOURCE_BYTES + 1);
+    assert_eq!(codes(&bytes), [(1012, 1, 1)]);
+    std::fs::write(&path, &at_limit).expect("write");
+    assert_eq!(
+        compiler::read_source(&path).expect("read"),
+        at_limit.as_bytes()
+    );
+    std::fs::remove_dir_all(&dir).expect("clean up");
 }

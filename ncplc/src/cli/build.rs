@@ -85,7 +85,7 @@ pub fn run(args: Args) -> ExitCode {
         }
     };
     let path = args.plc.clone().unwrap_or(default_source);
-    let bytes = match std::fs::read(&path) {
+    let bytes = match compiler::read_source(&path) {
         Ok(b) => b,
         Err(e) => {
             eprintln!("ncplc build: cannot read {}: {e}", path.display());

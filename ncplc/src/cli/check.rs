@@ -122,8 +122,12 @@ pub fn check_io_map(
         None => fieldbus::DeclaredConnectors::default(),
     };
     let axes = runtime::machine_facts::declared_axes(machine);
-    let (map, mut diags) = fieldbus::load_map_with_axes(machine_dir, &declared, Some(&axes));
-    let text = diag::read_config(&path).unwrap_or_default();
+    // Read once; a file that cannot be read (or is over the size limit) gets the fieldbus
+    // reader's own error.
+    let Ok(text) = diag::read_config(&path) else {
+        return fieldbus::load_map_with_axes(machine_dir, &declared, Some(&axes)).1;
+    };
+    let (map, mut diags) = fieldbus::parse_map_with_axes(&text, "io.toml", &declared, Some(&axes));
     if let Some(w) = map.as_ref().and_then(|m| no_io_declared(m, &text)) {
         diags.push(w);
     }
@@ -176,16 +180,15 @@ pub fn run(args: Args) -> ExitCode {
     // is loaded once).
     let runnable = !load.has_errors();
     if let Some(machine) = load.machine.take() {
-        let map = runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
-        let map_ok = !diag::has_errors(&map);
+        let (map, interface) =
+            runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(map);
         let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(io);
         // sim.toml against the map `run` would use, once that map is valid (its errors are
         // reported above, and `run` refuses them before it reads sim.toml).
-        if map_ok && let Ok(interface) = compiler::InterfaceMap::load_for_machine(&args.machine_dir)
-        {
-            let sim = sim::validate::load(&args.machine_dir, &machine, &interface);
+        if let Some(interface) = &interface {
+            let sim = sim::validate::load(&args.machine_dir, &machine, interface);
             if let Some(text) = sim.text {
                 load.sources.add(sim::validate::FILE, text);
             }
@@ -200,8 +203,9 @@ pub fn run(args: Args) -> ExitCode {
         // The PLC program `run` would load, through the front end `build` runs, once the map it
         // is compiled against is valid (as for sim.toml: its names would only be follow-on errors,
         // and `run` refuses the map first).
-        if runnable && map_ok {
-            let plc = super::check_plc::check(&args.machine_dir, &machine, &mut load.sources);
+        if runnable && let Some(interface) = interface {
+            let plc =
+                super::check_plc::check(&args.machine_dir, &machine, interface, &mut load.sources);
             load.diagnostics.extend(plc);
         }
         load.machine = Some(machine);

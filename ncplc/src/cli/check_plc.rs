@@ -11,23 +11,22 @@ use std::path::Path;
 use diag::{Diagnostic, Sources};
 
 /// The diagnostics of the PLC program of the machine in `dir` (`machine` loaded without errors,
-/// with an IOCFIL), its text added to `sources` under its name relative to `dir`. Nothing when
-/// the interface map is invalid (its errors are reported with `interface.toml`) or the source
-/// does not exist (FCRSYS's warning 916 says so).
+/// with an IOCFIL), compiled against `interface` (the valid map `check` loaded), its text added
+/// to `sources` under its name relative to `dir`. Nothing when the source does not exist
+/// (FCRSYS's warning 916 says so).
 pub fn check(
     dir: &Path,
     machine: &characterization::Machine,
+    interface: compiler::InterfaceMap,
     sources: &mut Sources,
 ) -> Vec<Diagnostic> {
     let Some(io) = machine.iocfil.as_ref() else {
         return Vec::new();
     };
-    let Ok(ctx) = runtime::machine_facts::compiler_context(dir, io) else {
-        return Vec::new();
-    };
+    let ctx = runtime::machine_facts::compiler_context_with(io, interface);
     let path = &machine.paths.plc_source;
     let name = path.strip_prefix(dir).unwrap_or(path).display().to_string();
-    let bytes = match std::fs::read(path) {
+    let bytes = match compiler::read_source(path) {
         Ok(b) => b,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Vec::new(),
         Err(e) => {
