@@ -20,6 +20,9 @@
 # Env:     FUZZ_ARGS="..." adds libFuzzer flags (e.g. "-max_len=4096"). Every run is
 #          one in-process libFuzzer run (no `-jobs`: libFuzzer's job mode logs to fuzz-<n>.log in the
 #          current directory, which campaigns side by side would share).
+#          FUZZ_JOB=<name> names this campaign's logs (logs/<target>.<name>.log), so that two
+#          campaigns of the same target can run side by side (one per core) on the shared corpus
+#          and add their executions to fuzz/executions.tsv, each under the lock.
 #          FUZZ_SANITIZER=none builds without AddressSanitizer (cargo fuzz `-s none`): several times
 #          the executions per second; panics, timeouts and the RSS limit are still caught. Use the
 #          same value for every command of a campaign (another value rebuilds everything).
@@ -111,7 +114,7 @@ for t in "${targets[@]}"; do
     mkdir -p "corpus/$t" "seeds/$t"
     if [ -z "$resume" ]; then
         echo "=== $t: ${secs}s"
-        log="logs/$t.log"
+        log="logs/$t${FUZZ_JOB:+.$FUZZ_JOB}.log"
         # shellcheck disable=SC2086
         cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
             -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
@@ -124,7 +127,7 @@ for t in "${targets[@]}"; do
         chunk=$((resume - done_runs))
         [ "$chunk" -le "${FUZZ_CHUNK:-1000000}" ] || chunk="${FUZZ_CHUNK:-1000000}"
         echo "=== $t: $done_runs of $resume executions; running $chunk more"
-        log="logs/$t.log"
+        log="logs/$t${FUZZ_JOB:+.$FUZZ_JOB}.log"
         # shellcheck disable=SC2086
         cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
             -runs="$chunk" -rss_limit_mb=2048 -timeout=10 \
@@ -132,7 +135,8 @@ for t in "${targets[@]}"; do
         n="$(executions "$log")"
         [ "$n" -gt 0 ] || { echo "!!! $t: no executions in $log" >&2; exit 1; }
         record "$t" "$n"
-        done_runs=$((done_runs + n))
+        # Re-read: a campaign of the same target beside this one (FUZZ_JOB) adds its own.
+        read -r done_runs _ < <(recorded "$t")
     done
     echo "=== $t: $done_runs executions recorded"
     keep_corpus "$t"
