@@ -61,17 +61,19 @@ impl Process {
             }
         };
         let at = self.next.min(new.len());
-        self.program.truncate(at);
-        self.program.extend_from_slice(&new[at..]);
+        // The program is shared with the part run that planned it: the merged one is a new vector.
+        let mut program = self.program[..at].to_vec();
+        program.extend_from_slice(&new[at..]);
+        self.program = std::sync::Arc::new(program);
         if let (Some((plain, skipped)), Some(Ok(o))) = (self.programs.as_mut(), other) {
             let (mine, theirs) = if self.skip_selected {
                 (skipped, plain)
             } else {
                 (plain, skipped)
             };
-            *mine = new;
+            *mine = std::sync::Arc::new(new);
             if aligned(theirs, &o) {
-                *theirs = o;
+                *theirs = std::sync::Arc::new(o);
             }
         }
         self.counters.corrections += 1;

@@ -16,6 +16,7 @@
 //! 5. write the CNC→PLC signals into `image`.
 
 use std::collections::VecDeque;
+use std::sync::Arc;
 
 use packets::Signal;
 use partprogram::Canon;
@@ -87,9 +88,12 @@ pub struct Process {
     pub(crate) estop_open: bool,
     pub(crate) reset_pulse: bool,
     pub(crate) homed: bool,
-    pub(crate) program: Vec<Canon>,
+    /// The selected program's blocks, shared with the part run that planned them (a planned
+    /// program of a 50 MB file is hundreds of megabytes: it is never copied).
+    pub(crate) program: Arc<Vec<Canon>>,
     pub(crate) program_name: String,
-    pub(crate) programs: Option<(Vec<Canon>, Vec<Canon>)>,
+    /// The program planned without and with block skip, when selected with both.
+    pub(crate) programs: Option<(Arc<Vec<Canon>>, Arc<Vec<Canon>>)>,
     pub(crate) block_skip: bool,
     pub(crate) phase: Phase,
     pub(crate) next: usize,
@@ -198,7 +202,7 @@ impl Process {
             estop_open: false,
             reset_pulse: false,
             homed,
-            program: Vec::new(),
+            program: Arc::default(),
             program_name: String::new(),
             programs: None,
             block_skip: false,
@@ -249,11 +253,11 @@ impl Process {
     }
 
     /// Selects the program (canonical blocks) and its name; the interpreter must be idle.
-    pub fn load(&mut self, name: &str, blocks: Vec<Canon>) -> Result<(), Reject> {
+    pub fn load(&mut self, name: &str, blocks: impl Into<Arc<Vec<Canon>>>) -> Result<(), Reject> {
         if self.run != Interp::Idle {
             return Err(Reject::ProgramActive);
         }
-        self.program = blocks;
+        self.program = blocks.into();
         self.programs = None;
         self.program_name = name.to_string();
         self.next = 0;
@@ -266,10 +270,10 @@ impl Process {
     pub fn load_with_skip(
         &mut self,
         name: &str,
-        plain: Vec<Canon>,
-        skipped: Vec<Canon>,
+        plain: Arc<Vec<Canon>>,
+        skipped: Arc<Vec<Canon>>,
     ) -> Result<(), Reject> {
-        self.load(name, plain.clone())?;
+        self.load(name, Arc::clone(&plain))?;
         self.programs = Some((plain, skipped));
         Ok(())
     }
@@ -501,11 +505,7 @@ impl Process {
                     && let Some((plain, skipped)) = &self.programs
                 {
                     self.skip_selected = self.block_skip;
-                    self.program = if self.block_skip {
-                        skipped.clone()
-                    } else {
-                        plain.clone()
-                    };
+                    self.program = Arc::clone(if self.block_skip { skipped } else { plain });
                 }
                 if self.run != Interp::Running {
                     self.run = Interp::Running;

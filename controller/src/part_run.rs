@@ -676,7 +676,11 @@ impl PartRun {
                 if st.mode == Mode::Auto
                     && let Ok(p) = c.process_mut(n)
                 {
-                    let _ = p.load_with_skip(&part.name, part.blocks.clone(), part.skipped.clone());
+                    let _ = p.load_with_skip(
+                        &part.name,
+                        Arc::clone(&part.blocks),
+                        Arc::clone(&part.skipped),
+                    );
                     self.program_selected = true;
                 }
             }
@@ -709,7 +713,7 @@ impl PartRun {
                 if ost.mode != Mode::Auto {
                     let _ = c.mode(o.process, Mode::Auto);
                 } else if let Ok(p) = c.process_mut(o.process) {
-                    o.selected = p.load(&o.part.name, o.part.blocks.clone()).is_ok();
+                    o.selected = p.load(&o.part.name, Arc::clone(&o.part.blocks)).is_ok();
                 }
             } else if o.selected && !o.started && self.started.is_some() {
                 // The operator starts the other programs once the main cycle runs.

@@ -138,6 +138,7 @@ fn limit_err(b: &CBlock, max_blocks: u64) -> RunError {
 /// Plans `prog`: runs it and returns its canonical blocks.
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
     let mut ex = Exec::new(prog, opts);
+    ex.out.reserve_exact(crate::run::plan_capacity(prog, &opts));
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
     // Without the spare room of the last doubling (up to as much again): a part run holds its plans.
     ex.out.shrink_to_fit();

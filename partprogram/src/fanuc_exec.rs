@@ -108,6 +108,7 @@ fn run_err(b: &CBlock, code: u32, msg: impl Into<String>) -> RunError {
 /// Plans a Fanuc/HAAS program.
 pub fn plan(prog: &Program, opts: PlanOptions) -> Result<Plan, (Vec<Canon>, RunError)> {
     let mut ex = Ex::new(prog, opts);
+    ex.out.reserve_exact(crate::run::plan_capacity(prog, &opts));
     let done = ex.run().and_then(|()| ex.rc.finish(&mut ex.out));
     // Without the spare room of the last doubling (up to as much again): a part run holds its plans.
     ex.out.shrink_to_fit();

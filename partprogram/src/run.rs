@@ -91,6 +91,15 @@ impl RunError {
     }
 }
 
+/// The room a plan of `prog` starts with: one canonical block per compiled block (a program
+/// without loops plans at most that many), so that planning a large program does not double its
+/// vector, and copy it, a dozen times (a 50 MB program's plan is hundreds of megabytes).
+pub(crate) fn plan_capacity(prog: &crate::program::Program, opts: &PlanOptions) -> usize {
+    prog.blocks
+        .len()
+        .min(usize::try_from(opts.max_blocks).unwrap_or(usize::MAX))
+}
+
 /// The result of a planning run.
 #[derive(Debug, Clone)]
 pub struct Plan {

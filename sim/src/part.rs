@@ -9,6 +9,7 @@
 //! starts from the same values, and [`Part::vars_end`] holds each plan's final ones.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use partprogram::macro_b::retained::Retained;
 use partprogram::{Canon, PlanOptions};
@@ -24,10 +25,12 @@ pub struct Part {
     pub hash: String,
     /// The file it was read from.
     pub path: PathBuf,
-    /// The canonical blocks in execution order.
-    pub blocks: Vec<Canon>,
-    /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch.
-    pub skipped: Vec<Canon>,
+    /// The canonical blocks in execution order, shared with the CNC process that runs them (the
+    /// plan of a 50 MB program is hundreds of megabytes: it is held once).
+    pub blocks: Arc<Vec<Canon>>,
+    /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch; the
+    /// same vector as `blocks` when no block is marked.
+    pub skipped: Arc<Vec<Canon>>,
     /// Every other file the compile read: (path relative to the machine directory, CRC-32), in
     /// name order.
     pub files: Vec<FileCrc>,
@@ -277,12 +280,14 @@ pub fn load_part(
     let name = source_name(&path);
     let compiled = compile_text(dir, &name, &text, dialect, None, vars)?;
     let (blocks, end_plain) = compiled.plan(false, &[])?;
+    let blocks = Arc::new(blocks);
     // Block skip changes only the blocks marked `/`: without one the second plan is the first
     // (planning it again would hold a third plan's growing vector at the peak).
     let (skipped, end_skipped) = if compiled.prog.blocks.iter().any(|b| b.skip) {
-        compiled.plan(true, &[])?
+        let (skipped, end) = compiled.plan(true, &[])?;
+        (Arc::new(skipped), end)
     } else {
-        (blocks.clone(), end_plain.clone())
+        (Arc::clone(&blocks), end_plain.clone())
     };
     Ok(Part {
         name: program.display().to_string(),
@@ -324,9 +329,15 @@ mod tests {
             );
             let (plain, _) = compiled.plan(false, &[]).expect("plan");
             let (skipped, _) = compiled.plan(true, &[]).expect("plan with skip");
-            assert_eq!(part.blocks, plain, "{program}");
-            assert_eq!(part.skipped, skipped, "{program}");
+            assert_eq!(*part.blocks, plain, "{program}");
+            assert_eq!(*part.skipped, skipped, "{program}");
             assert_eq!(part.blocks != part.skipped, has_skip, "{program}");
+            // Without a `/` block the part holds one plan, shared by both selections.
+            assert_eq!(
+                Arc::ptr_eq(&part.blocks, &part.skipped),
+                !has_skip,
+                "{program}"
+            );
         }
     }
 }

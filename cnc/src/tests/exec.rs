@@ -387,7 +387,7 @@ fn the_block_skip_switch_at_start_selects_the_skipped_plan() {
         b.cnc
             .process_mut(1)
             .expect("p1")
-            .load_with_skip("t", plain, skipped)
+            .load_with_skip("t", plain.into(), skipped.into())
             .expect("idle");
         let plc = Plc {
             bskip,
