@@ -22,6 +22,10 @@ use packets::Signal;
 use partprogram::Canon;
 
 use crate::config::ProcessConfig;
+
+/// A planned program's canonical blocks, shared between the part run that planned them and the
+/// process that runs them (the plan of a 50 MB program is hundreds of megabytes: never copied).
+pub type Blocks = Arc<Vec<Canon>>;
 use crate::exec::Phase;
 use crate::following::{AxisMonitor, Peak};
 use crate::handshake::{Channel, Kind, Note, bcd};
@@ -90,10 +94,10 @@ pub struct Process {
     pub(crate) homed: bool,
     /// The selected program's blocks, shared with the part run that planned them (a planned
     /// program of a 50 MB file is hundreds of megabytes: it is never copied).
-    pub(crate) program: Arc<Vec<Canon>>,
+    pub(crate) program: Blocks,
     pub(crate) program_name: String,
     /// The program planned without and with block skip, when selected with both.
-    pub(crate) programs: Option<(Arc<Vec<Canon>>, Arc<Vec<Canon>>)>,
+    pub(crate) programs: Option<(Blocks, Blocks)>,
     pub(crate) block_skip: bool,
     pub(crate) phase: Phase,
     pub(crate) next: usize,
@@ -253,7 +257,7 @@ impl Process {
     }
 
     /// Selects the program (canonical blocks) and its name; the interpreter must be idle.
-    pub fn load(&mut self, name: &str, blocks: impl Into<Arc<Vec<Canon>>>) -> Result<(), Reject> {
+    pub fn load(&mut self, name: &str, blocks: impl Into<Blocks>) -> Result<(), Reject> {
         if self.run != Interp::Idle {
             return Err(Reject::ProgramActive);
         }
@@ -270,8 +274,8 @@ impl Process {
     pub fn load_with_skip(
         &mut self,
         name: &str,
-        plain: Arc<Vec<Canon>>,
-        skipped: Arc<Vec<Canon>>,
+        plain: Blocks,
+        skipped: Blocks,
     ) -> Result<(), Reject> {
         self.load(name, Arc::clone(&plain))?;
         self.programs = Some((plain, skipped));

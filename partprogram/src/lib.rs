@@ -33,6 +33,7 @@ pub mod machine;
 pub mod macro_b;
 pub mod parse;
 pub mod pos;
+mod process_words;
 pub mod program;
 pub mod radius;
 pub mod run;

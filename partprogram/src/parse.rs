@@ -371,16 +371,6 @@ fn parse_error(
     )
 }
 
-/// The three-letter instructions of the process logic (PGCFIL, seed 003 table of chapter 3): a
-/// partprogram block holding one was meant for the process, not for the part.
-const PROCESS_INSTRUCTIONS: &[&str] = &[
-    "CLS", "DPT", "RED", "BNC", "DIS", "SCR", "BGT", "TOF", "WRT", "BLT", "RQU", "BEQ", "RQP",
-    "BNE", "UCG", "BGE", "CLG", "BLE", "DCG", "EPP", "RPT", "DEF", "ERP", "FIL", "UAO", "TGL",
-    "UOT", "DFP", "UIO", "EPF", "MIR", "SPA", "URT", "SPF", "SPP", "CLP", "DLY", "CAN", "RLG",
-    "DLO", "CLO", "BSP", "DSA", "CRE", "ESP", "ASC", "DER", "DSC", "INP", "CTL", "OPN", "DAM",
-    "OUT",
-];
-
 /// A "did you mean" for an unexpected letter that is part of a run of letters (a word of a block
 /// is one letter and a number): the letter `O` typed for the digit `0` (`GO1`), a
 /// process-logic instruction such as `RPT` or `EPP` (or a misspelling of one) in a partprogram.
@@ -417,9 +407,8 @@ fn letter_run_hint(src: &str, at: usize) -> Option<String> {
                 .to_string(),
         );
     }
-    let known = PROCESS_INSTRUCTIONS.iter().find(|w| **w == run).copied();
-    let meant = known.or_else(|| diag::nearest(&run, PROCESS_INSTRUCTIONS.iter().copied()))?;
-    let lead = if known.is_some() {
+    let (meant, known) = crate::process_words::instruction_meant(&run)?;
+    let lead = if known {
         format!("`{meant}`")
     } else {
         format!("did you mean `{meant}`? That")

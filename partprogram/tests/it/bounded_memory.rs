@@ -632,7 +632,7 @@ fn a_plan_of_a_loop_free_program_is_allocated_once() {
         panic!("{diags:?}")
     };
     let (planned, peak) = crate::peak_alloc::peak_during(|| {
-        partprogram::plan(&prog, partprogram::PlanOptions::default())
+        partprogram::plan(&prog, partprogram::PlanOptions::default()).ok()
     });
     let plan = planned.expect("a valid program plans");
     assert_eq!(plan.executed, 101_000);
