@@ -48,8 +48,10 @@ pub struct Sink {
     pushed: u64,
     errors: usize,
     warnings: usize,
-    /// Per file (a handful), the stored diagnostics.
+    /// Per file (a handful), the stored diagnostics (with a cap).
     kept: Vec<(String, BinaryHeap<Entry>)>,
+    /// Without a cap, every diagnostic in push order: nothing to rank or sort.
+    all: Vec<Diagnostic>,
     dropped: Vec<Hidden>,
 }
 
@@ -73,6 +75,10 @@ impl Sink {
             self.errors += 1;
         } else {
             self.warnings += 1;
+        }
+        if self.max == 0 {
+            self.all.push(d);
+            return;
         }
         let key = (d.span.start, d.code, self.pushed);
         self.pushed += 1;
@@ -148,12 +154,15 @@ impl Sink {
 
     /// Diagnostics stored now (at most the cap per file).
     pub fn stored(&self) -> usize {
-        self.kept.iter().map(|(_, h)| h.len()).sum()
+        self.all.len() + self.kept.iter().map(|(_, h)| h.len()).sum::<usize>()
     }
 
     /// The stored diagnostics in push order and, per file in order of the first dropped one,
     /// how many were counted but not stored.
     pub fn finish(self) -> (Vec<Diagnostic>, Vec<Hidden>) {
+        if self.max == 0 {
+            return (self.all, self.dropped);
+        }
         let mut kept: Vec<Entry> = self
             .kept
             .into_iter()

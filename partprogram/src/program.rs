@@ -375,13 +375,14 @@ pub fn compile_capped(
     // first overflowed is not the order the checks found their diagnostics in).
     hidden.sort_by(|a, b| (a.file != name, &a.file).cmp(&(b.file != name, &b.file)));
     locate_pending(&prog.files, src, &mut diags);
-    diags.sort_by(|a, b| {
-        (a.file != name, &a.file, a.line, a.column).cmp(&(
-            b.file != name,
-            &b.file,
-            b.line,
-            b.column,
-        ))
+    // Main file first, then the macro files by name; within a file by place. The files are ranked
+    // once (comparing their names at every step of the sort was a tenth of a compile of
+    // error-dense text).
+    let mut files: Vec<&str> = prog.files.iter().map(|f| f.name.as_str()).collect();
+    files.sort_by(|a, b| (*a != name, a).cmp(&(*b != name, b)));
+    diags.sort_by_cached_key(|d| {
+        let rank = files.iter().position(|f| *f == d.file);
+        (d.file != name, rank.unwrap_or(usize::MAX), d.line, d.column)
     });
     if failed {
         return (None, diags, hidden);
