@@ -90,9 +90,14 @@ impl Sink {
             }
         };
         let heap = &mut self.kept[i].1;
+        // Full, and after every stored one (as most are: readers report in file order): counted
+        // and dropped without entering the heap.
+        if heap.len() >= self.max && heap.peek().is_some_and(|top| key > top.key) {
+            self.drop_one(&d);
+            return;
+        }
         heap.push(Entry { key, diagnostic: d });
-        if self.max > 0
-            && heap.len() > self.max
+        if heap.len() > self.max
             && let Some(out) = heap.pop()
         {
             self.drop_one(&out.diagnostic);
