@@ -9,9 +9,6 @@
 //! Invariants (property-tested): `format(format(x)) == format(x)`, and the compiled program of
 //! `format(x)` equals that of `x` (tokens and line numbers are unchanged).
 
-use std::path::Path;
-use std::process::ExitCode;
-
 use compiler::lexer::{Tok, tokenize};
 
 /// How one physical line is laid out.
@@ -136,50 +133,6 @@ fn kinds(body: &str, n: usize) -> Vec<Kind> {
     kinds
 }
 
-/// `ncplc fmt FILE [--check]`: rewrites the file formatted (0), or with `check` says whether it
-/// is formatted (0) or not (1, nothing written); 2 when it cannot be read or written, or is not UTF-8.
-pub fn run_cli(path: &Path, check: bool) -> ExitCode {
-    let bytes = match std::fs::read(path) {
-        Ok(b) => b,
-        Err(e) => {
-            eprintln!("ncplc fmt: cannot read {}: {e}", path.display());
-            return ExitCode::from(2);
-        }
-    };
-    let Ok(src) = String::from_utf8(bytes) else {
-        eprintln!(
-            "ncplc fmt: {} is not UTF-8 (a DOS/Windows CP866 or CP1251 file?): left unchanged, since rewriting it would change the bytes of its comments",
-            path.display()
-        );
-        return ExitCode::from(2);
-    };
-    let formatted = format(&src);
-    if formatted == src {
-        if !check {
-            eprintln!("ncplc fmt: {} is already formatted", path.display());
-        }
-        return ExitCode::SUCCESS;
-    }
-    if check {
-        eprintln!(
-            "ncplc fmt: {} is not formatted (run `ncplc fmt {}`)",
-            path.display(),
-            path.display()
-        );
-        return ExitCode::from(1);
-    }
-    match std::fs::write(path, formatted) {
-        Ok(()) => {
-            eprintln!("ncplc fmt: formatted {}", path.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("ncplc fmt: cannot write {}: {e}", path.display());
-            ExitCode::from(2)
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -210,7 +163,7 @@ mod tests {
             let src = String::from_utf8(std::fs::read(&path).expect("read")).expect("utf-8");
             let f = format(&src);
             assert_eq!(format(&f), f, "{m}");
-            let ctx = crate::machine::Machine::for_file(Path::new(&path)).ctx;
+            let ctx = crate::machine::Machine::for_file(std::path::Path::new(&path)).ctx;
             let a = compiler::compile("t", src.as_bytes(), &ctx);
             let b = compiler::compile("t", f.as_bytes(), &ctx);
             assert!(a.program.is_some(), "{m}");

@@ -6,8 +6,8 @@
 //! Layers: [`text`] (positions and edits) → [`analysis`] (one document: its diagnostics through
 //! `compiler::diagnose_incremental` and its [`index`]) → the features ([`hover`], [`navigate`],
 //! [`complete`], [`tokens`], [`format`], [`flow`]) → [`server`] (the protocol loop, debouncing). Nothing
-//! here depends on the runtime; the `ncplc` binary only calls [`serve_stdio`] and
-//! [`format::run_cli`].
+//! here depends on the runtime; the `ncplc` binary only calls [`serve_stdio`] and, for `ncplc fmt`,
+//! [`format::format`].
 
 pub mod analysis;
 pub mod complete;

@@ -3,7 +3,7 @@
 //! power loss) sees either the old complete file or the new one, never a mix.
 //!
 //! Used for every file ncplc replaces: the retain record, a golden trace rewritten by
-//! `ncplc replay --update`, the output of `ncplc trace pack`.
+//! `ncplc replay --update`, the output of `ncplc trace pack`, a PLC source `ncplc fmt` formats.
 
 use std::fs::File;
 use std::io::{self, Write};

@@ -566,6 +566,26 @@ fn ncplc_fmt_rewrites_checks_and_refuses_legacy_encodings() {
         std::fs::read(&p).expect("read"),
         b"U4A0 = I0A0 ; \xe0\xa0\n".to_vec()
     );
+    // Over the PLC source limit: refused, read no further than the limit, left as it is.
+    let big = "U4A0 = I0A0\n".repeat(3_000_000 / 12);
+    std::fs::write(&p, &big).expect("write");
+    assert_eq!(run(&[]), Some(2));
+    assert_eq!(std::fs::read_to_string(&p).expect("read"), big);
+    // Formatting replaces the file by a rename (a new inode: never half written over the old
+    // program) and leaves no temporary file.
+    std::fs::write(&p, "IF I0A0 THEN\nU4A0 = 1\nEND_IF\n").expect("write");
+    let inode = |p: &std::path::Path| {
+        use std::os::unix::fs::MetadataExt;
+        std::fs::metadata(p).expect("metadata").ino()
+    };
+    let before = inode(&p);
+    assert_eq!(run(&[]), Some(0));
+    assert_ne!(inode(&p), before);
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name())
+        .collect();
+    assert_eq!(names, [std::ffi::OsString::from("PLCPRG")]);
 }
 
 /// The power flow of a running `ncplc run --hmi … --hmi-flow` of the lathe as inlay hints on its

@@ -8,6 +8,7 @@ pub mod build;
 pub mod check;
 pub mod check_files;
 pub mod check_plc;
+pub mod fmt;
 pub mod hmi_args;
 pub mod nc;
 pub mod nc_plot;
@@ -90,6 +91,6 @@ pub fn main(cli: Cli) -> ExitCode {
                 ExitCode::from(2)
             }
         },
-        Command::Fmt { file, check } => plc_lsp::format::run_cli(&file, check),
+        Command::Fmt { file, check } => fmt::run(&file, check),
     }
 }
