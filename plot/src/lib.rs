@@ -86,9 +86,17 @@ pub fn write<C: Chart>(chart: &C, path: &Path) -> Result<(), PlotError> {
         }
         Some("png") => {
             register_font();
-            let root = BitMapBackend::new(path, chart.size()).into_drawing_area();
-            chart.draw(&root).map_err(fail)?;
-            root.present().map_err(|e| fail(e.to_string()))
+            // Drawn into a temporary file beside `path`, renamed over it once complete.
+            let mut drawn = Ok(());
+            let written = runtime::atomic_file::write_with(path, |tmp| {
+                let root = BitMapBackend::new(tmp, chart.size()).into_drawing_area();
+                drawn = chart
+                    .draw(&root)
+                    .and_then(|()| root.present().map_err(|e| e.to_string()));
+                drawn.clone().map_err(std::io::Error::other)
+            });
+            drawn.map_err(fail)?;
+            written.map_err(|e| fail(e.to_string()))
         }
         _ => Err(PlotError::Format(shown)),
     }

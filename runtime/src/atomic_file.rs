@@ -6,26 +6,38 @@
 //! `ncplc replay --update`, the output of `ncplc trace pack`, a PLC source `ncplc fmt` formats.
 
 use std::fs::File;
-use std::io::{self, Write};
+use std::io;
 use std::path::Path;
 
 /// Replaces `path` with `bytes` atomically (see the module doc).
 pub fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
+    write_with(path, |tmp| std::fs::write(tmp, bytes))
+}
+
+/// Replaces `path` atomically with what `fill` writes to the temporary file it is given (for a
+/// writer that takes a path, as plotters' PNG back end does); nothing is replaced when `fill`
+/// fails, and the temporary file is removed.
+pub fn write_with(path: &Path, fill: impl FnOnce(&Path) -> io::Result<()>) -> io::Result<()> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
     let mut builder = tempfile::Builder::new();
-    builder.prefix(".ncplc-").suffix(".tmp");
+    // The same extension as the target: a writer may choose its format by it.
+    let suffix = path.extension().map_or_else(
+        || ".tmp".to_string(),
+        |e| format!(".{}", e.to_string_lossy()),
+    );
+    builder.prefix(".ncplc-").suffix(&suffix);
     // The usual mode of a new file (0666 less the umask: 0644 typically), not tempfile's 0600.
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    let mut tmp = builder.tempfile_in(dir)?;
-    tmp.write_all(bytes)?;
-    tmp.as_file().sync_all()?;
+    let tmp = builder.tempfile_in(dir)?;
+    fill(tmp.path())?;
+    std::fs::File::open(tmp.path())?.sync_all()?;
     tmp.persist(path).map_err(|e| e.error)?;
     // Make the rename itself durable; a directory that cannot be opened for syncing (some
     // file systems) still has the complete new file.

@@ -93,6 +93,13 @@ fn the_mill_contour_matches_its_golden_svg_and_png_is_a_real_png() {
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     // IHDR: width and height, big-endian, at bytes 16..24.
     assert_eq!(&bytes[16..24], &[0, 0, 3, 32, 0, 0, 2, 88]); // 800 x 600
+    // Both were drawn beside their names and renamed over them: no temporary file is left.
+    let left: Vec<String> = std::fs::read_dir(dir.path())
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(".ncplc-"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
 }
 
 #[test]
