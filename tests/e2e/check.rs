@@ -1,30 +1,11 @@
 //! End-to-end tests of `ncplc check` on the bundled machines and on broken copies of them.
 
 use std::path::PathBuf;
-use std::process::Command;
 
-fn ncplc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
-
-/// Runs ncplc with `dir` as the current directory (paths in diagnostics are relative to it).
-fn ncplc_in(dir: &std::path::Path, args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+use crate::e2e_common::{copy_machine, ncplc, ncplc_in, root};
 
 fn machine(name: &str) -> String {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../plc-programs")
-        .join(name)
-        .display()
-        .to_string()
+    root().join("plc-programs").join(name).display().to_string()
 }
 
 #[test]
@@ -39,7 +20,7 @@ fn ncplc_prints_help() {
 fn example_machines_check_clean() {
     // The mill's interface.toml (process 2's handshake signals) is checked and named too.
     // Run from the workspace root: the files are named as the user can open them from there.
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let root = root();
     for (name, extra) in [("lathe", false), ("mill", true)] {
         let out = ncplc_in(&root, &["check", &format!("plc-programs/{name}")]);
         let text = String::from_utf8_lossy(&out.stderr);
@@ -144,25 +125,6 @@ fn missing_machine_directory_is_a_usage_error() {
         String::from_utf8_lossy(&out.stderr),
         "ncplc check: /nonexistent/machine: not a machine directory (no such directory)\n"
     );
-}
-
-/// A copy of the bundled machine `name` in a temporary directory.
-fn copy_machine(name: &str) -> tempfile::TempDir {
-    fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
-        std::fs::create_dir_all(to).expect("mkdir");
-        for entry in std::fs::read_dir(from).expect("read dir") {
-            let entry = entry.expect("entry");
-            let target = to.join(entry.file_name());
-            if entry.path().is_dir() {
-                copy_dir(&entry.path(), &target);
-            } else {
-                std::fs::copy(entry.path(), &target).expect("copy");
-            }
-        }
-    }
-    let dir = tempfile::tempdir().expect("temp dir");
-    copy_dir(&PathBuf::from(machine(name)), dir.path());
-    dir
 }
 
 /// Runs the machine in `dir` for one tick; asserts that `run` refuses it and returns its stderr.

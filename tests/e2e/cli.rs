@@ -6,25 +6,9 @@
 use std::io::{BufRead, BufReader};
 use std::os::unix::fs::PermissionsExt;
 use std::os::unix::process::ExitStatusExt;
-use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-/// Runs ncplc in the workspace root.
-fn ncplc(args: &[&str]) -> Output {
-    ncplc_in(&root(), args)
-}
-
-fn ncplc_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+use crate::e2e_common::{ncplc_at_root as ncplc, ncplc_in, root};
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()

@@ -20,6 +20,28 @@ pub fn ncplc<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
         .expect("ncplc runs")
 }
 
+/// Runs the `ncplc` binary with `args` in `dir` (paths in its diagnostics are relative to it).
+pub fn ncplc_in(dir: &Path, args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_ncplc"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("ncplc runs")
+}
+
+/// Runs the `ncplc` binary in the workspace root (the bundled machines are
+/// `plc-programs/<name>` there).
+pub fn ncplc_at_root(args: &[&str]) -> Output {
+    ncplc_in(&root(), args)
+}
+
+/// A copy of the bundled machine `name` (`plc-programs/<name>`) in a temporary directory.
+pub fn copy_machine(name: &str) -> tempfile::TempDir {
+    let dir = tempfile::tempdir().expect("temp dir");
+    copy_dir(&root().join("plc-programs").join(name), dir.path());
+    dir
+}
+
 /// The `ncplc` binary's subcommands as builders of the test kit.
 pub struct Ncplc;
 

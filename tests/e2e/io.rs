@@ -5,11 +5,11 @@
 //! `ESTOP_PB_OK * OVERTRAVEL_OK` (I0A0, I0A1: discrete inputs 0 and 1). So closing both contacts at
 //! the device must energise coil 4 within a few ticks, and opening one must drop it again.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use crate::e2e_common::serial;
+use crate::e2e_common::{copy_dir, serial};
 
 use fieldbus::modbus::sim::RemoteIoSim;
 
@@ -28,19 +28,6 @@ fn lathe_with_device(device: &str) -> tempfile::TempDir {
     );
     std::fs::write(dir.path().join("io.toml"), map).expect("write io.toml");
     dir
-}
-
-fn copy_dir(from: &Path, to: &Path) {
-    for entry in std::fs::read_dir(from).expect("read dir") {
-        let entry = entry.expect("entry");
-        let target: PathBuf = to.join(entry.file_name());
-        if entry.file_type().expect("type").is_dir() {
-            std::fs::create_dir_all(&target).expect("mkdir");
-            copy_dir(&entry.path(), &target);
-        } else {
-            std::fs::copy(entry.path(), &target).expect("copy");
-        }
-    }
 }
 
 fn spawn_run(machine: &Path, io: &str, ticks: u32) -> Child {

@@ -1,22 +1,11 @@
 //! End-to-end tests of `ncplc nc run`: the bundled partprograms through the motion kernel, the
 //! trajectory format, a hand-computed motion time and the soft-limit refusal.
 
-use std::path::PathBuf;
 use std::process::Command;
 
 use detmath::Det as _;
 
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .current_dir(repo())
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+use crate::e2e_common::{ncplc_at_root as ncplc, root as repo};
 
 fn text(b: &[u8]) -> String {
     String::from_utf8_lossy(b).into_owned()

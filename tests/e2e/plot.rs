@@ -2,20 +2,9 @@
 //! goldens in `tests/golden/plot/` (`BLESS=1` rewrites them after a deliberate change; look at
 //! them before committing), PNGs are real PNGs of the chart's size, bad input is refused.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .current_dir(root())
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+use crate::e2e_common::{ncplc_at_root as ncplc, root};
 
 fn golden(out: &Path, name: &str) {
     let got = std::fs::read_to_string(out).expect("svg written");

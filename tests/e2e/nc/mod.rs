@@ -1,35 +1,11 @@
 //! End-to-end tests of `ncplc nc check` and `ncplc nc plan` on the bundled machines.
 
-use std::path::PathBuf;
-use std::process::Command;
-
-fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn ncplc(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_ncplc"))
-        .current_dir(repo())
-        .args(args)
-        .output()
-        .expect("ncplc runs")
-}
+use crate::e2e_common::{ncplc_at_root as ncplc, root as repo};
 
 /// Copies the bundled machine `name` into `to` (characterization files, macros, partprograms).
 fn copy_machine(name: &str, to: &std::path::Path) {
-    fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
-        std::fs::create_dir_all(to).expect("mkdir");
-        for entry in std::fs::read_dir(from).expect("read dir") {
-            let entry = entry.expect("entry");
-            let target = to.join(entry.file_name());
-            if entry.file_type().expect("type").is_dir() {
-                copy_dir(&entry.path(), &target);
-            } else {
-                std::fs::copy(entry.path(), &target).expect("copy");
-            }
-        }
-    }
-    copy_dir(&repo().join("plc-programs").join(name), to);
+    std::fs::create_dir_all(to).expect("mkdir");
+    crate::e2e_common::copy_dir(&repo().join("plc-programs").join(name), to);
 }
 
 fn json_lines(out: &[u8]) -> Vec<serde_json::Value> {
