@@ -22,7 +22,8 @@
 #          current directory, which campaigns side by side would share).
 #          FUZZ_JOB=<name> names this campaign's logs (logs/<target>.<name>.log), so that two
 #          campaigns of the same target can run side by side (one per core) on the shared corpus
-#          and add their executions to fuzz/executions.tsv, each under the lock.
+#          and add their executions to fuzz/executions.tsv, each under the lock; such a job does
+#          not minimise the corpus at its end (run once more without FUZZ_JOB for that).
 #          FUZZ_SANITIZER=none builds without AddressSanitizer (cargo fuzz `-s none`): several times
 #          the executions per second; panics, timeouts and the RSS limit are still caught. Use the
 #          same value for every command of a campaign (another value rebuilds everything).
@@ -139,7 +140,13 @@ for t in "${targets[@]}"; do
         read -r done_runs _ < <(recorded "$t")
     done
     echo "=== $t: $done_runs executions recorded"
-    keep_corpus "$t"
+    if [ -n "${FUZZ_JOB:-}" ]; then
+        # Another job of this target may still write to the corpus: minimise it once all ended
+        # (`fuzz/run-all.sh --resume TOTAL <target>` again does only that).
+        echo "=== $t: corpus not minimised (FUZZ_JOB=$FUZZ_JOB)"
+    else
+        keep_corpus "$t"
+    fi
 done
 if [ -z "$resume" ]; then
     echo "all targets ran ${secs}s each without a crash (executions in fuzz/$state)"
