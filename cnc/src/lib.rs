@@ -43,7 +43,7 @@ use packets::Signal;
 use partprogram::Canon;
 
 pub use config::ProcessConfig;
-pub use process::{Alarm, Counters, Process, Timing};
+pub use process::{Alarm, Blocks, Counters, Process, Timing};
 pub use signals::{MachineSignals, ProcessSignals};
 pub use state::{Command, Interp, Mode, Reject};
 pub use status::ProcessStatus;

@@ -22,10 +22,6 @@ use packets::Signal;
 use partprogram::Canon;
 
 use crate::config::ProcessConfig;
-
-/// A planned program's canonical blocks, shared between the part run that planned them and the
-/// process that runs them (the plan of a 50 MB program is hundreds of megabytes: never copied).
-pub type Blocks = Arc<Vec<Canon>>;
 use crate::exec::Phase;
 use crate::following::{AxisMonitor, Peak};
 use crate::handshake::{Channel, Kind, Note, bcd};
@@ -34,6 +30,10 @@ use crate::plant::{Drive, PlantSignals, Spindle};
 use crate::signals::{self, ProcessSignals};
 use crate::state::{Command, Interp, Mode, Reject, State, decide};
 use crate::status::{AxisStatus, ProcessStatus};
+
+/// A planned program's canonical blocks, shared between the part run that planned them and the
+/// process that runs them (the plan of a 50 MB program is hundreds of megabytes: never copied).
+pub type Blocks = Arc<Vec<Canon>>;
 
 /// An alarm of a process.
 #[derive(Debug, Clone, PartialEq)]

@@ -370,20 +370,22 @@ pub fn compile_capped(
     }
     let failed = sink.has_errors();
     let (mut diags, mut hidden) = sink.finish();
-    // The notes of what the cap hid come in the order of the diagnostics: the main file first,
-    // then the macro files by name (the phases are merged at the end, so the order in which files
-    // first overflowed is not the order the checks found their diagnostics in).
-    hidden.sort_by(|a, b| (a.file != name, &a.file).cmp(&(b.file != name, &b.file)));
+    // Diagnostics, and the notes of what the cap hid, in file order: the main file first, then the
+    // other files by name (the phases are merged at the end, so the order in which files first
+    // overflowed is not the order the checks found their diagnostics in); within a file by place.
+    // The files are ranked once (comparing names at every step of the sort was a tenth of a
+    // compile of error-dense text): the program's, and a macro file that could not be read (2031).
+    let mut files: Vec<String> = prog.files.iter().map(|f| f.name.clone()).collect();
+    for d in &diags {
+        if !files.contains(&d.file) {
+            files.push(d.file.clone());
+        }
+    }
+    files.sort_by(|a, b| (a != name, a).cmp(&(b != name, b)));
+    let rank = |file: &str| files.iter().position(|f| f == file).unwrap_or(usize::MAX);
+    hidden.sort_by_key(|h| rank(&h.file));
     locate_pending(&prog.files, src, &mut diags);
-    // Main file first, then the macro files by name; within a file by place. The files are ranked
-    // once (comparing their names at every step of the sort was a tenth of a compile of
-    // error-dense text).
-    let mut files: Vec<&str> = prog.files.iter().map(|f| f.name.as_str()).collect();
-    files.sort_by(|a, b| (*a != name, a).cmp(&(*b != name, b)));
-    diags.sort_by_cached_key(|d| {
-        let rank = files.iter().position(|f| *f == d.file);
-        (d.file != name, rank.unwrap_or(usize::MAX), d.line, d.column)
-    });
+    diags.sort_by_cached_key(|d| (rank(&d.file), d.line, d.column));
     if failed {
         return (None, diags, hidden);
     }

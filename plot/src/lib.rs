@@ -87,16 +87,14 @@ pub fn write<C: Chart>(chart: &C, path: &Path) -> Result<(), PlotError> {
         Some("png") => {
             register_font();
             // Drawn into a temporary file beside `path`, renamed over it once complete.
-            let mut drawn = Ok(());
-            let written = runtime::atomic_file::write_with(path, |tmp| {
+            runtime::atomic_file::write_with(path, |tmp| {
                 let root = BitMapBackend::new(tmp, chart.size()).into_drawing_area();
-                drawn = chart
+                chart
                     .draw(&root)
-                    .and_then(|()| root.present().map_err(|e| e.to_string()));
-                drawn.clone().map_err(std::io::Error::other)
-            });
-            drawn.map_err(fail)?;
-            written.map_err(|e| fail(e.to_string()))
+                    .and_then(|()| root.present().map_err(|e| e.to_string()))
+                    .map_err(std::io::Error::other)
+            })
+            .map_err(|e| fail(e.to_string()))
         }
         _ => Err(PlotError::Format(shown)),
     }

@@ -80,8 +80,10 @@ pub fn missing(machine: &Machine, map: &InterfaceMap) -> Vec<Diagnostic> {
 
 /// What `ncplc check` adds for the map of `dir`: the override file's errors (named
 /// `interface.toml`, its text added to `sources`), or else the roles processes 2..NBP lack. Also
-/// the map when it loaded (the built-in one without an override file), for the checks of the
-/// files compiled or read against it (`sim.toml`, the PLC program): the file is read once.
+/// the map when it has no error (the built-in one without an override file), for the checks of
+/// the files compiled or read against it (`sim.toml`, the PLC program; the file is read once):
+/// `run` refuses a map with errors before it reads those, so checking them against it would only
+/// add follow-on errors.
 pub fn check(
     dir: &Path,
     machine: &Machine,
@@ -124,7 +126,8 @@ pub fn check(
             *d = d.clone().locate(text);
         }
     }
-    (out, Some(map))
+    let usable = (!diag::has_errors(&out)).then_some(map);
+    (out, usable)
 }
 
 /// `ncplc run`'s refusal: processes 2..NBP lack handshake signals in the interface map.

@@ -27,10 +27,10 @@ pub struct Part {
     pub path: PathBuf,
     /// The canonical blocks in execution order, shared with the CNC process that runs them (the
     /// plan of a 50 MB program is hundreds of megabytes: it is held once).
-    pub blocks: Arc<Vec<Canon>>,
+    pub blocks: cnc::Blocks,
     /// The same with block skip on (blocks marked `/` left out), for the PLC's BSKIP switch; the
     /// same vector as `blocks` when no block is marked.
-    pub skipped: Arc<Vec<Canon>>,
+    pub skipped: cnc::Blocks,
     /// Every other file the compile read: (path relative to the machine directory, CRC-32), in
     /// name order.
     pub files: Vec<FileCrc>,

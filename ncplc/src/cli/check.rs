@@ -182,10 +182,6 @@ pub fn run(args: Args) -> ExitCode {
     if let Some(machine) = load.machine.take() {
         let (map, interface) =
             runtime::process_map::check(&args.machine_dir, &machine, &mut load.sources);
-        // A map with errors (bad entries, or roles processes 2..NBP lack) is refused by `run`
-        // before it reads sim.toml or compiles: checking those against it would only add
-        // follow-on errors.
-        let interface = interface.filter(|_| !diag::has_errors(&map));
         load.diagnostics.extend(map);
         let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(io);
