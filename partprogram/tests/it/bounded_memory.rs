@@ -431,8 +431,11 @@ fn a_valid_numbered_program_keeps_a_compact_block() {
         held.push((h - src.len(), peak - src.len()));
         drop(prog);
     }
-    let per_block = (held[1].0 - held[0].0) / 100_000;
-    let peak_per_block = (held[1].1 - held[0].1) / 100_000;
+    // Rounded to the nearest byte: a few bytes a thread-local or the allocator's bookkeeping may
+    // keep in one of the two runs and not the other must not change the per-block figure (the
+    // exact difference is 100,000 blocks' worth; truncating made one byte less fail the test).
+    let per_block = (held[1].0 - held[0].0 + 50_000) / 100_000;
+    let peak_per_block = (held[1].1 - held[0].1 + 50_000) / 100_000;
     // Each block: the compiled block, its three words (no spare room), 8 bytes of the unit's
     // number index and 4 of the native code's region table (`region_of`); nothing else grows with
     // the blocks.
