@@ -3,6 +3,7 @@
 //! same kernel, plant and operator as `ncplc run --program`, and re-runs them beside the logic
 //! ([`runtime::replay::ReplayKernel`]).
 
+use std::borrow::Borrow;
 use std::sync::{Arc, Mutex, PoisonError};
 
 use cnc::Cnc;
@@ -10,8 +11,9 @@ use cnc::Cnc;
 use crate::machine::Machine;
 use crate::part_run::{PartRun, PartSpec, kernel_version, start_spec};
 use runtime::program::Loaded;
-use runtime::replay::{Replay, ReplayKernel, ReplayOptions, replay_driving};
-use trace::{AxisId, AxisValue, OperatorCommand, PartHeader, Trace};
+use runtime::replay::{Replay, ReplayKernel, ReplayOptions, replay_records};
+use trace::reader::Header;
+use trace::{AxisId, AxisValue, OperatorCommand, PartHeader, TickRecord};
 
 /// The kernel, plant and operator of a part run, driven by a replay.
 pub struct KernelReplay {
@@ -187,40 +189,50 @@ impl ReplayKernel for KernelReplay {
     }
 }
 
-/// Replays `trace` through `loaded`: with the kernel when its header names partprograms, as a
-/// logic-only trace otherwise.
-pub fn replay_trace(
+/// Replays the trace with `header` whose `records` arrive one at a time through `loaded`: with
+/// the kernel when the header names partprograms, as a logic-only trace otherwise (where a
+/// record with operator commands is an error: there is no kernel to give them to). Each record
+/// the replay produces goes to `actual`.
+pub fn replay_trace<R: Borrow<TickRecord>>(
     machine: &Machine,
-    trace: &Trace,
+    header: &Header,
+    records: impl IntoIterator<Item = Result<R, String>>,
     loaded: Loaded,
     options: ReplayOptions,
+    actual: &mut dyn FnMut(&TickRecord) -> Result<(), String>,
     progress: impl FnMut(u64),
 ) -> Result<Replay, String> {
     let t_init = &machine.config.t_init;
-    match &trace.part {
+    match &header.part {
         Some(h) => {
-            let mut k = KernelReplay::new(machine, h, trace.tick_ms)?;
+            let mut k = KernelReplay::new(machine, h, header.tick_ms)?;
             let options = ReplayOptions {
                 drives_kernel: true,
                 ..options
             };
-            Ok(replay_driving(
-                trace,
+            replay_records(
+                records,
                 loaded,
                 t_init,
                 options,
                 Some(&mut k),
+                actual,
                 progress,
-            ))
+            )
         }
-        None => match trace.ticks.iter().find(|r| !r.commands.is_empty()) {
-            Some(r) => Err(format!(
-                "error: tick {}: the trace records operator commands but its header names no partprogram (no CNC kernel to give them to)",
-                r.t
-            )),
-            None => Ok(replay_driving(
-                trace, loaded, t_init, options, None, progress,
-            )),
-        },
+        None => {
+            let records = records.into_iter().map(|r| {
+                let r = r?;
+                if r.borrow().commands.is_empty() {
+                    Ok(r)
+                } else {
+                    Err(format!(
+                        "error: tick {}: the trace records operator commands but its header names no partprogram (no CNC kernel to give them to)",
+                        r.borrow().t
+                    ))
+                }
+            });
+            replay_records(records, loaded, t_init, options, None, actual, progress)
+        }
     }
 }

@@ -9,7 +9,10 @@
 use runtime::compiled::EngineKind;
 use runtime::program::Loaded;
 use runtime::replay::{Replay, ReplayOptions};
-use trace::Trace;
+use std::borrow::Borrow;
+
+use trace::TickRecord;
+use trace::reader::Header;
 
 use crate::machine::Machine;
 
@@ -43,14 +46,26 @@ impl Replayer {
         compile(&self.source).map_err(|e| e.to_string())
     }
 
-    /// Replays `trace` through `loaded`; `progress` hears the ticks done.
-    pub fn replay(
+    /// Replays the trace with `header` whose `records` arrive one at a time through `loaded`
+    /// (memory does not grow with the trace); each record the replay produces goes to `actual`
+    /// and `progress` hears the ticks done.
+    pub fn replay<R: Borrow<TickRecord>>(
         &self,
-        trace: &Trace,
+        header: &Header,
+        records: impl IntoIterator<Item = Result<R, String>>,
         loaded: Loaded,
         options: ReplayOptions,
+        actual: &mut dyn FnMut(&TickRecord) -> Result<(), String>,
         progress: impl FnMut(u64),
     ) -> Result<Replay, String> {
-        crate::part_replay::replay_trace(&self.machine, trace, loaded, options, progress)
+        crate::part_replay::replay_trace(
+            &self.machine,
+            header,
+            records,
+            loaded,
+            options,
+            actual,
+            progress,
+        )
     }
 }

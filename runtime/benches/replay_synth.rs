@@ -13,7 +13,7 @@ use criterion::{BatchSize, Criterion, criterion_group, criterion_main};
 use packets::Signal;
 use runtime::compiled::{EngineKind, load};
 use runtime::program::Loaded;
-use runtime::replay::{ReplayOptions, replay_with};
+use runtime::replay::{ReplayOptions, replay_keeping, replay_with};
 use trace::{TickRecord, Trace};
 
 fn ctx() -> MachineContext {
@@ -83,10 +83,12 @@ fn inputs(ticks: u64, gap: u64, jitter: bool) -> Trace {
 const NO_SKIP: ReplayOptions = ReplayOptions {
     skip_idle: false,
     drives_kernel: false,
+    context: 3,
 };
 const SKIP: ReplayOptions = ReplayOptions {
     skip_idle: true,
     drives_kernel: false,
+    context: 3,
 };
 
 fn scan_vs_replay_tick(c: &mut Criterion) {
@@ -135,11 +137,10 @@ fn replay_1m(c: &mut Criterion) {
     let p = program(1_000);
     // The expectations: a tick-by-tick replay's records.
     let mut trace = inputs(TICKS, 1_000, true);
-    let recorded = replay_with(&trace, loaded(&p), &[], NO_SKIP, |_| {});
-    trace = recorded.actual;
-    let check = replay_with(&trace, loaded(&p), &[], SKIP, |_| {});
+    trace = replay_keeping(&trace, loaded(&p), &[], NO_SKIP, |_| {}).1;
+    let (check, actual) = replay_keeping(&trace, loaded(&p), &[], SKIP, |_| {});
     assert!(check.identical());
-    assert_eq!(check.actual, trace);
+    assert_eq!(actual, trace);
     eprintln!(
         "1,000 statements, {TICKS} ticks: {} records, {} ticks skipped as idle",
         trace.ticks.len(),

@@ -18,33 +18,72 @@ pub fn write(path: &Path, bytes: &[u8]) -> io::Result<()> {
 /// writer that takes a path, as plotters' PNG back end does); nothing is replaced when `fill`
 /// fails, and the temporary file is removed.
 pub fn write_with(path: &Path, fill: impl FnOnce(&Path) -> io::Result<()>) -> io::Result<()> {
-    let dir = path
-        .parent()
+    let pending = Pending::create(path)?;
+    fill(pending.path())?;
+    pending.commit()
+}
+
+/// A replacement of a file being written: its temporary file, which [`Pending::commit`] syncs
+/// and renames over the target; dropped without a commit, the temporary file is removed and the
+/// target is untouched (for a writer that streams, as `ncplc replay --update` does).
+#[derive(Debug)]
+pub struct Pending {
+    tmp: tempfile::NamedTempFile,
+    target: std::path::PathBuf,
+}
+
+impl Pending {
+    /// Creates the temporary file that will replace `path` (in the same directory, with the same
+    /// extension: a writer may choose its format by it).
+    pub fn create(path: &Path) -> io::Result<Pending> {
+        let dir = parent_dir(path);
+        let mut builder = tempfile::Builder::new();
+        let suffix = path.extension().map_or_else(
+            || ".tmp".to_string(),
+            |e| format!(".{}", e.to_string_lossy()),
+        );
+        builder.prefix(".ncplc-").suffix(&suffix);
+        // The usual mode of a new file (0666 less the umask: 0644 typically), not tempfile's 0600.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        Ok(Pending {
+            tmp: builder.tempfile_in(dir)?,
+            target: path.to_path_buf(),
+        })
+    }
+
+    /// The temporary file's path.
+    pub fn path(&self) -> &Path {
+        self.tmp.path()
+    }
+
+    /// The temporary file, to write to.
+    pub fn file(&mut self) -> &mut File {
+        self.tmp.as_file_mut()
+    }
+
+    /// Syncs the temporary file and renames it over the target, then syncs the directory.
+    pub fn commit(self) -> io::Result<()> {
+        File::open(self.tmp.path())?.sync_all()?;
+        let dir = parent_dir(&self.target).to_path_buf();
+        self.tmp.persist(&self.target).map_err(|e| e.error)?;
+        // Make the rename itself durable; a directory that cannot be opened for syncing (some
+        // file systems) still has the complete new file.
+        if let Ok(d) = File::open(dir) {
+            let _ = d.sync_all();
+        }
+        Ok(())
+    }
+}
+
+/// The directory `path` is in (`.` for a bare file name).
+fn parent_dir(path: &Path) -> &Path {
+    path.parent()
         .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let mut builder = tempfile::Builder::new();
-    // The same extension as the target: a writer may choose its format by it.
-    let suffix = path.extension().map_or_else(
-        || ".tmp".to_string(),
-        |e| format!(".{}", e.to_string_lossy()),
-    );
-    builder.prefix(".ncplc-").suffix(&suffix);
-    // The usual mode of a new file (0666 less the umask: 0644 typically), not tempfile's 0600.
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
-    let tmp = builder.tempfile_in(dir)?;
-    fill(tmp.path())?;
-    std::fs::File::open(tmp.path())?.sync_all()?;
-    tmp.persist(path).map_err(|e| e.error)?;
-    // Make the rename itself durable; a directory that cannot be opened for syncing (some
-    // file systems) still has the complete new file.
-    if let Ok(d) = File::open(dir) {
-        let _ = d.sync_all();
-    }
-    Ok(())
+        .unwrap_or(Path::new("."))
 }
 
 #[cfg(test)]

@@ -14,6 +14,9 @@
 //! and the replay compares every input change (the kernel's CNC→PLC signals) and every axis
 //! position with the trace, exactly (positions as f64 bits).
 
+use std::borrow::Borrow;
+use std::collections::VecDeque;
+
 use crate::idle_skip::IdleSkipper;
 use crate::image::Image;
 use crate::output_watch::OutputWatch;
@@ -47,9 +50,8 @@ pub trait ReplayKernel {
 pub struct Replay {
     /// Output comparison.
     pub comparator: Comparator,
-    /// What the replay produced: the trace's inputs with the replay's outputs, one record per tick
-    /// with changes (the `--update` form of the trace, which also keeps the end marker).
-    pub actual: Trace,
+    /// Ticks replayed (the last record's tick + 1).
+    pub ticks: u64,
     /// Ticks jumped over as idle (0 for a tick-by-tick replay).
     pub skipped: u64,
     /// The image after the last tick.
@@ -59,6 +61,8 @@ pub struct Replay {
     /// Recorded operator commands the replay's kernel refused (`tick N: {…} refused: why`): the
     /// run diverged before them.
     pub refused: Vec<String>,
+    /// The trace's and the replay's records around the first output divergence.
+    window: Context,
 }
 
 impl Replay {
@@ -68,16 +72,12 @@ impl Replay {
         self.comparator.identical() && self.positions.identical() && self.refused.is_empty()
     }
 
-    /// The divergence report, with `context` ticks around the first divergence.
-    pub fn report(&self, expected: &Trace, context: u64) -> String {
+    /// The divergence report, with [`ReplayOptions::context`] ticks around the first divergence.
+    pub fn report(&self) -> String {
         let mut s = String::new();
         if !self.comparator.identical() {
-            s = report(
-                &self.comparator,
-                &expected.ticks,
-                &self.actual.ticks,
-                context,
-            );
+            let w = &self.window;
+            s = report(&self.comparator, &w.expected, &w.actual, w.context);
         }
         for r in &self.refused {
             s.push_str(r);
@@ -88,14 +88,89 @@ impl Replay {
     }
 }
 
+/// The records a divergence report shows: before the first divergence, those of the last
+/// `context` ticks; after it, those up to `context` ticks past it. A replay of any length keeps
+/// at most the records of `2 × context + 1` ticks (moved in, never copied: the trace's record
+/// type `R` is the reader's own record or a reference into a trace in memory).
+#[derive(Debug)]
+struct Window<R> {
+    context: u64,
+    expected: VecDeque<R>,
+    actual: VecDeque<TickRecord>,
+}
+
+impl<R: Borrow<TickRecord>> Window<R> {
+    fn new(context: u64) -> Self {
+        Window {
+            context,
+            expected: VecDeque::new(),
+            actual: VecDeque::new(),
+        }
+    }
+
+    /// Keeps tick `t`'s records; `first` is the first divergence's tick, if any yet.
+    fn record(
+        &mut self,
+        t: u64,
+        first: Option<u64>,
+        expected: Option<R>,
+        actual: Option<TickRecord>,
+    ) {
+        match first {
+            Some(f) if t > f.saturating_add(self.context) => return,
+            Some(_) => {}
+            None => {
+                let lo = t.saturating_sub(self.context);
+                while self.expected.front().is_some_and(|r| r.borrow().t < lo) {
+                    self.expected.pop_front();
+                }
+                while self.actual.front().is_some_and(|r| r.t < lo) {
+                    self.actual.pop_front();
+                }
+            }
+        }
+        self.expected.extend(expected);
+        self.actual.extend(actual);
+    }
+
+    /// The records kept, as the report shows them.
+    fn finish(self) -> Context {
+        Context {
+            context: self.context,
+            expected: self.expected.iter().map(|r| r.borrow().clone()).collect(),
+            actual: self.actual.into(),
+        }
+    }
+}
+
+/// The trace's and the replay's records around the first divergence (see [`Window`]).
+#[derive(Debug, Default)]
+struct Context {
+    context: u64,
+    expected: Vec<TickRecord>,
+    actual: Vec<TickRecord>,
+}
+
 /// How a replay runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ReplayOptions {
     /// Jump over idle ticks ([`crate::idle_skip`]); the records are the same as tick by tick.
     pub skip_idle: bool,
     /// The replay also drives a CNC kernel (a trace of `ncplc run --program`): axes move in ticks
     /// that leave the PLC image unchanged, so no tick is ever skipped.
     pub drives_kernel: bool,
+    /// Ticks of context the divergence report shows around the first divergence (3 by default).
+    pub context: u64,
+}
+
+impl Default for ReplayOptions {
+    fn default() -> Self {
+        ReplayOptions {
+            skip_idle: false,
+            drives_kernel: false,
+            context: 3,
+        }
+    }
 }
 
 impl ReplayOptions {
@@ -120,7 +195,33 @@ pub fn replay_with(
     options: ReplayOptions,
     progress: impl FnMut(u64),
 ) -> Replay {
-    replay_driving(trace, loaded, t_init, options, None, progress)
+    replay_keeping(trace, loaded, t_init, options, progress).0
+}
+
+/// [`replay_with`], also returning what the replay produced: the trace's inputs with the
+/// replay's outputs, one record per tick with changes (the `--update` form of the trace).
+pub fn replay_keeping(
+    trace: &Trace,
+    loaded: Loaded,
+    t_init: &[u8],
+    options: ReplayOptions,
+    progress: impl FnMut(u64),
+) -> (Replay, Trace) {
+    let mut actual = Trace {
+        tick_ms: trace.tick_ms,
+        ticks: Vec::new(),
+        part: trace.part.clone(),
+    };
+    let records = trace.ticks.iter().map(Ok::<_, std::convert::Infallible>);
+    let keep = &mut |r: &TickRecord| {
+        actual.ticks.push(r.clone());
+        Ok(())
+    };
+    let replay = match replay_records(records, loaded, t_init, options, None, keep, progress) {
+        Ok(r) => r,
+        Err(never) => match never {},
+    };
+    (replay, actual)
 }
 
 /// Writes the trace's `inputs` into `image`, leaving the bits of `mask` (the kernel's) alone.
@@ -140,16 +241,21 @@ fn apply_masked(image: &mut [u8], inputs: &[SignalValue], mask: &[u8]) {
     }
 }
 
-/// [`replay_with`], re-running `kernel` beside the logic when given (a part-run trace; no tick is
-/// skipped then).
-pub fn replay_driving(
-    trace: &Trace,
+/// Replays the trace whose `records` arrive one at a time (in tick order, as a trace file holds
+/// them) through `loaded`, re-running `kernel` beside the logic when given (a part-run trace; no
+/// tick is skipped then). Each record the replay produces goes to `actual` as it is made; a
+/// record that cannot be read, or an error of `actual`, ends the replay with that error. Holds one
+/// record of the trace at a time (and the divergence report's window), so memory does not grow
+/// with the trace.
+pub fn replay_records<R: Borrow<TickRecord>, E>(
+    records: impl IntoIterator<Item = Result<R, E>>,
     mut loaded: Loaded,
     t_init: &[u8],
     options: ReplayOptions,
     mut kernel: Option<&mut dyn ReplayKernel>,
+    actual: &mut dyn FnMut(&TickRecord) -> Result<(), E>,
     mut progress: impl FnMut(u64),
-) -> Replay {
+) -> Result<Replay, E> {
     let options = ReplayOptions {
         drives_kernel: options.drives_kernel || kernel.is_some(),
         ..options
@@ -163,11 +269,7 @@ pub fn replay_driving(
         .filter(|_| options.skips())
         .map(|f| IdleSkipper::new(&f, image.bytes().len()));
     let mut cmp = Comparator::new(20);
-    let mut actual = Trace {
-        tick_ms: trace.tick_ms,
-        ticks: Vec::new(),
-        part: trace.part.clone(),
-    };
+    let mut window = Window::new(options.context);
     let mask = kernel
         .as_ref()
         .map(|k| k.written_mask())
@@ -179,13 +281,25 @@ pub fn replay_driving(
     let mut pos: Vec<AxisValue> = Vec::new();
     let mut outs = Vec::new();
     let mut refused = Vec::new();
-    let mut next = trace.ticks.iter().peekable();
-    let total = trace.len_ticks();
+    let mut records = records.into_iter();
+    // The next record of the trace: the replay runs up to the last record's tick.
+    let mut ahead = records.next().transpose()?;
     let none: &[(packets::Signal, u8)] = &[];
     let mut drives: Vec<trace::DriveSample> = Vec::new();
     let mut t = 0;
-    while t < total {
-        let rec = next.next_if(|r| r.t == t);
+    let mut ticks = 0;
+    while let Some(next_t) = ahead.as_ref().map(|r| r.borrow().t) {
+        // (A record not after the tick, which no trace file holds, applies at once.)
+        let current = if next_t <= t {
+            let r = ahead.take();
+            ahead = records.next().transpose()?;
+            r
+        } else {
+            None
+        };
+        let rec = current.as_ref().map(Borrow::borrow);
+        // The last record's tick ends the replay (and always has a record).
+        let last = ahead.is_none();
         let recorded_drives = rec.map_or(&[][..], |r| r.drives.as_slice());
         let recorded_lost = rec.map_or(&[][..], |r| r.nodes_lost.as_slice());
         if !recorded_drives.is_empty() {
@@ -243,16 +357,15 @@ pub fn replay_driving(
         if let Some(k) = kernel.as_deref_mut() {
             k.publish(t, image.packets());
         }
-        if !outs.is_empty()
+        let made = (!outs.is_empty()
             || !inputs.is_empty()
             || !forced.is_empty()
             || !pos.is_empty()
             || !commands.is_empty()
             || !recorded_drives.is_empty()
             || !recorded_lost.is_empty()
-            || t + 1 == total
-        {
-            actual.ticks.push(TickRecord {
+            || last)
+            .then(|| TickRecord {
                 t,
                 inputs: inputs.to_vec(),
                 outputs: outs.clone(),
@@ -262,30 +375,36 @@ pub fn replay_driving(
                 drives: recorded_drives.to_vec(),
                 nodes_lost: recorded_lost.to_vec(),
             });
+        if let Some(m) = &made {
+            actual(m)?;
         }
+        ticks = t + 1;
         let mut step = 1;
         if let Some(sk) = skipper.as_mut() {
             if !outs.is_empty() {
                 sk.disturbed();
             } else if inputs.is_empty() && forced.is_empty() {
                 // The ticks before the next record (the last tick always has one) carry nothing.
-                let until = next.peek().map_or(total, |r| r.t);
+                let until = ahead.as_ref().map_or(t + 1, |r| r.borrow().t);
                 step += sk.after_quiet_tick(image.bytes_mut(), until.saturating_sub(t + 1));
             }
         }
+        let first = cmp.divergences().first().map(|d| d.t);
+        window.record(t, first, current, made);
         if (t + step) >> 16 != t >> 16 {
             progress(t + step);
         }
         t += step;
     }
-    Replay {
+    Ok(Replay {
         comparator: cmp,
-        actual,
+        ticks,
         skipped: skipper.map_or(0, |s| s.skipped()),
         image: image.bytes().to_vec(),
         positions: pcmp,
         refused,
-    }
+        window: window.finish(),
+    })
 }
 
 /// A recorded command as the trace writes it.

@@ -9,7 +9,7 @@ use crate::{CncSignals, Sim};
 use runtime::clock::{Clock, VirtualClock};
 use runtime::image::Image;
 use runtime::program::Loaded;
-use runtime::replay::replay;
+use runtime::replay::{ReplayOptions, replay_keeping, replay_with};
 use runtime::retain::RetainRecord;
 use runtime::scheduler::{Event, Scheduler, Settings, Swap};
 use runtime::testkit::{FixedMeta, loaded, sig};
@@ -96,19 +96,31 @@ fn recording_holds_inputs_and_changed_outputs() {
 #[test]
 fn replay_of_a_recording_is_identical_and_a_changed_program_diverges() {
     let trace = record(20);
-    let same = replay(&trace, program(3), &[], |_| {});
-    assert!(same.identical(), "{}", same.report(&trace, 3));
-    assert_eq!(same.actual, trace);
-    let changed = replay(&trace, program(4), &[], |_| {});
+    let (same, actual) = replay_keeping(&trace, program(3), &[], ReplayOptions::default(), |_| {});
+    assert!(same.identical(), "{}", same.report());
+    assert_eq!(actual, trace);
+    let options = ReplayOptions {
+        context: 2,
+        ..ReplayOptions::default()
+    };
+    let changed = replay_with(&trace, program(4), &[], options, |_| {});
     assert!(!changed.identical());
-    let report = changed.report(&trace, 2);
-    assert!(
-        report.starts_with(
-            "replay diverges from the trace (1 divergence(s)); first ones:\n\
+    // The records of ticks 3..=7 around the first divergence (tick 5), of both sides: the
+    // replay kept them as it went.
+    assert_eq!(
+        changed.report(),
+        "replay diverges from the trace (1 divergence(s)); first ones:\n\
          \x20     tick  signal    expected    actual\n\
-         \x20        5  U4A0             1         0\n"
-        ),
-        "{report}"
+         \x20        5  U4A0             1         0\n\
+         context, ticks 3..=7:\n\
+         \x20 trace (expected):\n\
+         \x20   {\"t\":3,\"in\":{\"I1K0\":1},\"out\":{\"U11K0\":1}}\n\
+         \x20   {\"t\":4,\"in\":{\"I1K0\":0},\"out\":{\"U11K0\":0}}\n\
+         \x20   {\"t\":5,\"out\":{\"U4A0\":1}}\n\
+         \x20 replay (actual):\n\
+         \x20   {\"t\":3,\"in\":{\"I1K0\":1},\"out\":{\"U11K0\":1}}\n\
+         \x20   {\"t\":4,\"in\":{\"I1K0\":0},\"out\":{\"U11K0\":0}}\n\
+         \x20   {\"t\":6,\"out\":{\"U4A0\":1}}\n"
     );
 }
 

@@ -128,3 +128,88 @@ fn update_rewrites_the_expectations() {
         "{text}"
     );
 }
+
+/// The names in `dir` (sorted).
+fn names_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_damaged_record_after_good_ones_is_a_located_error_and_update_leaves_the_trace() {
+    // The trace is read record by record while the replay runs: a bad line far into it ends the
+    // replay with the error the whole-file reader gave (exit 2), and `--update` replaces nothing.
+    let dir = tempfile::tempdir().expect("tempdir");
+    let machine = root().join("plc-programs/lathe");
+    let good = std::fs::read_to_string(machine.join("traces/basic.jsonl")).expect("basic");
+    let lines = good.lines().count();
+    let trace = dir.path().join("t.jsonl");
+    let damaged = format!("{good}{{\"t\":999999,\"in\":{{\"I0A5\":2}}}}\n");
+    std::fs::write(&trace, &damaged).expect("write");
+    for update in [false, true] {
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec!["replay".as_ref(), machine.as_os_str(), trace.as_os_str()];
+        if update {
+            args.push("--update".as_ref());
+        }
+        let out = ncplc(&args);
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "{}: line {}: I0A5: value 2 is out of range (0..1)\n",
+                trace.display(),
+                lines + 1
+            )
+        );
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(std::fs::read_to_string(&trace).expect("read"), damaged);
+        assert_eq!(names_in(dir.path()), ["t.jsonl"]);
+    }
+}
+
+#[test]
+fn update_of_a_binary_trace_writes_a_binary_trace() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let plc = changed_lathe(dir.path());
+    let machine = root().join("plc-programs/lathe");
+    let packed = dir.path().join("t.ptrace");
+    let out = ncplc(&[
+        "trace".as_ref(),
+        "pack".as_ref(),
+        machine.join("traces/basic.jsonl").as_os_str(),
+        packed.as_os_str(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let replay = |extra: &[&std::ffi::OsStr]| {
+        let mut args: Vec<&std::ffi::OsStr> =
+            vec!["replay".as_ref(), machine.as_os_str(), packed.as_os_str()];
+        args.extend_from_slice(extra);
+        ncplc(&args).status.code()
+    };
+    assert_eq!(replay(&[]), Some(0));
+    assert_eq!(
+        replay(&["--plc".as_ref(), plc.as_os_str(), "--update".as_ref()]),
+        Some(0)
+    );
+    let bytes = std::fs::read(&packed).expect("read");
+    assert_ne!(bytes.first(), Some(&b'{'), "still binary");
+    assert_eq!(replay(&["--plc".as_ref(), plc.as_os_str()]), Some(0));
+    assert_eq!(replay(&[]), Some(1));
+    let out = ncplc(&["trace".as_ref(), "dump".as_ref(), packed.as_os_str()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.lines()
+            .nth(1)
+            .is_some_and(|l| l.contains("\"W14K1\":90")),
+        "{text}"
+    );
+    assert_eq!(names_in(dir.path()), ["PLCPRG", "t.ptrace"]);
+}

@@ -244,22 +244,29 @@ pub fn encode(trace: &Trace) -> Result<Vec<u8>, TraceError> {
 
 /// Decodes a whole binary trace.
 pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
-    let mut frames = bytes.split_inclusive(|&b| b == 0).enumerate();
-    let bad = |frame: usize, message: String| TraceError::Binary { frame, message };
-    let decode_one = |i: usize, raw: &[u8]| -> Result<Frame, TraceError> {
-        if raw.last() != Some(&0) {
-            return Err(bad(
-                i,
-                "truncated: the last frame has no 0x00 terminator".into(),
-            ));
-        }
-        let mut buf = raw.to_vec();
-        postcard::from_bytes_cobs::<Frame>(&mut buf)
-            .map_err(|e| bad(i, format!("undecodable frame: {e}")))
-    };
-    let (i, first) = frames.next().ok_or_else(|| bad(0, "empty file".into()))?;
+    crate::reader::Reader::with_form(bytes, Some(false))?.collect_trace()
+}
+
+/// A located error of frame `frame` (0-based).
+fn bad(frame: usize, message: String) -> TraceError {
+    TraceError::Binary { frame, message }
+}
+
+/// Decodes frame `i` in place: `raw` is its bytes with the 0x00 terminator.
+pub(crate) fn decode_frame(i: usize, raw: &mut [u8]) -> Result<Frame, TraceError> {
+    if raw.last() != Some(&0) {
+        return Err(bad(
+            i,
+            "truncated: the last frame has no 0x00 terminator".into(),
+        ));
+    }
+    postcard::from_bytes_cobs::<Frame>(raw).map_err(|e| bad(i, format!("undecodable frame: {e}")))
+}
+
+/// Reads the header frame (frame `i`, its bytes with the terminator): the tick.
+pub(crate) fn decode_header(i: usize, raw: &mut [u8]) -> Result<u32, TraceError> {
     // A first frame that does not decode: most likely not a trace at all (a wrong file name).
-    let first = decode_one(i, first).map_err(|e| match e {
+    let first = decode_frame(i, raw).map_err(|e| match e {
         TraceError::Binary { message, .. } => bad(
             i,
             format!(
@@ -268,130 +275,155 @@ pub fn decode(bytes: &[u8]) -> Result<Trace, TraceError> {
         ),
         other => other,
     })?;
-    let tick_ms = match first {
+    match first {
         Frame::Header {
             format,
             version,
             tick_ms,
-        } if format == FORMAT && version == VERSION && tick_ms > 0 => tick_ms,
-        Frame::Header { version, .. } => {
-            return Err(bad(
-                i,
-                format!("not a version-{VERSION} ncplc trace header (version {version})"),
-            ));
-        }
+        } if format == FORMAT && version == VERSION && tick_ms > 0 => Ok(tick_ms),
+        Frame::Header { version, .. } => Err(bad(
+            i,
+            format!("not a version-{VERSION} ncplc trace header (version {version})"),
+        )),
         Frame::Tick(_)
         | Frame::Forced(_)
         | Frame::Part(_)
         | Frame::Positions(_)
         | Frame::Commands(_)
         | Frame::Drives(_)
-        | Frame::NodesLost(_) => {
-            return Err(bad(i, "the first frame must be the header".into()));
-        }
-    };
-    let mut ticks: Vec<TickRecord> = Vec::new();
-    let mut forced: Option<(usize, Vec<(u32, u8)>)> = None;
-    let mut positions: Option<(usize, Vec<AxisValue>)> = None;
-    let mut commands: Option<(usize, Vec<OperatorCommand>)> = None;
-    let mut drives: Option<(usize, Vec<DriveSample>)> = None;
-    let mut nodes_lost: Option<(usize, Vec<NodeLoss>)> = None;
-    let mut part = None;
-    for (i, raw) in frames {
-        match decode_one(i, raw)? {
-            Frame::Part(json) if i == 1 => {
-                part = Some(
-                    serde_json::from_str::<PartHeader>(&json)
-                        .map_err(|e| bad(i, format!("part header: {e}")))?,
-                );
-            }
-            Frame::Part(_) => return Err(bad(i, "a part header after the first frames".into())),
+        | Frame::NodesLost(_) => Err(bad(i, "the first frame must be the header".into())),
+    }
+}
+
+/// Reads the frames after the header one at a time: the lists a tick frame's leading frames
+/// carry wait here for it.
+#[derive(Debug, Default)]
+pub(crate) struct Decoder {
+    prev_t: Option<u64>,
+    forced: Option<(usize, Vec<(u32, u8)>)>,
+    positions: Option<(usize, Vec<AxisValue>)>,
+    commands: Option<(usize, Vec<OperatorCommand>)>,
+    drives: Option<(usize, Vec<DriveSample>)>,
+    nodes_lost: Option<(usize, Vec<NodeLoss>)>,
+}
+
+impl Decoder {
+    /// Decodes frame `i` (after the header; `raw` with its terminator): the record a tick frame
+    /// completes, the part-run header of frame 1, or nothing for a leading list.
+    pub(crate) fn frame(&mut self, i: usize, raw: &mut [u8]) -> Result<Decoded, TraceError> {
+        match decode_frame(i, raw)? {
+            Frame::Part(json) if i == 1 => Ok(Decoded::Part(
+                serde_json::from_str::<PartHeader>(&json)
+                    .map_err(|e| bad(i, format!("part header: {e}")))?,
+            )),
+            Frame::Part(_) => Err(bad(i, "a part header after the first frames".into())),
             Frame::Positions(list) => {
-                if positions.is_some() {
+                if self.positions.is_some() {
                     return Err(bad(i, "two position frames without a tick between".into()));
                 }
                 let list = list
                     .into_iter()
                     .map(|(process, axis, bits)| (AxisId { process, axis }, bits))
                     .collect();
-                positions = Some((i, list));
+                self.positions = Some((i, list));
+                Ok(Decoded::Nothing)
             }
             Frame::Commands(json) => {
-                pending_json(&mut commands, i, &json, "command", "operator commands")?
+                pending_json(&mut self.commands, i, &json, "command", "operator commands")?;
+                Ok(Decoded::Nothing)
             }
-            Frame::Drives(json) => pending_json(&mut drives, i, &json, "drive", "drive feedback")?,
+            Frame::Drives(json) => {
+                pending_json(&mut self.drives, i, &json, "drive", "drive feedback")?;
+                Ok(Decoded::Nothing)
+            }
             Frame::NodesLost(json) => {
-                pending_json(&mut nodes_lost, i, &json, "lost-node", "lost I/O nodes")?
+                pending_json(
+                    &mut self.nodes_lost,
+                    i,
+                    &json,
+                    "lost-node",
+                    "lost I/O nodes",
+                )?;
+                Ok(Decoded::Nothing)
             }
             Frame::Forced(list) => {
-                if forced.is_some() {
+                if self.forced.is_some() {
                     return Err(bad(i, "two forced frames without a tick between".into()));
                 }
-                forced = Some((i, list));
+                self.forced = Some((i, list));
+                Ok(Decoded::Nothing)
             }
             Frame::Tick(c) => {
-                let prev_t = ticks.last().map_or(0, |r| r.t);
                 let mut r = c
-                    .expand(prev_t)
+                    .expand(self.prev_t.unwrap_or(0))
                     .ok_or_else(|| bad(i, "a signal outside the packets".into()))?;
-                if let Some((_, list)) = forced.take() {
+                if let Some((_, list)) = self.forced.take() {
                     r.forced = list
                         .iter()
                         .map(|&(k, v)| from_key(k, Dir::Out).map(|s| (s, v)))
                         .collect::<Option<_>>()
                         .ok_or_else(|| bad(i, "a forced signal outside the packets".into()))?;
                 }
-                if let Some((_, list)) = positions.take() {
+                if let Some((_, list)) = self.positions.take() {
                     r.positions = list;
                 }
-                if let Some((_, list)) = commands.take() {
+                if let Some((_, list)) = self.commands.take() {
                     r.commands = list;
                 }
-                if let Some((_, list)) = drives.take() {
+                if let Some((_, list)) = self.drives.take() {
                     r.drives = list;
                 }
-                if let Some((_, list)) = nodes_lost.take() {
+                if let Some((_, list)) = self.nodes_lost.take() {
                     r.nodes_lost = list;
                 }
-                if let Some(prev) = ticks.last()
+                if let Some(prev) = self.prev_t
                     && c.dt == 0
                 {
-                    return Err(bad(
-                        i,
-                        format!("tick {} does not follow tick {}", r.t, prev.t),
-                    ));
+                    return Err(bad(i, format!("tick {} does not follow tick {prev}", r.t)));
                 }
-                ticks.push(r);
+                self.prev_t = Some(r.t);
+                Ok(Decoded::Record(r))
             }
-            Frame::Header { .. } => return Err(bad(i, "a second header".into())),
+            Frame::Header { .. } => Err(bad(i, "a second header".into())),
         }
     }
-    if let Some((i, _)) = forced {
-        return Err(bad(i, "truncated: a forced frame without its tick".into()));
+
+    /// At the end of the file: a leading list without its tick frame is a truncation.
+    pub(crate) fn finish(&self) -> Result<(), TraceError> {
+        if let Some((i, _)) = self.forced {
+            return Err(bad(i, "truncated: a forced frame without its tick".into()));
+        }
+        if let Some((i, _)) = self.commands {
+            return Err(bad(i, "truncated: a command frame without its tick".into()));
+        }
+        if let Some((i, _)) = self.drives {
+            return Err(bad(i, "truncated: a drive frame without its tick".into()));
+        }
+        if let Some((i, _)) = self.nodes_lost {
+            return Err(bad(
+                i,
+                "truncated: a lost-node frame without its tick".into(),
+            ));
+        }
+        if let Some((i, _)) = self.positions {
+            return Err(bad(
+                i,
+                "truncated: a position frame without its tick".into(),
+            ));
+        }
+        Ok(())
     }
-    if let Some((i, _)) = commands {
-        return Err(bad(i, "truncated: a command frame without its tick".into()));
-    }
-    if let Some((i, _)) = drives {
-        return Err(bad(i, "truncated: a drive frame without its tick".into()));
-    }
-    if let Some((i, _)) = nodes_lost {
-        return Err(bad(
-            i,
-            "truncated: a lost-node frame without its tick".into(),
-        ));
-    }
-    if let Some((i, _)) = positions {
-        return Err(bad(
-            i,
-            "truncated: a position frame without its tick".into(),
-        ));
-    }
-    Ok(Trace {
-        tick_ms,
-        ticks,
-        part,
-    })
+}
+
+/// What one frame after the header gave.
+#[derive(Debug)]
+pub(crate) enum Decoded {
+    /// A complete record.
+    Record(TickRecord),
+    /// The part-run header (frame 1 only).
+    Part(PartHeader),
+    /// A list kept for the next tick frame.
+    Nothing,
 }
 
 #[cfg(test)]

@@ -8,6 +8,7 @@
 //! | module | concept |
 //! |---|---|
 //! | [`text`], [`binary`] | the two encodings of one [`Trace`] |
+//! | [`reader`] | a trace of either form read record by record (constant memory) |
 //! | [`recorder`] | a running image's changes as [`TickRecord`]s |
 //! | [`durable`] | the recording's writer thread (`<file>.partial`, periodic sync, rename at the end) |
 //! | [`recover`] | the complete records of a torn `.partial` |
@@ -23,6 +24,7 @@ pub mod binary;
 pub mod compare;
 pub mod durable;
 pub mod positions;
+pub mod reader;
 pub mod recorder;
 pub mod recover;
 pub mod text;
@@ -316,17 +318,12 @@ impl Trace {
 
     /// Reads a trace file in either form.
     pub fn load(path: &Path) -> Result<Trace, TraceError> {
-        let bytes = std::fs::read(path)?;
-        Trace::from_bytes(&bytes)
+        reader::Reader::open(path)?.collect_trace()
     }
 
     /// Parses a trace in either form (text when it starts with `{` after blanks).
     pub fn from_bytes(bytes: &[u8]) -> Result<Trace, TraceError> {
-        if bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{') {
-            text::parse(bytes)
-        } else {
-            binary::decode(bytes)
-        }
+        reader::Reader::new(bytes)?.collect_trace()
     }
 
     /// Writes the trace in text form.

@@ -135,22 +135,20 @@ pub fn canonical_key(s: &Signal) -> (usize, u8, Signal) {
 
 /// Parses a whole text trace.
 pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
-    let text = std::str::from_utf8(bytes).map_err(|e| TraceError::Text {
-        line: 1,
-        message: e.to_string(),
-    })?;
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .filter(|(_, l)| !l.trim().is_empty());
-    let err = |line: usize, message: String| TraceError::Text {
-        line: line + 1,
+    crate::reader::Reader::with_form(bytes, Some(true))?.collect_trace()
+}
+
+/// A located error of text line `n` (0-based).
+fn err(n: usize, message: String) -> TraceError {
+    TraceError::Text {
+        line: n + 1,
         message,
-    };
-    let (n, first) = lines
-        .next()
-        .ok_or_else(|| err(0, "empty trace: the header line is missing".into()))?;
-    let header: Value = serde_json::from_str(first).map_err(|e| err(n, e.to_string()))?;
+    }
+}
+
+/// Reads the header line (line `n`, 0-based): the tick and the part-run header.
+pub(crate) fn parse_header(n: usize, line: &str) -> Result<(u32, Option<PartHeader>), TraceError> {
+    let header: Value = serde_json::from_str(line).map_err(|e| err(n, e.to_string()))?;
     if header.get("format").and_then(Value::as_str) != Some("ncplc-trace") {
         return Err(err(
             n,
@@ -177,71 +175,63 @@ pub fn parse(bytes: &[u8]) -> Result<Trace, TraceError> {
                 .map_err(|e| err(n, format!("\"part\": {e}")))?,
         ),
     };
-    let mut ticks: Vec<TickRecord> = Vec::new();
-    for (n, line) in lines {
-        let v: Value = serde_json::from_str(line).map_err(|e| err(n, e.to_string()))?;
-        let obj = v
-            .as_object()
-            .ok_or_else(|| err(n, "a tick line must be a JSON object".into()))?;
-        let t = obj
-            .get("t")
-            .and_then(Value::as_u64)
-            .ok_or_else(|| err(n, "missing tick number \"t\"".into()))?;
-        if let Some(prev) = ticks.last()
-            && prev.t >= t
-        {
-            return Err(err(n, format!("tick {t} does not follow tick {}", prev.t)));
-        }
-        for key in obj.keys() {
-            if !matches!(
-                key.as_str(),
-                "t" | "in" | "out" | "forced" | "pos" | "cmd" | "drives" | "nodes_lost"
-            ) {
-                return Err(err(
-                    n,
-                    format!(
-                        "unknown key \"{key}\" (expected t, in, out, forced, pos, cmd, drives, nodes_lost)"
-                    ),
-                ));
-            }
-        }
-        let inputs = parse_map(obj.get("in")).map_err(|m| err(n, m))?;
-        let outputs = parse_map(obj.get("out")).map_err(|m| err(n, m))?;
-        let forced = parse_map(obj.get("forced")).map_err(|m| err(n, m))?;
-        let positions = parse_positions(obj.get("pos")).map_err(|m| err(n, m))?;
-        let commands = match obj.get("cmd") {
-            None => Vec::new(),
-            Some(v) => {
-                serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"cmd\": {e}")))?
-            }
-        };
-        let drives = match obj.get("drives") {
-            None => Vec::new(),
-            Some(v) => {
-                serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"drives\": {e}")))?
-            }
-        };
-        let nodes_lost = match obj.get("nodes_lost") {
-            None => Vec::new(),
-            Some(v) => serde_json::from_value(v.clone())
-                .map_err(|e| err(n, format!("\"nodes_lost\": {e}")))?,
-        };
-        ticks.push(TickRecord {
-            nodes_lost,
-            t,
-            inputs,
-            outputs,
-            forced,
-            positions,
-            commands,
-            drives,
-        });
+    Ok((tick_ms, part))
+}
+
+/// Reads the tick record of line `n` (0-based); `prev_t` is the previous record's tick.
+pub(crate) fn parse_tick(
+    n: usize,
+    line: &str,
+    prev_t: Option<u64>,
+) -> Result<TickRecord, TraceError> {
+    let v: Value = serde_json::from_str(line).map_err(|e| err(n, e.to_string()))?;
+    let obj = v
+        .as_object()
+        .ok_or_else(|| err(n, "a tick line must be a JSON object".into()))?;
+    let t = obj
+        .get("t")
+        .and_then(Value::as_u64)
+        .ok_or_else(|| err(n, "missing tick number \"t\"".into()))?;
+    if let Some(prev) = prev_t
+        && prev >= t
+    {
+        return Err(err(n, format!("tick {t} does not follow tick {prev}")));
     }
-    Ok(Trace {
-        tick_ms,
-        ticks,
-        part,
+    for key in obj.keys() {
+        if !matches!(
+            key.as_str(),
+            "t" | "in" | "out" | "forced" | "pos" | "cmd" | "drives" | "nodes_lost"
+        ) {
+            return Err(err(
+                n,
+                format!(
+                    "unknown key \"{key}\" (expected t, in, out, forced, pos, cmd, drives, nodes_lost)"
+                ),
+            ));
+        }
+    }
+    Ok(TickRecord {
+        t,
+        inputs: parse_map(obj.get("in")).map_err(|m| err(n, m))?,
+        outputs: parse_map(obj.get("out")).map_err(|m| err(n, m))?,
+        forced: parse_map(obj.get("forced")).map_err(|m| err(n, m))?,
+        positions: parse_positions(obj.get("pos")).map_err(|m| err(n, m))?,
+        commands: json_list(obj, "cmd", n)?,
+        drives: json_list(obj, "drives", n)?,
+        nodes_lost: json_list(obj, "nodes_lost", n)?,
     })
+}
+
+/// The list under `key` of line `n`'s object (empty when absent).
+fn json_list<T: serde::de::DeserializeOwned>(
+    obj: &serde_json::Map<String, Value>,
+    key: &str,
+    n: usize,
+) -> Result<Vec<T>, TraceError> {
+    match obj.get(key) {
+        None => Ok(Vec::new()),
+        Some(v) => serde_json::from_value(v.clone()).map_err(|e| err(n, format!("\"{key}\": {e}"))),
+    }
 }
 
 fn parse_map(v: Option<&Value>) -> Result<Vec<SignalValue>, String> {

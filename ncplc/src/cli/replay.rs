@@ -10,8 +10,13 @@ use std::process::ExitCode;
 use controller::Controller;
 use runtime::compiled::EngineKind;
 use runtime::replay::ReplayOptions;
+use std::cell::Cell;
+
+use trace::TickRecord;
+use trace::reader::{Header, Reader};
 use trace::recover::recover;
-use trace::{Trace, binary};
+
+use crate::cli::trace::TraceFile;
 
 /// Arguments of `ncplc replay`.
 #[derive(Debug, clap::Args)]
@@ -49,6 +54,46 @@ pub fn run(args: Args) -> ExitCode {
     }
 }
 
+/// A trace's records, one at a time; an error ends them.
+type Records<'a> = Box<dyn Iterator<Item = Result<TickRecord, String>> + 'a>;
+
+/// The trace's records: from the file, read one at a time (`read_at` hears the bytes read,
+/// `failed` the error that ended the reading), or the complete records of a `.partial` file a
+/// crashed recording left (read whole).
+fn open_records<'a>(
+    path: &'a std::path::Path,
+    read_at: &'a Cell<u64>,
+    failed: &'a Cell<Option<String>>,
+) -> Result<(Header, Records<'a>), String> {
+    let name = path.display();
+    let located = move |e: trace::TraceError| format!("{}: {e}", path.display());
+    if path.extension().is_some_and(|e| e == "partial") {
+        let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
+        let r = recover(&bytes).map_err(located)?;
+        eprintln!("{name}: {}", r.summary());
+        let header = Header {
+            tick_ms: r.trace.tick_ms,
+            part: r.trace.part,
+            text: bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{'),
+        };
+        return Ok((header, Box::new(r.trace.ticks.into_iter().map(Ok))));
+    }
+    let mut reader = Reader::open(path).map_err(&located)?;
+    let header = reader.header().clone();
+    let records = std::iter::from_fn(move || {
+        let r = reader.next();
+        read_at.set(reader.bytes_read());
+        r.map(|r| {
+            r.map_err(|e| {
+                let e = located(e);
+                failed.set(Some(e.clone()));
+                e
+            })
+        })
+    });
+    Ok((header, Box::new(records)))
+}
+
 fn run_inner(args: &Args) -> Result<ExitCode, String> {
     let replayer = Controller::builder(&args.machine)
         .plc(args.plc.clone())
@@ -58,94 +103,95 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
         })
         .replayer()
         .map_err(|e| e.to_string())?;
-    let bytes = std::fs::read(&args.trace).map_err(|e| format!("{}: {e}", args.trace.display()))?;
-    let trace = if args.trace.extension().is_some_and(|e| e == "partial") {
-        // What a crashed recording left: its complete records.
-        let r = recover(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?;
-        eprintln!("{}: {}", args.trace.display(), r.summary());
-        r.trace
-    } else {
-        Trace::from_bytes(&bytes).map_err(|e| format!("{}: {e}", args.trace.display()))?
-    };
-    let loaded = match replayer.compile(trace.tick_ms, 0) {
+    let name = args.trace.display();
+    // The bytes read so far, for the bar, and the error that ended the reading, if any.
+    let read = Cell::new(0u64);
+    let read_error: Cell<Option<String>> = Cell::new(None);
+    let (header, records) = open_records(&args.trace, &read, &read_error)?;
+    let loaded = match replayer.compile(header.tick_ms, 0) {
         Ok(l) => l,
         Err(diags) => {
             eprintln!("{diags}");
             return Ok(ExitCode::from(2));
         }
     };
-    let total = trace.len_ticks();
-    let bar = (std::io::stderr().is_terminal() && total >= 1 << 20).then(|| {
-        let bar = indicatif::ProgressBar::new(total);
+    let size = std::fs::metadata(&args.trace).map_or(0, |m| m.len());
+    let bar = (std::io::stderr().is_terminal() && size >= 8 << 20).then(|| {
+        let bar = indicatif::ProgressBar::new(size);
         bar.set_style(
             indicatif::ProgressStyle::with_template(
-                "replay {bar:40} {pos}/{len} ticks ({per_sec}, eta {eta})",
+                "replay {bar:40} {percent}% of the trace, tick {msg} (eta {eta})",
             )
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
         );
         bar
     });
-    let start = std::time::Instant::now();
     let options = ReplayOptions {
         skip_idle: !args.no_skip,
         // A trace whose header names partprograms re-runs the kernel (set by `replay_trace`).
-        drives_kernel: trace.part.is_some(),
+        drives_kernel: header.part.is_some(),
+        context: args.context,
     };
-    let result = replayer.replay(&trace, loaded, options, |done| {
+    let start = std::time::Instant::now();
+    let progress = |done: u64| {
         if let Some(b) = &bar {
-            b.set_position(done);
-        }
-    });
-    let result = match result {
-        Ok(r) => r,
-        Err(e) => {
-            if let Some(b) = bar {
-                b.finish_and_clear();
-            }
-            eprintln!("{e}");
-            return Ok(ExitCode::from(1));
+            b.set_position(read.get());
+            b.set_message(done.to_string());
         }
     };
+    // `--update` writes the replay's records as they are made into a file that replaces the
+    // trace only when the whole replay succeeded: an interrupted update leaves the old trace.
+    let mut update = if args.update {
+        let part = header.part.as_ref();
+        Some(TraceFile::create(
+            &args.trace,
+            header.tick_ms,
+            part,
+            !header.text,
+        )?)
+    } else {
+        None
+    };
+    let mut sink = |r: &TickRecord| match update.as_mut() {
+        Some(u) => u.record(r),
+        None => Ok(()),
+    };
+    let result = replayer.replay(&header, records, loaded, options, &mut sink, progress);
     if let Some(b) = bar {
         b.finish_and_clear();
     }
+    let result = match result {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("{e}");
+            // A trace that cannot be read is an error (2); a replay that cannot go on is a
+            // divergence (1).
+            let code = if read_error.take().is_some() { 2 } else { 1 };
+            return Ok(ExitCode::from(code));
+        }
+    };
     let elapsed = start.elapsed();
-    if args.update {
-        let out = if bytes.first() == Some(&b'{') {
-            let mut v = Vec::new();
-            result
-                .actual
-                .write_text(&mut v)
-                .map_err(|e| e.to_string())?;
-            v
-        } else {
-            binary::encode(&result.actual).map_err(|e| e.to_string())?
-        };
-        // Atomically: an interrupted update leaves the old golden trace, never half of the new one.
-        runtime::atomic_file::write(&args.trace, &out)
-            .map_err(|e| format!("{}: {e}", args.trace.display()))?;
-        eprintln!(
-            "{}: expectations updated ({total} ticks)",
-            args.trace.display()
-        );
+    let total = result.ticks;
+    if let Some(u) = update {
+        u.commit()?;
+        eprintln!("{name}: expectations updated ({total} ticks)");
         return Ok(ExitCode::SUCCESS);
     }
     if result.identical() {
         eprintln!(
-            "{}: {total} ticks replayed ({} skipped as idle), outputs identical{} ({:.1?}, {:.0}x real time)",
-            args.trace.display(),
+            "{name}: {total} ticks replayed ({} skipped as idle), outputs identical{} ({:.1?}, {:.0}x real time)",
             result.skipped,
-            if trace.part.is_some() {
+            if header.part.is_some() {
                 ", kernel signals and axis positions identical"
             } else {
                 ""
             },
             elapsed,
-            (total as f64 * f64::from(trace.tick_ms) / 1e3) / elapsed.as_secs_f64().max(1e-9)
+            (total as f64 * f64::from(header.tick_ms) / 1e3) / elapsed.as_secs_f64().max(1e-9)
         );
         Ok(ExitCode::SUCCESS)
     } else {
-        eprint!("{}", result.report(&trace, args.context));
+        eprint!("{}", result.report());
         Ok(ExitCode::from(1))
     }
 }

@@ -18,7 +18,7 @@ use controller::replayer::Replayer;
 use runtime::compiled::EngineKind;
 use runtime::replay::ReplayOptions;
 pub use shard::{Shard, ShardError};
-use trace::Trace;
+use trace::reader::Reader;
 
 /// Arguments of `ncplc test`.
 #[derive(Debug, clap::Args)]
@@ -102,23 +102,26 @@ pub fn test_one(replayer: &Replayer, path: &Path) -> Outcome {
         verdict,
         elapsed: start.elapsed(),
     };
-    let trace = match Trace::load(path) {
-        Ok(t) => t,
+    let reader = match Reader::open(path) {
+        Ok(r) => r,
         Err(e) => return outcome(0, Verdict::Error(e.to_string())),
     };
-    let loaded = match replayer.compile(trace.tick_ms, 1) {
+    let header = reader.header().clone();
+    let loaded = match replayer.compile(header.tick_ms, 1) {
         Ok(l) => l,
         Err(e) => return outcome(0, Verdict::Error(e)),
     };
-    let result = match replayer.replay(&trace, loaded, ReplayOptions::default(), |_| {}) {
+    let records = reader.map(|r| r.map_err(|e| e.to_string()));
+    let options = ReplayOptions::default();
+    let result = match replayer.replay(&header, records, loaded, options, &mut |_| Ok(()), |_| {}) {
         Ok(r) => r,
         Err(e) => return outcome(0, Verdict::Error(e)),
     };
-    let ticks = trace.len_ticks();
+    let ticks = result.ticks;
     if result.identical() {
         outcome(ticks, Verdict::Pass)
     } else {
-        let report = result.report(&trace, 3);
+        let report = result.report();
         let first = report.lines().next().unwrap_or("diverges").to_string();
         outcome(ticks, Verdict::Diverged(first, report))
     }

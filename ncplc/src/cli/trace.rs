@@ -4,7 +4,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use trace::{Trace, binary};
+use runtime::atomic_file::Pending;
+use trace::binary::BinaryWriter;
+use trace::reader::Reader;
+use trace::text::TextWriter;
+use trace::{PartHeader, TickRecord, TraceError, TraceSink};
 
 /// Arguments of `ncplc trace`.
 #[derive(Debug, clap::Args)]
@@ -47,21 +51,8 @@ pub enum TraceCommand {
 /// Runs `ncplc trace`.
 pub fn run(args: Args) -> ExitCode {
     let result = match args.command {
-        TraceCommand::Dump { file } => Trace::load(&file)
-            .map_err(|e| format!("{}: {e}", file.display()))
-            .and_then(|t| {
-                let stdout = std::io::stdout();
-                let mut lock = std::io::BufWriter::new(stdout.lock());
-                t.write_text(&mut lock).map_err(|e| e.to_string())?;
-                lock.flush().map_err(|e| e.to_string())
-            }),
-        TraceCommand::Pack { file, out } => Trace::load(&file)
-            .map_err(|e| format!("{}: {e}", file.display()))
-            .and_then(|t| binary::encode(&t).map_err(|e| e.to_string()))
-            .and_then(|bytes| {
-                runtime::atomic_file::write(&out, &bytes)
-                    .map_err(|e| format!("{}: {e}", out.display()))
-            }),
+        TraceCommand::Dump { file } => dump(&file),
+        TraceCommand::Pack { file, out } => pack(&file, &out),
         TraceCommand::Recover { file, out } => recover_file(&file, out.as_deref()),
     };
     match result {
@@ -71,6 +62,33 @@ pub fn run(args: Args) -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// Prints `file` in the text form, record by record.
+fn dump(file: &Path) -> Result<(), String> {
+    let located = |e: TraceError| format!("{}: {e}", file.display());
+    let reader = Reader::open(file).map_err(located)?;
+    let stdout = std::io::stdout();
+    let lock = std::io::BufWriter::new(stdout.lock());
+    let h = reader.header().clone();
+    let mut w =
+        TextWriter::with_part(lock, h.tick_ms, h.part.as_ref()).map_err(|e| e.to_string())?;
+    for r in reader {
+        w.record(&r.map_err(located)?).map_err(|e| e.to_string())?;
+    }
+    w.get_mut().flush().map_err(|e| e.to_string())
+}
+
+/// Writes `file` in the binary form to `out`, record by record (`out` is replaced at the end).
+fn pack(file: &Path, out: &Path) -> Result<(), String> {
+    let located = |e: TraceError| format!("{}: {e}", file.display());
+    let reader = Reader::open(file).map_err(located)?;
+    let h = reader.header().clone();
+    let mut w = TraceFile::create(out, h.tick_ms, h.part.as_ref(), true)?;
+    for r in reader {
+        w.record(&r.map_err(located)?)?;
+    }
+    w.commit()
 }
 
 fn recover_file(file: &Path, out: Option<&Path>) -> Result<(), String> {
@@ -89,14 +107,65 @@ fn recover_file(file: &Path, out: Option<&Path>) -> Result<(), String> {
                 out.extension().and_then(|e| e.to_str()),
                 Some("ptrace" | "bin")
             );
-            let bytes = if binary {
-                binary::encode(&r.trace).map_err(|e| e.to_string())?
-            } else {
-                let mut v = Vec::new();
-                r.trace.write_text(&mut v).map_err(|e| e.to_string())?;
-                v
-            };
-            runtime::atomic_file::write(out, &bytes).map_err(|e| format!("{}: {e}", out.display()))
+            let mut w = TraceFile::create(out, r.trace.tick_ms, r.trace.part.as_ref(), binary)?;
+            for rec in &r.trace.ticks {
+                w.record(rec)?;
+            }
+            w.commit()
         }
+    }
+}
+
+/// A trace file being written record by record: it replaces its path only at
+/// [`TraceFile::commit`], so an error or interruption leaves the old file (`trace pack`,
+/// `trace recover OUT`, `replay --update`).
+pub(crate) struct TraceFile {
+    sink: Box<dyn TraceSink>,
+    pending: Pending,
+    name: String,
+}
+
+impl TraceFile {
+    /// Starts the file that will replace `path`, in the binary form or the text one.
+    pub(crate) fn create(
+        path: &Path,
+        tick_ms: u32,
+        part: Option<&PartHeader>,
+        binary: bool,
+    ) -> Result<TraceFile, String> {
+        let name = path.display().to_string();
+        let io = |e: std::io::Error| format!("{name}: {e}");
+        let mut pending = Pending::create(path).map_err(io)?;
+        let out = std::io::BufWriter::new(pending.file().try_clone().map_err(io)?);
+        let sink: Box<dyn TraceSink> = if binary {
+            Box::new(
+                BinaryWriter::with_part(out, tick_ms, part).map_err(|e| format!("{name}: {e}"))?,
+            )
+        } else {
+            Box::new(TextWriter::with_part(out, tick_ms, part).map_err(|e| format!("{name}: {e}"))?)
+        };
+        Ok(TraceFile {
+            sink,
+            pending,
+            name,
+        })
+    }
+
+    /// Writes one record.
+    pub(crate) fn record(&mut self, r: &TickRecord) -> Result<(), String> {
+        self.sink
+            .record(r)
+            .map_err(|e| format!("{}: {e}", self.name))
+    }
+
+    /// Flushes the records and puts the file in place.
+    pub(crate) fn commit(mut self) -> Result<(), String> {
+        self.sink
+            .flush()
+            .map_err(|e| format!("{}: {e}", self.name))?;
+        drop(self.sink);
+        self.pending
+            .commit()
+            .map_err(|e| format!("{}: {e}", self.name))
     }
 }
