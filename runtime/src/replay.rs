@@ -116,18 +116,16 @@ impl<R: Borrow<TickRecord>> Window<R> {
         expected: Option<R>,
         actual: Option<TickRecord>,
     ) {
-        match first {
+        let lo = match first {
             Some(f) if t > f.saturating_add(self.context) => return,
-            Some(_) => {}
-            None => {
-                let lo = t.saturating_sub(self.context);
-                while self.expected.front().is_some_and(|r| r.borrow().t < lo) {
-                    self.expected.pop_front();
-                }
-                while self.actual.front().is_some_and(|r| r.t < lo) {
-                    self.actual.pop_front();
-                }
-            }
+            Some(f) => f.saturating_sub(self.context),
+            None => t.saturating_sub(self.context),
+        };
+        while self.expected.front().is_some_and(|r| r.borrow().t < lo) {
+            self.expected.pop_front();
+        }
+        while self.actual.front().is_some_and(|r| r.t < lo) {
+            self.actual.pop_front();
         }
         self.expected.extend(expected);
         self.actual.extend(actual);
@@ -410,4 +408,33 @@ pub fn replay_records<R: Borrow<TickRecord>, E>(
 /// A recorded command as the trace writes it.
 fn command_json(c: &OperatorCommand) -> String {
     serde_json::to_string(c).unwrap_or_else(|e| e.to_string())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rec(t: u64) -> TickRecord {
+        TickRecord {
+            t,
+            ..TickRecord::default()
+        }
+    }
+
+    #[test]
+    fn the_window_holds_the_last_context_ticks_then_freezes_after_the_first_divergence() {
+        let mut w: Window<TickRecord> = Window::new(3);
+        for t in 0..100_000 {
+            let first = (t >= 50_000).then_some(50_000);
+            w.record(t, first, Some(rec(t)), (t % 2 == 0).then(|| rec(t)));
+            // Before the divergence, never more than the records of the last 4 ticks; after it,
+            // of the 7 ticks around it.
+            let most = if first.is_some() { 7 } else { 4 };
+            assert!(w.expected.len() <= most && w.actual.len() <= most, "tick {t}");
+        }
+        let c = w.finish();
+        let ticks = |v: &[TickRecord]| v.iter().map(|r| r.t).collect::<Vec<_>>();
+        assert_eq!(ticks(&c.expected), (49_997..=50_003).collect::<Vec<_>>());
+        assert_eq!(ticks(&c.actual), [49_998, 50_000, 50_002]);
+    }
 }
