@@ -34,6 +34,7 @@ mod lines;
 mod random_text;
 mod sink;
 mod suggest;
+pub mod toml_keys;
 
 pub use cap::{
     DEFAULT_MAX_PER_FILE, Hidden, cap_per_file, json_lines_capped, json_lines_capped_with,

@@ -430,7 +430,10 @@ mod tests {
             // Before the divergence, never more than the records of the last 4 ticks; after it,
             // of the 7 ticks around it.
             let most = if first.is_some() { 7 } else { 4 };
-            assert!(w.expected.len() <= most && w.actual.len() <= most, "tick {t}");
+            assert!(
+                w.expected.len() <= most && w.actual.len() <= most,
+                "tick {t}"
+            );
         }
         let c = w.finish();
         let ticks = |v: &[TickRecord]| v.iter().map(|r| r.t).collect::<Vec<_>>();

@@ -70,16 +70,17 @@ pub fn check(file: &str, text: &str, machine: &Machine) -> (Option<Script>, Vec<
         file,
         diags: Vec::new(),
     };
-    let script: Script = match toml::from_str(text) {
+    let script: Script = match diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE) {
         Ok(s) => s,
-        Err(e) => {
-            let span = e.span().unwrap_or(0..0);
-            cx.err(
-                codes::SYNTAX,
-                span,
-                e.message().trim().to_string(),
-                "see docs/sim-toml.md for the tables and keys of sim.toml",
-            );
+        Err(errors) => {
+            for e in errors {
+                cx.err(
+                    codes::SYNTAX,
+                    e.span.unwrap_or(0..0),
+                    e.message,
+                    "see docs/sim-toml.md for the tables and keys of sim.toml",
+                );
+            }
             return (None, cx.located(text, &index));
         }
     };

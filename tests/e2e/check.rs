@@ -578,6 +578,98 @@ fn interface_toml_unknown_table_is_a_located_error() {
     assert!(got[0].4.contains("unknown field `signl`"), "{got:?}");
 }
 
+/// Every unknown key of io.toml, sim.toml and interface.toml is reported in one `check` (serde
+/// stops at the first: the integrator fixed typos one run at a time), each at its place, and
+/// `run` refuses the machine with every unknown key of sim.toml.
+#[test]
+fn every_unknown_key_of_every_toml_file_is_reported_in_one_run() {
+    let dir = copy_machine("lathe");
+    let edit = |name: &str, from: &str, to: &str| {
+        let path = dir.path().join(name);
+        let text = std::fs::read_to_string(&path).expect("read");
+        assert!(text.contains(from), "{name}: {from}");
+        std::fs::write(&path, text.replacen(from, to, 1)).expect("write");
+    };
+    edit("io.toml", "timeout_ms = 20", "timout_ms = 20");
+    edit("io.toml", "poll_us = 500", "pol_us = 500");
+    edit("sim.toml", "period = 2000", "periode = 2000");
+    edit("sim.toml", "tick = 10\n", "tick = 10\nspeed = 3\n");
+    let d = dir.path().display().to_string();
+    let unknown = |m: &str| m.split('`').nth(1).unwrap_or("").to_string();
+    let check = || {
+        let (code, lines) = json_check(&[&d]);
+        assert_eq!(code, Some(1));
+        lines.iter().map(brief).collect::<Vec<_>>()
+    };
+    let got = check();
+    let found: Vec<(u64, &str, String)> = got
+        .iter()
+        .map(|(c, f, _, _, m)| (*c, f.as_str(), unknown(m)))
+        .collect();
+    assert_eq!(
+        found,
+        [
+            (3000, "io.toml", "timout_ms".to_string()),
+            (3000, "io.toml", "pol_us".to_string()),
+            (3600, "sim.toml", "periode".to_string()),
+            (3600, "sim.toml", "speed".to_string()),
+        ],
+        "{got:?}"
+    );
+    let io = std::fs::read_to_string(dir.path().join("io.toml")).expect("io");
+    let sim = std::fs::read_to_string(dir.path().join("sim.toml")).expect("sim");
+    let line_of = |text: &str, what: &str| {
+        text.lines()
+            .position(|l| l.starts_with(what))
+            .map_or(0, |i| i as u64 + 1)
+    };
+    assert_eq!((got[0].2, got[0].3), (line_of(&io, "timout_ms"), 1));
+    assert_eq!((got[1].2, got[1].3), (line_of(&io, "pol_us"), 1));
+    assert_eq!((got[2].2, got[2].3), (line_of(&sim, "periode"), 1));
+    assert_eq!((got[3].2, got[3].3), (line_of(&sim, "speed"), 1));
+    // `run` reads sim.toml (not io.toml with the simulated I/O): it refuses with both keys.
+    let err = run_refuses(&d);
+    assert!(err.contains("`periode`") && err.contains("`speed`"), "{err}");
+    // interface.toml: both misspelt keys, and the entry left without its address.
+    std::fs::write(
+        dir.path().join("interface.toml"),
+        "[[signal]]\nname = \"SPARE\"\nadress = \"I200K0\"\ndirectoin = \"in\"\n",
+    )
+    .expect("write");
+    let got = check();
+    let found: Vec<(u64, &str, u64, String)> = got
+        .iter()
+        .filter(|(_, f, ..)| f == "interface.toml")
+        .map(|(c, f, l, _, m)| (*c, f.as_str(), *l, m.clone()))
+        .collect();
+    let expected =
+        "expected one of `name`, `address`, `width`, `dir`, `meaning`, `process`, `role`";
+    assert_eq!(
+        found,
+        [
+            (
+                1601,
+                "interface.toml",
+                1,
+                "missing field `address`".to_string()
+            ),
+            (
+                1601,
+                "interface.toml",
+                3,
+                format!("unknown field `adress`, {expected}")
+            ),
+            (
+                1601,
+                "interface.toml",
+                4,
+                format!("unknown field `directoin`, {expected}")
+            ),
+        ],
+        "{got:?}"
+    );
+}
+
 /// A machine configuration file over 1 MiB (well-formed TOML, every table an error) is refused
 /// at once by `check` and by `run`, naming its size: parsed whole it would take gigabytes
 /// (issue 23: 50 MB of `[[at]]` tables took 12 s and 4.3 GB).

@@ -181,13 +181,17 @@ impl InterfaceMap {
 
     /// Parses a map file's text and reports every error, in file order.
     pub fn parse_all(file: &str, text: &str) -> Result<Self, Vec<InterfaceMapError>> {
-        let raw: RawMap = toml::from_str(text).map_err(|e| {
-            vec![InterfaceMapError::Toml {
-                file: file.to_string(),
-                message: e.message().trim_end().to_string(),
-                span: e.span(),
-            }]
-        })?;
+        let raw: RawMap =
+            diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE).map_err(|errors| {
+                errors
+                    .into_iter()
+                    .map(|e| InterfaceMapError::Toml {
+                        file: file.to_string(),
+                        message: e.message,
+                        span: e.span,
+                    })
+                    .collect::<Vec<_>>()
+            })?;
         let mut map = Self::empty();
         let mut errors = Vec::new();
         for e in raw.signal {

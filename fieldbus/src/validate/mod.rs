@@ -241,17 +241,17 @@ pub fn parse_map_with_axes(
         lines: diag::LineIndex::new(text),
         diags: Vec::new(),
     };
-    let raw: RawMap = match toml::from_str(text) {
+    let raw: RawMap = match diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE) {
         Ok(r) => r,
-        Err(e) => {
-            let span = e.span().unwrap_or(0..0);
-            let msg = e.message().trim().to_string();
-            cx.err(
-                codes::SYNTAX,
-                span,
-                msg,
-                "see the io.toml format in fieldbus/DIAGNOSTICS.md",
-            );
+        Err(errors) => {
+            for e in errors {
+                cx.err(
+                    codes::SYNTAX,
+                    e.span.unwrap_or(0..0),
+                    e.message,
+                    "see the io.toml format in fieldbus/DIAGNOSTICS.md",
+                );
+            }
             return (None, cx.diags);
         }
     };
