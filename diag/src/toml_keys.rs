@@ -52,7 +52,10 @@ pub fn from_toml<T: serde::de::DeserializeOwned>(
             Ok(_) => return Err(in_file_order(errors)),
             Err(e) => TomlError::from(e),
         };
-        let key = e.span.clone().filter(|_| e.message.starts_with("unknown field"));
+        let key = e
+            .span
+            .clone()
+            .filter(|_| e.message.starts_with("unknown field"));
         errors.push(e);
         let go_on = errors.len() < most.max(1) && work < WORK_BYTES;
         match key.filter(|_| go_on) {

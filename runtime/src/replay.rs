@@ -414,19 +414,17 @@ fn command_json(c: &OperatorCommand) -> String {
 mod tests {
     use super::*;
 
-    fn rec(t: u64) -> TickRecord {
-        TickRecord {
-            t,
-            ..TickRecord::default()
-        }
-    }
-
     #[test]
     fn the_window_holds_the_last_context_ticks_then_freezes_after_the_first_divergence() {
         let mut w: Window<TickRecord> = Window::new(3);
         for t in 0..100_000 {
             let first = (t >= 50_000).then_some(50_000);
-            w.record(t, first, Some(rec(t)), (t % 2 == 0).then(|| rec(t)));
+            w.record(
+                t,
+                first,
+                Some(TickRecord::at(t)),
+                (t % 2 == 0).then(|| TickRecord::at(t)),
+            );
             // Before the divergence, never more than the records of the last 4 ticks; after it,
             // of the 7 ticks around it.
             let most = if first.is_some() { 7 } else { 4 };

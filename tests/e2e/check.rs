@@ -629,7 +629,10 @@ fn every_unknown_key_of_every_toml_file_is_reported_in_one_run() {
     assert_eq!((got[3].2, got[3].3), (line_of(&sim, "speed"), 1));
     // `run` reads sim.toml (not io.toml with the simulated I/O): it refuses with both keys.
     let err = run_refuses(&d);
-    assert!(err.contains("`periode`") && err.contains("`speed`"), "{err}");
+    assert!(
+        err.contains("`periode`") && err.contains("`speed`"),
+        "{err}"
+    );
     // interface.toml: both misspelt keys, and the entry left without its address.
     std::fs::write(
         dir.path().join("interface.toml"),

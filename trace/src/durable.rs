@@ -282,13 +282,6 @@ mod tests {
     use super::*;
     use crate::Trace;
 
-    fn rec(t: u64) -> TickRecord {
-        TickRecord {
-            t,
-            ..TickRecord::default()
-        }
-    }
-
     #[test]
     fn records_reach_the_partial_file_within_a_drain_period_without_finish() {
         let dir = tempfile::tempdir().expect("tempdir");
@@ -301,7 +294,7 @@ mod tests {
         let mut sink =
             DurableSink::create(&target, partial.clone(), 5, true, options).expect("sink");
         for t in [0, 3, 9] {
-            sink.record(&rec(t)).expect("record");
+            sink.record(&TickRecord::at(t)).expect("record");
         }
         // Nobody calls flush or finish (the process is about to be killed): the writer thread
         // alone must bring the records to the file.
@@ -337,7 +330,7 @@ mod tests {
         // Each line `{"t":N}\n` is 8..12 bytes; far more than 1024 bytes in one burst, faster
         // than the writer's 100 ms drain period.
         for t in 0..1000 {
-            sink.record(&rec(t)).expect("record");
+            sink.record(&TickRecord::at(t)).expect("record");
         }
         let e = sink.finish().expect_err("records were dropped").to_string();
         assert!(

@@ -75,6 +75,16 @@ pub struct TickRecord {
     pub nodes_lost: Vec<NodeLoss>,
 }
 
+impl TickRecord {
+    /// The record of tick `t` with nothing in it (what a recording ends with, and a test's start).
+    pub fn at(t: u64) -> TickRecord {
+        TickRecord {
+            t,
+            ..TickRecord::default()
+        }
+    }
+}
+
 /// An I/O node lost at one tick: its io.toml name, node id and why (the master's fault text).
 #[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
 pub struct NodeLoss {
@@ -417,21 +427,14 @@ impl TraceSink for MemorySink {
 mod tests {
     use super::*;
 
-    fn rec(t: u64) -> TickRecord {
-        TickRecord {
-            t,
-            ..TickRecord::default()
-        }
-    }
-
     #[test]
     fn a_finished_recording_replaces_the_file_and_leaves_no_partial() {
         let dir = tempfile::tempdir().expect("tempdir");
         let path = dir.path().join("golden.jsonl");
         std::fs::write(&path, "old golden trace").expect("seed");
         let mut sink = create_sink(&path, 10).expect("sink");
-        sink.record(&rec(0)).expect("record");
-        sink.record(&rec(5)).expect("record");
+        sink.record(&TickRecord::at(0)).expect("record");
+        sink.record(&TickRecord::at(5)).expect("record");
         sink.finish().expect("finish");
         sink.finish().expect("a second finish is harmless");
         assert!(!partial_path(&path).exists());
@@ -447,7 +450,7 @@ mod tests {
         std::fs::write(&path, "old golden trace").expect("seed");
         {
             let mut sink = create_sink(&path, 10).expect("sink");
-            sink.record(&rec(3)).expect("record");
+            sink.record(&TickRecord::at(3)).expect("record");
             // dropped without finish: the run died (the drop drains the ring)
         }
         assert_eq!(
