@@ -6,7 +6,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::{Chart, FAMILY};
-use trace::Trace;
+use std::borrow::Borrow;
+
+use trace::TickRecord;
 
 /// Most value labels written per byte lane (a busy byte would otherwise bury the lane).
 const MAX_LABELS: usize = 40;
@@ -38,15 +40,18 @@ pub struct TimingDiagram {
 }
 
 impl TimingDiagram {
-    /// The lanes of `signals` (with their `labels`) over `from..=to` of `trace`: the image is
-    /// rebuilt record by record (inputs, forced values, changed outputs) from tick 0.
-    pub fn new(
+    /// The lanes of `signals` (with their `labels`) over `from..=to` (to the last record when
+    /// `to` is None) of the trace with tick `tick_ms` whose `records` arrive one at a time: the
+    /// image is rebuilt record by record (inputs, forced values, changed outputs) from tick 0, and
+    /// reading stops past `to`. A record that cannot be read ends it with that error.
+    pub fn new<R: Borrow<TickRecord>, E>(
         title: String,
-        trace: &Trace,
+        tick_ms: u32,
+        records: impl IntoIterator<Item = Result<R, E>>,
         signals: &[(Signal, String)],
         from: u64,
-        to: u64,
-    ) -> TimingDiagram {
+        to: Option<u64>,
+    ) -> Result<TimingDiagram, E> {
         let mut image = vec![0u8; packets::PACKETS_LEN];
         let mut lanes: Vec<Lane> = signals
             .iter()
@@ -62,10 +67,14 @@ impl TimingDiagram {
                 lane.steps.push((from, s.read(image)));
             }
         };
-        for r in &trace.ticks {
-            if r.t > to {
+        let mut last = 0;
+        for r in records {
+            let r = r?;
+            let r = r.borrow();
+            if to.is_some_and(|to| r.t > to) {
                 break;
             }
+            last = r.t;
             // The window starts with the image at the end of tick `from`.
             if r.t > from && !started {
                 start(&image, &mut lanes);
@@ -86,13 +95,13 @@ impl TimingDiagram {
         if !started {
             start(&image, &mut lanes);
         }
-        TimingDiagram {
+        Ok(TimingDiagram {
             title,
             from,
-            to,
-            tick_ms: trace.tick_ms,
+            to: to.unwrap_or(last),
+            tick_ms,
             lanes,
-        }
+        })
     }
 }
 
@@ -173,7 +182,6 @@ impl Chart for TimingDiagram {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use trace::TickRecord;
 
     fn sig(s: &str) -> Signal {
         s.parse().expect("signal")
@@ -181,7 +189,7 @@ mod tests {
 
     #[test]
     fn lanes_follow_inputs_outputs_and_forces_inside_the_window() {
-        let trace = Trace {
+        let trace = trace::Trace {
             part: None,
             tick_ms: 10,
             ticks: vec![
@@ -214,7 +222,9 @@ mod tests {
             (sig("W14K0"), "FOV".to_string()),
             (sig("U4A0"), "U4A0".to_string()),
         ];
-        let d = TimingDiagram::new("t".into(), &trace, &sigs, 2, 20);
+        let records = trace.ticks.iter().map(Ok::<_, ()>);
+        let d = TimingDiagram::new("t".into(), trace.tick_ms, records, &sigs, 2, Some(20))
+            .expect("records");
         let steps: Vec<Vec<(u64, u8)>> = d.lanes.iter().map(|l| l.steps.clone()).collect();
         assert_eq!(
             steps,

@@ -9,7 +9,7 @@ use packets::Signal;
 
 use controller::machine::Machine;
 use plot::{self, timing::TimingDiagram};
-use trace::Trace;
+use trace::reader::Reader;
 
 /// Arguments of `ncplc plot`.
 #[derive(Debug, clap::Args)]
@@ -80,7 +80,9 @@ fn run_inner(args: Args) -> Result<(), String> {
         machine,
         output,
     } = args.what;
-    let trace = Trace::load(&file).map_err(|e| format!("{}: {e}", file.display()))?;
+    let located = |e: trace::TraceError| format!("{}: {e}", file.display());
+    let reader = Reader::open(&file).map_err(located)?;
+    let tick_ms = reader.header().tick_ms;
     let catalog = match &machine {
         Some(dir) => {
             let m = Machine::open(dir, None).map_err(|e| e.to_string())?;
@@ -113,23 +115,29 @@ fn run_inner(args: Args) -> Result<(), String> {
         };
         lanes.push((sig, label));
     }
-    let last = trace.len_ticks().saturating_sub(1);
     let from = match &from {
-        Some(t) => parse_tick(t, trace.tick_ms).map_err(|e| format!("--from: {e}"))?,
+        Some(t) => parse_tick(t, tick_ms).map_err(|e| format!("--from: {e}"))?,
         None => 0,
     };
     let to = match &to {
-        Some(t) => parse_tick(t, trace.tick_ms).map_err(|e| format!("--to: {e}"))?,
-        None => last,
+        Some(t) => Some(parse_tick(t, tick_ms).map_err(|e| format!("--to: {e}"))?),
+        None => None,
     };
-    if from > to {
+    if let Some(to) = to
+        && from > to
+    {
         return Err(format!("--from {from} is after --to {to}"));
     }
     let title = file.file_name().map_or_else(
         || file.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     );
-    let chart = TimingDiagram::new(title, &trace, &lanes, from, to);
+    // Read record by record, up to `--to` (the whole trace without it).
+    let chart = TimingDiagram::new(title, tick_ms, reader, &lanes, from, to).map_err(located)?;
+    let to = chart.to;
+    if from > to {
+        return Err(format!("--from {from} is after --to {to}"));
+    }
     plot::write(&chart, &output).map_err(|e| e.to_string())?;
     eprintln!(
         "{}: {} signals, ticks {from}..={to}",
