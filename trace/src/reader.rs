@@ -37,8 +37,13 @@ pub struct Reader<R: BufRead> {
     decoder: Option<Decoder>,
     /// The 0-based number of the next line (text) or frame (binary).
     next: usize,
-    /// A record read with the header (a binary trace's frame 1 when it is no part header).
-    first: Option<TickRecord>,
+    /// A record read with the header (a binary trace's frame 1 when it is no part header), or
+    /// the error reading it, and where it ends.
+    first: Option<(Result<TickRecord, TraceError>, u64)>,
+    /// Bytes up to the end of the last complete record (of the header before the first).
+    complete: u64,
+    /// Reading what a crash left: a last line without its line end is torn, not a record.
+    whole_lines: bool,
     /// The previous record's tick (text: each must follow it).
     prev_t: Option<u64>,
     buf: Vec<u8>,
@@ -64,7 +69,19 @@ impl<R: BufRead> Reader<R> {
 
     /// [`Reader::new`] of a trace in the given form (true: text) or, with None, the form its first
     /// byte that is not white space names.
-    pub(crate) fn with_form(mut input: R, text: Option<bool>) -> Result<Self, TraceError> {
+    pub(crate) fn with_form(input: R, text: Option<bool>) -> Result<Self, TraceError> {
+        Reader::start(input, text, false)
+    }
+
+    /// Reads the header of what a crashed recording left (`<file>.partial`): the records come
+    /// while they are complete — a line that ends in a line end and parses, a frame that ends
+    /// in `0x00` and decodes — and [`Reader::complete_bytes`] says where the last one ends. An
+    /// incomplete header is an error.
+    pub fn recovering(input: R) -> Result<Self, TraceError> {
+        Reader::start(input, None, true)
+    }
+
+    fn start(mut input: R, text: Option<bool>, whole_lines: bool) -> Result<Self, TraceError> {
         let (prefix, first_byte) = leading_white_space(&mut input)?;
         let text = text.unwrap_or(first_byte == Some(b'{'));
         let mut reader = Reader {
@@ -77,6 +94,8 @@ impl<R: BufRead> Reader<R> {
             decoder: (!text).then(Decoder::default),
             next: 0,
             first: None,
+            complete: 0,
+            whole_lines,
             prev_t: None,
             buf: Vec::new(),
             bytes: 0,
@@ -98,6 +117,12 @@ impl<R: BufRead> Reader<R> {
     /// Bytes of the input read so far (for progress).
     pub fn bytes_read(&self) -> u64 {
         self.bytes
+    }
+
+    /// Bytes of the input up to the end of the last record read (of the header, or a blank line
+    /// after it, before the first): where the complete part of a torn file ends.
+    pub fn complete_bytes(&self) -> u64 {
+        self.complete
     }
 
     /// Reads every record into a whole [`Trace`].
@@ -124,6 +149,9 @@ impl<R: BufRead> Reader<R> {
             let what = if sep == b'\n' { "line" } else { "frame" };
             let message = format!("longer than {MAX_RECORD_BYTES} bytes: no {what} of a trace");
             return Err(self.located(message));
+        }
+        if n > 0 && self.whole_lines && sep == b'\n' && self.buf.last() != Some(&b'\n') {
+            return Err(self.located("torn: the last line has no line end".into()));
         }
         Ok(n > 0)
     }
@@ -160,6 +188,9 @@ impl<R: BufRead> Reader<R> {
                 return Ok(true);
             }
             self.next += 1;
+            if self.header.tick_ms > 0 {
+                self.complete = self.bytes;
+            }
         }
     }
 
@@ -174,6 +205,7 @@ impl<R: BufRead> Reader<R> {
         self.header.tick_ms = tick_ms;
         self.header.part = part;
         self.next += 1;
+        self.complete = self.bytes;
         Ok(())
     }
 
@@ -186,9 +218,18 @@ impl<R: BufRead> Reader<R> {
         }
         self.header.tick_ms = binary::decode_header(0, &mut self.buf)?;
         self.next = 1;
-        // Frame 1 may be the part-run header.
-        if let Some(r) = self.binary_record()? {
-            self.first = Some(r);
+        self.complete = self.bytes;
+        // Frame 1 may be the part-run header: read on to the first record (whose error, if
+        // any, is the iterator's first item).
+        let complete = self.complete;
+        match self.binary_record() {
+            Ok(Some(r)) => self.first = Some((Ok(r), self.bytes)),
+            Ok(None) => {}
+            Err(e) => self.first = Some((Err(e), self.bytes)),
+        }
+        // The record read ahead is not yet handed out (a part header is complete at once).
+        if self.header.part.is_none() {
+            self.complete = complete;
         }
         Ok(())
     }
@@ -217,7 +258,10 @@ impl<R: BufRead> Reader<R> {
             }
             match decoder.frame(i, &mut self.buf)? {
                 Decoded::Record(r) => return Ok(Some(r)),
-                Decoded::Part(p) => self.header.part = Some(p),
+                Decoded::Part(p) => {
+                    self.header.part = Some(p);
+                    self.complete = self.bytes;
+                }
                 Decoded::Nothing => {}
             }
         }
@@ -242,8 +286,12 @@ impl<R: BufRead> Iterator for Reader<R> {
         if self.done {
             return None;
         }
-        if let Some(r) = self.first.take() {
-            return Some(Ok(r));
+        if let Some((r, end)) = self.first.take() {
+            match &r {
+                Ok(_) => self.complete = end,
+                Err(_) => self.done = true,
+            }
+            return Some(r);
         }
         let r = if self.header.text {
             self.text_record()
@@ -251,7 +299,10 @@ impl<R: BufRead> Iterator for Reader<R> {
             self.binary_record()
         };
         match r {
-            Ok(Some(r)) => Some(Ok(r)),
+            Ok(Some(r)) => {
+                self.complete = self.bytes;
+                Some(Ok(r))
+            }
             Ok(None) => {
                 self.done = true;
                 None

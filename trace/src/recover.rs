@@ -5,7 +5,10 @@
 //! frame ends in `0x00` and decodes. Used by `ncplc trace recover` and by `ncplc replay` on a
 //! `.partial` file.
 
-use super::{Trace, TraceError, binary, text};
+use std::io::BufRead;
+
+use super::reader::Reader;
+use super::{TickRecord, Trace, TraceError};
 
 /// What [`recover`] read.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -21,92 +24,57 @@ pub struct Recovered {
 impl Recovered {
     /// One line for the user: what was kept and what was dropped.
     pub fn summary(&self) -> String {
-        let n = self.trace.ticks.len();
-        let last = self
-            .trace
-            .ticks
-            .last()
-            .map_or(String::new(), |r| format!(" (up to tick {})", r.t));
-        format!(
-            "recovered {n} record{}{last}; dropped {} byte{} of torn tail",
-            if n == 1 { "" } else { "s" },
-            self.dropped_bytes,
-            if self.dropped_bytes == 1 { "" } else { "s" },
-        )
+        let last = self.trace.ticks.last().map(|r| r.t);
+        summary(self.trace.ticks.len(), last, self.dropped_bytes as u64)
     }
+}
+
+/// One line for the user: `n` records kept up to tick `last`, `dropped` bytes of torn tail.
+pub fn summary(n: usize, last: Option<u64>, dropped: u64) -> String {
+    let last = last.map_or(String::new(), |t| format!(" (up to tick {t})"));
+    format!(
+        "recovered {n} record{}{last}; dropped {dropped} byte{} of torn tail",
+        if n == 1 { "" } else { "s" },
+        if dropped == 1 { "" } else { "s" },
+    )
 }
 
 /// Reads the complete records of a possibly torn trace (text or binary). Fails only when not even
 /// the header is complete.
 pub fn recover(bytes: &[u8]) -> Result<Recovered, TraceError> {
-    let is_text = bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{');
-    let (sep, cut): (u8, fn(&TraceError) -> Option<usize>) = if is_text {
-        (b'\n', |e| match e {
-            // Lines are 1-based; keep the lines before the bad one.
-            TraceError::Text { line, .. } => Some(line.saturating_sub(1)),
-            _ => None,
-        })
-    } else {
-        (0, |e| match e {
-            TraceError::Binary { frame, .. } => Some(*frame),
-            _ => None,
-        })
-    };
-    // A text file may end in bytes that are not UTF-8 at all (a power loss leaves zeros or junk).
-    let valid = if is_text {
-        match std::str::from_utf8(bytes) {
-            Ok(_) => bytes.len(),
-            Err(e) => e.valid_up_to(),
-        }
-    } else {
-        bytes.len()
-    };
-    // Whole records only: up to the last separator.
-    let mut end = bytes[..valid]
-        .iter()
-        .rposition(|&b| b == sep)
-        .map_or(0, |i| i + 1);
-    let parse = |b: &[u8]| {
-        if is_text {
-            text::parse(b)
-        } else {
-            binary::decode(b)
-        }
-    };
-    // A damaged record inside the file: keep the records before it. Parsing is deterministic, so
-    // the second attempt on the shorter prefix succeeds unless the header itself is damaged.
-    for _ in 0..2 {
-        match parse(&bytes[..end]) {
-            Ok(trace) => {
-                return Ok(Recovered {
-                    trace,
-                    kept_bytes: end,
-                    dropped_bytes: bytes.len() - end,
-                });
-            }
-            Err(e) => match cut(&e) {
-                Some(keep) if keep > 0 => {
-                    end = bytes[..end]
-                        .split_inclusive(|&b| b == sep)
-                        .take(keep)
-                        .map(<[u8]>::len)
-                        .sum();
-                }
-                _ => return Err(e),
-            },
-        }
-    }
-    parse(&bytes[..end]).map(|trace| Recovered {
-        trace,
-        kept_bytes: end,
-        dropped_bytes: bytes.len() - end,
+    let mut ticks = Vec::new();
+    let (reader, kept) = recover_each(bytes, |r| ticks.push(r))?;
+    let kept = usize::try_from(kept).unwrap_or(bytes.len());
+    Ok(Recovered {
+        trace: Trace {
+            tick_ms: reader.tick_ms,
+            ticks,
+            part: reader.part,
+        },
+        kept_bytes: kept,
+        dropped_bytes: bytes.len() - kept,
     })
+}
+
+/// [`recover`] of a stream: hands each complete record to `each` as it is read (so a torn file
+/// of any length is recovered in constant memory) and returns the header and the bytes the
+/// records came from.
+pub fn recover_each(
+    input: impl BufRead,
+    mut each: impl FnMut(TickRecord),
+) -> Result<(super::reader::Header, u64), TraceError> {
+    let mut reader = Reader::recovering(input)?;
+    let header = reader.header().clone();
+    while let Some(Ok(r)) = reader.next() {
+        each(r);
+    }
+    Ok((header, reader.complete_bytes()))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::TickRecord;
+    use crate::binary;
 
     fn trace() -> Trace {
         let sig = |s: &str| s.parse().expect("signal");
@@ -157,6 +125,34 @@ mod tests {
         }
         // Not even a header: an error.
         assert!(recover(&bytes[..ends[0] - 1]).is_err());
+    }
+
+    #[test]
+    fn every_cut_of_a_text_trace_keeps_the_lines_that_end_before_it() {
+        let mut bytes = Vec::new();
+        trace().write_text(&mut bytes).expect("text");
+        let ends: Vec<usize> = bytes
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| **b == b'\n')
+            .map(|(i, _)| i + 1)
+            .collect();
+        assert_eq!(ends.len(), 3);
+        for cut in ends[0]..=bytes.len() {
+            // A last line without its line end is torn even when it parses (`{"t":7}` cut
+            // before `\n`), as a crash leaves it.
+            let r = recover(&bytes[..cut]).expect("recover");
+            let whole = ends.iter().filter(|&&e| e <= cut).count() - 1;
+            assert_eq!(r.trace.ticks, trace().ticks[..whole], "cut at {cut}");
+            assert_eq!((r.kept_bytes, r.dropped_bytes), (ends[whole], cut - ends[whole]));
+            // Read as a stream through a small buffer: the same records and bytes.
+            let mut ticks = Vec::new();
+            let reader = std::io::BufReader::with_capacity(3, &bytes[..cut]);
+            let (header, kept) = recover_each(reader, |t| ticks.push(t)).expect("stream");
+            assert_eq!((ticks, kept), (r.trace.ticks.clone(), ends[whole] as u64));
+            assert_eq!(header.tick_ms, 2);
+        }
+        assert!(recover(&bytes[..ends[0] - 1]).is_err(), "a torn header");
     }
 
     #[test]

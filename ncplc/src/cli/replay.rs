@@ -14,7 +14,9 @@ use std::cell::Cell;
 
 use trace::TickRecord;
 use trace::reader::{Header, Reader};
-use trace::recover::recover;
+use trace::recover::summary;
+
+use trace::TraceSink;
 
 use crate::cli::trace::TraceFile;
 
@@ -57,9 +59,9 @@ pub fn run(args: Args) -> ExitCode {
 /// A trace's records, one at a time; an error ends them.
 type Records<'a> = Box<dyn Iterator<Item = Result<TickRecord, String>> + 'a>;
 
-/// The trace's records: from the file, read one at a time (`read_at` hears the bytes read,
-/// `failed` the error that ended the reading), or the complete records of a `.partial` file a
-/// crashed recording left (read whole).
+/// The trace's records, read one at a time (`read_at` hears the bytes read, `failed` the error
+/// that ended the reading): of the file, or the complete records of a `.partial` file a crashed
+/// recording left.
 fn open_records<'a>(
     path: &'a std::path::Path,
     read_at: &'a Cell<u64>,
@@ -68,15 +70,34 @@ fn open_records<'a>(
     let name = path.display();
     let located = move |e: trace::TraceError| format!("{}: {e}", path.display());
     if path.extension().is_some_and(|e| e == "partial") {
-        let bytes = std::fs::read(path).map_err(|e| format!("{name}: {e}"))?;
-        let r = recover(&bytes).map_err(located)?;
-        eprintln!("{name}: {}", r.summary());
-        let header = Header {
-            tick_ms: r.trace.tick_ms,
-            part: r.trace.part,
-            text: bytes.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'{'),
-        };
-        return Ok((header, Box::new(r.trace.ticks.into_iter().map(Ok))));
+        // What a crashed recording left: its complete records, read one at a time like a trace;
+        // what was kept and dropped is said once they are read.
+        let size = std::fs::metadata(path).map_or(0, |m| m.len());
+        let file = std::fs::File::open(path).map_err(|e| format!("{name}: {e}"))?;
+        let mut reader = Reader::recovering(std::io::BufReader::with_capacity(1 << 16, file))
+            .map_err(&located)?;
+        let header = reader.header().clone();
+        let (mut n, mut last, mut ended) = (0, None, false);
+        let records = std::iter::from_fn(move || {
+            if ended {
+                return None;
+            }
+            read_at.set(reader.bytes_read());
+            match reader.next() {
+                Some(Ok(r)) => {
+                    n += 1;
+                    last = Some(r.t);
+                    Some(Ok(r))
+                }
+                _ => {
+                    ended = true;
+                    let dropped = size.saturating_sub(reader.complete_bytes());
+                    eprintln!("{}: {}", path.display(), summary(n, last, dropped));
+                    None
+                }
+            }
+        });
+        return Ok((header, Box::new(records)));
     }
     let mut reader = Reader::open(path).map_err(&located)?;
     let header = reader.header().clone();
@@ -153,7 +174,7 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
         None
     };
     let mut sink = |r: &TickRecord| match update.as_mut() {
-        Some(u) => u.record(r),
+        Some(u) => u.record(r).map_err(|e| e.to_string()),
         None => Ok(()),
     };
     let result = replayer.replay(&header, records, loaded, options, &mut sink, progress);
@@ -172,8 +193,8 @@ fn run_inner(args: &Args) -> Result<ExitCode, String> {
     };
     let elapsed = start.elapsed();
     let total = result.ticks;
-    if let Some(u) = update {
-        u.commit()?;
+    if let Some(mut u) = update {
+        u.finish().map_err(|e| e.to_string())?;
         eprintln!("{name}: expectations updated ({total} ticks)");
         return Ok(ExitCode::SUCCESS);
     }

@@ -86,42 +86,50 @@ fn pack(file: &Path, out: &Path) -> Result<(), String> {
     let h = reader.header().clone();
     let mut w = TraceFile::create(out, h.tick_ms, h.part.as_ref(), true)?;
     for r in reader {
-        w.record(&r.map_err(located)?)?;
+        w.record(&r.map_err(located)?).map_err(|e| e.to_string())?;
     }
-    w.commit()
+    w.finish().map_err(|e| e.to_string())
 }
 
+/// The complete records of `file`, read one at a time, printed as text or written to `out`.
 fn recover_file(file: &Path, out: Option<&Path>) -> Result<(), String> {
-    let bytes = std::fs::read(file).map_err(|e| format!("{}: {e}", file.display()))?;
-    let r = trace::recover::recover(&bytes).map_err(|e| format!("{}: {e}", file.display()))?;
-    eprintln!("{}: {}", file.display(), r.summary());
-    match out {
+    let name = file.display();
+    let size = std::fs::metadata(file).map_or(0, |m| m.len());
+    let input = std::fs::File::open(file).map_err(|e| format!("{name}: {e}"))?;
+    let mut reader = Reader::recovering(std::io::BufReader::with_capacity(1 << 16, input))
+        .map_err(|e| format!("{name}: {e}"))?;
+    let h = reader.header().clone();
+    let mut sink: Box<dyn TraceSink> = match out {
         None => {
-            let stdout = std::io::stdout();
-            let mut lock = std::io::BufWriter::new(stdout.lock());
-            r.trace.write_text(&mut lock).map_err(|e| e.to_string())?;
-            lock.flush().map_err(|e| e.to_string())
+            let stdout = std::io::BufWriter::new(std::io::stdout());
+            let w = TextWriter::with_part(stdout, h.tick_ms, h.part.as_ref());
+            Box::new(w.map_err(|e| e.to_string())?)
         }
         Some(out) => {
             let binary = matches!(
                 out.extension().and_then(|e| e.to_str()),
                 Some("ptrace" | "bin")
             );
-            let mut w = TraceFile::create(out, r.trace.tick_ms, r.trace.part.as_ref(), binary)?;
-            for rec in &r.trace.ticks {
-                w.record(rec)?;
-            }
-            w.commit()
+            Box::new(TraceFile::create(out, h.tick_ms, h.part.as_ref(), binary)?)
         }
+    };
+    let (mut n, mut last) = (0, None);
+    while let Some(Ok(r)) = reader.next() {
+        sink.record(&r).map_err(|e| e.to_string())?;
+        n += 1;
+        last = Some(r.t);
     }
+    let dropped = size.saturating_sub(reader.complete_bytes());
+    eprintln!("{name}: {}", trace::recover::summary(n, last, dropped));
+    sink.finish().map_err(|e| e.to_string())
 }
 
 /// A trace file being written record by record: it replaces its path only at
-/// [`TraceFile::commit`], so an error or interruption leaves the old file (`trace pack`,
+/// [`TraceSink::finish`], so an error or interruption leaves the old file (`trace pack`,
 /// `trace recover OUT`, `replay --update`).
 pub(crate) struct TraceFile {
     sink: Box<dyn TraceSink>,
-    pending: Pending,
+    pending: Option<Pending>,
     name: String,
 }
 
@@ -138,34 +146,40 @@ impl TraceFile {
         let mut pending = Pending::create(path).map_err(io)?;
         let out = std::io::BufWriter::new(pending.file().try_clone().map_err(io)?);
         let sink: Box<dyn TraceSink> = if binary {
-            Box::new(
-                BinaryWriter::with_part(out, tick_ms, part).map_err(|e| format!("{name}: {e}"))?,
-            )
+            let w = BinaryWriter::with_part(out, tick_ms, part);
+            Box::new(w.map_err(|e| format!("{name}: {e}"))?)
         } else {
-            Box::new(TextWriter::with_part(out, tick_ms, part).map_err(|e| format!("{name}: {e}"))?)
+            let w = TextWriter::with_part(out, tick_ms, part);
+            Box::new(w.map_err(|e| format!("{name}: {e}"))?)
         };
         Ok(TraceFile {
             sink,
-            pending,
+            pending: Some(pending),
             name,
         })
     }
 
-    /// Writes one record.
-    pub(crate) fn record(&mut self, r: &TickRecord) -> Result<(), String> {
-        self.sink
-            .record(r)
-            .map_err(|e| format!("{}: {e}", self.name))
+    /// An error of this file, named.
+    fn named(&self, e: impl std::fmt::Display) -> TraceError {
+        TraceError::Io(std::io::Error::other(format!("{}: {e}", self.name)))
+    }
+}
+
+impl TraceSink for TraceFile {
+    fn record(&mut self, r: &TickRecord) -> Result<(), TraceError> {
+        self.sink.record(r).map_err(|e| self.named(e))
     }
 
-    /// Flushes the records and puts the file in place.
-    pub(crate) fn commit(mut self) -> Result<(), String> {
-        self.sink
-            .flush()
-            .map_err(|e| format!("{}: {e}", self.name))?;
-        drop(self.sink);
-        self.pending
-            .commit()
-            .map_err(|e| format!("{}: {e}", self.name))
+    fn flush(&mut self) -> Result<(), TraceError> {
+        self.sink.flush().map_err(|e| self.named(e))
+    }
+
+    /// Flushes the records and puts the file in place (once).
+    fn finish(&mut self) -> Result<(), TraceError> {
+        self.flush()?;
+        match self.pending.take() {
+            Some(p) => p.commit().map_err(|e| self.named(e)),
+            None => Ok(()),
+        }
     }
 }
