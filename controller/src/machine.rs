@@ -29,9 +29,9 @@ pub enum OpenError {
     /// `sim.toml` has errors (the located diagnostics `ncplc check` reports, rendered).
     #[error("{0}")]
     SimChecks(String),
-    /// `interface.toml` is invalid.
-    #[error("error[E{code:04}]: {0}", code = .0.code())]
-    Interface(InterfaceMapError),
+    /// `interface.toml` is invalid: every error of it, in file order.
+    #[error("{}", interface_errors(.0))]
+    Interface(Vec<InterfaceMapError>),
     /// Processes 2..NBP lack handshake signals in the interface map.
     #[error(transparent)]
     MissingHandshakes(#[from] MissingHandshakes),
@@ -43,6 +43,15 @@ pub enum OpenError {
         /// The I/O error.
         source: std::io::Error,
     },
+}
+
+/// The errors of `interface.toml`, one line each (`error[E1601]: …`).
+fn interface_errors(errors: &[InterfaceMapError]) -> String {
+    let lines: Vec<String> = errors
+        .iter()
+        .map(|e| format!("error[E{:04}]: {e}", e.code()))
+        .collect();
+    lines.join("\n")
 }
 
 /// A machine ready to run.
@@ -70,7 +79,7 @@ impl Machine {
         if let Some(p) = plc {
             config.plc_source = p.to_path_buf();
         }
-        let interface = InterfaceMap::load_for_machine(dir).map_err(OpenError::Interface)?;
+        let interface = InterfaceMap::load_for_machine_all(dir).map_err(OpenError::Interface)?;
         process_map::require(&facts.machine, &interface)?;
         let sim = sim::validate::load(dir, &facts.machine, &interface);
         let script = match sim.script {

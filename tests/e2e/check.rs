@@ -671,6 +671,17 @@ fn every_unknown_key_of_every_toml_file_is_reported_in_one_run() {
         ],
         "{got:?}"
     );
+    // `run` refuses the machine with the same three errors of interface.toml.
+    let err = run_refuses(&d);
+    let e1601 = err
+        .lines()
+        .filter(|l| l.starts_with("error[E1601]"))
+        .count();
+    assert_eq!(e1601, 3, "{err}");
+    assert!(
+        err.contains("`adress`") && err.contains("`directoin`"),
+        "{err}"
+    );
 }
 
 /// A machine configuration file over 1 MiB (well-formed TOML, every table an error) is refused

@@ -144,7 +144,10 @@ mod tests {
             let r = recover(&bytes[..cut]).expect("recover");
             let whole = ends.iter().filter(|&&e| e <= cut).count() - 1;
             assert_eq!(r.trace.ticks, trace().ticks[..whole], "cut at {cut}");
-            assert_eq!((r.kept_bytes, r.dropped_bytes), (ends[whole], cut - ends[whole]));
+            assert_eq!(
+                (r.kept_bytes, r.dropped_bytes),
+                (ends[whole], cut - ends[whole])
+            );
             // Read as a stream through a small buffer: the same records and bytes.
             let mut ticks = Vec::new();
             let reader = std::io::BufReader::with_capacity(3, &bytes[..cut]);
