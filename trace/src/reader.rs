@@ -210,7 +210,17 @@ impl<R: BufRead> Reader<R> {
     }
 
     fn binary_header(&mut self) -> Result<(), TraceError> {
-        if !self.read_unit(0)? {
+        let read = self.read_unit(0).map_err(|e| match e {
+            // A first "frame" that long: most likely not a trace at all.
+            TraceError::Binary { frame, message } => TraceError::Binary {
+                frame,
+                message: format!(
+                    "not an ncplc trace: neither a text trace (a JSON header line first) nor a binary one ({message})"
+                ),
+            },
+            other => other,
+        })?;
+        if !read {
             return Err(TraceError::Binary {
                 frame: 0,
                 message: "empty file".into(),
