@@ -580,7 +580,7 @@ fn interface_toml_unknown_table_is_a_located_error() {
 
 /// Every unknown key of io.toml, sim.toml and interface.toml is reported in one `check` (serde
 /// stops at the first: the integrator fixed typos one run at a time), each at its place, and
-/// `run` refuses the machine with every unknown key of sim.toml.
+/// `run` refuses the machine with every one of them.
 #[test]
 fn every_unknown_key_of_every_toml_file_is_reported_in_one_run() {
     let dir = copy_machine("lathe");
@@ -627,7 +627,17 @@ fn every_unknown_key_of_every_toml_file_is_reported_in_one_run() {
     assert_eq!((got[1].2, got[1].3), (line_of(&io, "pol_us"), 1));
     assert_eq!((got[2].2, got[2].3), (line_of(&sim, "periode"), 1));
     assert_eq!((got[3].2, got[3].3), (line_of(&sim, "speed"), 1));
-    // `run` reads sim.toml (not io.toml with the simulated I/O): it refuses with both keys.
+    // `run` refuses what `check` reports, io.toml's errors first (with the simulated I/O too,
+    // which reads no I/O map), then, io.toml mended, sim.toml's.
+    let err = run_refuses(&d);
+    assert!(
+        err.contains("`timout_ms`") && err.contains("`pol_us`"),
+        "{err}"
+    );
+    let mended = io
+        .replace("timout_ms", "timeout_ms")
+        .replace("pol_us", "poll_us");
+    std::fs::write(dir.path().join("io.toml"), mended).expect("write");
     let err = run_refuses(&d);
     assert!(
         err.contains("`periode`") && err.contains("`speed`"),
@@ -733,6 +743,13 @@ fn oversized_sim_and_io_toml_are_refused_naming_their_size() {
             ),
         ]
     );
+    // `run` refuses both: io.toml first (with every `--io`), then sim.toml.
+    let err = run_refuses(&d);
+    assert!(
+        err.contains(&format!("the file has {io_len} bytes; {limit}")),
+        "{err}"
+    );
+    std::fs::remove_file(dir.path().join("io.toml")).expect("remove");
     let err = run_refuses(&d);
     assert!(
         err.contains(&format!("the file has {sim_len} bytes; {limit}")),

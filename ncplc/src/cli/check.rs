@@ -5,7 +5,8 @@
 //!
 //! The I/O map `<machine>/io.toml` is checked too when the machine has one (the fieldbus crate's
 //! located validation, codes 3000–3499, against the connectors IOCFIL declares and, for the
-//! `[[canopen.drive]]` entries, the axes AXCFIL declares); a machine without
+//! `[[canopen.drive]]` entries, the axes AXCFIL declares; `run` refuses the same errors with
+//! every `--io`, see `run::io_map_refusal`); a machine without
 //! io.toml runs with `--io sim` only, which is not a problem of the machine; an io.toml that
 //! declares no I/O (empty, or no device and no node) is a warning (3050), since `run --io modbus`
 //! and `--io canopen` refuse it.

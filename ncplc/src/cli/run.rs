@@ -203,7 +203,40 @@ pub fn part_spec(args: &Args) -> PartSpec {
     }
 }
 
+/// The errors `check` reports in `<machine>/io.toml`, rendered (None when it has none or does not
+/// exist): `run` refuses them with every `--io`, the simulated I/O included, which reads no I/O
+/// map (a machine `check` rejects does not run). The characterization's own errors are the
+/// builder's to report.
+fn io_map_refusal(dir: &std::path::Path) -> Option<String> {
+    let path = dir.join("io.toml");
+    if !path.exists() {
+        return None;
+    }
+    let machine = characterization::load_machine_capped(dir, diag::DEFAULT_MAX_PER_FILE).machine?;
+    let mut sources = diag::Sources::new();
+    let diags = super::check::check_io_map(dir, &machine, &mut sources);
+    let name = runtime::render::user_path(&path).display().to_string();
+    let errors: Vec<diag::Diagnostic> = diags
+        .into_iter()
+        .filter(diag::Diagnostic::is_error)
+        .map(|mut d| {
+            d.file.clone_from(&name);
+            d
+        })
+        .collect();
+    if errors.is_empty() {
+        return None;
+    }
+    let mut named = diag::Sources::new();
+    named.add(name, diag::read_config(&path).unwrap_or_default());
+    let rendered = runtime::render::render_diagnostics(&errors, &named);
+    Some(rendered.trim_end().to_string())
+}
+
 fn run_inner(args: Args) -> Result<ExitCode, String> {
+    if let Some(refusal) = io_map_refusal(&args.machine) {
+        return Err(refusal);
+    }
     let mut controller = match builder(&args).build() {
         Ok(c) => c,
         // Refused to start (exit 2, as for every other error of the machine, its part program or
