@@ -27,6 +27,11 @@
 #          FUZZ_SANITIZER=none builds without AddressSanitizer (cargo fuzz `-s none`): several times
 #          the executions per second; panics, timeouts and the RSS limit are still caught. Use the
 #          same value for every command of a campaign (another value rebuilds everything).
+#          FUZZ_BUILD_ARGS="..." adds cargo-fuzz build flags, e.g. `--no-trace-compares`: no
+#          comparison tracing (libFuzzer's CMP-guided mutation); for the targets that compile with
+#          cranelift, where most of that tracing is inside cranelift, 2.4x (partprogram) to 6.7x
+#          (fanuc_macro) the executions per second and more coverage features found per minute.
+#          Other flags rebuild everything: give such a campaign its own CARGO_TARGET_DIR.
 set -euo pipefail
 cd "$(dirname "$0")"
 state=executions.tsv
@@ -92,7 +97,7 @@ executions() {
 keep_corpus() {
     local t="$1" kb
     # shellcheck disable=SC2086
-    cargo +nightly fuzz cmin ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" >/dev/null 2>&1 || return 0
+    cargo +nightly fuzz cmin ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} ${FUZZ_BUILD_ARGS:-} "$t" "corpus/$t" >/dev/null 2>&1 || return 0
     kb="$(du -sk "corpus/$t" | cut -f1)"
     if [ "$kb" -le "${FUZZ_SEED_KB:-64}" ]; then
         cp -n "corpus/$t"/* "seeds/$t"/ 2>/dev/null || true
@@ -108,7 +113,7 @@ fail() {
 }
 
 # shellcheck disable=SC2086
-cargo +nightly fuzz build ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-}
+cargo +nightly fuzz build ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} ${FUZZ_BUILD_ARGS:-}
 mkdir -p logs
 for t in "${targets[@]}"; do
     [ -n "$t" ] || continue
@@ -117,7 +122,7 @@ for t in "${targets[@]}"; do
         echo "=== $t: ${secs}s"
         log="logs/$t${FUZZ_JOB:+.$FUZZ_JOB}.log"
         # shellcheck disable=SC2086
-        cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
+        cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} ${FUZZ_BUILD_ARGS:-} "$t" "corpus/$t" "seeds/$t" -- \
             -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
             ${FUZZ_ARGS:-} 2>"$log" || fail "$t"
         record "$t" "$(executions "$log")"
@@ -130,7 +135,7 @@ for t in "${targets[@]}"; do
         echo "=== $t: $done_runs of $resume executions; running $chunk more"
         log="logs/$t${FUZZ_JOB:+.$FUZZ_JOB}.log"
         # shellcheck disable=SC2086
-        cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} "$t" "corpus/$t" "seeds/$t" -- \
+        cargo +nightly fuzz run ${san[@]+"${san[@]}"} ${FUZZ_FEATURES:-} ${FUZZ_BUILD_ARGS:-} "$t" "corpus/$t" "seeds/$t" -- \
             -runs="$chunk" -rss_limit_mb=2048 -timeout=10 \
             ${FUZZ_ARGS:-} 2>"$log" || fail "$t"
         n="$(executions "$log")"
