@@ -106,15 +106,20 @@ mod tests {
         }
     }
 
+    /// Where each record of `bytes` ends (after its `sep`).
+    fn ends_of(bytes: &[u8], sep: u8) -> Vec<usize> {
+        bytes
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| **b == sep)
+            .map(|(i, _)| i + 1)
+            .collect()
+    }
+
     #[test]
     fn every_cut_of_a_binary_trace_recovers_the_whole_frames_before_it() {
         let bytes = binary::encode(&trace()).expect("encode");
-        let ends: Vec<usize> = bytes
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| **b == 0)
-            .map(|(i, _)| i + 1)
-            .collect();
+        let ends = ends_of(&bytes, 0);
         assert_eq!(ends.len(), 3);
         for cut in ends[0]..=bytes.len() {
             let r = recover(&bytes[..cut]).expect("recover");
@@ -131,12 +136,7 @@ mod tests {
     fn every_cut_of_a_text_trace_keeps_the_lines_that_end_before_it() {
         let mut bytes = Vec::new();
         trace().write_text(&mut bytes).expect("text");
-        let ends: Vec<usize> = bytes
-            .iter()
-            .enumerate()
-            .filter(|(_, b)| **b == b'\n')
-            .map(|(i, _)| i + 1)
-            .collect();
+        let ends = ends_of(&bytes, b'\n');
         assert_eq!(ends.len(), 3);
         for cut in ends[0]..=bytes.len() {
             // A last line without its line end is torn even when it parses (`{"t":7}` cut
