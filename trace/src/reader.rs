@@ -246,26 +246,17 @@ impl<R: BufRead> Reader<R> {
 
     /// The next record of a binary trace (None at its end).
     fn binary_record(&mut self) -> Result<Option<TickRecord>, TraceError> {
-        let Some(decoder) = self.decoder.as_mut() else {
-            return Ok(None);
-        };
         loop {
-            self.buf.clear();
-            let limit = MAX_RECORD_BYTES as u64 + 1;
-            let n = (&mut self.input).take(limit).read_until(0, &mut self.buf)?;
-            self.bytes += n as u64;
-            if n == 0 {
+            let read = self.read_unit(0)?;
+            let Some(decoder) = self.decoder.as_mut() else {
+                return Ok(None);
+            };
+            if !read {
                 decoder.finish()?;
                 return Ok(None);
             }
             let i = self.next;
             self.next += 1;
-            if self.buf.len() > MAX_RECORD_BYTES {
-                return Err(TraceError::Binary {
-                    frame: i,
-                    message: format!("longer than {MAX_RECORD_BYTES} bytes: no frame of a trace"),
-                });
-            }
             match decoder.frame(i, &mut self.buf)? {
                 Decoded::Record(r) => return Ok(Some(r)),
                 Decoded::Part(p) => {
