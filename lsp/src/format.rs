@@ -11,6 +11,11 @@
 
 use compiler::lexer::{Tok, tokenize};
 
+/// The characters the lexer skips between tokens (compiler/src/lexer.rs). Only these are trimmed:
+/// any other whitespace (a vertical tab, a no-break space) is a token to the lexer, an invalid one,
+/// and removing it would change the program and its diagnostics (fuzz target `lsp_edits`).
+const LEXER_BLANKS: &[char] = &[' ', '\t', '\r', '\x0c', '\x1a'];
+
 /// How one physical line is laid out.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Kind {
@@ -52,7 +57,7 @@ pub fn format(src: &str) -> String {
         out.push('\n');
     };
     for (i, raw) in lines.iter().enumerate() {
-        let l = raw.trim();
+        let l = raw.trim_matches(LEXER_BLANKS);
         match kinds[i] {
             Kind::Empty => pending.push(l),
             Kind::Continue => {
@@ -149,6 +154,17 @@ mod tests {
         assert_eq!(format("\n\n"), "");
     }
 
+    #[test]
+    fn only_what_the_lexer_skips_is_trimmed() {
+        // Found by the lsp_edits fuzz target: `&` continues the statement onto the next line,
+        // the vertical tab after it (an invalid character, a token) ends it. Trimming the tab
+        // made the next pass indent the following line as a continuation.
+        let src = "U4A0 = I0A0 &\u{b}\n; note\nU4A1 = I0A1\n";
+        assert_eq!(format(src), src);
+        assert_eq!(format("\u{a0}U4A0 = 1 \t\x0c\x1a\r\n"), "\u{a0}U4A0 = 1\n");
+        assert_eq!(format("U4A0 = I0A0 +\t\r\nI0A1\n"), "U4A0 = I0A0 +\n    I0A1\n");
+    }
+
     fn program(src: &str) -> Option<compiler::ir::Program> {
         compiler::compile("t", src.as_bytes(), &MachineContext::lathe_like()).program
     }
@@ -179,7 +195,8 @@ mod tests {
         fn format_is_idempotent_and_keeps_the_program(lines in proptest::collection::vec((0usize..4, prop::sample::select(vec![
             "U4A0 = I0A0 *", "I0A1", "IF I0A2 THEN", "ELSE", "END_IF", "U4A1 = (I0A3 +", "I0A4)",
             "; comment ; with ;", "", "$", "DEF t : TON(2s)", "t = I1A0", "U5A0 = t", "SET U4A2 = P1",
-            "P1 = I0A5", "U4A3 = ]", "  \t", "W14K0 = 100 ; FOV",
+            "P1 = I0A5", "U4A3 = ]", "  \t", "W14K0 = 100 ; FOV", "U4A0 = I0A0 &\u{b}",
+            "\u{a0}I0A1 \u{a0}", "\x0cI0A2 *\x1a",
         ])), 0..30)) {
             let src: String = lines.iter().map(|(i, l)| format!("{}{l}\n", " ".repeat(*i))).collect();
             let f = format(&src);
