@@ -105,7 +105,10 @@ fn parse_inner(
         }
         let first_new = syntax.len();
         if let Some(cache) = cache.as_deref_mut() {
-            let p = cache.parse_chunk(text, &tokens, |t| parsed(file, text, t));
+            // Syntax errors are worded from the readable text only: a segment's diagnostics
+            // depend on its own tokens, so the cache may reuse them after any edit elsewhere
+            // (an end-of-text error beside a later NUL once read past the end of `readable`).
+            let p = cache.parse_chunk(readable, &tokens, |t| parsed(file, readable, t));
             syntax.extend(p.diagnostics);
             all_lines.extend(p.lines);
         } else {
@@ -115,7 +118,7 @@ fn parse_inner(
                 parse_lines(&tokens).0
             };
             for r in recovered {
-                if let Some(d) = syntax_diagnostic(file, text, r.error) {
+                if let Some(d) = syntax_diagnostic(file, readable, r.error) {
                     syntax.push(d);
                 }
             }

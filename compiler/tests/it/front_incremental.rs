@@ -120,15 +120,17 @@ enum Edit {
 
 fn edit() -> impl Strategy<Value = Edit> {
     prop_oneof![
-        (
+        4 => (
             any::<prop::sample::Index>(),
             0usize..6,
-            "[ A-Z0-9=+*/()\\[\\];$\n.:]{0,8}"
+            "[ A-Z0-9=+*/()\\[\\];$\n.:\x0b]{0,8}"
         )
             .prop_map(|(a, d, s)| Edit::Splice(a, d, s)),
-        any::<prop::sample::Index>().prop_map(Edit::Duplicate),
-        any::<prop::sample::Index>().prop_map(Edit::Delete),
-        (any::<prop::sample::Index>(), 0u8..10).prop_map(|(a, d)| Edit::Digit(a, d)),
+        // A NUL ends what is read (1010): the text before it is parsed as a whole file.
+        1 => any::<prop::sample::Index>().prop_map(|a| Edit::Splice(a, 0, "\0".into())),
+        4 => any::<prop::sample::Index>().prop_map(Edit::Duplicate),
+        4 => any::<prop::sample::Index>().prop_map(Edit::Delete),
+        4 => (any::<prop::sample::Index>(), 0u8..10).prop_map(|(a, d)| Edit::Digit(a, d)),
     ]
 }
 
@@ -206,4 +208,15 @@ proptest! {
             prop_assert_eq!(d, compile("t", text.as_bytes(), &ctx).diagnostics);
         }
     }
+}
+
+/// Found by the `lsp_edits` fuzz target: a statement continued by its last `+` into a line of
+/// invalid characters, diagnosed first without that line.
+#[test]
+fn a_continued_statement_then_junk_on_the_next_line() {
+    let ctx = MachineContext::lathe_like();
+    let first = "M_DONE = ([MCODE = 03H] + [MCODE = 04H]) * SP_READY +\n";
+    let mut ed = Editor::default();
+    ed.diagnose(first, &ctx);
+    ed.diagnose(&format!("{first}\0\u{8}\u{8}"), &ctx);
 }
