@@ -70,19 +70,8 @@ pub fn check(file: &str, text: &str, machine: &Machine) -> (Option<Script>, Vec<
         file,
         diags: Vec::new(),
     };
-    let script: Script = match diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE) {
-        Ok(s) => s,
-        Err(errors) => {
-            for e in errors {
-                cx.err(
-                    codes::SYNTAX,
-                    e.span.unwrap_or(0..0),
-                    e.message,
-                    "see docs/sim-toml.md for the tables and keys of sim.toml",
-                );
-            }
-            return (None, cx.located(text, &index));
-        }
+    let Some(script) = cx.parse(text) else {
+        return (None, cx.located(text, &index));
     };
     // Parsed once already, so this cannot fail; an empty table locates everything at 0.
     let root = DeTable::parse(text)
@@ -154,6 +143,25 @@ impl Cx<'_> {
     fn err(&mut self, code: u32, span: Range<usize>, message: String, hint: &str) {
         self.diags
             .push(Diagnostic::error(code, self.file, span, message).with_hint(hint));
+    }
+
+    /// The script of `text`, or `None` with every TOML error (syntax, unknown table or key,
+    /// wrong type) reported.
+    fn parse(&mut self, text: &str) -> Option<Script> {
+        match diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE) {
+            Ok(s) => Some(s),
+            Err(errors) => {
+                for e in errors {
+                    self.err(
+                        codes::SYNTAX,
+                        e.span.unwrap_or(0..0),
+                        e.message,
+                        "see docs/sim-toml.md for the tables and keys of sim.toml",
+                    );
+                }
+                None
+            }
+        }
     }
 
     fn located(self, text: &str, index: &LineIndex) -> Vec<Diagnostic> {
@@ -436,48 +444,9 @@ pub fn load(
     machine: &characterization::Machine,
     interface: &compiler::InterfaceMap,
 ) -> Loaded {
-    let path = dir.join(FILE);
-    let bytes = match diag::read_config_bytes(&path) {
-        Ok(b) => b,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            return Loaded {
-                script: Some(Script {
-                    strobe_timeout_ms: 10_000,
-                    ..Script::default()
-                }),
-                diagnostics: Vec::new(),
-                text: None,
-            };
-        }
-        Err(e) => {
-            let hint = if e.kind() == std::io::ErrorKind::FileTooLarge {
-                "a scenario is a few kilobytes of [[at]] tables: shorten it, or record the inputs once and replay the trace"
-            } else {
-                "make the file readable or remove it"
-            };
-            let d = Diagnostic::error(codes::IO, FILE, 0..0, format!("cannot read sim.toml: {e}"))
-                .with_hint(hint);
-            return Loaded {
-                script: None,
-                diagnostics: vec![d],
-                text: None,
-            };
-        }
-    };
-    let text = match String::from_utf8(bytes) {
-        Ok(t) => t,
-        Err(e) => {
-            let at = e.utf8_error().valid_up_to();
-            let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
-            let d = Diagnostic::error(codes::SYNTAX, FILE, at..at + 1, "sim.toml is not UTF-8")
-                .with_hint("TOML files are UTF-8 text")
-                .locate(&text);
-            return Loaded {
-                script: None,
-                diagnostics: vec![d],
-                text: Some(text),
-            };
-        }
+    let text = match read(dir) {
+        Ok(text) => text,
+        Err(loaded) => return *loaded,
     };
     let (a_inputs, a_outputs) = machine
         .iocfil
@@ -510,4 +479,74 @@ pub fn load(
         diagnostics,
         text: Some(text),
     }
+}
+
+/// Reads `<dir>/sim.toml` and checks only its form: TOML syntax, tables and keys, value types
+/// (code 3600). What `check` reports while the interface map, which the names of the signals
+/// need, has errors of its own; `run` refuses that map before it reads sim.toml.
+pub fn load_form(dir: &std::path::Path) -> Loaded {
+    let text = match read(dir) {
+        Ok(text) => text,
+        Err(loaded) => return *loaded,
+    };
+    let index = LineIndex::new(&text);
+    let mut cx = Cx {
+        file: FILE,
+        diags: Vec::new(),
+    };
+    let script = cx.parse(&text);
+    Loaded {
+        script,
+        diagnostics: cx.located(&text, &index),
+        text: Some(text),
+    }
+}
+
+/// The text of `<dir>/sim.toml`, or what loading ends with: the default script when there is no
+/// file, a located error when it cannot be read or is not UTF-8.
+fn read(dir: &std::path::Path) -> Result<String, Box<Loaded>> {
+    let path = dir.join(FILE);
+    let bytes = match diag::read_config_bytes(&path) {
+        Ok(b) => b,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(Box::new(Loaded {
+                script: Some(Script {
+                    strobe_timeout_ms: 10_000,
+                    ..Script::default()
+                }),
+                diagnostics: Vec::new(),
+                text: None,
+            }));
+        }
+        Err(e) => {
+            let hint = if e.kind() == std::io::ErrorKind::FileTooLarge {
+                "a scenario is a few kilobytes of [[at]] tables: shorten it, or record the inputs once and replay the trace"
+            } else {
+                "make the file readable or remove it"
+            };
+            let d = Diagnostic::error(codes::IO, FILE, 0..0, format!("cannot read sim.toml: {e}"))
+                .with_hint(hint);
+            return Err(Box::new(Loaded {
+                script: None,
+                diagnostics: vec![d],
+                text: None,
+            }));
+        }
+    };
+    let text = match String::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(e) => {
+            let at = e.utf8_error().valid_up_to();
+            let text = String::from_utf8_lossy(e.as_bytes()).into_owned();
+            let d = Diagnostic::error(codes::SYNTAX, FILE, at..at + 1, "sim.toml is not UTF-8")
+                .with_hint("TOML files are UTF-8 text")
+                .locate(&text);
+            return Err(Box::new(Loaded {
+                script: None,
+                diagnostics: vec![d],
+                text: Some(text),
+            }));
+        }
+    };
+    Ok(text)
 }

@@ -11,8 +11,9 @@
 //! declares no I/O (empty, or no device and no node) is a warning (3050), since `run --io modbus`
 //! and `--io canopen` refuse it.
 //!
-//! `sim.toml` is checked against the machine once the interface map is valid (codes 3600–3610,
-//! `sim::validate`, the same validation `run` refuses with), and the other files a run reads
+//! `sim.toml` is checked against the machine once the interface map is valid, before that only
+//! its form (codes 3600–3610, `sim::validate`, the same validation `run` refuses with), and the
+//! other files a run reads
 //! (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables, `nc/MACROVARS`,
 //! `retain.bin`) through [`super::check_files`], and the PLC program `run` loads through the
 //! compiler's front end ([`super::check_plc`], codes 1000–1999, as `ncplc build` reports them).
@@ -186,15 +187,17 @@ pub fn run(args: Args) -> ExitCode {
         load.diagnostics.extend(map);
         let io = check_io_map(&args.machine_dir, &machine, &mut load.sources);
         load.diagnostics.extend(io);
-        // sim.toml against the map `run` would use, once that map is valid (its errors are
-        // reported above, and `run` refuses them before it reads sim.toml).
-        if let Some(interface) = &interface {
-            let sim = sim::validate::load(&args.machine_dir, &machine, interface);
-            if let Some(text) = sim.text {
-                load.sources.add(sim::validate::FILE, text);
-            }
-            load.diagnostics.extend(sim.diagnostics);
+        // sim.toml against the map `run` would use; while that map has errors (reported above,
+        // and `run` refuses them before it reads sim.toml) only the file's form, since its
+        // signal names would give follow-on errors.
+        let sim = match &interface {
+            Some(interface) => sim::validate::load(&args.machine_dir, &machine, interface),
+            None => sim::validate::load_form(&args.machine_dir),
+        };
+        if let Some(text) = sim.text {
+            load.sources.add(sim::validate::FILE, text);
         }
+        load.diagnostics.extend(sim.diagnostics);
         let tables = (runnable && machine.iocfil.is_some()).then_some(&machine);
         load.diagnostics.extend(super::check_files::check(
             &args.machine_dir,
