@@ -50,6 +50,13 @@ pub fn format(src: &str) -> String {
     let mut stmt_indent = 0usize;
     let mut pending: Vec<&str> = Vec::new();
     let emit = |out: &mut String, indent: usize, l: &str| {
+        // A U+FEFF first in the file would become its byte-order mark, which the compiler skips:
+        // inside a line it is an invalid character, so a blank keeps it off the start.
+        let indent = if out.is_empty() && l.starts_with('\u{FEFF}') {
+            indent.max(1)
+        } else {
+            indent
+        };
         if !l.is_empty() {
             out.extend(std::iter::repeat_n(' ', indent));
             out.push_str(l);
@@ -155,6 +162,21 @@ mod tests {
     }
 
     #[test]
+    fn a_no_break_space_mark_is_never_moved_to_the_start() {
+        // Found by lsp_edits: U+FEFF inside the first line is an invalid character; trimming the
+        // blank before it made it the file's byte-order mark (skipped), and the next pass then
+        // trimmed the line after it. One blank keeps it where it is.
+        let src = "\t\u{feff}\t\tU4A0 = 1\n";
+        assert_eq!(format(src), " \u{feff}\t\tU4A0 = 1\n");
+        assert_eq!(format(&format(src)), format(src));
+        assert_eq!(errors(src), errors(&format(src)));
+        assert_eq!(errors(src), [1001]);
+        // A real byte-order mark stays, and the line after it is laid out as any first line.
+        assert_eq!(format("\u{feff}\t\u{feff}U4A0 = 1\n"), "\u{feff}\u{feff}U4A0 = 1\n");
+        assert_eq!(format("\n\t\u{feff}U4A0 = 1\n"), "\n\u{feff}U4A0 = 1\n");
+    }
+
+    #[test]
     fn only_what_the_lexer_skips_is_trimmed() {
         // Found by the lsp_edits fuzz target: `&` continues the statement onto the next line,
         // the vertical tab after it (an invalid character, a token) ends it. Trimming the tab
@@ -167,6 +189,16 @@ mod tests {
 
     fn program(src: &str) -> Option<compiler::ir::Program> {
         compiler::compile("t", src.as_bytes(), &MachineContext::lathe_like()).program
+    }
+
+    /// The code of each diagnostic of `src` (formatting moves columns, and an error at the end
+    /// of the text up when blank lines at the end go).
+    fn errors(src: &str) -> Vec<u32> {
+        compiler::compile("t", src.as_bytes(), &MachineContext::lathe_like())
+            .diagnostics
+            .iter()
+            .map(|d| d.code)
+            .collect()
     }
 
     #[test]
@@ -196,12 +228,13 @@ mod tests {
             "U4A0 = I0A0 *", "I0A1", "IF I0A2 THEN", "ELSE", "END_IF", "U4A1 = (I0A3 +", "I0A4)",
             "; comment ; with ;", "", "$", "DEF t : TON(2s)", "t = I1A0", "U5A0 = t", "SET U4A2 = P1",
             "P1 = I0A5", "U4A3 = ]", "  \t", "W14K0 = 100 ; FOV", "U4A0 = I0A0 &\u{b}",
-            "\u{a0}I0A1 \u{a0}", "\x0cI0A2 *\x1a",
+            "\u{a0}I0A1 \u{a0}", "\x0cI0A2 *\x1a", "\u{feff}U4A1 = 1",
         ])), 0..30)) {
             let src: String = lines.iter().map(|(i, l)| format!("{}{l}\n", " ".repeat(*i))).collect();
             let f = format(&src);
             prop_assert_eq!(format(&f), f.clone());
             prop_assert_eq!(program(&src), program(&f));
+            prop_assert_eq!(errors(&src), errors(&f));
         }
     }
 }
