@@ -71,6 +71,10 @@ struct Checked {
     base: usize,
 }
 
+/// The text size from which a document's trees are dropped on the helper thread: below it,
+/// freeing them takes less than the hand-over (a wake-up of that thread per edit).
+const DROP_ELSEWHERE_BYTES: usize = 32 * 1024;
+
 /// Drops `value` on the one helper thread kept for this (inline when it cannot be started):
 /// freeing the 10,000-statement program's syntax tree takes milliseconds nobody waits for.
 pub fn drop_elsewhere<T: Send + 'static>(value: T) {
@@ -113,7 +117,17 @@ impl Document {
         self.version = version;
         let old = (self.checked.take(), self.analysis.take());
         if old.0.is_some() || old.1.is_some() {
-            drop_elsewhere(old);
+            self.discard(old);
+        }
+    }
+
+    /// Drops `value`, a syntax tree or index of this document: on the helper thread when the text
+    /// is large, at once when it is small (handing it over would cost more than freeing it).
+    fn discard<T: Send + 'static>(&self, value: T) {
+        if self.text.as_str().len() >= DROP_ELSEWHERE_BYTES {
+            drop_elsewhere(value);
+        } else {
+            drop(value);
         }
     }
 
@@ -154,7 +168,7 @@ impl Document {
             None => self.check(),
         };
         let index = Index::new(&c.ast, &self.machine.ctx);
-        drop_elsewhere(c.ast);
+        self.discard(c.ast);
         Analysis {
             diagnostics: c.diagnostics,
             index,
