@@ -27,6 +27,29 @@ pub struct TomlError {
     pub message: String,
 }
 
+impl TomlError {
+    /// This error as a diagnostic `code` of `file` with `hint` (not yet located: no line).
+    pub fn diagnostic(self, code: u32, file: &str, hint: &str) -> crate::Diagnostic {
+        crate::Diagnostic::error(code, file, self.span.unwrap_or(0..0), self.message)
+            .with_hint(hint)
+    }
+}
+
+/// [`from_toml`] with its errors as diagnostics `code` of `file` with `hint` (not yet located).
+pub fn from_toml_diagnosed<T: serde::de::DeserializeOwned>(
+    text: &str,
+    file: &str,
+    code: u32,
+    hint: &str,
+) -> Result<T, Vec<crate::Diagnostic>> {
+    from_toml(text, crate::DEFAULT_MAX_PER_FILE).map_err(|errors| {
+        errors
+            .into_iter()
+            .map(|e| e.diagnostic(code, file, hint))
+            .collect()
+    })
+}
+
 impl From<toml::de::Error> for TomlError {
     fn from(e: toml::de::Error) -> Self {
         TomlError {

@@ -101,20 +101,8 @@ fn err(file: &str, code: u32, span: Range<usize>, msg: String, hint: &str) -> Di
 
 /// Parses the tables of io.toml's text `text` (named `file`); the other tables are fieldbus's.
 pub fn parse(file: &str, text: &str) -> Result<Tables, Vec<Diagnostic>> {
-    let raw: Raw = diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE).map_err(|errors| {
-        errors
-            .into_iter()
-            .map(|e| {
-                err(
-                    file,
-                    codes::SYNTAX,
-                    e.span.unwrap_or(0..0),
-                    e.message,
-                    "[identification] takes manufacturer, model, serial, year; [[stacklight]] takes color and signal (docs/opcua.md)",
-                )
-            })
-            .collect::<Vec<_>>()
-    })?;
+    let hint = "[identification] takes manufacturer, model, serial, year; [[stacklight]] takes color and signal (docs/opcua.md)";
+    let raw: Raw = diag::toml_keys::from_toml_diagnosed(text, file, codes::SYNTAX, hint)?;
     let mut diags = Vec::new();
     let identification = raw.identification.map(|i| Identification {
         manufacturer: i.manufacturer.unwrap_or_default(),

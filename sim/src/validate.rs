@@ -148,17 +148,11 @@ impl Cx<'_> {
     /// The script of `text`, or `None` with every TOML error (syntax, unknown table or key,
     /// wrong type) reported.
     fn parse(&mut self, text: &str) -> Option<Script> {
-        match diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE) {
+        let hint = "see docs/sim-toml.md for the tables and keys of sim.toml";
+        match diag::toml_keys::from_toml_diagnosed(text, self.file, codes::SYNTAX, hint) {
             Ok(s) => Some(s),
             Err(errors) => {
-                for e in errors {
-                    self.err(
-                        codes::SYNTAX,
-                        e.span.unwrap_or(0..0),
-                        e.message,
-                        "see docs/sim-toml.md for the tables and keys of sim.toml",
-                    );
-                }
+                self.diags.extend(errors);
                 None
             }
         }

@@ -241,17 +241,12 @@ pub fn parse_map_with_axes(
         lines: diag::LineIndex::new(text),
         diags: Vec::new(),
     };
-    let raw: RawMap = match diag::toml_keys::from_toml(text, diag::DEFAULT_MAX_PER_FILE) {
+    let hint = "see the io.toml format in fieldbus/DIAGNOSTICS.md";
+    let raw: RawMap = match diag::toml_keys::from_toml_diagnosed(text, file, codes::SYNTAX, hint) {
         Ok(r) => r,
         Err(errors) => {
-            for e in errors {
-                cx.err(
-                    codes::SYNTAX,
-                    e.span.unwrap_or(0..0),
-                    e.message,
-                    "see the io.toml format in fieldbus/DIAGNOSTICS.md",
-                );
-            }
+            let located = errors.into_iter().map(|d| d.locate_in(text, &cx.lines));
+            cx.diags.extend(located);
             return (None, cx.diags);
         }
     };
