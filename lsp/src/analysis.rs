@@ -8,9 +8,9 @@
 //! this panic or loop: the compiler's front end is total and bounded, and every offset is clamped.
 //!
 //! Per keystroke only the compile runs: the diagnostics of an edit need no [`Index`], so it is
-//! built from the kept syntax tree when a request first needs it, and a superseded version's
-//! syntax tree and index are dropped on a helper thread ([`drop_elsewhere`]), not on the path of
-//! the next diagnostics.
+//! built from the kept syntax tree when a request first needs it, and a large document's
+//! superseded syntax tree and index are dropped on a helper thread ([`drop_elsewhere`]), not on
+//! the path of the next diagnostics.
 
 use std::sync::{Arc, Mutex, OnceLock, mpsc};
 
