@@ -172,7 +172,10 @@ mod tests {
         assert_eq!(errors(src), errors(&format(src)));
         assert_eq!(errors(src), [1001]);
         // A real byte-order mark stays, and the line after it is laid out as any first line.
-        assert_eq!(format("\u{feff}\t\u{feff}U4A0 = 1\n"), "\u{feff}\u{feff}U4A0 = 1\n");
+        assert_eq!(
+            format("\u{feff}\t\u{feff}U4A0 = 1\n"),
+            "\u{feff}\u{feff}U4A0 = 1\n"
+        );
         assert_eq!(format("\n\t\u{feff}U4A0 = 1\n"), "\n\u{feff}U4A0 = 1\n");
     }
 
@@ -184,7 +187,10 @@ mod tests {
         let src = "U4A0 = I0A0 &\u{b}\n; note\nU4A1 = I0A1\n";
         assert_eq!(format(src), src);
         assert_eq!(format("\u{a0}U4A0 = 1 \t\x0c\x1a\r\n"), "\u{a0}U4A0 = 1\n");
-        assert_eq!(format("U4A0 = I0A0 +\t\r\nI0A1\n"), "U4A0 = I0A0 +\n    I0A1\n");
+        assert_eq!(
+            format("U4A0 = I0A0 +\t\r\nI0A1\n"),
+            "U4A0 = I0A0 +\n    I0A1\n"
+        );
     }
 
     fn program(src: &str) -> Option<compiler::ir::Program> {
