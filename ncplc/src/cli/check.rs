@@ -13,10 +13,10 @@
 //!
 //! `sim.toml` is checked against the machine once the interface map is valid, before that only
 //! its form (codes 3600–3610, `sim::validate`, the same validation `run` refuses with), and the
-//! other files a run reads
-//! (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables, `nc/MACROVARS`,
-//! `retain.bin`) through [`super::check_files`], and the PLC program `run` loads through the
-//! compiler's front end ([`super::check_plc`], codes 1000–1999, as `ncplc build` reports them).
+//! other files a run reads (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables,
+//! `nc/MACROVARS`, `retain.bin`) through [`super::check_files`], and the PLC program `run` loads
+//! through the compiler's front end ([`super::check_plc`], codes 1000–1999, as `ncplc build`
+//! reports them).
 //!
 //! Prints every diagnostic of every file rustc-style (default) or as one JSON object per line
 //! (`--format json`) on stderr, and exits 1 when there is any error, 2 when the machine directory
