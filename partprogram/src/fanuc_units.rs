@@ -257,13 +257,13 @@ impl FanucUnits {
     pub(crate) fn load_library(&mut self, prog: &mut Program, main_failed: bool) {
         let dir = prog.machine.macro_dir.clone();
         for (path, fname, stem) in crate::program::macro_folder_files(&dir) {
-            let Some(num) = stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok()) else {
+            let Some(num) = crate::library::fanuc_library_number(&stem) else {
                 continue;
             };
             let Some(text) = self.table.read_macro(&path, &fname) else {
                 continue;
             };
-            let name = format!("macros/{fname}");
+            let name = crate::library::file_name(&fname);
             let file = prog.add_macro_file(&name);
             let lib = self.register(prog, file, num);
             self.start_unit(prog, file, UnitKind::Library, num);

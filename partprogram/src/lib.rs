@@ -28,6 +28,7 @@ pub mod jit;
 pub mod kor;
 pub mod length;
 pub mod lexer;
+pub mod library;
 mod link;
 pub mod machine;
 pub mod macro_b;

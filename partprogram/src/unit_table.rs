@@ -108,7 +108,7 @@ impl UnitTable {
             Err(e) => {
                 self.phases.units.push(Diagnostic::error(
                     crate::codes::MACRO_IO,
-                    format!("macros/{fname}"),
+                    crate::library::file_name(fname),
                     0..0,
                     format!("cannot read: {e}"),
                 ));

@@ -355,17 +355,13 @@ impl Units {
     /// main file's parse had an error.
     pub(crate) fn load_library(&mut self, prog: &mut Program, dir: &Path, parse_failed: bool) {
         for (path, fname, stem) in crate::program::macro_folder_files(dir) {
-            let is_l = stem.len() > 1
-                && stem.starts_with('L')
-                && stem[1..].bytes().all(|c| c.is_ascii_digit());
             let Some(text) = self.table.read_macro(&path, &fname) else {
                 continue;
             };
-            let is_cycle = text.trim_start().starts_with("$PC");
-            if !is_l && !is_cycle {
+            if !crate::library::is_mefi_library(&stem, &text) {
                 continue;
             }
-            let name = format!("macros/{fname}");
+            let name = crate::library::file_name(&fname);
             let file = prog.add_macro_file(&name);
             let mut f = self.start_file(prog, file);
             // Each block is built as the parser hands it on (an error-dense macro file is held

@@ -182,7 +182,17 @@ pub fn machine_spec(
         Some(d) => d.parse().map_err(MachineError::Dialect)?,
         None => detect_dialect(program_text),
     };
-    let machine = &facts.machine;
+    spec_of(dir, &facts.machine, facts.iocfil(), dialect)
+}
+
+/// The [`MachineSpec`] of the machine in `dir`, loaded as `machine` with its `iocfil`, for
+/// programs in `dialect` (what [`machine_spec`] builds once it has loaded the machine).
+pub fn spec_of(
+    dir: &Path,
+    machine: &characterization::Machine,
+    iocfil: &characterization::iocfil::Iocfil,
+    dialect: Dialect,
+) -> Result<MachineSpec, MachineError> {
     let mut processes: Vec<ProcessSpec> = machine
         .axcfil
         .processes
@@ -194,8 +204,7 @@ pub fn machine_spec(
                 .filter(|a| !a.axis_type().spindle())
                 .map(|a| a.name)
                 .collect(),
-            declared_m: facts
-                .iocfil()
+            declared_m: iocfil
                 .process(p.number)
                 .map(|io| {
                     io.m_functions

@@ -32,14 +32,15 @@ fn example_machines_check_clean() {
         let m = format!("plc-programs/{name}");
         // Both have an io.toml, which `check` validates too.
         // And sim.toml and the part-run tables (issue 23: check reads what run reads).
-        // The lathe's PLC message file (FCRSYS FILMS5) follows IOCFIL; the PLC program comes last.
+        // The lathe's PLC message file (FCRSYS FILMS5) follows IOCFIL; the PLC program and the
+        // macro library come last.
         let extra = if extra {
             format!(
-                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG"
+                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG, {m}/macros/L9001, {m}/macros/PCYKLYDG.NCP"
             )
         } else {
             format!(
-                ", {m}/MP0/MESSAG, {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG"
+                ", {m}/MP0/MESSAG, {m}/io.toml, {m}/sim.toml, {m}/nc/CONSTANTS, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG, {m}/macros/PEVNECY5.NCP"
             )
         };
         assert_eq!(
@@ -501,6 +502,81 @@ fn nc_dialect_and_constants_are_checked() {
             ),
         ]
     );
+}
+
+/// `check` compiles the macro library every part and MDI compile loads (a broken cycle file
+/// passed `check` and refused every part), and names a file of the folder that no compile reads;
+/// `run --program` refuses the same library error.
+#[test]
+fn the_macro_library_is_checked_and_unread_files_are_named() {
+    let dir = copy_machine("lathe");
+    let cycles = dir.path().join("macros/PEVNECY5.NCP");
+    let text = std::fs::read_to_string(&cycles).expect("cycles");
+    // Line 10 of the cycle file is `    R00 = +0`.
+    assert_eq!(text.lines().nth(9), Some("    R00 = +0"));
+    std::fs::write(
+        &cycles,
+        text.replacen("    R00 = +0\n", "    R00 = +0 j\n", 1),
+    )
+    .expect("write");
+    std::fs::write(dir.path().join("macros/notes.txt"), "cycle notes\n").expect("write");
+    std::fs::write(dir.path().join("macros/O0100"), "O0100\nG0 X1\nM99\n").expect("write");
+    let path = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&path]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [
+            (
+                2001,
+                "macros/PEVNECY5.NCP".to_string(),
+                10,
+                14,
+                "`j` is not allowed here".to_string()
+            ),
+            (
+                3624,
+                "macros/notes.txt".to_string(),
+                0,
+                0,
+                "macros/notes.txt is not read: no program can call it".to_string()
+            ),
+        ]
+    );
+    let out = ncplc(&[
+        "run",
+        &path,
+        "--virtual-time",
+        "--program",
+        "PART1",
+        "--ticks",
+        "1",
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("macros/PEVNECY5.NCP:10:14"), "{err}");
+    // Under nc/DIALECT the other dialect's files are not read either: the Fanuc program O0100
+    // and the notes on a MEFI machine, the MEFI cycle file and the notes on a Fanuc one.
+    std::fs::write(&cycles, &text).expect("write");
+    for (dialect, unread) in [
+        ("mefi", ["macros/O0100", "macros/notes.txt"]),
+        ("fanuc", ["macros/PEVNECY5.NCP", "macros/notes.txt"]),
+    ] {
+        std::fs::write(dir.path().join("nc/DIALECT"), dialect).expect("write");
+        let (code, lines) = json_check(&[&path]);
+        assert_eq!(code, Some(0), "{dialect}: {lines:?}");
+        let got: Vec<_> = lines.iter().map(brief).collect();
+        let want: Vec<_> = unread
+            .iter()
+            .map(|f| {
+                let message =
+                    format!("{f} is not read: no program can call it (nc/DIALECT: {dialect})");
+                (3624, f.to_string(), 0, 0, message)
+            })
+            .collect();
+        assert_eq!(got, want, "{dialect}");
+    }
 }
 
 /// `check` validates `[[canopen.drive]]` entries against the machine's AXCFIL axes (issue 21):

@@ -14,7 +14,7 @@
 //! `sim.toml` is checked against the machine once the interface map is valid, before that only
 //! its form (codes 3600–3610, `sim::validate`, the same validation `run` refuses with), and the
 //! other files a run reads (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables,
-//! `nc/MACROVARS`, `retain.bin`) through [`super::check_files`], and the PLC program `run` loads
+//! `nc/MACROVARS`, the macro library in `macros/`, `retain.bin`) through [`super::check_files`], and the PLC program `run` loads
 //! through the compiler's front end ([`super::check_plc`], codes 1000–1999, as `ncplc build`
 //! reports them).
 //!
@@ -202,7 +202,9 @@ pub fn run(args: Args) -> ExitCode {
         load.diagnostics.extend(super::check_files::check(
             &args.machine_dir,
             tables,
+            args.max_errors,
             &mut load.sources,
+            &mut load.hidden,
         ));
         // The PLC program `run` would load, through the front end `build` runs, once the map it
         // is compiled against is valid (as for sim.toml: its names would only be follow-on errors,

@@ -7,6 +7,10 @@
 //!   readers' own located diagnostics (20xx), read with the machine's axes exactly as a part run
 //!   reads them (skipped while the characterization, DIALECT or CONSTANTS have errors, which are
 //!   reported);
+//! - `macros/`: the macro library every compile of a part or of MDI text loads (MEFI `L<n>` and
+//!   `$PC` cycle files, Fanuc `O<n>`), compiled on its own in the machine's dialect (both when
+//!   `nc/DIALECT` does not name one), with the compile's own diagnostics (20xx; skipped like the
+//!   tables); a file of the folder that no compile reads is warning 3624;
 //! - `retain.bin`: a damaged record is a warning (3622), as `run` warns and starts without it.
 //!
 //! Every file that exists is added to the sources under its name relative to the machine
@@ -15,7 +19,7 @@
 
 use std::path::Path;
 
-use diag::{Diagnostic, Sources};
+use diag::{Diagnostic, Hidden, Sources};
 
 /// Codes of the machine files checked here (docs/README.md §Diagnostics).
 pub mod codes {
@@ -27,6 +31,8 @@ pub mod codes {
     pub const RETAIN: u32 = 3622;
     /// A machine file exists but cannot be read.
     pub const IO: u32 = 3623;
+    /// A file of the macro folder that no compile reads (not a library file of the dialect).
+    pub const MACRO_UNREAD: u32 = 3624;
 }
 
 fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
@@ -45,20 +51,23 @@ fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
     }
 }
 
-/// The diagnostics of every such file of `dir`, their texts added to `sources`. `machine` is the
-/// machine `check` loaded, when its characterization has no errors and it has an IOCFIL (a part
-/// run refuses it otherwise): the tables are read with its axes, without loading it again.
+/// The diagnostics of every such file of `dir`, their texts added to `sources` and what the cap
+/// of `max` diagnostics per file (0: all) hid added to `hidden`. `machine` is the machine `check`
+/// loaded, when its characterization has no errors and it has an IOCFIL (a part run refuses it
+/// otherwise): the tables and the library are read with its axes, without loading it again.
 pub fn check(
     dir: &Path,
     machine: Option<&characterization::Machine>,
+    max: usize,
     sources: &mut Sources,
+    hidden: &mut Vec<Hidden>,
 ) -> Vec<Diagnostic> {
     let mut out = Vec::new();
-    let mut dialect = partprogram::Dialect::Mefi;
+    let mut dialect = None;
     if let Some(text) = read(dir, "nc/DIALECT", &mut out) {
         let word = text.trim();
         match word.parse::<partprogram::Dialect>() {
-            Ok(d) => dialect = d,
+            Ok(d) => dialect = Some(d),
             Err(e) => {
                 let start = text.find(word).unwrap_or(0);
                 out.push(
@@ -77,7 +86,15 @@ pub fn check(
     if let Some(machine) = machine
         && !diag::has_errors(&out)
     {
-        tables(dir, &table_axes(machine, dialect), sources, &mut out);
+        let table_dialect = dialect.unwrap_or(partprogram::Dialect::Mefi);
+        tables(dir, &table_axes(machine, table_dialect), sources, &mut out);
+        // Without nc/DIALECT each program's dialect is told from its text: both may load the
+        // library.
+        let dialects = match dialect {
+            Some(d) => vec![d],
+            None => vec![partprogram::Dialect::Mefi, partprogram::Dialect::Fanuc],
+        };
+        library(dir, machine, &dialects, max, sources, hidden, &mut out);
     }
     let retain = dir.join("retain.bin");
     if let Err(e) = runtime::retain::load(&retain) {
@@ -146,5 +163,53 @@ fn tables(dir: &Path, axes: &[char], sources: &mut Sources, out: &mut Vec<Diagno
         let (_, d) = partprogram::macro_b::retained::parse_retained("nc/MACROVARS", &text);
         out.extend(d);
         sources.add("nc/MACROVARS", text);
+    }
+}
+
+/// The macro library compiled on its own in each of `dialects` as a part run of `machine`
+/// compiles it (`partprogram::library`), and a warning for each file of the folder none of them
+/// reads.
+fn library(
+    dir: &Path,
+    machine: &characterization::Machine,
+    dialects: &[partprogram::Dialect],
+    max: usize,
+    sources: &mut Sources,
+    hidden: &mut Vec<Hidden>,
+    out: &mut Vec<Diagnostic>,
+) {
+    let Some(iocfil) = machine.iocfil.as_ref() else {
+        return;
+    };
+    for &dialect in dialects {
+        // The spec a part run builds (CONSTANTS was checked above: an error there skips this).
+        let Ok(spec) = sim::machine_view::spec_of(dir, machine, iocfil, dialect) else {
+            continue;
+        };
+        let checked = partprogram::library::check_library(&spec, max);
+        for f in checked.files {
+            sources.add(f.name, f.text);
+        }
+        out.extend(checked.diagnostics);
+        hidden.extend(checked.hidden);
+    }
+    for name in partprogram::library::unread_files(&dir.join("macros"), dialects) {
+        let only = match dialects {
+            [partprogram::Dialect::Mefi] => " (nc/DIALECT: mefi)",
+            [partprogram::Dialect::Fanuc] => " (nc/DIALECT: fanuc)",
+            _ => "",
+        };
+        out.push(
+            Diagnostic::warning(
+                codes::MACRO_UNREAD,
+                name.as_str(),
+                0..0,
+                format!("{name} is not read: no program can call it{only}"),
+            )
+            .with_hint(
+                "the macro folder holds MEFI subprograms `L<n>` and cycle files starting with \
+                 `$PC`, and Fanuc programs `O<n>`; move other files out of it",
+            ),
+        );
     }
 }
