@@ -177,12 +177,22 @@ pub fn machine_spec(
     program_text: &str,
 ) -> Result<MachineSpec, MachineError> {
     let facts = Facts::load(dir)?;
-    let option = diag::read_config(&dialect_file(dir)).ok();
-    let dialect: Dialect = match dialect.or(option.as_deref().map(str::trim)) {
-        Some(d) => d.parse().map_err(MachineError::Dialect)?,
-        None => detect_dialect(program_text),
-    };
+    let dialect = program_dialect(dir, dialect, program_text)?;
     spec_of(dir, &facts.machine, facts.iocfil(), dialect)
+}
+
+/// The dialect a program of the machine in `dir` is compiled in: `dialect` when given (a
+/// `--dialect` option), else `nc/DIALECT`, else the one its text `program_text` starts in.
+pub fn program_dialect(
+    dir: &Path,
+    dialect: Option<&str>,
+    program_text: &str,
+) -> Result<Dialect, MachineError> {
+    let option = diag::read_config(&dialect_file(dir)).ok();
+    match dialect.or(option.as_deref().map(str::trim)) {
+        Some(d) => d.parse().map_err(MachineError::Dialect),
+        None => Ok(detect_dialect(program_text)),
+    }
 }
 
 /// The [`MachineSpec`] of the machine in `dir`, loaded as `machine` with its `iocfil`, for

@@ -263,6 +263,62 @@ fn source_name(path: &Path) -> String {
     )
 }
 
+/// A program of the machine checked as a part run compiles it ([`check_program`]).
+#[derive(Debug)]
+pub struct ProgramCheck {
+    /// The program's name in diagnostics (`nc/<file name>`).
+    pub name: String,
+    /// Its text, for rendering.
+    pub text: String,
+    /// The diagnostics of the program's own file (compile and geometry), at most the cap.
+    pub diagnostics: Vec<diag::Diagnostic>,
+    /// What the cap hid.
+    pub hidden: Vec<diag::Hidden>,
+}
+
+/// Compiles `program` of the machine in `dir` (loaded as `machine` with its `iocfil`) as a part
+/// run does, with the machine's tables, and executes it for the geometric errors as `nc check`
+/// does, keeping at most `max` diagnostics (0: all): for `ncplc check` of the programs sim.toml
+/// names. `None` when the program or a table it needs cannot be read or has errors, which the
+/// checks of those files report (sim.toml 3611, nc/DIALECT 3620, the tables' 20xx); only the
+/// program's own diagnostics are kept (the library is checked on its own).
+pub fn check_program(
+    dir: &Path,
+    machine: &characterization::Machine,
+    iocfil: &characterization::iocfil::Iocfil,
+    program: &Path,
+    max: usize,
+) -> Option<ProgramCheck> {
+    let path = program_path(dir, program);
+    let bytes = std::fs::read(&path).ok()?;
+    let text = String::from_utf8(bytes)
+        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    let name = source_name(&path);
+    let dialect = crate::machine_view::program_dialect(dir, None, &text).ok()?;
+    let mut spec = crate::machine_view::spec_of(dir, machine, iocfil, dialect).ok()?;
+    let mut tables = load_corrections(dir, None, &mut spec);
+    tables.extend(crate::machine_view::load_machine_macro_vars(dir, &mut spec));
+    if tables.iter().any(|(_, _, d)| diag::has_errors(d)) {
+        return None;
+    }
+    let (prog, mut diagnostics, mut hidden) = partprogram::compile_capped(&spec, &name, &text, max);
+    if let Some(prog) = &prog
+        && !diag::has_errors(&diagnostics)
+        && let Err(d) = partprogram::check_plan(prog, PlanOptions::default())
+        && partprogram::codes::is_geometric(d.code)
+    {
+        diagnostics.push(d);
+    }
+    diagnostics.retain(|d| d.file == name);
+    hidden.retain(|h| h.file == name);
+    Some(ProgramCheck {
+        name,
+        text,
+        diagnostics,
+        hidden,
+    })
+}
+
 /// Reads, compiles and plans the program `program` of the machine in `dir` (with and without
 /// block skip) from the retained-variables text `vars`.
 pub fn load_part(

@@ -7,9 +7,10 @@
 //! packet-A output (follow outputs, spindle contactors) on one it declares as output, a K/N
 //! signal of the interface map, or any T byte; every value fits its signal; every `[[at]]` tick
 //! of a periodic script lies inside the period; every process is 1..5 and has the handshake its
-//! M/S/T need; `[part]` issues no M/S/T and sets no signal the CNC kernel writes. An unknown
-//! table or key is a located TOML error (3600), never ignored. Spans come from a second, spanned
-//! parse of the same text ([`toml::de::DeTable`]), so the typed [`Script`] stays plain.
+//! M/S/T need; `[cnc] programs` names processes of the machine and programs in its `nc/`;
+//! `[part]` issues no M/S/T and sets no signal the CNC kernel writes. An unknown table or key is
+//! a located TOML error (3600), never ignored. Spans come from a second, spanned parse of the
+//! same text ([`toml::de::DeTable`]), so the typed [`Script`] stays plain.
 
 use std::ops::Range;
 
@@ -44,6 +45,8 @@ pub mod codes {
     pub const HANDWHEEL: u32 = 3609;
     /// `turn` in the top-level `[[at]]` (it belongs to `[[part.at]]`).
     pub const TURN: u32 = 3610;
+    /// `[cnc] programs`: not a process of the machine, or a program that does not exist.
+    pub const PROGRAMS: u32 = 3611;
 }
 
 /// What the script is checked against.
@@ -60,6 +63,9 @@ pub struct Machine<'a> {
     pub kernel_written: &'a [Signal],
     /// `declared(process, channel)`: IOCFIL ADV declares the handwheel channel.
     pub adv: &'a dyn Fn(u8, u8) -> bool,
+    /// The machine directory, where a part run finds the programs of `[cnc] programs` (`None`:
+    /// their existence is not checked).
+    pub dir: Option<&'a std::path::Path>,
 }
 
 /// Parses and checks `text` (the file `file`): the script when it has no error, and every
@@ -91,6 +97,7 @@ pub fn check(file: &str, text: &str, machine: &Machine) -> (Option<Script>, Vec<
     }
     cx.spindle(&script, root.get("spindle"), machine);
     cx.handwheels(&script, root.get("handwheel"), machine);
+    cx.programs(&script, root.get("cnc"), machine);
     let diags = cx.located(text, &index);
     let ok = !diag::has_errors(&diags);
     (ok.then_some(script), diags)
@@ -371,6 +378,37 @@ impl Cx<'_> {
         }
     }
 
+    /// `[cnc] programs`: each key a process of the machine, each program one a part run finds
+    /// in the machine directory (when the check has one).
+    fn programs(&mut self, script: &Script, cnc: Option<&Spanned<DeValue<'_>>>, m: &Machine) {
+        let t = cnc
+            .and_then(|c| c.get_ref().as_table())
+            .and_then(|c| c.get("programs"))
+            .and_then(|p| p.get_ref().as_table());
+        let nbp = m.signals.processes.len();
+        for (key, name) in &script.cnc.programs {
+            if !key.parse::<usize>().is_ok_and(|p| (1..=nbp).contains(&p)) {
+                self.err(
+                    codes::PROGRAMS,
+                    key_span(t, key),
+                    format!("[cnc] programs: `{key}` is not a process of the machine (1..{nbp})"),
+                    "the keys are process numbers 1..NBP (AXCFIL), the values program names in nc/",
+                );
+            }
+            let path = m
+                .dir
+                .map(|d| crate::part::program_path(d, std::path::Path::new(name)));
+            if path.is_some_and(|p| !p.is_file()) {
+                self.err(
+                    codes::PROGRAMS,
+                    value_span(t, key),
+                    format!("[cnc] programs: the program `{name}` of process {key} does not exist"),
+                    "a part run reads it from the machine's nc/ folder (nc/<name>)",
+                );
+            }
+        }
+    }
+
     fn handwheels(&mut self, script: &Script, list: Option<&Spanned<DeValue<'_>>>, m: &Machine) {
         let list = list.and_then(|l| l.get_ref().as_array());
         let mut seen: Vec<(u8, u8)> = Vec::new();
@@ -466,6 +504,7 @@ pub fn load(
         signals: &signals,
         kernel_written: &written,
         adv: &adv,
+        dir: Some(dir),
     };
     let (script, diagnostics) = check(FILE, &text, &m);
     Loaded {

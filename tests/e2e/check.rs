@@ -33,10 +33,10 @@ fn example_machines_check_clean() {
         // Both have an io.toml, which `check` validates too.
         // And sim.toml and the part-run tables (issue 23: check reads what run reads).
         // The lathe's PLC message file (FCRSYS FILMS5) follows IOCFIL; the PLC program and the
-        // macro library come last.
+        // macro library come last, then the mill magazine's program (sim.toml [cnc] programs).
         let extra = if extra {
             format!(
-                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG, {m}/macros/L9001, {m}/macros/PCYKLYDG.NCP"
+                ", {m}/interface.toml, {m}/io.toml, {m}/sim.toml, {m}/MP0/TAB0.KOR, {m}/MP0/TAB0.POS, {m}/MP0/PLCPRG, {m}/macros/L9001, {m}/macros/PCYKLYDG.NCP, {m}/nc/MAGAZINE"
             )
         } else {
             format!(
@@ -577,6 +577,85 @@ fn the_macro_library_is_checked_and_unread_files_are_named() {
             .collect();
         assert_eq!(got, want, "{dialect}");
     }
+}
+
+/// `check` reads the other processes' programs sim.toml's `[cnc] programs` names as a part run
+/// does: a key that is no process of the machine and a missing program are located in sim.toml
+/// (3611), a program with errors is compiled with its own diagnostics; `run --program` refuses
+/// both.
+#[test]
+fn the_programs_of_the_other_processes_are_checked() {
+    let dir = copy_machine("mill");
+    let sim_toml = dir.path().join("sim.toml");
+    let text = std::fs::read_to_string(&sim_toml).expect("sim.toml");
+    let line = "programs = { \"2\" = \"MAGAZINE\" }";
+    let at = text
+        .lines()
+        .position(|l| l == line)
+        .expect("the mill's [cnc] programs")
+        + 1;
+    let bad = text.replace(
+        line,
+        "programs = { \"2\" = \"MAGAZINX\", \"9\" = \"MAGAZINE\" }",
+    );
+    std::fs::write(&sim_toml, bad).expect("write");
+    let path = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&path]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    let sim = "sim.toml".to_string();
+    assert_eq!(
+        got,
+        [
+            (
+                3611,
+                sim.clone(),
+                at as u64,
+                20,
+                "[cnc] programs: the program `MAGAZINX` of process 2 does not exist".to_string()
+            ),
+            (
+                3611,
+                sim,
+                at as u64,
+                32,
+                "[cnc] programs: `9` is not a process of the machine (1..2)".to_string()
+            ),
+        ]
+    );
+    let run = [
+        "run",
+        &path,
+        "--virtual-time",
+        "--program",
+        "O00023.nc",
+        "--ticks",
+        "1",
+    ];
+    let out = ncplc(&run);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("E3611"), "{err}");
+    // The names are right again, the magazine program has an error on its second line.
+    std::fs::write(&sim_toml, &text).expect("write");
+    std::fs::write(dir.path().join("nc/MAGAZINE"), "%3\nN10 G4 j\nN20 M30\n").expect("write");
+    let (code, lines) = json_check(&[&path]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    assert_eq!(
+        got,
+        [(
+            2001,
+            "nc/MAGAZINE".to_string(),
+            2,
+            8,
+            "`j` is not allowed here".to_string()
+        )]
+    );
+    let out = ncplc(&run);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(err.contains("nc/MAGAZINE:2:8"), "{err}");
 }
 
 /// `check` validates `[[canopen.drive]]` entries against the machine's AXCFIL axes (issue 21):

@@ -12,9 +12,10 @@
 //! and `--io canopen` refuse it.
 //!
 //! `sim.toml` is checked against the machine once the interface map is valid, before that only
-//! its form (codes 3600–3610, `sim::validate`, the same validation `run` refuses with), and the
+//! its form (codes 3600–3611, `sim::validate`, the same validation `run` refuses with), and the
 //! other files a run reads (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables,
-//! `nc/MACROVARS`, the macro library in `macros/`, `retain.bin`) through [`super::check_files`], and the PLC program `run` loads
+//! `nc/MACROVARS`, the macro library in `macros/`, the programs sim.toml's `[cnc] programs`
+//! names, `retain.bin`) through [`super::check_files`], and the PLC program `run` loads
 //! through the compiler's front end ([`super::check_plc`], codes 1000–1999, as `ncplc build`
 //! reports them).
 //!
@@ -194,6 +195,12 @@ pub fn run(args: Args) -> ExitCode {
             Some(interface) => sim::validate::load(&args.machine_dir, &machine, interface),
             None => sim::validate::load_form(&args.machine_dir),
         };
+        // The other processes' programs a part run compiles (sim.toml `[cnc] programs`).
+        let programs: Vec<String> = sim
+            .script
+            .as_ref()
+            .map(|s| s.cnc.programs.values().cloned().collect())
+            .unwrap_or_default();
         if let Some(text) = sim.text {
             load.sources.add(sim::validate::FILE, text);
         }
@@ -202,6 +209,7 @@ pub fn run(args: Args) -> ExitCode {
         load.diagnostics.extend(super::check_files::check(
             &args.machine_dir,
             tables,
+            &programs,
             args.max_errors,
             &mut load.sources,
             &mut load.hidden,

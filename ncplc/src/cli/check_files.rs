@@ -11,6 +11,8 @@
 //!   `$PC` cycle files, Fanuc `O<n>`), compiled on its own in the machine's dialect (both when
 //!   `nc/DIALECT` does not name one), with the compile's own diagnostics (20xx; skipped like the
 //!   tables); a file of the folder that no compile reads is warning 3624;
+//! - the programs of the other processes that sim.toml's `[cnc] programs` names, compiled and
+//!   executed as `nc check` does (their 20xx codes; a missing one is sim.toml's 3611);
 //! - `retain.bin`: a damaged record is a warning (3622), as `run` warns and starts without it.
 //!
 //! Every file that exists is added to the sources under its name relative to the machine
@@ -51,13 +53,15 @@ fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
     }
 }
 
-/// The diagnostics of every such file of `dir`, their texts added to `sources` and what the cap
-/// of `max` diagnostics per file (0: all) hid added to `hidden`. `machine` is the machine `check`
+/// The diagnostics of every such file of `dir` and of the `programs` sim.toml names, their texts
+/// added to `sources` and what the cap of `max` diagnostics per file (0: all) hid added to
+/// `hidden`. `machine` is the machine `check`
 /// loaded, when its characterization has no errors and it has an IOCFIL (a part run refuses it
 /// otherwise): the tables and the library are read with its axes, without loading it again.
 pub fn check(
     dir: &Path,
     machine: Option<&characterization::Machine>,
+    programs: &[String],
     max: usize,
     sources: &mut Sources,
     hidden: &mut Vec<Hidden>,
@@ -95,6 +99,19 @@ pub fn check(
             None => vec![partprogram::Dialect::Mefi, partprogram::Dialect::Fanuc],
         };
         library(dir, machine, &dialects, max, sources, hidden, &mut out);
+        if let Some(iocfil) = machine.iocfil.as_ref() {
+            let mut names: Vec<&String> = programs.iter().collect();
+            names.sort();
+            names.dedup();
+            for name in names {
+                let program = Path::new(name.as_str());
+                if let Some(p) = sim::part::check_program(dir, machine, iocfil, program, max) {
+                    out.extend(p.diagnostics);
+                    hidden.extend(p.hidden);
+                    sources.add(p.name, p.text);
+                }
+            }
+        }
     }
     let retain = dir.join("retain.bin");
     if let Err(e) = runtime::retain::load(&retain) {
