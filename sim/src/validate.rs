@@ -8,6 +8,7 @@
 //! signal of the interface map, or any T byte; every value fits its signal; every `[[at]]` tick
 //! of a periodic script lies inside the period; every process is 1..5 and has the handshake its
 //! M/S/T need; `[cnc] programs` names processes of the machine and programs in its `nc/`;
+//! `[[axis]]` places each coordinated axis of process 1 once, limit switches only on MFC inputs;
 //! `[part]` issues no M/S/T and sets no signal the CNC kernel writes. An unknown table or key is
 //! a located TOML error (3600), never ignored. Spans come from a second, spanned parse of the
 //! same text ([`toml::de::DeTable`]), so the typed [`Script`] stays plain.
@@ -47,6 +48,36 @@ pub mod codes {
     pub const TURN: u32 = 3610;
     /// `[cnc] programs`: not a process of the machine, or a program that does not exist.
     pub const PROGRAMS: u32 = 3611;
+    /// `[[axis]]`: not a coordinated axis of process 1, placed twice, or a limit switch without
+    /// its AXCFIL MFC input.
+    pub const AXIS: u32 = 3612;
+}
+
+/// A coordinated axis of process 1 as `[[axis]]` may place it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AxisWiring {
+    /// The axis letter.
+    pub name: char,
+    /// AXCFIL MFC wires its + and − limit switch inputs.
+    pub limits: (bool, bool),
+}
+
+/// The coordinated axes of process 1 of `machine` (what the kernel's `[[axis]]` placement
+/// finds).
+pub fn process1_axes(machine: &characterization::Machine) -> Vec<AxisWiring> {
+    cnc::ProcessConfig::all(&machine.axcfil, machine.iocfil.as_ref())
+        .into_iter()
+        .find(|p| p.number == 1)
+        .map(|p| {
+            p.axes
+                .iter()
+                .map(|a| AxisWiring {
+                    name: a.name,
+                    limits: (a.limit_inputs.0.is_some(), a.limit_inputs.1.is_some()),
+                })
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// What the script is checked against.
@@ -66,6 +97,8 @@ pub struct Machine<'a> {
     /// The machine directory, where a part run finds the programs of `[cnc] programs` (`None`:
     /// their existence is not checked).
     pub dir: Option<&'a std::path::Path>,
+    /// The coordinated axes of process 1 ([`process1_axes`]).
+    pub axes: &'a [AxisWiring],
 }
 
 /// Parses and checks `text` (the file `file`): the script when it has no error, and every
@@ -98,6 +131,7 @@ pub fn check(file: &str, text: &str, machine: &Machine) -> (Option<Script>, Vec<
     cx.spindle(&script, root.get("spindle"), machine);
     cx.handwheels(&script, root.get("handwheel"), machine);
     cx.programs(&script, root.get("cnc"), machine);
+    cx.axes(&script, root.get("axis"), machine);
     let diags = cx.located(text, &index);
     let ok = !diag::has_errors(&diags);
     (ok.then_some(script), diags)
@@ -409,6 +443,56 @@ impl Cx<'_> {
         }
     }
 
+    /// `[[axis]]`: each a coordinated axis of process 1, placed once, its limit switches on the
+    /// MFC inputs AXCFIL wires.
+    fn axes(&mut self, script: &Script, list: Option<&Spanned<DeValue<'_>>>, m: &Machine) {
+        let list = list.and_then(|l| l.get_ref().as_array());
+        let letters: Vec<String> = m.axes.iter().map(|a| a.name.to_string()).collect();
+        let hint = "[[axis]] places the coordinated axes of process 1 (AXCFIL)";
+        for (i, a) in script.axis.iter().enumerate() {
+            let t = list
+                .and_then(|l| l.get(i))
+                .and_then(|e| e.get_ref().as_table());
+            let Some(axis) = m.axes.iter().find(|x| x.name == a.name) else {
+                self.err(
+                    codes::AXIS,
+                    value_span(t, "name"),
+                    format!(
+                        "[[axis]] {}: not a coordinated axis of process 1 ({})",
+                        a.name,
+                        letters.join(", ")
+                    ),
+                    hint,
+                );
+                continue;
+            };
+            if script.axis[..i].iter().any(|b| b.name == a.name) {
+                self.err(
+                    codes::AXIS,
+                    value_span(t, "name"),
+                    format!("[[axis]] {}: placed twice", a.name),
+                    hint,
+                );
+            }
+            for (key, set, wired, side) in [
+                ("limit_pos", a.limit_pos.is_some(), axis.limits.0, '+'),
+                ("limit_neg", a.limit_neg.is_some(), axis.limits.1, '-'),
+            ] {
+                if set && !wired {
+                    self.err(
+                        codes::AXIS,
+                        key_span(t, key),
+                        format!(
+                            "[[axis]] {}: a {side} limit switch without its AXCFIL MFC input",
+                            a.name
+                        ),
+                        "AXCFIL MFC names the inputs the kernel writes a limit switch to",
+                    );
+                }
+            }
+        }
+    }
+
     fn handwheels(&mut self, script: &Script, list: Option<&Spanned<DeValue<'_>>>, m: &Machine) {
         let list = list.and_then(|l| l.get_ref().as_array());
         let mut seen: Vec<(u8, u8)> = Vec::new();
@@ -505,6 +589,7 @@ pub fn load(
         kernel_written: &written,
         adv: &adv,
         dir: Some(dir),
+        axes: &process1_axes(machine),
     };
     let (script, diagnostics) = check(FILE, &text, &m);
     Loaded {

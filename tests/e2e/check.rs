@@ -658,6 +658,61 @@ fn the_programs_of_the_other_processes_are_checked() {
     assert!(err.contains("nc/MAGAZINE:2:8"), "{err}");
 }
 
+/// `check` places sim.toml's `[[axis]]` entries as the part run's kernel does: an axis process 1
+/// does not have, one placed twice and a limit switch without its AXCFIL MFC input are located
+/// errors (3612), which `run` refuses too (it said `sim script: [[axis]] Q: …` without a place).
+#[test]
+fn sim_toml_axes_are_checked_against_process_1() {
+    let dir = copy_machine("lathe");
+    let axcfil = dir.path().join("MP0/AXCFIL");
+    // The lathe's X (its first axis) loses its limit switch inputs (the file is not UTF-8).
+    let mut bytes = std::fs::read(&axcfil).expect("AXCFIL");
+    let mfc: &[u8] = b"MFC=I0A9,I0A10\r\n";
+    let at = bytes
+        .windows(mfc.len())
+        .position(|w| w == mfc)
+        .expect("X's MFC");
+    bytes.drain(at..at + mfc.len());
+    std::fs::write(&axcfil, bytes).expect("write");
+    let sim_toml = dir.path().join("sim.toml");
+    let mut sim = std::fs::read_to_string(&sim_toml).expect("sim.toml");
+    let first = sim.lines().count() as u64 + 1;
+    sim.push_str("[[axis]]\nname = \"Q\"\n[[axis]]\nname = \"X\"\nlimit_pos = 8.0\n");
+    sim.push_str("[[axis]]\nname = \"Z\"\n[[axis]]\nname = \"Z\"\nstart = 1.0\n");
+    std::fs::write(&sim_toml, sim).expect("write");
+    let path = dir.path().display().to_string();
+    let (code, lines) = json_check(&[&path]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(brief).collect();
+    let at = |line: u64, column: u64, message: &str| {
+        (
+            3612,
+            "sim.toml".to_string(),
+            first + line,
+            column,
+            message.to_string(),
+        )
+    };
+    assert_eq!(
+        got,
+        [
+            at(
+                1,
+                8,
+                "[[axis]] Q: not a coordinated axis of process 1 (X, Z)"
+            ),
+            at(
+                4,
+                1,
+                "[[axis]] X: a + limit switch without its AXCFIL MFC input"
+            ),
+            at(8, 8, "[[axis]] Z: placed twice"),
+        ]
+    );
+    let err = run_refuses(&path);
+    assert!(err.contains("E3612"), "{err}");
+}
+
 /// `check` validates `[[canopen.drive]]` entries against the machine's AXCFIL axes (issue 21):
 /// the mill's bundled drives for X, Y, Z and S are valid, an axis it lacks and a second spindle
 /// drive in `csp` on an I/O node are located errors.

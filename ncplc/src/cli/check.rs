@@ -12,7 +12,7 @@
 //! and `--io canopen` refuse it.
 //!
 //! `sim.toml` is checked against the machine once the interface map is valid, before that only
-//! its form (codes 3600–3611, `sim::validate`, the same validation `run` refuses with), and the
+//! its form (codes 3600–3612, `sim::validate`, the same validation `run` refuses with), and the
 //! other files a run reads (`nc/DIALECT`, `nc/CONSTANTS`, the correction and zero-offset tables,
 //! `nc/MACROVARS`, the macro library in `macros/`, the programs sim.toml's `[cnc] programs`
 //! names, `retain.bin`) through [`super::check_files`], and the PLC program `run` loads
