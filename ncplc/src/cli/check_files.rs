@@ -17,7 +17,9 @@
 //!
 //! Every file that exists is added to the sources under its name relative to the machine
 //! directory; a missing file is not a problem (each has a default). Each is read with the limit of
-//! a machine configuration file (`diag::read_config`: 1 MiB; a larger one is error 3623).
+//! a machine configuration file (`diag::read_config`: 1 MiB; a larger one is error 3623), but for
+//! the library files and the programs, which are read whole as a compile reads them (their
+//! diagnostics capped at `--max-errors` per file).
 
 use std::path::Path;
 
@@ -55,9 +57,9 @@ fn read(dir: &Path, rel: &str, out: &mut Vec<Diagnostic>) -> Option<String> {
 
 /// The diagnostics of every such file of `dir` and of the `programs` sim.toml names, their texts
 /// added to `sources` and what the cap of `max` diagnostics per file (0: all) hid added to
-/// `hidden`. `machine` is the machine `check`
-/// loaded, when its characterization has no errors and it has an IOCFIL (a part run refuses it
-/// otherwise): the tables and the library are read with its axes, without loading it again.
+/// `hidden`. `machine` is the machine `check` loaded, when its characterization has no errors and
+/// it has an IOCFIL (a part run refuses it otherwise): the tables, the library and the programs
+/// are read with its axes, without loading it again.
 pub fn check(
     dir: &Path,
     machine: Option<&characterization::Machine>,
