@@ -130,7 +130,12 @@ fn missing_machine_directory_is_a_usage_error() {
 
 /// Runs the machine in `dir` for one tick; asserts that `run` refuses it and returns its stderr.
 fn run_refuses(dir: &str) -> String {
-    let out = ncplc(&["run", dir, "--virtual-time", "--ticks", "1"]);
+    refuses(&["run", dir, "--virtual-time", "--ticks", "1"])
+}
+
+/// Runs `ncplc <args>`; asserts that it fails and returns its stderr.
+fn refuses(args: &[&str]) -> String {
+    let out = ncplc(args);
     let err = String::from_utf8_lossy(&out.stderr).into_owned();
     assert_ne!(out.status.code(), Some(0), "{err}");
     err
@@ -544,7 +549,7 @@ fn the_macro_library_is_checked_and_unread_files_are_named() {
             ),
         ]
     );
-    let out = ncplc(&[
+    let err = refuses(&[
         "run",
         &path,
         "--virtual-time",
@@ -553,8 +558,6 @@ fn the_macro_library_is_checked_and_unread_files_are_named() {
         "--ticks",
         "1",
     ]);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_ne!(out.status.code(), Some(0), "{err}");
     assert!(err.contains("macros/PEVNECY5.NCP:10:14"), "{err}");
     // Under nc/DIALECT the other dialect's files are not read either: the Fanuc program O0100
     // and the notes on a MEFI machine, the MEFI cycle file and the notes on a Fanuc one.
@@ -632,9 +635,7 @@ fn the_programs_of_the_other_processes_are_checked() {
         "--ticks",
         "1",
     ];
-    let out = ncplc(&run);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_ne!(out.status.code(), Some(0), "{err}");
+    let err = refuses(&run);
     assert!(err.contains("E3611"), "{err}");
     // The names are right again, the magazine program has an error on its second line.
     std::fs::write(&sim_toml, &text).expect("write");
@@ -652,9 +653,7 @@ fn the_programs_of_the_other_processes_are_checked() {
             "`j` is not allowed here".to_string()
         )]
     );
-    let out = ncplc(&run);
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_ne!(out.status.code(), Some(0), "{err}");
+    let err = refuses(&run);
     assert!(err.contains("nc/MAGAZINE:2:8"), "{err}");
 }
 
