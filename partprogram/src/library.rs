@@ -86,9 +86,16 @@ pub fn check_library(machine: &MachineSpec, max: usize) -> LibraryCheck {
 }
 
 /// The files of the macro folder `dir` that a compile in none of `dialects` reads (their names
-/// as diagnostics give them), e.g. a `README` or, for a Fanuc-only machine, MEFI `L<n>` files.
+/// as diagnostics give them), e.g. a `README` or, for a Fanuc-only machine, MEFI `L<n>` files,
+/// and its subfolders (a compile reads none), in name order.
 pub fn unread_files(dir: &Path, dialects: &[Dialect]) -> Vec<String> {
-    let mut out = Vec::new();
+    let mut out: Vec<String> = std::fs::read_dir(dir)
+        .into_iter()
+        .flatten()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.path().is_dir())
+        .map(|e| file_name(&e.file_name().to_string_lossy()))
+        .collect();
     for (path, fname, stem) in macro_folder_files(dir) {
         let read = dialects.iter().any(|d| match d {
             Dialect::Fanuc => fanuc_library_number(&stem).is_some(),
@@ -101,6 +108,7 @@ pub fn unread_files(dir: &Path, dialects: &[Dialect]) -> Vec<String> {
             out.push(file_name(&fname));
         }
     }
+    out.sort();
     out
 }
 

@@ -525,6 +525,7 @@ fn the_macro_library_is_checked_and_unread_files_are_named() {
     )
     .expect("write");
     std::fs::write(dir.path().join("macros/notes.txt"), "cycle notes\n").expect("write");
+    std::fs::create_dir(dir.path().join("macros/L0077")).expect("mkdir");
     std::fs::write(dir.path().join("macros/O0100"), "O0100\nG0 X1\nM99\n").expect("write");
     let path = dir.path().display().to_string();
     let (code, lines) = json_check(&[&path]);
@@ -539,6 +540,13 @@ fn the_macro_library_is_checked_and_unread_files_are_named() {
                 10,
                 14,
                 "`j` is not allowed here".to_string()
+            ),
+            (
+                3624,
+                "macros/L0077".to_string(),
+                0,
+                0,
+                "macros/L0077 is a folder: no compile reads it".to_string()
             ),
             (
                 3624,
@@ -562,6 +570,7 @@ fn the_macro_library_is_checked_and_unread_files_are_named() {
     // Under nc/DIALECT the other dialect's files are not read either: the Fanuc program O0100
     // and the notes on a MEFI machine, the MEFI cycle file and the notes on a Fanuc one.
     std::fs::write(&cycles, &text).expect("write");
+    std::fs::remove_dir(dir.path().join("macros/L0077")).expect("rmdir");
     for (dialect, unread) in [
         ("mefi", ["macros/O0100", "macros/notes.txt"]),
         ("fanuc", ["macros/PEVNECY5.NCP", "macros/notes.txt"]),

@@ -10,7 +10,7 @@
 //! - `macros/`: the macro library every compile of a part or of MDI text loads (MEFI `L<n>` and
 //!   `$PC` cycle files, Fanuc `O<n>`), compiled on its own in the machine's dialect (both when
 //!   `nc/DIALECT` does not name one), with the compile's own diagnostics (20xx; skipped like the
-//!   tables); a file of the folder that no compile reads is warning 3624;
+//!   tables); a file or subfolder of the folder that no compile reads is warning 3624;
 //! - the programs of the other processes that sim.toml's `[cnc] programs` names, compiled and
 //!   executed as `nc check` does (their 20xx codes; a missing one is sim.toml's 3611);
 //! - `retain.bin`: a damaged record is a warning (3622), as `run` warns and starts without it.
@@ -223,7 +223,11 @@ fn library(
                 codes::MACRO_UNREAD,
                 name.as_str(),
                 0..0,
-                format!("{name} is not read: no program can call it{only}"),
+                if dir.join(&name).is_dir() {
+                    format!("{name} is a folder: no compile reads it")
+                } else {
+                    format!("{name} is not read: no program can call it{only}")
+                },
             )
             .with_hint(
                 "the macro folder holds MEFI subprograms `L<n>` and cycle files starting with \
