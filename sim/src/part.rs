@@ -277,11 +277,12 @@ pub struct ProgramCheck {
 }
 
 /// Compiles `program` of the machine in `dir` (loaded as `machine` with its `iocfil`) as a part
-/// run does, with the machine's tables, and executes it for the geometric errors as `nc check`
-/// does, keeping at most `max` diagnostics (0: all): for `ncplc check` of the programs sim.toml
-/// names. `None` when the program or a table it needs cannot be read or has errors, which the
-/// checks of those files report (sim.toml 3611, nc/DIALECT 3620, the tables' 20xx); only the
-/// program's own diagnostics are kept (the library is checked on its own).
+/// run does, with the machine's tables, and executes it as [`load_part`] plans it (its run-time
+/// errors refuse a run), keeping at most `max` compile diagnostics (0: all): for `ncplc check` of
+/// the programs sim.toml names. `None` when the program or a table it needs cannot be read or has
+/// errors, which the checks of those files report (sim.toml 3611, nc/DIALECT 3620, the tables'
+/// 20xx); of the compile only the program's own diagnostics are kept (the library is checked on
+/// its own).
 pub fn check_program(
     dir: &Path,
     machine: &characterization::Machine,
@@ -302,15 +303,28 @@ pub fn check_program(
         return None;
     }
     let (prog, mut diagnostics, mut hidden) = partprogram::compile_capped(&spec, &name, &text, max);
-    if let Some(prog) = &prog
-        && !diag::has_errors(&diagnostics)
-        && let Err(d) = partprogram::check_plan(prog, PlanOptions::default())
-        && partprogram::codes::is_geometric(d.code)
-    {
-        diagnostics.push(d);
-    }
     diagnostics.retain(|d| d.file == name);
     hidden.retain(|h| h.file == name);
+    // A part run plans the program before its first tick, without and (when a block has `/`)
+    // with block skip, and refuses any run-time error of either, wherever it arises (a library
+    // unit the program calls included).
+    if let Some(prog) = &prog
+        && !diag::has_errors(&diagnostics)
+    {
+        let skips = if prog.blocks.iter().any(|b| b.skip) {
+            &[false, true][..]
+        } else {
+            &[false][..]
+        };
+        let planned = skips.iter().try_for_each(|&block_skip| {
+            let opts = PlanOptions {
+                block_skip,
+                ..PlanOptions::default()
+            };
+            partprogram::check_plan(prog, opts).map(|_| ())
+        });
+        diagnostics.extend(planned.err());
+    }
     Some(ProgramCheck {
         name,
         text,

@@ -664,6 +664,18 @@ fn the_programs_of_the_other_processes_are_checked() {
     );
     let err = refuses(&run);
     assert!(err.contains("nc/MAGAZINE:2:8"), "{err}");
+    // A program that compiles but fails when executed (an arc whose end point is off its circle):
+    // a part run plans it before its first tick and refuses it, `check` executes it too.
+    let arc = "%3\nN10 G17 G1 X0 Y0 F100\nN20 G2 X10 Y5 I5 J0\nN30 M30\n";
+    std::fs::write(dir.path().join("nc/MAGAZINE"), arc).expect("write");
+    let (code, lines) = json_check(&[&path]);
+    assert_eq!(code, Some(1));
+    let got: Vec<_> = lines.iter().map(|l| brief(l).0).collect();
+    assert_eq!(got, [2503], "{lines:?}");
+    assert_eq!(lines[0]["file"], "nc/MAGAZINE", "{lines:?}");
+    assert_eq!(lines[0]["line"], 3, "{lines:?}");
+    let err = refuses(&run);
+    assert!(err.contains("E2503"), "{err}");
 }
 
 /// `check` places sim.toml's `[[axis]]` entries as the part run's kernel does: an axis process 1
