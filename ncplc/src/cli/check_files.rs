@@ -12,7 +12,8 @@
 //!   `nc/DIALECT` does not name one), with the compile's own diagnostics (20xx; skipped like the
 //!   tables); a file or subfolder of the folder that no compile reads is warning 3624;
 //! - the programs of the other processes that sim.toml's `[cnc] programs` names, compiled and
-//!   executed as `nc check` does (their 20xx codes; a missing one is sim.toml's 3611);
+//!   executed as a part run plans them before its first tick (their 20xx codes, any run-time
+//!   error; a missing one is sim.toml's 3611);
 //! - `retain.bin`: a damaged record is a warning (3622), as `run` warns and starts without it.
 //!
 //! Every file that exists is added to the sources under its name relative to the machine
