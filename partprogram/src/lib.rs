@@ -47,7 +47,7 @@ pub use exec::{Backend, Plan, PlanOptions, RunError};
 pub use kor::{CorrectionTable, KorEntry, parse_kor};
 pub use machine::{Dialect, DoublePrecision, LengthMethod, MTiming, MachineSpec, ProcessSpec};
 pub use pos::{ZeroOffsets, parse_pos};
-pub use program::{Program, compile, compile_capped};
+pub use program::{Program, compile, compile_capped, text_of};
 
 /// Plans a compiled program: runs it and returns its canonical blocks, or the blocks emitted before a
 /// run-time error together with the located error.

@@ -26,9 +26,12 @@ pub(crate) fn fanuc_library_number(stem: &str) -> Option<u32> {
     stem.strip_prefix('O').and_then(|d| d.parse::<u32>().ok())
 }
 
+/// The folder part of the name diagnostics give a macro-folder file.
+const FOLDER: &str = "macros/";
+
 /// The name diagnostics give a macro-folder file.
 pub(crate) fn file_name(fname: &str) -> String {
-    format!("macros/{fname}")
+    format!("{FOLDER}{fname}")
 }
 
 /// The macro library of `machine` checked on its own: its files' diagnostics as a compile of any
@@ -56,31 +59,34 @@ fn main_text(dialect: Dialect) -> &'static str {
 }
 
 /// Checks the macro library of `machine` (`machine.macro_dir`) as a compile in its dialect loads
-/// it: beside an empty main program, keeping the diagnostics of the library files.
+/// it: beside an empty main program, keeping the diagnostics of the library files. The texts are
+/// those the compile read: every library file's when it compiled, else (a rejected compile keeps
+/// none) those of the files its diagnostics name, read again for rendering.
 pub fn check_library(machine: &MachineSpec, max: usize) -> LibraryCheck {
-    let mut files = Vec::new();
-    for (path, fname, stem) in macro_folder_files(&machine.macro_dir) {
-        let read = match machine.dialect {
-            Dialect::Fanuc => fanuc_library_number(&stem).is_some(),
-            Dialect::Mefi => true,
-        };
-        let Some(text) = read
-            .then(|| std::fs::read(&path).ok().map(text_of))
-            .flatten()
-        else {
-            continue;
-        };
-        if machine.dialect == Dialect::Fanuc || is_mefi_library(&stem, &text) {
-            files.push(SourceFile {
-                name: file_name(&fname),
-                text,
-            });
+    let (prog, diagnostics, hidden) =
+        compile_capped(machine, MAIN, main_text(machine.dialect), max);
+    let diagnostics: Vec<Diagnostic> = diagnostics.into_iter().filter(|d| d.file != MAIN).collect();
+    let files = match prog {
+        Some(p) => p.files.into_iter().filter(|f| f.name != MAIN).collect(),
+        None => {
+            let mut names: Vec<&str> = diagnostics.iter().map(|d| d.file.as_str()).collect();
+            names.dedup();
+            names
+                .into_iter()
+                .filter_map(|name| {
+                    let fname = name.strip_prefix(FOLDER)?;
+                    let text = std::fs::read(machine.macro_dir.join(fname)).ok()?;
+                    Some(SourceFile {
+                        name: name.to_string(),
+                        text: text_of(text),
+                    })
+                })
+                .collect()
         }
-    }
-    let (_, diagnostics, hidden) = compile_capped(machine, MAIN, main_text(machine.dialect), max);
+    };
     LibraryCheck {
         files,
-        diagnostics: diagnostics.into_iter().filter(|d| d.file != MAIN).collect(),
+        diagnostics,
         hidden: hidden.into_iter().filter(|h| h.file != MAIN).collect(),
     }
 }

@@ -242,7 +242,7 @@ pub(crate) fn err(
 
 /// The text of a macro file's `bytes`, taking them over when they are UTF-8 (no copy of a large
 /// file) and replacing invalid sequences otherwise.
-pub(crate) fn text_of(bytes: Vec<u8>) -> String {
+pub fn text_of(bytes: Vec<u8>) -> String {
     String::from_utf8(bytes).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 

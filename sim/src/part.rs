@@ -291,9 +291,7 @@ pub fn check_program(
     max: usize,
 ) -> Option<ProgramCheck> {
     let path = program_path(dir, program);
-    let bytes = std::fs::read(&path).ok()?;
-    let text = String::from_utf8(bytes)
-        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    let text = partprogram::text_of(std::fs::read(&path).ok()?);
     let name = source_name(&path);
     let dialect = crate::machine_view::program_dialect(dir, None, &text).ok()?;
     let mut spec = crate::machine_view::spec_of(dir, machine, iocfil, dialect).ok()?;
@@ -311,10 +309,10 @@ pub fn check_program(
     if let Some(prog) = &prog
         && !diag::has_errors(&diagnostics)
     {
-        let skips = if prog.blocks.iter().any(|b| b.skip) {
-            &[false, true][..]
+        let skips: &[bool] = if prog.blocks.iter().any(|b| b.skip) {
+            &[false, true]
         } else {
-            &[false][..]
+            &[false]
         };
         let planned = skips.iter().try_for_each(|&block_skip| {
             let opts = PlanOptions {
@@ -345,8 +343,7 @@ pub fn load_part(
     let bytes = std::fs::read(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let hash = crc32_hex(&bytes);
     // The bytes become the text (a copy only when they are not UTF-8): the run holds one.
-    let text = String::from_utf8(bytes)
-        .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned());
+    let text = partprogram::text_of(bytes);
     let name = source_name(&path);
     let compiled = compile_text(dir, &name, &text, dialect, None, vars)?;
     let (blocks, end_plain) = compiled.plan(false, &[])?;

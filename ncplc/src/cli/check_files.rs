@@ -91,6 +91,7 @@ pub fn check(
         sources.add("nc/CONSTANTS", text);
     }
     if let Some(machine) = machine
+        && let Some(iocfil) = machine.iocfil.as_ref()
         && !diag::has_errors(&out)
     {
         let table_dialect = dialect.unwrap_or(partprogram::Dialect::Mefi);
@@ -101,18 +102,24 @@ pub fn check(
             Some(d) => vec![d],
             None => vec![partprogram::Dialect::Mefi, partprogram::Dialect::Fanuc],
         };
-        library(dir, machine, &dialects, max, sources, hidden, &mut out);
-        if let Some(iocfil) = machine.iocfil.as_ref() {
-            let mut names: Vec<&String> = programs.iter().collect();
-            names.sort();
-            names.dedup();
-            for name in names {
-                let program = Path::new(name.as_str());
-                if let Some(p) = sim::part::check_program(dir, machine, iocfil, program, max) {
-                    out.extend(p.diagnostics);
-                    hidden.extend(p.hidden);
-                    sources.add(p.name, p.text);
-                }
+        library(
+            dir,
+            (machine, iocfil),
+            &dialects,
+            max,
+            sources,
+            hidden,
+            &mut out,
+        );
+        let mut names: Vec<&String> = programs.iter().collect();
+        names.sort();
+        names.dedup();
+        for name in names {
+            let program = Path::new(name.as_str());
+            if let Some(p) = sim::part::check_program(dir, machine, iocfil, program, max) {
+                out.extend(p.diagnostics);
+                hidden.extend(p.hidden);
+                sources.add(p.name, p.text);
             }
         }
     }
@@ -186,21 +193,21 @@ fn tables(dir: &Path, axes: &[char], sources: &mut Sources, out: &mut Vec<Diagno
     }
 }
 
-/// The macro library compiled on its own in each of `dialects` as a part run of `machine`
-/// compiles it (`partprogram::library`), and a warning for each file of the folder none of them
+/// The macro library compiled on its own in each of `dialects` as a part run of `machine` (with
+/// its IOCFIL) compiles it (`partprogram::library`), and a warning for each file of the folder none of them
 /// reads.
 fn library(
     dir: &Path,
-    machine: &characterization::Machine,
+    (machine, iocfil): (
+        &characterization::Machine,
+        &characterization::iocfil::Iocfil,
+    ),
     dialects: &[partprogram::Dialect],
     max: usize,
     sources: &mut Sources,
     hidden: &mut Vec<Hidden>,
     out: &mut Vec<Diagnostic>,
 ) {
-    let Some(iocfil) = machine.iocfil.as_ref() else {
-        return;
-    };
     for &dialect in dialects {
         // The spec a part run builds (CONSTANTS was checked above: an error there skips this).
         let Ok(spec) = sim::machine_view::spec_of(dir, machine, iocfil, dialect) else {

@@ -240,8 +240,7 @@ pub fn compile_common(common: &Common, json: bool) -> Result<Compiled, ExitCode>
     let path = program_path(&common.machine, &common.program);
     let text = match std::fs::read(&path) {
         // Valid UTF-8 becomes the text without a copy (a 50 MB program is 50 MB once).
-        Ok(b) => String::from_utf8(b)
-            .unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned()),
+        Ok(b) => partprogram::text_of(b),
         Err(e) => {
             eprintln!("ncplc nc: cannot read {}: {e}", path.display());
             return Err(ExitCode::from(2));
