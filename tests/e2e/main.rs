@@ -12,6 +12,7 @@
 mod build;
 mod cdp;
 mod check;
+mod check_run_files;
 mod cli;
 mod docs;
 mod drives;
